@@ -1,0 +1,17 @@
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace hullmap::cli {
+
+/// Each subcommand registers itself on `app` and, when it runs, stores its exit status in `status`
+/// (0 success, 1 "found something" where a command defines it, e.g. check; errors throw).
+void addBuildCommand(CLI::App& app, int& status);
+void addInfoCommand(CLI::App& app, int& status);
+void addGenerateCommand(CLI::App& app, int& status);
+void addClusterCommand(CLI::App& app, int& status);
+void addSweepCommand(CLI::App& app, int& status);
+void addCheckCommand(CLI::App& app, int& status);
+void addPlotCommand(CLI::App& app, int& status);
+
+}  // namespace hullmap::cli

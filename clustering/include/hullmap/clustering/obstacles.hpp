@@ -1,0 +1,48 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace hullmap::clustering {
+
+/// A convex polyhedron: vertices and triangles whose vertex order is counter-clockwise seen from
+/// outside (outward normals, right-hand rule).
+struct ConvexHull {
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<std::array<int, 3>> triangles;
+};
+
+/// 2D footprint in the ground plane (z up): a convex polygon, counter-clockwise, plus its z range.
+struct Footprint {
+  std::vector<Eigen::Vector2d> polygon;
+  double z_min = 0.0;
+  double z_max = 0.0;
+};
+
+/// One obstacle: a DBSCAN cluster of occupied voxels wrapped conservatively.
+struct Obstacle {
+  int id = 0;                          ///< cluster label
+  std::size_t voxel_count = 0;
+  std::uint64_t point_weight = 0;      ///< map points in its voxels
+  Eigen::Vector3d aabb_min = Eigen::Vector3d::Zero();
+  Eigen::Vector3d aabb_max = Eigen::Vector3d::Zero();
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  ///< of the hull volume
+  double volume = 0.0;
+  ConvexHull hull;                     ///< contains every voxel of the cluster completely
+  Footprint footprint;
+};
+
+/// Wraps each cluster: hull of the voxels' corners (CGAL), footprint (Andrew's monotone chain).
+/// `centers`/`weights`/`labels` are per voxel; `voxel_size` the leaf edge length.
+std::vector<Obstacle> buildObstacles(const std::vector<Eigen::Vector3d>& centers,
+                                     const std::vector<std::uint32_t>& weights,
+                                     const std::vector<std::int32_t>& labels, double voxel_size);
+
+/// 2D convex hull by Andrew's monotone chain: counter-clockwise, no collinear points.
+std::vector<Eigen::Vector2d> convexHull2d(std::vector<Eigen::Vector2d> points);
+
+}  // namespace hullmap::clustering

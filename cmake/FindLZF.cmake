@@ -1,0 +1,12 @@
+# Finds liblzf (Debian: liblzf-dev) and defines the imported target LZF::LZF.
+find_path(LZF_INCLUDE_DIR lzf.h)
+find_library(LZF_LIBRARY lzf)
+include(FindPackageHandleStandardArgs)
+find_package_handle_standard_args(LZF DEFAULT_MSG LZF_LIBRARY LZF_INCLUDE_DIR)
+if(LZF_FOUND AND NOT TARGET LZF::LZF)
+  add_library(LZF::LZF UNKNOWN IMPORTED)
+  set_target_properties(LZF::LZF PROPERTIES
+    IMPORTED_LOCATION ${LZF_LIBRARY}
+    INTERFACE_INCLUDE_DIRECTORIES ${LZF_INCLUDE_DIR})
+endif()
+mark_as_advanced(LZF_INCLUDE_DIR LZF_LIBRARY)
