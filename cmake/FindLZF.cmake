@@ -1,5 +1,5 @@
 # Finds liblzf (Debian: liblzf-dev) and defines the imported target LZF::LZF.
-find_path(LZF_INCLUDE_DIR lzf.h)
+find_path(LZF_INCLUDE_DIR lzf.h PATH_SUFFIXES liblzf)
 find_library(LZF_LIBRARY lzf)
 include(FindPackageHandleStandardArgs)
 find_package_handle_standard_args(LZF DEFAULT_MSG LZF_LIBRARY LZF_INCLUDE_DIR)

@@ -1,0 +1,1 @@
+#include "hullmap/clustering/obstacles.hpp"

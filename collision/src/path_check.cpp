@@ -1,0 +1,1 @@
+#include "hullmap/collision/path_check.hpp"

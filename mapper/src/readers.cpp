@@ -1,0 +1,1 @@
+#include "hullmap/mapper/readers.hpp"

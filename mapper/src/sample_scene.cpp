@@ -1,0 +1,1 @@
+#include "hullmap/mapper/sample_scene.hpp"
