@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# hullmap set-up: installs what is missing (Debian 12 packages), builds, then
+#   ./setup.sh demo   runs `hullmap build` on the sample in maps/ and shows the result
+#   ./setup.sh test   runs the whole test suite (ctest)
+# Environment: BUILD_DIR (default build), JOBS (default: number of cores).
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")"
+
+mode=${1:-demo}
+case "$mode" in demo|test) ;; *) echo "usage: $0 demo|test" >&2; exit 2 ;; esac
+build_dir=${BUILD_DIR:-build}
+jobs=${JOBS:-$(nproc)}
+
+# Library packages hullmap builds against, and the tools its tests use.
+packages=(build-essential cmake pkg-config liboctomap-dev libfcl-dev libcgal-dev libeigen3-dev
+          libtbb-dev liblzf-dev libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev)
+if [ "$mode" = test ]; then
+  packages+=(python3 python3-sklearn python3-numpy librsvg2-bin xz-utils)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "== installing: ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo=sudo
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+echo "== building in $build_dir"
+cmake -S . -B "$build_dir" -DHULLMAP_BUILD_TESTS=$([ "$mode" = test ] && echo ON || echo OFF) >/dev/null
+cmake --build "$build_dir" -j"$jobs"
+
+if [ "$mode" = demo ]; then
+  hullmap="$build_dir/cli/hullmap"
+  echo "== $hullmap build maps/room/map_points.txt --trajectory maps/room/KeyFrameTrajectory.txt --up -y -o out/room"
+  "$hullmap" build maps/room/map_points.txt --trajectory maps/room/KeyFrameTrajectory.txt --up -y -o out/room
+  echo "== $hullmap info out/room/map.bt"
+  "$hullmap" info out/room/map.bt
+  echo "== $hullmap check out/room --radius 0.3 --segments maps/room/segments.txt"
+  "$hullmap" check out/room --radius 0.3 --segments maps/room/segments.txt || [ $? -eq 1 ]
+  echo "== outputs in out/room: $(ls out/room | tr '\n' ' ')"
+else
+  ctest --test-dir "$build_dir" --output-on-failure -j"$jobs"
+fi
