@@ -31,3 +31,48 @@ inline std::filesystem::path freshDir(const std::string& name) {
   }
 
 }  // namespace hullmap::test
+
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace hullmap::test {
+
+struct CommandResult {
+  int status = -1;     ///< exit status, or -1 when killed by a signal
+  std::string out;
+  std::string err;
+};
+
+inline std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Runs the hullmap binary with `args` (already shell-quoted where needed), capturing both streams.
+inline CommandResult runHullmap(const std::string& args) {
+  static int counter = 0;
+  const auto dir = std::filesystem::path(HULLMAP_TEST_TMP) / "cmd";
+  std::filesystem::create_directories(dir);
+  const std::string stem = (dir / ("run" + std::to_string(::getpid()) + "_" + std::to_string(counter++))).string();
+  const std::string command = std::string("'") + HULLMAP_BINARY + "' " + args + " >" + stem + ".out 2>" +
+                              stem + ".err </dev/null";
+  const int raw = std::system(command.c_str());
+  CommandResult r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  r.out = slurp(stem + ".out");
+  r.err = slurp(stem + ".err");
+  return r;
+}
+
+/// Number of lines in `text` (a final line without newline counts).
+inline int lineCount(const std::string& text) {
+  int n = 0;
+  for (char c : text) n += c == '\n';
+  if (!text.empty() && text.back() != '\n') ++n;
+  return n;
+}
+
+}  // namespace hullmap::test
