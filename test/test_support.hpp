@@ -35,6 +35,7 @@ inline std::filesystem::path freshDir(const std::string& name) {
 #include <fstream>
 #include <sstream>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace hullmap::test {
 
