@@ -8,7 +8,7 @@
 
 namespace hullmap::clustering {
 
-/// Distance used by DBSCAN: full 3D, or the ground plane (x, y) after the frame change.
+/// Distance used by DBSCAN: full 3D, or the ground plane (x, y) after the frame change (z up).
 enum class Metric { kXyz, kXy };
 Metric parseMetric(const std::string& text);  ///< "xyz" or "xy"; throws hullmap::Error naming --metric
 std::string toString(Metric metric);
@@ -32,17 +32,37 @@ struct DbscanResult {
 
 /// Exact DBSCAN (Ester et al. 1996) with a grid of cells of side eps/sqrt(d): linear memory, parallel
 /// on all cores (TBB), results independent of the thread count.
+///
+/// Semantics, exactly:
+/// - q is a neighbour of p when the squared distance, computed in double as dx*dx + dy*dy (+ dz*dz),
+///   is <= eps*eps: points at exactly eps are neighbours. p is its own neighbour.
+/// - p is core when the summed weight of its neighbours is >= min_pts.
+/// - Clusters are the connected components of core points under "neighbour".
+/// - A non-core point with a core neighbour is a border point. It joins the cluster of its nearest
+///   core neighbour; among equally near ones, the one that comes first in the input.
+/// - Everything else is noise (kNoise).
+/// - Clusters are numbered 0..k-1 in the order of their first point in the input, core or border.
+/// The result depends only on the input, never on the number of threads.
+///
 /// `weights` empty means weight 1 per point; otherwise one positive weight per point (a voxel's map
-/// point count). Throws hullmap::Error on eps <= 0, min_pts < 1, non-finite points or a size mismatch.
+/// point count). Throws hullmap::Error on eps <= 0, min_pts < 1, non-finite points, points so far
+/// away that their grid cell does not fit in 63 bits, more than 2^32 - 2 points, a zero weight or a
+/// size mismatch. Thread-safe (no shared state); uses the TBB arena of the caller.
 DbscanResult dbscan(const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& weights,
                     const DbscanParams& params);
 
-/// Distance to the k-th nearest neighbour (k = min_pts - 1, the point itself not counted) of each point,
-/// sorted descending: the k-distance curve.
+/// Distance to the k-th nearest neighbour (k = min_pts - 1, the point itself not counted; duplicates
+/// count) of each point under `metric`, sorted descending: the k-distance curve. Weights are not used.
+/// min_pts <= 1 gives all zeros; with fewer than min_pts points the curve is empty.
+/// Throws hullmap::Error on min_pts < 1 or non-finite points.
 std::vector<double> kDistanceCurve(const std::vector<Eigen::Vector3d>& points, int min_pts, Metric metric);
 
-/// Suggested eps: the knee of the k-distance curve (point of maximum distance to the chord from
-/// the first to the last value). See README "Choosing eps".
+/// Suggested eps: the knee of the k-distance curve, found by this rule:
+/// 1. drop the largest 1% of the values (at least one value when there are 100 or more), so that gross
+///    outliers hundreds of kilometres away do not flatten the curve;
+/// 2. scale the remaining curve to [0,1] on both axes (index and distance);
+/// 3. the knee is the value farthest below the chord from the first to the last remaining value.
+/// Returns 0 for an empty curve, and the single value when the remaining curve is flat or too short.
 double suggestEps(const std::vector<double>& k_distance_curve);
 
 }  // namespace hullmap::clustering
