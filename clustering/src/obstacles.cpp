@@ -7,6 +7,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include <Eigen/Geometry>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_3.h>
