@@ -1,13 +1,173 @@
-#include "commands.hpp"
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
 
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "hullmap/collision/path_check.hpp"
 #include "hullmap/mapper/error.hpp"
+#include "obstacle_io.hpp"
+#include "svg_plot.hpp"
 
 namespace hullmap::cli {
+namespace {
 
-// Placeholder registration until the plot subcommand lands; replaced by its owner.
+namespace fs = std::filesystem;
+
+struct PlotOptions {
+  std::string dir;
+  std::string output;
+  std::string path_file;
+  double radius = 0.0;
+  bool side = false;
+  bool png = false;
+};
+
+// voxels.csv as `hullmap build` writes it: header x,y,z,weight,label,core, one voxel a line.
+void readVoxelsCsv(const std::string& path, MapPlot& plot) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open (is this a hullmap build directory?)");
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("x,y,z,weight,label", 0) != 0) {
+    throw Error(path + ":1: expected header x,y,z,weight,label,core");
+  }
+  std::size_t number = 1;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty() || line == "\r") continue;
+    std::istringstream fields(line);
+    double v[5];
+    char comma = 0;
+    bool ok = static_cast<bool>(fields >> v[0]);
+    for (int i = 1; ok && i < 5; ++i) ok = (fields >> comma) && comma == ',' && (fields >> v[i]);
+    if (!ok || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
+      throw Error(path + ":" + std::to_string(number) + ": expected x,y,z,weight,label,core numbers");
+    }
+    plot.centers.emplace_back(v[0], v[1], v[2]);
+    plot.labels.push_back(static_cast<std::int32_t>(v[4]));
+  }
+}
+
+std::string scalarText(const nlohmann::json& value) {
+  if (value.is_string()) return value.get<std::string>();
+  return value.dump();
+}
+
+// The build's parameters for the caption, and the voxel size.
+void readReport(const std::string& path, MapPlot& plot) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open (is this a hullmap build directory?)");
+  nlohmann::json report;
+  try {
+    in >> report;
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(path + ": not valid JSON: " + e.what());
+  }
+  const auto params = report.find("parameters");
+  if (params == report.end() || !params->is_object()) throw Error(path + ": no \"parameters\" object");
+  const auto resolution = params->find("resolution");
+  if (resolution == params->end() || !resolution->is_number() || !(resolution->get<double>() > 0.0)) {
+    throw Error(path + ": parameters.resolution missing or not a positive number");
+  }
+  plot.voxel_size = resolution->get<double>();
+  std::string line;
+  const auto add = [&](const char* key, const char* name) {
+    const auto it = params->find(key);
+    if (it == params->end() || it->is_null() || it->is_object() || it->is_array()) return;
+    line += (line.empty() ? "" : ", ") + std::string(name) + " = " + scalarText(*it);
+  };
+  add("eps", "eps");
+  add("min_pts", "minPts");
+  add("metric", "metric");
+  add("resolution", "resolution");
+  if (!line.empty()) plot.caption.push_back(line);
+  const auto frame = report.find("frame");
+  if (frame != report.end() && !frame->is_null()) plot.caption.push_back("frame: " + scalarText(*frame));
+}
+
+// A path file: one waypoint "x y z" per line; blank lines and lines starting with # are skipped.
+std::vector<Eigen::Vector3d> readWaypoints(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error("--path " + path + ": cannot open");
+  std::vector<Eigen::Vector3d> waypoints;
+  std::string line;
+  std::size_t number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::istringstream fields(line);
+    Eigen::Vector3d p;
+    std::string rest;
+    if (!(fields >> p.x() >> p.y() >> p.z()) || (fields >> rest) || !p.allFinite()) {
+      throw Error(path + ":" + std::to_string(number) + ": expected three numbers x y z");
+    }
+    waypoints.push_back(p);
+  }
+  if (waypoints.size() < 2) throw Error("--path " + path + ": needs at least two waypoints");
+  return waypoints;
+}
+
+void runPlot(const PlotOptions& o) {
+  if (!fs::is_directory(o.dir)) throw Error("plot: " + o.dir + " is not a directory");
+  MapPlot plot;
+  plot.view = o.side ? PlotView::kSide : PlotView::kTop;
+  readReport((fs::path(o.dir) / "report.json").string(), plot);
+  readVoxelsCsv((fs::path(o.dir) / "voxels.csv").string(), plot);
+  plot.obstacles = readObstaclesJson((fs::path(o.dir) / "obstacles.json").string());
+  if (!o.path_file.empty()) {
+    if (!(o.radius >= 0.0) || !std::isfinite(o.radius)) throw Error("--radius must be >= 0");
+    PlotPath path;
+    path.waypoints = readWaypoints(o.path_file);
+    path.radius = o.radius;
+    path.check = collision::HullChecker(plot.obstacles).checkPath(path.waypoints, o.radius);
+    plot.path = std::move(path);
+  }
+  // Check for the converter before rendering, so a missing one fails fast.
+  const auto converter = findPngConverter();
+  const SvgPicture picture = renderMapSvg(plot);
+  const auto written = writePicture(picture.svg, PictureOutput{o.output, o.png, "-o"}, converter);
+  std::cout << "plot: " << (o.side ? "side view (x-z)" : "top view (x-y)") << ", " << plot.centers.size()
+            << " voxels drawn as " << picture.cells << " cells, " << plot.obstacles.size() << " obstacles";
+  if (picture.hidden_voxels > 0) std::cout << ", " << picture.hidden_voxels << " far noise voxels not drawn";
+  std::cout << "\n";
+  for (const auto& file : written) {
+    std::cout << "wrote " << file;
+    if (fs::path(file).extension() == ".png" || fs::path(file).extension() == ".PNG") {
+      std::cout << " (rendered by " << *converter << ", Debian package " << kPngConverterPackage << ")";
+    }
+    std::cout << "\n";
+  }
+  if (plot.path && plot.path->check.first_colliding_segment) {
+    std::cout << "path collides: first contact on segment " << *plot.path->check.first_colliding_segment << "\n";
+  }
+}
+
+}  // namespace
+
 void addPlotCommand(CLI::App& app, int& status) {
-  auto* cmd = app.add_subcommand("plot", "(pending)");
-  cmd->callback([&status] { status = 2; throw Error("plot: pending"); });
+  auto options = std::make_shared<PlotOptions>();
+  auto* cmd = app.add_subcommand(
+      "plot", "Draw a build directory as SVG (or PNG): voxels by cluster, noise black, obstacles numbered");
+  cmd->add_option("dir", options->dir, "Directory written by `hullmap build` (voxels.csv, report.json, "
+                                       "obstacles.json)")
+      ->required();
+  cmd->add_option("-o,--output", options->output, "Picture to write: .svg, or .png (rendered by rsvg-convert)")
+      ->required();
+  cmd->add_flag("--side", options->side, "Side view (x-z, seen from -y) instead of the top view (x-y)");
+  auto* path = cmd->add_option("--path", options->path_file,
+                               "Path to check and draw: one waypoint \"x y z\" per line (map frame)");
+  cmd->add_option("--radius", options->radius, "Drone radius for --path, map units")->needs(path);
+  path->needs(cmd->get_option("--radius"));
+  cmd->add_flag("--png", options->png, "Also write a PNG beside the SVG (needs rsvg-convert, librsvg2-bin)");
+  cmd->callback([options, &status] {
+    runPlot(*options);
+    status = 0;
+  });
 }
 
 }  // namespace hullmap::cli

@@ -1,0 +1,765 @@
+#include "svg_plot.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+#include <utility>
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "hullmap/mapper/atomic_file.hpp"
+#include "hullmap/mapper/error.hpp"
+
+extern char** environ;
+
+namespace hullmap::cli {
+namespace {
+
+// Kelly (1965), colours of maximum contrast in his order, without white, black, grey (#848482)
+// and the near-black olive (#2b3d26): a cluster must never look like noise.
+constexpr std::array<std::uint32_t, 18> kKellyColours = {
+    0xf3c300, 0x875692, 0xf38400, 0xa1caf1, 0xbe0032, 0xc2b280, 0x008856, 0xe68fac, 0x0067a5,
+    0xf99379, 0x604e97, 0xf6a600, 0xb3446c, 0xdcd300, 0x882d17, 0x8db600, 0x654522, 0xe25822};
+
+constexpr double kGoldenAngleDeg = 137.50776405003785;
+constexpr double kPi = 3.14159265358979323846;
+
+double srgbGamma(double linear) {
+  return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
+}
+
+// CIE LCh(ab), D65 white, to sRGB; false when out of gamut.
+bool lchToRgb(double l, double c, double h_deg, Rgb& out) {
+  const double a = c * std::cos(h_deg * kPi / 180.0);
+  const double b = c * std::sin(h_deg * kPi / 180.0);
+  const double fy = (l + 16.0) / 116.0;
+  const double fx = fy + a / 500.0;
+  const double fz = fy - b / 200.0;
+  const auto finv = [](double t) { return t > 6.0 / 29.0 ? t * t * t : 3.0 * 36.0 / 841.0 * (t - 4.0 / 29.0); };
+  const double x = 0.95047 * finv(fx);
+  const double y = 1.00000 * finv(fy);
+  const double z = 1.08883 * finv(fz);
+  const std::array<double, 3> linear = {3.2404542 * x - 1.5371385 * y - 0.4985314 * z,
+                                        -0.9692660 * x + 1.8760108 * y + 0.0415560 * z,
+                                        0.0556434 * x - 0.2040259 * y + 1.0572252 * z};
+  std::array<std::uint8_t, 3> channel{};
+  for (int i = 0; i < 3; ++i) {
+    if (linear[i] < -1e-9 || linear[i] > 1.0 + 1e-9) return false;
+    const double v = srgbGamma(std::clamp(linear[i], 0.0, 1.0));
+    channel[i] = static_cast<std::uint8_t>(std::lround(v * 255.0));
+  }
+  out = Rgb{channel[0], channel[1], channel[2]};
+  return true;
+}
+
+std::string num(double v, int decimals = 1) {
+  if (std::abs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0.0;  // no "-0"
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  std::string s(buf);
+  if (s.find('.') != std::string::npos) {
+    while (s.back() == '0') s.pop_back();
+    if (s.back() == '.') s.pop_back();
+  }
+  return s;
+}
+
+// Shortest text that round-trips well enough for a caption ("0.1", "12", "0.05").
+std::string shortNum(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+std::string escapeXml(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+// A step of 1, 2 or 5 times a power of ten close to range / target.
+double niceStep(double range, double target) {
+  const double raw = range / target;
+  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+  const double norm = raw / mag;
+  const double f = norm < 1.5 ? 1.0 : norm < 3.0 ? 2.0 : norm < 7.0 ? 5.0 : 10.0;
+  return f * mag;
+}
+
+int decimalsFor(double step) { return std::max(0, static_cast<int>(std::ceil(-std::log10(step) - 1e-9))); }
+
+struct Box2 {
+  double x0 = std::numeric_limits<double>::infinity();
+  double y0 = std::numeric_limits<double>::infinity();
+  double x1 = -std::numeric_limits<double>::infinity();
+  double y1 = -std::numeric_limits<double>::infinity();
+  bool empty() const { return !(x0 <= x1 && y0 <= y1); }
+  void add(const Eigen::Vector2d& p, double pad = 0.0) {
+    x0 = std::min(x0, p.x() - pad);
+    y0 = std::min(y0, p.y() - pad);
+    x1 = std::max(x1, p.x() + pad);
+    y1 = std::max(y1, p.y() + pad);
+  }
+  bool contains(const Eigen::Vector2d& p) const { return p.x() >= x0 && p.x() <= x1 && p.y() >= y0 && p.y() <= y1; }
+};
+
+// Map coordinates (view plane) to SVG pixels: x right, the plane's second axis up.
+struct Viewport {
+  Box2 world;
+  double scale = 1.0;  // pixels per map unit
+  double left = 0.0;
+  double top = 0.0;
+  double width() const { return (world.x1 - world.x0) * scale; }
+  double height() const { return (world.y1 - world.y0) * scale; }
+  double px(double x) const { return left + (x - world.x0) * scale; }
+  double py(double y) const { return top + (world.y1 - y) * scale; }
+};
+
+// Pads a box by `fraction` of its extent and makes it at least `min_extent` wide and high.
+Box2 padded(Box2 box, double fraction, double min_extent) {
+  if (box.empty()) box = Box2{0.0, 0.0, 1.0, 1.0};
+  for (auto [lo, hi] : {std::pair<double*, double*>{&box.x0, &box.x1}, {&box.y0, &box.y1}}) {
+    const double grow = std::max(min_extent - (*hi - *lo), 0.0) / 2.0;
+    *lo -= grow;
+    *hi += grow;
+    const double pad = (*hi - *lo) * fraction;
+    *lo -= pad;
+    *hi += pad;
+  }
+  return box;
+}
+
+// The box between the 5% and 95% quantiles of `points` per axis: the bulk, blind to a few far outliers.
+Box2 quantileBox(const std::vector<Eigen::Vector2d>& points) {
+  Box2 box;
+  if (points.empty()) return box;
+  std::vector<double> xs(points.size());
+  std::vector<double> ys(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    xs[i] = points[i].x();
+    ys[i] = points[i].y();
+  }
+  const auto quantile = [](std::vector<double>& v, double q) {
+    const auto k = static_cast<std::size_t>(std::floor(q * static_cast<double>(v.size() - 1) + 0.5));
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+    return v[k];
+  };
+  box.x0 = quantile(xs, 0.05);
+  box.x1 = quantile(xs, 0.95);
+  box.y0 = quantile(ys, 0.05);
+  box.y1 = quantile(ys, 0.95);
+  return box;
+}
+
+// `core` grown to take in every candidate that lies within half of core's larger extent (at least
+// `min_extent`) beyond it; candidates farther away are gross outliers and stay outside.
+Box2 withNearby(Box2 core, const std::vector<Eigen::Vector2d>& candidates, double min_extent) {
+  if (core.empty()) return core;
+  const double reach = 0.5 * std::max({core.x1 - core.x0, core.y1 - core.y0, min_extent});
+  Box2 limit{core.x0 - reach, core.y0 - reach, core.x1 + reach, core.y1 + reach};
+  for (const auto& p : candidates) {
+    if (limit.contains(p)) core.add(p);
+  }
+  return core;
+}
+
+Eigen::Vector2d project(const Eigen::Vector3d& p, PlotView view) {
+  return view == PlotView::kTop ? Eigen::Vector2d(p.x(), p.y()) : Eigen::Vector2d(p.x(), p.z());
+}
+
+// The visible label of each projected cell, keyed (row, column) so rows come out in order.
+struct CellWinner {
+  std::int32_t label = -1;
+  double depth = 0.0;  // larger is nearer the viewer
+};
+using CellMap = std::map<std::pair<std::int64_t, std::int64_t>, CellWinner>;
+
+void offer(CellMap& cells, const Eigen::Vector2d& p, double cell, std::int32_t label, double depth) {
+  const auto key = std::make_pair(static_cast<std::int64_t>(std::floor(p.y() / cell)),
+                                  static_cast<std::int64_t>(std::floor(p.x() / cell)));
+  const std::int32_t l = label < 0 ? -1 : label;
+  auto [it, inserted] = cells.try_emplace(key, CellWinner{l, depth});
+  if (inserted) return;
+  CellWinner& w = it->second;
+  const bool clustered = l >= 0;
+  const bool was_clustered = w.label >= 0;
+  if ((clustered && !was_clustered) || (clustered == was_clustered && depth > w.depth)) w = CellWinner{l, depth};
+}
+
+// Merges runs of equal cells per row; one <path> per label in cell coordinates, mapped to pixels
+// by the group's transform, so each rectangle costs a dozen bytes.
+void writeCells(std::ostream& svg, const CellMap& cells, double cell, const Viewport& vp) {
+  std::map<std::int32_t, std::string> paths;
+  auto it = cells.begin();
+  while (it != cells.end()) {
+    const auto [row, col] = it->first;
+    const std::int32_t label = it->second.label;
+    std::int64_t length = 1;
+    auto next = std::next(it);
+    while (next != cells.end() && next->first.first == row && next->first.second == col + length &&
+           next->second.label == label) {
+      ++length;
+      ++next;
+    }
+    std::string& d = paths[label];
+    d += 'M' + std::to_string(col) + ' ' + std::to_string(row) + 'h' + std::to_string(length) + "v1h-" +
+         std::to_string(length) + 'z';
+    it = next;
+  }
+  char matrix[256];
+  std::snprintf(matrix, sizeof matrix, "matrix(%.9g 0 0 %.9g %.9g %.9g)", cell * vp.scale, -cell * vp.scale,
+                vp.left - vp.world.x0 * vp.scale, vp.top + vp.world.y1 * vp.scale);
+  svg << "<g class=\"voxels\" transform=\"" << matrix << "\" shape-rendering=\"crispEdges\">\n";
+  for (const auto& [label, d] : paths) {
+    svg << "<path class=\"cells\" data-label=\"" << label << "\" fill=\"" << toHex(clusterColour(label))
+        << "\" d=\"" << d << "\"/>\n";
+  }
+  svg << "</g>\n";
+}
+
+// Frame, ticks and tick labels around the viewport; axis names when given.
+void writeAxes(std::ostream& svg, const Viewport& vp, const std::string& x_name, const std::string& y_name,
+               double font) {
+  const Box2& w = vp.world;
+  svg << "<g class=\"axes\" font-family=\"sans-serif\" font-size=\"" << num(font) << "\" fill=\"#333\">\n";
+  svg << "<rect x=\"" << num(vp.left) << "\" y=\"" << num(vp.top) << "\" width=\"" << num(vp.width())
+      << "\" height=\"" << num(vp.height()) << "\" fill=\"none\" stroke=\"#666\" stroke-width=\"1\"/>\n";
+  const double step = niceStep(std::max(w.x1 - w.x0, w.y1 - w.y0), vp.width() > 400 ? 8.0 : 4.0);
+  const int dec = decimalsFor(step);
+  const double bottom = vp.top + vp.height();
+  for (double t = std::ceil(w.x0 / step) * step; t <= w.x1 + 1e-9 * step; t += step) {
+    const double x = vp.px(t);
+    svg << "<line x1=\"" << num(x) << "\" y1=\"" << num(bottom) << "\" x2=\"" << num(x) << "\" y2=\""
+        << num(bottom + 4) << "\" stroke=\"#666\"/><text x=\"" << num(x) << "\" y=\"" << num(bottom + 5 + font)
+        << "\" text-anchor=\"middle\">" << num(t, dec) << "</text>\n";
+  }
+  // A flat view gets a finer step on its short axis, so it shows at least two ticks.
+  const double y_step = std::floor(w.y1 / step) - std::ceil(w.y0 / step) >= 1.0 ? step : niceStep(w.y1 - w.y0, 3.0);
+  const int y_dec = decimalsFor(y_step);
+  for (double t = std::ceil(w.y0 / y_step) * y_step; t <= w.y1 + 1e-9 * y_step; t += y_step) {
+    const double y = vp.py(t);
+    svg << "<line x1=\"" << num(vp.left - 4) << "\" y1=\"" << num(y) << "\" x2=\"" << num(vp.left) << "\" y2=\""
+        << num(y) << "\" stroke=\"#666\"/><text x=\"" << num(vp.left - 6) << "\" y=\"" << num(y + font * 0.35)
+        << "\" text-anchor=\"end\">" << num(t, y_dec) << "</text>\n";
+  }
+  if (!x_name.empty()) {
+    svg << "<text x=\"" << num(vp.left + vp.width() / 2) << "\" y=\"" << num(bottom + 2 * font + 12)
+        << "\" text-anchor=\"middle\">" << escapeXml(x_name) << "</text>\n";
+  }
+  if (!y_name.empty()) {
+    const double x = vp.left - 3.2 * font - 14;
+    const double y = vp.top + vp.height() / 2;
+    svg << "<text x=\"" << num(x) << "\" y=\"" << num(y) << "\" text-anchor=\"middle\" transform=\"rotate(-90 "
+        << num(x) << ' ' << num(y) << ")\">" << escapeXml(y_name) << "</text>\n";
+  }
+  svg << "</g>\n";
+}
+
+// A bar of a round length (about a fifth of the width) with its length in map units; returns the
+// height it takes.
+double writeScaleBar(std::ostream& svg, const Viewport& vp, double y, double font) {
+  const double length = niceStep(vp.world.x1 - vp.world.x0, 5.0);
+  const double x1 = vp.left + vp.width();
+  const double x0 = x1 - length * vp.scale;
+  svg << "<g class=\"scale-bar\" font-family=\"sans-serif\" font-size=\"" << num(font) << "\">\n"
+      << "<path d=\"M" << num(x0) << ' ' << num(y) << "v6H" << num(x1) << "v-6\" fill=\"none\" stroke=\"#000\" "
+      << "stroke-width=\"1.5\"/>\n<text x=\"" << num(x0 - 6) << "\" y=\"" << num(y + 6) << "\" text-anchor=\"end\">"
+      << num(length, decimalsFor(length)) << (length == 1.0 ? " map unit" : " map units") << "</text>\n</g>\n";
+  return 6 + font;
+}
+
+std::vector<Eigen::Vector2d> outline(const clustering::Obstacle& o, PlotView view) {
+  if (view == PlotView::kTop) {
+    if (o.footprint.polygon.size() >= 3) return o.footprint.polygon;
+    return {{o.aabb_min.x(), o.aabb_min.y()}, {o.aabb_max.x(), o.aabb_min.y()},
+            {o.aabb_max.x(), o.aabb_max.y()}, {o.aabb_min.x(), o.aabb_max.y()}};
+  }
+  std::vector<Eigen::Vector2d> projected;
+  projected.reserve(o.hull.vertices.size());
+  for (const auto& v : o.hull.vertices) projected.push_back(project(v, view));
+  auto hull = clustering::convexHull2d(std::move(projected));
+  if (hull.size() >= 3) return hull;
+  return {{o.aabb_min.x(), o.aabb_min.z()}, {o.aabb_max.x(), o.aabb_min.z()},
+          {o.aabb_max.x(), o.aabb_max.z()}, {o.aabb_min.x(), o.aabb_max.z()}};
+}
+
+void writeObstacles(std::ostream& svg, const std::vector<clustering::Obstacle>& obstacles, PlotView view,
+                    const Viewport& vp) {
+  svg << "<g class=\"obstacles\" font-family=\"sans-serif\" font-size=\"12\" font-weight=\"bold\">\n";
+  for (const auto& o : obstacles) {
+    const auto polygon = outline(o, view);
+    std::string points;
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const auto& p : polygon) {
+      points += num(vp.px(p.x())) + ',' + num(vp.py(p.y())) + ' ';
+      mean += p;
+    }
+    mean /= static_cast<double>(polygon.size());
+    if (!points.empty()) points.pop_back();
+    // A white halo under the dark outline keeps it visible on any cluster colour.
+    svg << "<polygon class=\"footprint-halo\" points=\"" << points
+        << "\" fill=\"none\" stroke=\"#fff\" stroke-width=\"3.5\" stroke-linejoin=\"round\"/>\n"
+        << "<polygon class=\"footprint\" id=\"obstacle-" << o.id << "\" points=\"" << points
+        << "\" fill=\"none\" stroke=\"#111\" stroke-width=\"1.5\" stroke-linejoin=\"round\"/>\n"
+        << "<text class=\"obstacle-id\" x=\"" << num(vp.px(mean.x())) << "\" y=\"" << num(vp.py(mean.y()) + 4)
+        << "\" text-anchor=\"middle\" fill=\"#111\" stroke=\"#fff\" stroke-width=\"3\" paint-order=\"stroke\">"
+        << o.id << "</text>\n";
+  }
+  svg << "</g>\n";
+}
+
+std::string point3(const Eigen::Vector3d& p) {
+  return "(" + shortNum(p.x()) + ", " + shortNum(p.y()) + ", " + shortNum(p.z()) + ")";
+}
+
+// Draws the path; returns its caption line.
+std::string writePath(std::ostream& svg, const PlotPath& path, PlotView view, const Viewport& vp) {
+  const auto& wp = path.waypoints;
+  if (wp.size() >= 2 && path.check.segments.size() != wp.size() - 1) {
+    throw Error("plot: path check has " + std::to_string(path.check.segments.size()) + " segments for " +
+                std::to_string(wp.size()) + " waypoints");
+  }
+  std::string points;
+  for (const auto& p : wp) {
+    const Eigen::Vector2d q = project(p, view);
+    points += num(vp.px(q.x())) + ',' + num(vp.py(q.y())) + ' ';
+  }
+  if (!points.empty()) points.pop_back();
+  svg << "<g class=\"path\">\n"
+      << "<polyline class=\"path-band\" points=\"" << points << "\" fill=\"none\" stroke=\"#2563eb\" "
+      << "stroke-opacity=\"0.22\" stroke-width=\"" << num(std::max(2.0 * path.radius * vp.scale, 1.0))
+      << "\" stroke-linecap=\"round\" stroke-linejoin=\"round\"/>\n"
+      << "<polyline class=\"path-line\" points=\"" << points
+      << "\" fill=\"none\" stroke=\"#1d4ed8\" stroke-width=\"1.5\"/>\n";
+  std::size_t colliding = 0;
+  double clearance = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < path.check.segments.size(); ++i) {
+    const auto& s = path.check.segments[i];
+    clearance = std::min(clearance, s.clearance);
+    if (!s.collides) continue;
+    ++colliding;
+    const Eigen::Vector2d a = project(wp[i], view);
+    const Eigen::Vector2d b = project(wp[i + 1], view);
+    svg << "<line class=\"colliding-segment\" data-segment=\"" << i << "\" x1=\"" << num(vp.px(a.x()))
+        << "\" y1=\"" << num(vp.py(a.y())) << "\" x2=\"" << num(vp.px(b.x())) << "\" y2=\"" << num(vp.py(b.y()))
+        << "\" stroke=\"#e00000\" stroke-width=\"3\" stroke-linecap=\"round\"/>\n";
+  }
+  for (const auto& p : wp) {
+    const Eigen::Vector2d q = project(p, view);
+    svg << "<circle class=\"waypoint\" cx=\"" << num(vp.px(q.x())) << "\" cy=\"" << num(vp.py(q.y()))
+        << "\" r=\"2.5\" fill=\"#1d4ed8\"/>\n";
+  }
+  std::string caption = "path: " + std::to_string(path.check.segments.size()) + " segments, radius " +
+                        shortNum(path.radius) + ", ";
+  if (path.check.first_contact) {
+    const Eigen::Vector2d c = project(*path.check.first_contact, view);
+    const double x = vp.px(c.x());
+    const double y = vp.py(c.y());
+    svg << "<g class=\"first-contact\" stroke=\"#e00000\" stroke-width=\"2.5\" fill=\"none\">"
+        << "<circle cx=\"" << num(x) << "\" cy=\"" << num(y) << "\" r=\"7\"/>"
+        << "<path d=\"M" << num(x - 11) << ' ' << num(y) << "h22M" << num(x) << ' ' << num(y - 11) << "v22\"/>"
+        << "</g>\n<text x=\"" << num(x + 10) << "\" y=\"" << num(y - 10) << "\" font-family=\"sans-serif\" "
+        << "font-size=\"12\" fill=\"#e00000\" stroke=\"#fff\" stroke-width=\"3\" paint-order=\"stroke\">"
+        << "first contact</text>\n";
+    caption += std::to_string(colliding) + " colliding (red), first contact at " +
+               point3(*path.check.first_contact);
+    if (path.check.first_colliding_segment) {
+      caption += " on segment " + std::to_string(*path.check.first_colliding_segment);
+    }
+  } else if (colliding > 0) {
+    caption += std::to_string(colliding) + " colliding (red)";
+  } else {
+    caption += "clear";
+    if (std::isfinite(clearance)) caption += ", min clearance " + shortNum(clearance);
+  }
+  svg << "</g>\n";
+  return caption;
+}
+
+std::string svgHeader(double width, double height) {
+  return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
+         num(width) + "\" height=\"" + num(height) + "\" viewBox=\"0 0 " + num(width) + ' ' + num(height) +
+         "\">\n<rect class=\"background\" width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n";
+}
+
+}  // namespace
+
+std::string toHex(Rgb colour) {
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", colour.r, colour.g, colour.b);
+  return buf;
+}
+
+Rgb clusterColour(std::int32_t label) {
+  if (label < 0) return Rgb{0, 0, 0};
+  if (static_cast<std::size_t>(label) < kKellyColours.size()) {
+    const std::uint32_t c = kKellyColours[static_cast<std::size_t>(label)];
+    return Rgb{static_cast<std::uint8_t>(c >> 16), static_cast<std::uint8_t>(c >> 8), static_cast<std::uint8_t>(c)};
+  }
+  const auto i = static_cast<std::int64_t>(label) - static_cast<std::int64_t>(kKellyColours.size());
+  constexpr std::array<double, 3> kLightness = {55.0, 72.0, 45.0};
+  const double l = kLightness[static_cast<std::size_t>(i % 3)];
+  const double h = std::fmod(30.0 + static_cast<double>(i) * kGoldenAngleDeg, 360.0);
+  Rgb out;
+  // Highest chroma the sRGB gamut allows at this lightness and hue, capped at 60.
+  for (double c = 60.0; c > 0.0; c -= 2.0) {
+    if (lchToRgb(l, c, h, out)) return out;
+  }
+  lchToRgb(l, 0.0, h, out);
+  return out;
+}
+
+SvgPicture renderMapSvg(const MapPlot& plot) {
+  if (!(plot.voxel_size > 0.0) || !std::isfinite(plot.voxel_size)) {
+    throw Error("plot: voxel size must be > 0, got " + shortNum(plot.voxel_size));
+  }
+  if (plot.labels.size() != plot.centers.size()) {
+    throw Error("plot: " + std::to_string(plot.labels.size()) + " labels for " +
+                std::to_string(plot.centers.size()) + " voxels");
+  }
+  const PlotView view = plot.view;
+  const double cell = plot.voxel_size;
+
+  // The view: everything clustered or drawn on top, plus the bulk of the noise.
+  std::vector<Eigen::Vector2d> noise;
+  Box2 box;
+  for (std::size_t i = 0; i < plot.centers.size(); ++i) {
+    const Eigen::Vector2d p = project(plot.centers[i], view);
+    if (plot.labels[i] >= 0) {
+      box.add(p, cell / 2);
+    } else {
+      noise.push_back(p);
+    }
+  }
+  const Box2 bulk = quantileBox(noise);
+  if (!bulk.empty()) {
+    box.add({bulk.x0, bulk.y0});
+    box.add({bulk.x1, bulk.y1});
+  }
+  for (const auto& o : plot.obstacles) {
+    for (const auto& p : outline(o, view)) box.add(p);
+  }
+  if (plot.path) {
+    for (const auto& p : plot.path->waypoints) box.add(project(p, view), plot.path->radius);
+  }
+  const Box2 shown = withNearby(box, noise, 4 * cell);  // noise voxels outside are hidden outliers
+  box = shown;
+  box.x0 -= cell / 2;
+  box.y0 -= cell / 2;
+  box.x1 += cell / 2;
+  box.y1 += cell / 2;
+  Viewport vp;
+  vp.world = padded(box, 0.04, 4 * cell);
+  const double max_w = 760.0;
+  const double max_h = 620.0;
+  vp.scale = std::min(max_w / (vp.world.x1 - vp.world.x0), max_h / (vp.world.y1 - vp.world.y0));
+  vp.left = 78.0;
+  vp.top = 36.0;
+
+  SvgPicture picture;
+  CellMap cells;
+  for (std::size_t i = 0; i < plot.centers.size(); ++i) {
+    const Eigen::Vector3d& c = plot.centers[i];
+    const Eigen::Vector2d p = project(c, view);
+    if (!shown.empty() && !shown.contains(p) && plot.labels[i] < 0) {
+      ++picture.hidden_voxels;
+      continue;
+    }
+    offer(cells, p, cell, plot.labels[i], view == PlotView::kTop ? c.z() : -c.y());
+  }
+  picture.cells = cells.size();
+
+  std::set<std::int32_t> clusters;
+  std::size_t noise_voxels = 0;
+  for (std::int32_t l : plot.labels) {
+    if (l >= 0) {
+      clusters.insert(l);
+    } else {
+      ++noise_voxels;
+    }
+  }
+
+  std::ostringstream body;
+  const double font = 12.0;
+  writeCells(body, cells, cell, vp);
+  writeObstacles(body, plot.obstacles, view, vp);
+  std::vector<std::string> caption = plot.caption;
+  caption.push_back(std::to_string(plot.centers.size()) + " voxels, " + std::to_string(clusters.size()) +
+                    " clusters (colours), " + std::to_string(noise_voxels) + " noise voxels (black), " +
+                    std::to_string(plot.obstacles.size()) + " obstacles (outlined, numbered)");
+  caption.push_back(view == PlotView::kTop
+                        ? "top view: each x-y cell shows its topmost clustered voxel, else its topmost voxel"
+                        : "side view from -y: each x-z cell shows its nearest clustered voxel, else its nearest voxel");
+  if (picture.hidden_voxels > 0) {
+    caption.push_back(std::to_string(picture.hidden_voxels) + " far noise voxels outside the view, not drawn");
+  }
+  if (plot.path) caption.push_back(writePath(body, *plot.path, view, vp));
+  writeAxes(body, vp, "x (map units)", view == PlotView::kTop ? "y (map units)" : "z (map units)", font);
+  double y = vp.top + vp.height() + 2 * font + 28;
+  y += writeScaleBar(body, vp, y - 10, font) + 4;
+  body << "<g class=\"caption\" font-family=\"sans-serif\" font-size=\"" << num(font) << "\" fill=\"#111\">\n";
+  for (const auto& line : caption) {
+    y += font + 5;
+    body << "<text x=\"" << num(vp.left) << "\" y=\"" << num(y) << "\">" << escapeXml(line) << "</text>\n";
+  }
+  body << "</g>\n";
+
+  const double width = std::max(vp.left + vp.width() + 24.0, 620.0);
+  const double height = y + 14.0;
+  std::string svg = svgHeader(width, height);
+  svg += "<text class=\"title\" x=\"" + num(vp.left) + "\" y=\"22\" font-family=\"sans-serif\" font-size=\"15\" " +
+         "font-weight=\"bold\">hullmap: " + (view == PlotView::kTop ? "top view (x-y)" : "side view (x-z)") +
+         "</text>\n";
+  svg += body.str();
+  svg += "</svg>\n";
+  picture.svg = std::move(svg);
+  return picture;
+}
+
+std::string renderSweepSvg(const std::vector<Eigen::Vector3d>& points, const std::vector<SweepPanel>& panels,
+                           double cell_size, const std::string& title) {
+  for (const auto& panel : panels) {
+    if (panel.labels.size() != points.size()) {
+      throw Error("sweep plot: panel eps=" + shortNum(panel.eps) + " min_pts=" + std::to_string(panel.min_pts) +
+                  " has " + std::to_string(panel.labels.size()) + " labels for " + std::to_string(points.size()) +
+                  " points");
+    }
+  }
+  std::vector<Eigen::Vector2d> xy(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) xy[i] = project(points[i], PlotView::kTop);
+  const Box2 shown = withNearby(quantileBox(xy), xy, 0.0);
+  if (!(cell_size > 0.0)) {
+    const Box2 extent = padded(shown, 0.0, 0.0);
+    cell_size = std::max(extent.x1 - extent.x0, extent.y1 - extent.y0) / 150.0;
+    if (!(cell_size > 0.0)) cell_size = 1.0;  // all points in one place
+  }
+  const Box2 world = padded(shown, 0.04, 4 * cell_size);
+
+  // Layout: a full eps x min_pts grid when the panels are one, else row by row.
+  std::set<double> eps_values;
+  std::set<int> min_pts_values;
+  std::set<std::pair<double, int>> combos;
+  for (const auto& p : panels) {
+    eps_values.insert(p.eps);
+    min_pts_values.insert(p.min_pts);
+    combos.insert({p.eps, p.min_pts});
+  }
+  const bool grid = combos.size() == panels.size() && eps_values.size() * min_pts_values.size() == panels.size();
+  const std::size_t columns =
+      grid ? eps_values.size()
+           : std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(panels.size())))));
+  const std::size_t rows = panels.empty() ? 0 : (panels.size() + columns - 1) / columns;
+
+  const double panel_max = 280.0;
+  const double scale = std::min(panel_max / (world.x1 - world.x0), panel_max / (world.y1 - world.y0));
+  const double pw = (world.x1 - world.x0) * scale;
+  const double ph = (world.y1 - world.y0) * scale;
+  const double gap_x = 62.0;
+  const double gap_y = 74.0;
+  const double left0 = 56.0;
+  const double top0 = 48.0;
+  const double font = 10.0;
+
+  std::ostringstream body;
+  std::size_t hidden = 0;
+  for (std::size_t k = 0; k < panels.size(); ++k) {
+    const SweepPanel& panel = panels[k];
+    std::size_t row = k / columns;
+    std::size_t col = k % columns;
+    if (grid) {
+      row = static_cast<std::size_t>(std::distance(min_pts_values.begin(), min_pts_values.find(panel.min_pts)));
+      col = static_cast<std::size_t>(std::distance(eps_values.begin(), eps_values.find(panel.eps)));
+    }
+    Viewport vp;
+    vp.world = world;
+    vp.scale = scale;
+    vp.left = left0 + static_cast<double>(col) * (pw + gap_x);
+    vp.top = top0 + static_cast<double>(row) * (ph + gap_y);
+
+    CellMap cells;
+    std::set<std::int32_t> clusters;
+    std::size_t noise = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const std::int32_t l = panel.labels[i];
+      if (l >= 0) {
+        clusters.insert(l);
+      } else {
+        ++noise;
+      }
+      if (!shown.contains(xy[i])) {
+        if (k == 0) ++hidden;
+        continue;
+      }
+      // Depth by input order: the first point of a cell wins among equals.
+      offer(cells, xy[i], cell_size, l, -static_cast<double>(i));
+    }
+    const double noise_pct = points.empty() ? 0.0 : 100.0 * static_cast<double>(noise) / static_cast<double>(points.size());
+    body << "<g class=\"panel\" data-eps=\"" << shortNum(panel.eps) << "\" data-min-pts=\"" << panel.min_pts
+         << "\" data-clusters=\"" << clusters.size() << "\">\n"
+         << "<text class=\"panel-title\" x=\"" << num(vp.left) << "\" y=\"" << num(vp.top - 20)
+         << "\" font-family=\"sans-serif\" font-size=\"12\" font-weight=\"bold\">\u03b5 = " << shortNum(panel.eps)
+         << ", minPts = " << panel.min_pts << "</text>\n"
+         << "<text x=\"" << num(vp.left) << "\" y=\"" << num(vp.top - 6)
+         << "\" font-family=\"sans-serif\" font-size=\"11\" fill=\"#333\">" << clusters.size() << " clusters, "
+         << num(noise_pct, 1) << "% noise</text>\n";
+    writeCells(body, cells, cell_size, vp);
+    writeAxes(body, vp, "", "", font);
+    body << "</g>\n";
+  }
+
+  const double width = left0 + static_cast<double>(columns) * (pw + gap_x);
+  double y = top0 + static_cast<double>(rows) * (ph + gap_y) - gap_y + 2 * font + 26;
+  Viewport first;
+  first.world = world;
+  first.scale = scale;
+  first.left = left0;
+  first.top = 0;
+  writeScaleBar(body, first, y - 14, 11.0);
+  std::vector<std::string> caption = {
+      std::to_string(points.size()) + " points, top view (x-y); clusters in colours, noise in black; each cell of " +
+      shortNum(cell_size) + " map units shows a clustered point when it has one"};
+  if (hidden > 0) caption.push_back(std::to_string(hidden) + " far points outside the view, not drawn");
+  body << "<g class=\"caption\" font-family=\"sans-serif\" font-size=\"11\" fill=\"#111\">\n";
+  for (const auto& line : caption) {
+    y += 16;
+    body << "<text x=\"" << num(left0) << "\" y=\"" << num(y) << "\">" << escapeXml(line) << "</text>\n";
+  }
+  body << "</g>\n";
+
+  std::string svg = svgHeader(std::max(width, 520.0), y + 14);
+  svg += "<text class=\"title\" x=\"" + num(left0) + "\" y=\"20\" font-family=\"sans-serif\" font-size=\"15\" " +
+         "font-weight=\"bold\">" + escapeXml(title) + "</text>\n";
+  svg += body.str();
+  svg += "</svg>\n";
+  return svg;
+}
+
+std::optional<std::string> findProgram(const std::string& name, const std::string& search_path) {
+  std::size_t start = 0;
+  while (start <= search_path.size()) {
+    std::size_t end = search_path.find(':', start);
+    if (end == std::string::npos) end = search_path.size();
+    const std::string dir = search_path.substr(start, end - start);
+    if (!dir.empty()) {
+      const std::filesystem::path candidate = std::filesystem::path(dir) / name;
+      std::error_code ec;
+      if (std::filesystem::is_regular_file(candidate, ec) && ::access(candidate.c_str(), X_OK) == 0) {
+        return candidate.string();
+      }
+    }
+    start = end + 1;
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> findPngConverter() {
+  const char* path = std::getenv("PATH");
+  return findProgram("rsvg-convert", path ? path : "");
+}
+
+namespace {
+
+bool endsWithPng(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".png";
+}
+
+std::string tempBeside(const std::filesystem::path& target, const std::string& suffix) {
+  return (target.parent_path() / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()) + suffix))
+      .string();
+}
+
+// rsvg-convert -f png -o png svg, without a shell; throws naming `target` on failure.
+void runConverter(const std::string& converter, const std::string& svg_file, const std::string& png_file,
+                  const std::string& target) {
+  std::vector<std::string> args = {converter, "-f", "png", "-b", "white", "-o", png_file, svg_file};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  if (::posix_spawn(&pid, converter.c_str(), nullptr, nullptr, argv.data(), environ) != 0) {
+    throw Error(target + ": cannot run " + converter);
+  }
+  int raw = 0;
+  if (::waitpid(pid, &raw, 0) < 0 || !WIFEXITED(raw) || WEXITSTATUS(raw) != 0) {
+    throw Error(target + ": " + converter + " failed (exit status " +
+                std::to_string(WIFEXITED(raw) ? WEXITSTATUS(raw) : -1) + ")");
+  }
+}
+
+// Renders `svg` to the PNG `target` atomically.
+void writePng(const std::string& svg, const std::string& target, const std::string& converter) {
+  const std::filesystem::path t(target);
+  const std::string svg_tmp = tempBeside(t, ".svg");
+  const std::string png_tmp = tempBeside(t, ".png");
+  const auto cleanup = [&] {
+    std::error_code ignored;
+    std::filesystem::remove(svg_tmp, ignored);
+    std::filesystem::remove(png_tmp, ignored);
+  };
+  try {
+    mapper::writeFileAtomically(svg_tmp, [&](std::ostream& out) { out << svg; });
+    runConverter(converter, svg_tmp, png_tmp, target);
+    std::error_code ec;
+    std::filesystem::rename(png_tmp, t, ec);
+    if (ec) throw Error(target + ": cannot rename into place: " + ec.message());
+  } catch (...) {
+    cleanup();
+    throw;
+  }
+  cleanup();
+}
+
+}  // namespace
+
+std::vector<std::string> writePicture(const std::string& svg, const PictureOutput& output,
+                                      const std::optional<std::string>& converter) {
+  if (output.path.empty()) throw Error(output.option + ": no output file given");
+  const bool png_only = endsWithPng(output.path);
+  const auto dir = std::filesystem::path(output.path).parent_path();
+  std::error_code ec;
+  if (!dir.empty() && !std::filesystem::is_directory(dir, ec)) {
+    throw Error(output.option + " " + output.path + ": directory " + dir.string() + " does not exist");
+  }
+  if ((png_only || output.also_png) && !converter) {
+    throw Error((png_only ? output.option + " " + output.path : std::string("--png")) +
+                ": PNG output needs rsvg-convert, which is not on PATH; install the Debian package " +
+                kPngConverterPackage + " (apt-get install " + kPngConverterPackage + ") or write an .svg");
+  }
+  std::vector<std::string> written;
+  if (png_only) {
+    writePng(svg, output.path, *converter);
+    written.push_back(output.path);
+    return written;
+  }
+  mapper::writeFileAtomically(output.path, [&](std::ostream& out) { out << svg; });
+  written.push_back(output.path);
+  if (output.also_png) {
+    const std::string png = std::filesystem::path(output.path).replace_extension(".png").string();
+    writePng(svg, png, *converter);
+    written.push_back(png);
+  }
+  return written;
+}
+
+}  // namespace hullmap::cli

@@ -1,0 +1,129 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hullmap/clustering/dbscan.hpp"
+#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/collision/path_check.hpp"
+
+namespace hullmap::cli {
+
+/// An sRGB colour, 8 bits per channel.
+struct Rgb {
+  std::uint8_t r = 0;
+  std::uint8_t g = 0;
+  std::uint8_t b = 0;
+};
+
+/// "#rrggbb", lower case.
+std::string toHex(Rgb colour);
+
+/// Colour of a cluster label, the same in every picture hullmap draws:
+/// - clustering::kNoise (and any negative label) is black, #000000;
+/// - labels 0..17 take Kelly's colours of maximum contrast, in Kelly's order (white, black, the
+///   neutral grey and the near-black olive left out, so no cluster looks like noise);
+/// - from label 18 on, the hue steps by the golden angle (137.5 degrees) in CIE LCh at lightness
+///   cycling through 55, 72, 45, so consecutive labels stay far apart and none is near black.
+/// Pure function, thread-safe.
+Rgb clusterColour(std::int32_t label);
+
+/// Which plane the picture shows. The map frame is z up.
+enum class PlotView {
+  kTop,   ///< x right, y up, seen from above
+  kSide,  ///< x right, z up, seen from -y
+};
+
+/// A path and the answer of collision::HullChecker::checkPath(waypoints, radius) for it.
+struct PlotPath {
+  std::vector<Eigen::Vector3d> waypoints;  ///< map frame, map units
+  double radius = 0.0;                     ///< drone radius, map units
+  collision::PathCheck check;              ///< one SegmentCheck per consecutive pair of waypoints
+};
+
+/// Everything `hullmap plot` draws.
+struct MapPlot {
+  std::vector<Eigen::Vector3d> centers;      ///< occupied voxel centres, map frame, map units
+  std::vector<std::int32_t> labels;          ///< per voxel: cluster label or clustering::kNoise
+  double voxel_size = 0.05;                  ///< leaf edge length, map units (> 0)
+  std::vector<clustering::Obstacle> obstacles;
+  std::optional<PlotPath> path;
+  std::vector<std::string> caption;          ///< lines printed under the picture (parameters)
+  PlotView view = PlotView::kTop;
+};
+
+/// What a rendering drew, for the command's summary and for tests.
+struct SvgPicture {
+  std::string svg;                  ///< the document
+  std::size_t cells = 0;            ///< projected cells drawn (voxels merged per cell)
+  std::size_t hidden_voxels = 0;    ///< voxels outside the view (far outliers), not drawn
+};
+
+/// Renders a map as one SVG document (no external resources).
+///
+/// Voxels are projected on the view plane and merged: each cell of the plane (voxel_size square,
+/// aligned to the octree grid) is drawn once, in the colour of one voxel above it: a clustered voxel
+/// wins over noise; among equals the topmost (top view) or the nearest to the viewer, smallest y
+/// (side view). Runs of equal cells in a row become one rectangle and all rectangles of a label one
+/// <path class="cells" data-label="L">, so 100k voxels make a file of a few hundred kB at most.
+/// The view spans the clustered voxels, the obstacles, the path and the bulk of the noise (5% to
+/// 95% quantiles per axis), grown to take in every noise voxel within half the view's extent of it;
+/// noise voxels farther out (gross outliers, e.g. ORB-SLAM points kilometres away) are counted in
+/// SvgPicture::hidden_voxels and in the caption, not drawn.
+///
+/// Each obstacle is outlined as <polygon class="footprint" id="obstacle-ID"> (top view: its footprint
+/// polygon; side view: the x-z outline of its hull) and numbered with its id. A path is drawn with a
+/// band of its radius; segments that collide are red lines of class "colliding-segment", the first
+/// contact a red circle of class "first-contact". Axes are in map units with a scale bar.
+/// Throws hullmap::Error on voxel_size <= 0 or a labels/centers size mismatch.
+SvgPicture renderMapSvg(const MapPlot& plot);
+
+/// One DBSCAN run of a sweep: its parameters and the label of every point.
+struct SweepPanel {
+  double eps = 0.0;
+  int min_pts = 0;
+  std::vector<std::int32_t> labels;   ///< per point, same order as the points
+};
+
+/// Small multiples, one top view per panel (the seed report's figures 3 and 4 in one picture).
+/// When the panels form a full grid of distinct eps x distinct min_pts they are laid out with eps
+/// across and min_pts down; otherwise in the given order, ceil(sqrt(n)) per row. All panels share
+/// the same bounds and scale; far outliers are left out as in renderMapSvg and counted in the caption. Points are merged into square cells of `cell_size` map units (<= 0:
+/// 1/150 of the larger extent) as renderMapSvg merges voxels: clustered wins over noise, then the
+/// first point in input order. Each panel is a <g class="panel" data-eps=".." data-min-pts="..">
+/// titled with its parameters, cluster count and noise share.
+/// Throws hullmap::Error when a panel's labels do not match the points.
+std::string renderSweepSvg(const std::vector<Eigen::Vector3d>& points,
+                           const std::vector<SweepPanel>& panels, double cell_size,
+                           const std::string& title);
+
+/// Debian package that provides rsvg-convert, named in errors and output.
+inline constexpr const char* kPngConverterPackage = "librsvg2-bin";
+
+/// Full path of the executable `name` in the ':'-separated directory list `search_path` (the value
+/// of PATH), or nullopt.
+std::optional<std::string> findProgram(const std::string& name, const std::string& search_path);
+
+/// rsvg-convert found on the process's PATH, or nullopt.
+std::optional<std::string> findPngConverter();
+
+/// Where a picture goes. `path` ending in ".png" (any case) means PNG only; otherwise the SVG is
+/// written to `path`, and with `also_png` a PNG beside it (extension replaced by .png).
+struct PictureOutput {
+  std::string path;
+  bool also_png = false;
+  std::string option = "-o";   ///< the option that named `path`, for error messages
+};
+
+/// Writes `svg` as asked, each file atomically (temporary file + rename). PNGs are rendered by
+/// `converter` (rsvg-convert). Returns the files written. Throws hullmap::Error naming the file or
+/// the option: when a PNG is asked and `converter` is nullopt the message names the package to
+/// install (librsvg2-bin); when the converter fails, its exit status.
+std::vector<std::string> writePicture(const std::string& svg, const PictureOutput& output,
+                                      const std::optional<std::string>& converter);
+
+}  // namespace hullmap::cli
