@@ -1,6 +1,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -10,15 +11,43 @@
 namespace hullmap::mapper {
 
 /// The point formats hullmap reads. Recognised from content first, the extension second.
+///
+/// - kOrbSlamEcho: `rostopic echo /ORB_SLAM/Map > dump.txt` of ORB-SLAM (v1): a stream of
+///   visualization_msgs/Marker messages separated by `---`. The map is the last marker of namespace
+///   "MapPoints", id 0 (all points) plus the last of id 6 (reference points), type 8 (POINTS).
+///   Markers of other namespaces (KeyFrames, Graph, Camera) are ignored; an incomplete last message
+///   (a dump stopped with Ctrl-C) is ignored.
+/// - kText: one point a line, numbers separated by spaces, tabs or commas (ORB-SLAM2/3 map-point
+///   dumps, `.xyz`). An optional header line of words (`pos_x, pos_y, pos_z`), `#` comments and
+///   blank lines are allowed. The first data line fixes the column count (at least 3); x y z are
+///   the first three columns, the rest (normals, colours) are ignored; every line must have that count.
+/// - kPcd: PCD v0.7, DATA ascii, binary or binary_compressed (LZF), any field layout with F4/F8
+///   x y z fields (host byte order, i.e. little-endian).
+/// - kPly: PLY 1.0 ascii, binary_little_endian or binary_big_endian; the x y z properties of the
+///   `vertex` element (any scalar type); other properties and elements (faces, lists) are skipped.
 enum class PointFormat { kOrbSlamEcho, kText, kPcd, kPly };
 
-/// Guesses the format of `path` from its first bytes (and its extension when the content is plain
-/// numbers). Throws hullmap::Error when the file cannot be opened.
+/// "orbslam_echo", "text", "pcd", "ply" (the InputStats::format names).
+std::string toString(PointFormat format);
+
+/// Guesses the format of `path` from its first bytes (and its extension when the file is empty).
+/// Throws hullmap::Error when the file cannot be opened or holds binary data of no known format.
 PointFormat detectPointFormat(const std::string& path);
 
-/// Reads one point file of any supported format. Non-finite points are dropped and counted under
-/// "non_finite". Throws hullmap::Error naming file and line (or byte offset) on malformed input.
+/// The same, on bytes already in memory; `name` is used in messages only.
+PointFormat detectPointFormat(std::string_view bytes, const std::string& name);
+
+/// Parses the bytes of one point file of any supported format (detected from the content).
+/// `name` (the path) is used in error messages and stored in InputStats::path. Points with a NaN or
+/// infinite coordinate are dropped and counted under "non_finite". An empty input, or a file of a
+/// known format holding no points, gives zero points (not an error). Throws hullmap::Error naming
+/// `name` and the line (text formats) or the byte offset / point index (binary formats) on malformed
+/// input, unknown formats and truncated data. Never allocates more than the input size justifies.
 /// Thread-safe (no shared state).
+PointSet parsePoints(std::string_view bytes, const std::string& name);
+
+/// Reads one point file of any supported format (see parsePoints). Throws hullmap::Error naming the
+/// file when it cannot be read. Thread-safe (no shared state).
 PointSet readPointFile(const std::string& path);
 
 /// Reads and unions several point files, in order; one InputStats per file.
@@ -31,9 +60,18 @@ struct Keyframe {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
 };
 
-/// Reads a TUM trajectory `t tx ty tz qx qy qz qw`, one pose a line, `#` comments.
-/// Timestamps above 1e12 are taken as nanoseconds. Quaternions are normalised; a zero or
-/// non-finite one is an error naming the line.
+/// Stamps above this are taken as nanoseconds (1e12 s is 31 700 years; 1e12 ns is 17 minutes
+/// after 1970, earlier than any real recording).
+constexpr double kNanosecondStampThreshold = 1e12;
+
+/// Parses a TUM trajectory `t tx ty tz qx qy qz qw`, one pose a line (spaces, tabs or commas),
+/// `#` comments and blank lines. Timestamps above kNanosecondStampThreshold are taken as
+/// nanoseconds and converted to seconds (ORB-SLAM3 writes `1403636579763555840.000000`).
+/// Quaternions are normalised. A line without exactly 8 numbers, a non-finite value, or a zero
+/// quaternion is an Error "<name>:<line>: ...".
+std::vector<Keyframe> parseTumTrajectory(std::string_view bytes, const std::string& name);
+
+/// Reads a TUM trajectory file (see parseTumTrajectory).
 std::vector<Keyframe> readTumTrajectory(const std::string& path);
 
 }  // namespace hullmap::mapper
