@@ -97,11 +97,10 @@ Obstacle wrapCluster(int id, const std::vector<std::size_t>& members, const std:
     return Eigen::Vector3d(origin + Eigen::Vector3d(double(c[0]), double(c[1]), double(c[2])) * voxel_size);
   };
 
+  // The hull is computed on the integer lattice, where coplanar and collinear corners are exactly
+  // so (scaled doubles are not: rounding would leave sliver triangles with meaningless normals).
   std::vector<Point3> points;
-  for (const auto& c : candidateCorners(cells)) {
-    const Eigen::Vector3d p = cornerPoint(c);
-    points.emplace_back(p.x(), p.y(), p.z());
-  }
+  for (const auto& c : candidateCorners(cells)) points.emplace_back(double(c[0]), double(c[1]), double(c[2]));
   Mesh mesh;
   CGAL::convex_hull_3(points.begin(), points.end(), mesh);
   if (mesh.number_of_faces() == 0) throw Error("buildObstacles: degenerate hull for cluster " + std::to_string(id));
@@ -110,7 +109,7 @@ Obstacle wrapCluster(int id, const std::vector<std::size_t>& members, const std:
   for (const auto v : mesh.vertices()) {
     const Point3& p = mesh.point(v);
     index[v] = int(obstacle.hull.vertices.size());
-    obstacle.hull.vertices.emplace_back(p.x(), p.y(), p.z());
+    obstacle.hull.vertices.push_back(cornerPoint({std::int64_t(p.x()), std::int64_t(p.y()), std::int64_t(p.z())}));
   }
   for (const auto f : mesh.faces()) {
     std::vector<int> ring;

@@ -192,9 +192,15 @@ ConvexPolytope ConvexPolytope::fromHull(const clustering::ConvexHull& hull, cons
     }
     const V3& a = p.vertices[t[0]];
     const V3 n = (p.vertices[t[1]] - a).cross(p.vertices[t[2]] - a);
-    if (!(n.norm() > 0)) throw Error(what + ": degenerate hull triangle");
-    p.normals.push_back(n.normalized());
-    p.offsets.push_back(p.normals.back().dot(a));
+    if (n.norm() > 1e-12 * extent * extent) {
+      p.normals.push_back(n.normalized());
+      p.offsets.push_back(p.normals.back().dot(a));
+    } else {
+      // A sliver (rounded collinear corners): its plane is meaningless, its neighbours bound the
+      // hull within the sliver's width. No half-space, never "facing".
+      p.normals.push_back(V3::Zero());
+      p.offsets.push_back(std::numeric_limits<double>::infinity());
+    }
     volume += a.dot(p.vertices[t[1]].cross(p.vertices[t[2]])) / 6.0;
   }
   // Closed and consistently oriented: every directed edge once, its reverse once.
@@ -206,8 +212,11 @@ ConvexPolytope ConvexPolytope::fromHull(const clustering::ConvexHull& hull, cons
   if (!(volume > 0)) throw Error(what + ": hull has no positive volume (triangles not outward?)");
   const double tolerance = 1e-9 * std::max(p.scale, extent);
   for (std::size_t f = 0; f < p.normals.size(); ++f)
-    for (const auto& v : p.vertices)
-      if (p.normals[f].dot(v) > p.offsets[f] + tolerance) throw Error(what + ": hull is not convex");
+    for (const auto& v : p.vertices) {
+      if (!std::isfinite(p.offsets[f])) continue;
+      if (p.normals[f].dot(v) > p.offsets[f] + tolerance)
+        throw Error(what + ": hull is not convex (a vertex is " + std::to_string(p.normals[f].dot(v) - p.offsets[f]) + " outside face " + std::to_string(f) + ")");
+    }
   return p;
 }
 
