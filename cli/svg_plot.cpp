@@ -170,11 +170,11 @@ Box2 quantileBox(const std::vector<Eigen::Vector2d>& points) {
   return box;
 }
 
-// `core` grown to take in every candidate that lies within half of core's larger extent (at least
+// `core` grown to take in every candidate that lies within core's larger extent (at least
 // `min_extent`) beyond it; candidates farther away are gross outliers and stay outside.
 Box2 withNearby(Box2 core, const std::vector<Eigen::Vector2d>& candidates, double min_extent) {
   if (core.empty()) return core;
-  const double reach = 0.5 * std::max({core.x1 - core.x0, core.y1 - core.y0, min_extent});
+  const double reach = std::max({core.x1 - core.x0, core.y1 - core.y0, min_extent});
   Box2 limit{core.x0 - reach, core.y0 - reach, core.x1 + reach, core.y1 + reach};
   for (const auto& p : candidates) {
     if (limit.contains(p)) core.add(p);
@@ -576,7 +576,7 @@ std::string renderSweepSvg(const std::vector<Eigen::Vector3d>& points, const std
   const double gap_x = 62.0;
   const double gap_y = 74.0;
   const double left0 = 56.0;
-  const double top0 = 48.0;
+  const double top0 = 70.0;
   const double font = 10.0;
 
   std::ostringstream body;
@@ -636,7 +636,7 @@ std::string renderSweepSvg(const std::vector<Eigen::Vector3d>& points, const std
   writeScaleBar(body, first, y - 14, 11.0);
   std::vector<std::string> caption = {
       std::to_string(points.size()) + " points, top view (x-y); clusters in colours, noise in black; each cell of " +
-      shortNum(cell_size) + " map units shows a clustered point when it has one"};
+      num(cell_size, std::max(2, decimalsFor(cell_size) + 1)) + " map units shows a clustered point when it has one"};
   if (hidden > 0) caption.push_back(std::to_string(hidden) + " far points outside the view, not drawn");
   body << "<g class=\"caption\" font-family=\"sans-serif\" font-size=\"11\" fill=\"#111\">\n";
   for (const auto& line : caption) {

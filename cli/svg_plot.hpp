@@ -71,7 +71,7 @@ struct SvgPicture {
 /// (side view). Runs of equal cells in a row become one rectangle and all rectangles of a label one
 /// <path class="cells" data-label="L">, so 100k voxels make a file of a few hundred kB at most.
 /// The view spans the clustered voxels, the obstacles, the path and the bulk of the noise (5% to
-/// 95% quantiles per axis), grown to take in every noise voxel within half the view's extent of it;
+/// 95% quantiles per axis), grown to take in every noise voxel within the view's extent of it;
 /// noise voxels farther out (gross outliers, e.g. ORB-SLAM points kilometres away) are counted in
 /// SvgPicture::hidden_voxels and in the caption, not drawn.
 ///

@@ -524,6 +524,44 @@ TEST(PlotCommand, DrawsABuildDirectory) {
   }
 }
 
+TEST(PlotCommand, PathThroughAnObstacleIsMarkedRed) {
+  Scene s = makeScene(3, 0.05, 4);
+  // Obstacle 0 covers x 0.2..0.4, y 0.2..0.35, z 0..0.1: the first segment crosses it at mid-height,
+  // the second climbs at x = 0.6, 0.2 from obstacle 0 and 0.3 from obstacle 1 (x >= 0.9).
+  ASSERT_NEAR(s.plot.obstacles[0].aabb_max.x(), 0.4, 1e-9);
+  ASSERT_NEAR(s.plot.obstacles[1].aabb_min.x(), 0.9, 1e-9);
+  const auto dir = writeBuildDir(s, "plot_cmd_path");
+  std::ofstream(dir / "path.txt") << "# x y z\n0 0.275 0.05\n0.6 0.275 0.05\n\n0.6 2 2\n";
+  const auto r = hullmap::test::runHullmap("plot '" + dir.string() + "' --path '" + (dir / "path.txt").string() +
+                                           "' --radius 0.05 -o '" + (dir / "map.svg").string() + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("first contact on segment 0"), std::string::npos) << r.out;
+  const std::string svg = hullmap::test::slurp(dir / "map.svg");
+  EXPECT_NE(svg.find("class=\"colliding-segment\" data-segment=\"0\""), std::string::npos);
+  EXPECT_EQ(svg.find("data-segment=\"1\""), std::string::npos);
+  EXPECT_NE(svg.find("class=\"first-contact\""), std::string::npos);
+  // The first contact lies on segment 0 before the obstacle's near face (x = 0.2) less the radius.
+  const std::regex contact_re(R"re(first contact at \(([-0-9.e]+), ([-0-9.e]+), ([-0-9.e]+)\))re");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(svg, m, contact_re)) << "caption names the first contact";
+  EXPECT_NEAR(std::stod(m[1]), 0.15, 0.01);
+  EXPECT_NEAR(std::stod(m[2]), 0.275, 1e-6);
+
+  std::ofstream(dir / "clear.txt") << "0 2 2\n2 2 2\n";
+  const auto clear = hullmap::test::runHullmap("plot '" + dir.string() + "' --path '" + (dir / "clear.txt").string() +
+                                               "' --radius 0.05 -o '" + (dir / "clear.svg").string() + "'");
+  ASSERT_EQ(clear.status, 0) << clear.err;
+  const std::string clear_svg = hullmap::test::slurp(dir / "clear.svg");
+  EXPECT_EQ(clear_svg.find("colliding-segment"), std::string::npos);
+  EXPECT_NE(clear_svg.find("radius 0.05, clear"), std::string::npos);
+
+  std::ofstream(dir / "bad.txt") << "0 0 0\n1 1\n";
+  const auto bad = hullmap::test::runHullmap("plot '" + dir.string() + "' --path '" + (dir / "bad.txt").string() +
+                                             "' --radius 0.05 -o '" + (dir / "bad.svg").string() + "'");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("bad.txt:2"), std::string::npos) << bad.err;
+}
+
 TEST(PlotCommand, ErrorsNameTheFileOrOption) {
   Scene s = makeScene(2, 0.05, 4);
   const auto dir = writeBuildDir(s, "plot_cmd_err");
