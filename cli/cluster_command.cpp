@@ -1,13 +1,133 @@
-#include "commands.hpp"
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
 
+#include "commands.hpp"
+#include "hullmap/clustering/dbscan.hpp"
+#include "hullmap/mapper/atomic_file.hpp"
 #include "hullmap/mapper/error.hpp"
+#include "hullmap/mapper/frame.hpp"
+#include "hullmap/mapper/readers.hpp"
 
 namespace hullmap::cli {
+namespace {
 
-// Placeholder registration until the cluster subcommand lands; replaced by its owner.
+struct ClusterOptions {
+  std::vector<std::string> inputs;
+  double eps = 0.1;
+  int min_pts = 10;
+  std::string metric = "xyz";
+  std::string up = "z";
+  double scale = 1.0;
+  std::string output;
+};
+
+// The inputs' points, unioned in order, in the z-up map frame.
+mapper::Points loadMapPoints(const ClusterOptions& o) {
+  const mapper::FrameParams frame{mapper::parseUpAxis(o.up), o.scale};
+  mapper::PointSet set = mapper::readPointFiles(o.inputs);
+  if (set.points.empty()) {
+    std::string names;
+    for (const auto& input : o.inputs) names += (names.empty() ? "" : ", ") + input;
+    throw Error(names + ": no points");
+  }
+  mapper::toMapFrame(frame, set.points);
+  return std::move(set.points);
+}
+
+// Shortest text that reads back to the same double.
+void appendNumber(std::string& line, double value) {
+  char buffer[32];
+  const auto end = std::to_chars(buffer, buffer + sizeof buffer, value).ptr;
+  line.append(buffer, end);
+}
+
+void writeLabels(const std::string& path, const mapper::Points& points, const clustering::DbscanResult& result) {
+  mapper::writeFileAtomically(path, [&](std::ostream& out) {
+    out << "x,y,z,label,core\n";
+    std::string line;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      line.clear();
+      for (int k = 0; k < 3; ++k) {
+        appendNumber(line, points[i][k]);
+        line += ',';
+      }
+      line += std::to_string(result.labels[i]);
+      line += result.core[i] ? ",1\n" : ",0\n";
+      out << line;
+    }
+  });
+}
+
+std::string numberText(double value) {
+  std::string text;
+  appendNumber(text, value);
+  return text;
+}
+
+void runCluster(const ClusterOptions& o) {
+  if (!(o.eps > 0.0) || !std::isfinite(o.eps)) throw Error("--eps: must be > 0, got " + numberText(o.eps));
+  if (o.min_pts < 1) throw Error("--min-pts: must be >= 1, got " + std::to_string(o.min_pts));
+  const clustering::DbscanParams params{o.eps, o.min_pts, clustering::parseMetric(o.metric)};
+  const mapper::Points points = loadMapPoints(o);
+  const clustering::DbscanResult result = clustering::dbscan(points, {}, params);
+
+  std::vector<std::size_t> sizes = result.cluster_sizes;
+  std::sort(sizes.rbegin(), sizes.rend());
+  const std::size_t core = std::count(result.core.begin(), result.core.end(), std::uint8_t{1});
+  std::printf("points: %zu\n", points.size());
+  std::printf("DBSCAN: eps %g, min-pts %d, metric %s\n", o.eps, o.min_pts, clustering::toString(params.metric).c_str());
+  std::printf("clusters: %zu\n", sizes.size());
+  std::printf("core points: %zu\n", core);
+  std::printf("noise points: %zu (%.1f%%)\n", result.noise, 100.0 * double(result.noise) / double(points.size()));
+  std::string largest;
+  for (std::size_t i = 0; i < std::min<std::size_t>(sizes.size(), 10); ++i) {
+    largest += (i ? ", " : "") + std::to_string(sizes[i]);
+  }
+  std::printf("largest clusters: %s\n", largest.empty() ? "none" : largest.c_str());
+  const std::vector<double> curve = clustering::kDistanceCurve(points, o.min_pts, params.metric);
+  if (curve.empty()) {
+    std::printf("eps suggestion: none (fewer than min-pts points)\n");
+  } else {
+    std::printf("eps suggestion: %g (knee of the %d-distance curve, min-pts %d)\n",
+                clustering::suggestEps(curve), o.min_pts - 1, o.min_pts);
+  }
+  if (!o.output.empty()) {
+    writeLabels(o.output, points, result);
+    std::printf("wrote %s: one row per input point, in input order, in the map frame (after --up, --scale)\n",
+                o.output.c_str());
+  }
+  std::fflush(stdout);
+}
+
+}  // namespace
+
 void addClusterCommand(CLI::App& app, int& status) {
-  auto* cmd = app.add_subcommand("cluster", "(pending)");
-  cmd->callback([&status] { status = 2; throw Error("cluster: pending"); });
+  auto options = std::make_shared<ClusterOptions>();
+  auto* cmd = app.add_subcommand("cluster", "Exact DBSCAN of map points: labels per point, cluster sizes, eps suggestion");
+  cmd->add_option("inputs", options->inputs, "Point files (ORB-SLAM dumps, text/xyz, PCD, PLY), unioned in order")
+      ->required();
+  cmd->add_option("--eps", options->eps, "Neighbourhood radius, map units (points at exactly eps are neighbours)")
+      ->capture_default_str();
+  cmd->add_option("--min-pts", options->min_pts, "Core when the eps-neighbourhood, the point included, has this many points")
+      ->capture_default_str();
+  cmd->add_option("--metric", options->metric, "xyz (3D distance) or xy (distance in the ground plane)")
+      ->capture_default_str();
+  cmd->add_option("--up", options->up, "Input axis that points up: x, -x, y, -y, z, -z (ORB-SLAM: -y)")
+      ->capture_default_str();
+  cmd->add_option("--scale", options->scale, "Scale applied to the input before the frame change")
+      ->capture_default_str();
+  cmd->add_option("-o,--output", options->output,
+                  "labels.csv: x,y,z,label,core per input point in input order, in the map frame (after --up)");
+  cmd->callback([options, &status] {
+    runCluster(*options);
+    status = 0;
+  });
 }
 
 }  // namespace hullmap::cli
