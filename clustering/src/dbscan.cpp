@@ -439,28 +439,43 @@ class GridDbscan {
     sortByKey(keyed);
     GRID_LAP("sort");
 
+    // Cells start where the key changes. The keys go before the sorted points arrive, to keep the
+    // peak memory low.
     order_.resize(n);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t j) { order_[j] = keyed[j].index; });
+    BigVector<Index> run_start;
+    for (std::size_t j = 0; j < n; ++j) {
+      if (j == 0 || keyed[j].key != keyed[j - 1].key) run_start.push_back(Index(j));
+    }
+    run_start.push_back(Index(n));
+    BigVector<KeyedPoint>().swap(keyed);
+
     pts_.resize(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t j = r.begin(); j != r.end(); ++j) {
-        order_[j] = keyed[j].index;
-        pts_[j] = input_[order_[j]];
-      }
+      for (std::size_t j = r.begin(); j != r.end(); ++j) pts_[j] = input_[order_[j]];
     });
     GRID_LAP("gather");
 
-    // Cells start where the key changes. Two cells may share a key (hash collision of their blocks):
-    // such a run is sorted by coordinates and split where the coordinates change.
-    for (std::size_t a = 0; a < n;) {
-      std::size_t b = a + 1;
-      while (b < n && keyed[b].key == keyed[a].key) ++b;
-      const CellCoord first = cellOf(pts_[a]);
-      bool mixed = false;
-      for (std::size_t j = a + 1; j < b && !mixed; ++j) mixed = !(cellOf(pts_[j]) == first);
-      if (!mixed) {
-        start_.push_back(Index(a));
-        coords_.push_back(first);
-      } else {
+    // Two cells may share a key (a hash collision of their blocks): such a run is sorted by
+    // coordinates and split where the coordinates change.
+    const std::size_t runs = run_start.size() - 1;
+    coords_.resize(runs);
+    const bool collision = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, runs, 256), false,
+        [&](const tbb::blocked_range<std::size_t>& r, bool mixed) {
+          for (std::size_t c = r.begin(); c != r.end(); ++c) {
+            coords_[c] = cellOf(pts_[run_start[c]]);
+            for (Index j = run_start[c] + 1; j < run_start[c + 1] && !mixed; ++j) mixed = !(cellOf(pts_[j]) == coords_[c]);
+          }
+          return mixed;
+        },
+        [](bool x, bool y) { return x || y; });
+    if (!collision) {
+      start_.swap(run_start);
+    } else {
+      coords_.clear();
+      for (std::size_t c = 0; c < runs; ++c) {
+        const std::size_t a = run_start[c], b = run_start[c + 1];
         std::sort(order_.begin() + a, order_.begin() + b, [&](Index u, Index v) {
           const CellCoord cu = cellOf(input_[u]);
           const CellCoord cv = cellOf(input_[v]);
@@ -469,18 +484,16 @@ class GridDbscan {
         });
         for (std::size_t j = a; j < b; ++j) {
           pts_[j] = input_[order_[j]];
-          const CellCoord c = cellOf(pts_[j]);
-          if (j == a || !(c == coords_.back())) {
+          const CellCoord cell = cellOf(pts_[j]);
+          if (j == a || !(cell == coords_.back())) {
             start_.push_back(Index(j));
-            coords_.push_back(c);
+            coords_.push_back(cell);
           }
         }
       }
-      a = b;
+      start_.push_back(Index(n));
     }
-    start_.push_back(Index(n));
     const std::size_t cells = coords_.size();
-    BigVector<KeyedPoint>().swap(keyed);
     GRID_LAP("bounds");
 
     boxes_.resize(cells);
