@@ -1,0 +1,16 @@
+// libFuzzer target: the x y z text (ORB-SLAM2/3 map-point dumps, .xyz) reader, called directly (format detection bypassed).
+#include <cstddef>
+#include <cstdint>
+
+#include "fuzz_support.hpp"
+#include "read_detail.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace hullmap;
+  return fuzz::guarded([&] {
+    mapper::Points points;
+    mapper::InputStats stats;
+    mapper::detail::parseText(fuzz::bytesOf(data, size), fuzz::kInputName, points, stats);
+    fuzz::checkStats(points, stats);
+  });
+}

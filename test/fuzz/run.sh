@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets with clang (ASan + UBSan, coverage instrumentation) in build-fuzz
+# and runs each for SECONDS, starting from the seed corpus test/fuzz/corpus/<target>/.
+#
+#   test/fuzz/run.sh SECONDS [target...]     e.g. test/fuzz/run.sh 20;  test/fuzz/run.sh 240 pcd ply
+#
+# Targets: text orbslam_echo pcd ply points tum bt. New inputs go to build-fuzz/corpus/<target>/
+# (the repository's corpus is only read); a crash, hang (> 5 s), leak or out-of-memory (> 2 GB)
+# is saved as build-fuzz/artifacts/<target>-crash-* etc. and fails the script. The last line
+# of each target's log (build-fuzz/logs/<target>.log) gives executions and coverage (cov:, ft:).
+# Environment: BUILD_DIR (default <repo>/build-fuzz), JOBS (build parallelism, default 2).
+set -euo pipefail
+
+seconds=${1:?usage: test/fuzz/run.sh SECONDS [target...]}
+shift
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+build=${BUILD_DIR:-$root/build-fuzz}
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(text orbslam_echo pcd ply points tum bt)
+
+declare -A max_len=([text]=4096 [orbslam_echo]=8192 [pcd]=4096 [ply]=4096 [points]=8192 [tum]=2048 [bt]=2048)
+
+CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Debug \
+  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link" -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" \
+  -DHULLMAP_SANITIZE=ON -DHULLMAP_BUILD_FUZZ=ON -DHULLMAP_BUILD_TESTS=OFF -DHULLMAP_BUILD_CLI=OFF \
+  -DCGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE=TRUE >"${TMPDIR:-/tmp}/hullmap-fuzz-configure.log" 2>&1 \
+  || { cat "${TMPDIR:-/tmp}/hullmap-fuzz-configure.log" >&2; exit 1; }
+cmake --build "$build" -j"${JOBS:-2}" --target "${targets[@]/#/fuzz_}"
+
+mkdir -p "$build/logs" "$build/artifacts"
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+failed=()
+for t in "${targets[@]}"; do
+  [ -n "${max_len[$t]:-}" ] || { echo "unknown target $t" >&2; exit 2; }
+  mkdir -p "$build/corpus/$t"
+  log=$build/logs/$t.log
+  status=0
+  "$build/test/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=5 -rss_limit_mb=2048 \
+    -max_len="${max_len[$t]}" -print_final_stats=1 -artifact_prefix="$build/artifacts/$t-" \
+    "$build/corpus/$t" "$here/corpus/$t" >"$log" 2>&1 || status=$?
+  summary=$(grep -a -E '^#[0-9]+' "$log" | tail -n 1 || true)
+  printf '%-13s %s\n' "$t" "${summary:-no progress line}"
+  if [ "$status" -ne 0 ]; then
+    failed+=("$t")
+    grep -a -E 'ERROR|SUMMARY|invariant|Test unit written' "$log" | head -n 8 | sed 's/^/    /'
+  fi
+done
+if [ ${#failed[@]} -gt 0 ]; then
+  echo "fuzz: failures in: ${failed[*]} (logs in $build/logs, inputs in $build/artifacts)" >&2
+  exit 1
+fi
+echo "fuzz: ${#targets[@]} targets ran ${seconds}s each without a finding"
