@@ -64,19 +64,22 @@ struct CellCoord {
   }
 };
 
-/// Bounding box of a cell's points, in float rounded outwards: conservative for pruning.
+/// Bounding box of a cell's points, in float rounded outwards where float cannot hold the bound.
 struct CellBox {
   std::array<float, 3> lo;
   std::array<float, 3> hi;
 };
 
-/// Cheap hash with well-mixed high bits (multiply, fold, multiply).
+/// Hash of cell or block coordinates: a polynomial in odd multipliers (distinct for any two
+/// coordinates less than ~2^20 apart), then an avalanche so that the high bits are well mixed.
 inline std::uint64_t hashCoord(const CellCoord& c) {
-  std::uint64_t h = static_cast<std::uint64_t>(c.x) * 0x9E3779B97F4A7C15ULL ^
-                    static_cast<std::uint64_t>(c.y) * 0xC2B2AE3D27D4EB4FULL ^
-                    static_cast<std::uint64_t>(c.z) * 0x165667B19E3779F9ULL;
+  std::uint64_t h = (static_cast<std::uint64_t>(c.x) * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(c.y)) *
+                        0xC2B2AE3D27D4EB4FULL +
+                    static_cast<std::uint64_t>(c.z);
+  h ^= h >> 31;
+  h *= 0xBF58476D1CE4E5B9ULL;
   h ^= h >> 29;
-  h *= 0xD6E8FEB86659FD93ULL;
+  h *= 0x94D049BB133111EBULL;
   return h ^ (h >> 32);
 }
 
@@ -233,10 +236,11 @@ class CellTable {
   /// Multiplicative hashing: the top bits of a product are well mixed, and it is cheap (this runs
   /// for every cell of every stencil).
   std::size_t slotOf(const CellCoord& c) const {
-    const std::uint64_t h = static_cast<std::uint64_t>(c.x) * 0x9E3779B97F4A7C15ULL ^
-                            static_cast<std::uint64_t>(c.y) * 0xC2B2AE3D27D4EB4FULL ^
-                            static_cast<std::uint64_t>(c.z) * 0x165667B19E3779F9ULL;
-    return std::size_t((h ^ (h >> 32)) * 0xD6E8FEB86659FD93ULL >> shift_);
+    const std::uint64_t h =
+        (static_cast<std::uint64_t>(c.x) * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(c.y)) *
+            0xC2B2AE3D27D4EB4FULL +
+        static_cast<std::uint64_t>(c.z);
+    return std::size_t((h ^ (h >> 29)) * 0xD6E8FEB86659FD93ULL >> shift_);
   }
 
   const BigVector<CellCoord>& coords_;
@@ -508,9 +512,13 @@ class GridDbscan {
           w += weightOf(j);
         }
         CellBox& b = boxes_[c];
+        // Float bounds that still contain every point; then every distance to a point of the box is
+        // at most the box's computed maximum (rounding is monotone), which makes the whole-box tests exact.
         for (int k = 0; k < 3; ++k) {
-          b.lo[k] = std::nextafter(static_cast<float>(lo[k]), -std::numeric_limits<float>::infinity());
-          b.hi[k] = std::nextafter(static_cast<float>(hi[k]), std::numeric_limits<float>::infinity());
+          b.lo[k] = static_cast<float>(lo[k]);
+          if (double(b.lo[k]) > lo[k]) b.lo[k] = std::nextafter(b.lo[k], -std::numeric_limits<float>::infinity());
+          b.hi[k] = static_cast<float>(hi[k]);
+          if (double(b.hi[k]) < hi[k]) b.hi[k] = std::nextafter(b.hi[k], std::numeric_limits<float>::infinity());
         }
         cell_weight_[c] = w;
       }
