@@ -114,6 +114,9 @@ std::vector<Eigen::Vector3d> readWaypoints(const std::string& path) {
 
 void runPlot(const PlotOptions& o) {
   if (!fs::is_directory(o.dir)) throw Error("plot: " + o.dir + " is not a directory");
+  const auto converter = findPngConverter();
+  const PictureOutput output{o.output, o.png, "-o"};
+  checkPictureOutput(output, converter);
   MapPlot plot;
   plot.view = o.side ? PlotView::kSide : PlotView::kTop;
   readReport((fs::path(o.dir) / "report.json").string(), plot);
@@ -127,10 +130,8 @@ void runPlot(const PlotOptions& o) {
     path.check = collision::HullChecker(plot.obstacles).checkPath(path.waypoints, o.radius);
     plot.path = std::move(path);
   }
-  // Check for the converter before rendering, so a missing one fails fast.
-  const auto converter = findPngConverter();
   const SvgPicture picture = renderMapSvg(plot);
-  const auto written = writePicture(picture.svg, PictureOutput{o.output, o.png, "-o"}, converter);
+  const auto written = writePicture(picture.svg, output, converter);
   std::cout << "plot: " << (o.side ? "side view (x-z)" : "top view (x-y)") << ", " << plot.centers.size()
             << " voxels drawn as " << picture.cells << " cells, " << plot.obstacles.size() << " obstacles";
   if (picture.hidden_voxels > 0) std::cout << ", " << picture.hidden_voxels << " far noise voxels not drawn";

@@ -732,8 +732,7 @@ void writePng(const std::string& svg, const std::string& target, const std::stri
 
 }  // namespace
 
-std::vector<std::string> writePicture(const std::string& svg, const PictureOutput& output,
-                                      const std::optional<std::string>& converter) {
+void checkPictureOutput(const PictureOutput& output, const std::optional<std::string>& converter) {
   if (output.path.empty()) throw Error(output.option + ": no output file given");
   const bool png_only = endsWithPng(output.path);
   const auto dir = std::filesystem::path(output.path).parent_path();
@@ -746,6 +745,12 @@ std::vector<std::string> writePicture(const std::string& svg, const PictureOutpu
                 ": PNG output needs rsvg-convert, which is not on PATH; install the Debian package " +
                 kPngConverterPackage + " (apt-get install " + kPngConverterPackage + ") or write an .svg");
   }
+}
+
+std::vector<std::string> writePicture(const std::string& svg, const PictureOutput& output,
+                                      const std::optional<std::string>& converter) {
+  checkPictureOutput(output, converter);
+  const bool png_only = endsWithPng(output.path);
   std::vector<std::string> written;
   if (png_only) {
     writePng(svg, output.path, *converter);

@@ -119,6 +119,10 @@ struct PictureOutput {
   std::string option = "-o";   ///< the option that named `path`, for error messages
 };
 
+/// Throws the hullmap::Error writePicture would throw before writing anything: no file name, a
+/// directory that does not exist, a PNG asked without a converter. Lets a command fail before its work.
+void checkPictureOutput(const PictureOutput& output, const std::optional<std::string>& converter);
+
 /// Writes `svg` as asked, each file atomically (temporary file + rename). PNGs are rendered by
 /// `converter` (rsvg-convert). Returns the files written. Throws hullmap::Error naming the file or
 /// the option: when a PNG is asked and `converter` is nullopt the message names the package to

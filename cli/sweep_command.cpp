@@ -13,6 +13,7 @@
 #include "hullmap/mapper/error.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/readers.hpp"
+#include "svg_plot.hpp"
 
 namespace hullmap::cli {
 namespace {
@@ -25,6 +26,7 @@ struct SweepOptions {
   std::string up = "z";
   double scale = 1.0;
   std::string output;
+  std::string plot;  ///< small multiples, one panel per (eps, min_pts): .svg or .png
 };
 
 /// Every option of `hullmap sweep`, in one place (new options, e.g. a plot, go here).
@@ -36,6 +38,8 @@ void addSweepOptions(CLI::App& cmd, SweepOptions& o) {
   cmd.add_option("--up", o.up, "Input axis that points up: x, -x, y, -y, z, -z (ORB-SLAM: -y)")->capture_default_str();
   cmd.add_option("--scale", o.scale, "Scale applied to the input before the frame change")->capture_default_str();
   cmd.add_option("-o,--output", o.output, "CSV: eps,min_pts,clusters,noise,largest, one row per pair");
+  cmd.add_option("--plot", o.plot, "Picture, one top view per pair (clusters in colours, noise black): .svg, "
+                                   "or .png rendered by rsvg-convert (librsvg2-bin)");
 }
 
 /// The comma-separated items of `text` for `option`, each parsed whole by `parse`.
@@ -106,8 +110,12 @@ void runSweep(const SweepOptions& o) {
     throw Error(names + ": no points");
   }
   mapper::toMapFrame(frame, set.points);
+  // Looked up before the runs, so a PNG without a converter fails before the work.
+  const auto converter = findPngConverter();
+  if (!o.plot.empty()) checkPictureOutput(PictureOutput{o.plot, false, "--plot"}, converter);
 
   std::vector<SweepRow> rows;
+  std::vector<SweepPanel> panels;
   std::printf("points: %zu, metric %s\n", set.points.size(), clustering::toString(metric).c_str());
   std::printf("%10s %8s %9s %9s %9s\n", "eps", "min_pts", "clusters", "noise", "largest");
   for (double eps : eps_values) {
@@ -117,6 +125,7 @@ void runSweep(const SweepOptions& o) {
       if (!r.cluster_sizes.empty()) row.largest = *std::max_element(r.cluster_sizes.begin(), r.cluster_sizes.end());
       std::printf("%10g %8d %9zu %9zu %9zu\n", row.eps, row.min_pts, row.clusters, row.noise, row.largest);
       rows.push_back(row);
+      if (!o.plot.empty()) panels.push_back(SweepPanel{eps, min_pts, r.labels});
     }
   }
   if (!o.output.empty()) {
@@ -129,6 +138,14 @@ void runSweep(const SweepOptions& o) {
       }
     });
     std::printf("wrote %s\n", o.output.c_str());
+  }
+  if (!o.plot.empty()) {
+    const std::string svg = renderSweepSvg(set.points, panels, 0.0,
+                                           "hullmap sweep: " + std::to_string(set.points.size()) + " points, metric " +
+                                               clustering::toString(metric));
+    for (const auto& file : writePicture(svg, PictureOutput{o.plot, false, "--plot"}, converter)) {
+      std::printf("wrote %s\n", file.c_str());
+    }
   }
   std::fflush(stdout);
 }

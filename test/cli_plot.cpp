@@ -562,6 +562,49 @@ TEST(PlotCommand, PathThroughAnObstacleIsMarkedRed) {
   EXPECT_NE(bad.err.find("bad.txt:2"), std::string::npos) << bad.err;
 }
 
+TEST(PlotCommand, SweepPlotHasOnePanelPerPairMatchingTheTable) {
+  const auto dir = hullmap::test::freshDir("plot_sweep_cmd");
+  {
+    std::ofstream points(dir / "points.txt");
+    std::mt19937_64 rng(8);
+    std::normal_distribution<double> blob(0.0, 0.05);
+    std::uniform_real_distribution<double> room(-2.0, 2.0);
+    for (int i = 0; i < 300; ++i) points << 1 + blob(rng) << ' ' << blob(rng) << ' ' << blob(rng) << '\n';
+    for (int i = 0; i < 200; ++i) points << -1 + blob(rng) << ' ' << 1 + blob(rng) << ' ' << blob(rng) << '\n';
+    for (int i = 0; i < 40; ++i) points << room(rng) << ' ' << room(rng) << ' ' << room(rng) << '\n';
+  }
+  const auto r = hullmap::test::runHullmap("sweep '" + (dir / "points.txt").string() +
+                                           "' --eps 0.05,0.2,0.5 --min-pts 3,20 -o '" + (dir / "sweep.csv").string() +
+                                           "' --plot '" + (dir / "sweep.svg").string() + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string svg = hullmap::test::slurp(dir / "sweep.svg");
+  // Every CSV row has its panel with the same cluster count.
+  std::istringstream csv(hullmap::test::slurp(dir / "sweep.csv"));
+  std::string line;
+  std::getline(csv, line);
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    std::istringstream f(line);
+    std::string eps, min_pts, clusters;
+    std::getline(f, eps, ',');
+    std::getline(f, min_pts, ',');
+    std::getline(f, clusters, ',');
+    ++rows;
+    EXPECT_NE(svg.find("data-eps=\"" + eps + "\" data-min-pts=\"" + min_pts + "\" data-clusters=\"" + clusters + "\""),
+              std::string::npos)
+        << line;
+  }
+  EXPECT_EQ(rows, 6);
+  if (havePython()) {
+    EXPECT_EQ(countClass(parseSvg(svg, "sweep_cmd"), "panel"), 6u);
+  }
+  const auto bad = hullmap::test::runHullmap("sweep '" + (dir / "points.txt").string() + "' --plot '" +
+                                             (dir / "nodir/s.svg").string() + "'");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--plot"), std::string::npos) << bad.err;
+  EXPECT_EQ(bad.out.find("clusters"), std::string::npos) << "fails before the runs";
+}
+
 TEST(PlotCommand, ErrorsNameTheFileOrOption) {
   Scene s = makeScene(2, 0.05, 4);
   const auto dir = writeBuildDir(s, "plot_cmd_err");
