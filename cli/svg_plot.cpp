@@ -229,9 +229,14 @@ void writeCells(std::ostream& svg, const CellMap& cells, double cell, const View
   std::snprintf(matrix, sizeof matrix, "matrix(%.9g 0 0 %.9g %.9g %.9g)", cell * vp.scale, -cell * vp.scale,
                 vp.left - vp.world.x0 * vp.scale, vp.top + vp.world.y1 * vp.scale);
   svg << "<g class=\"voxels\" transform=\"" << matrix << "\" shape-rendering=\"crispEdges\">\n";
+  // Cells smaller than 3 pixels get a one-pixel outline in their own colour, so sparse points
+  // stay visible in big maps.
+  const bool tiny = cell * vp.scale < 3.0;
   for (const auto& [label, d] : paths) {
-    svg << "<path class=\"cells\" data-label=\"" << label << "\" fill=\"" << toHex(clusterColour(label))
-        << "\" d=\"" << d << "\"/>\n";
+    const std::string colour = toHex(clusterColour(label));
+    svg << "<path class=\"cells\" data-label=\"" << label << "\" fill=\"" << colour << "\" d=\"" << d << '"';
+    if (tiny) svg << " stroke=\"" << colour << "\" stroke-width=\"1\" vector-effect=\"non-scaling-stroke\"";
+    svg << "/>\n";
   }
   svg << "</g>\n";
 }
@@ -395,6 +400,13 @@ std::string writePath(std::ostream& svg, const PlotPath& path, PlotView view, co
   return caption;
 }
 
+// Rough width of the longest line in sans-serif at `font` pixels, to keep captions inside the picture.
+double captionWidth(const std::vector<std::string>& lines, double font) {
+  std::size_t longest = 0;
+  for (const auto& line : lines) longest = std::max(longest, line.size());
+  return 0.58 * font * static_cast<double>(longest);
+}
+
 std::string svgHeader(double width, double height) {
   return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
          num(width) + "\" height=\"" + num(height) + "\" viewBox=\"0 0 " + num(width) + ' ' + num(height) +
@@ -523,7 +535,7 @@ SvgPicture renderMapSvg(const MapPlot& plot) {
   }
   body << "</g>\n";
 
-  const double width = std::max(vp.left + vp.width() + 24.0, 620.0);
+  const double width = std::max({vp.left + vp.width() + 24.0, 620.0, vp.left + 20 + captionWidth(caption, font)});
   const double height = y + 14.0;
   std::string svg = svgHeader(width, height);
   svg += "<text class=\"title\" x=\"" + num(vp.left) + "\" y=\"22\" font-family=\"sans-serif\" font-size=\"15\" " +
@@ -645,7 +657,7 @@ std::string renderSweepSvg(const std::vector<Eigen::Vector3d>& points, const std
   }
   body << "</g>\n";
 
-  std::string svg = svgHeader(std::max(width, 520.0), y + 14);
+  std::string svg = svgHeader(std::max({width, 520.0, left0 + 20 + captionWidth(caption, 11.0)}), y + 14);
   svg += "<text class=\"title\" x=\"" + num(left0) + "\" y=\"20\" font-family=\"sans-serif\" font-size=\"15\" " +
          "font-weight=\"bold\">" + escapeXml(title) + "</text>\n";
   svg += body.str();
