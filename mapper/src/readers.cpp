@@ -206,9 +206,11 @@ std::vector<Keyframe> parseTumTrajectory(std::string_view bytes, const std::stri
     k.stamp = v[0] > kNanosecondStampThreshold ? v[0] * 1e-9 : v[0];
     k.position = Eigen::Vector3d(v[1], v[2], v[3]);
     Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);  // Eigen's constructor takes w first
-    const double norm = q.norm();
+    // stableNorm: the squares of components near 1e200 overflow (norm() = inf normalised
+    // (1e200, 0, 0, 0) to all zeros).
+    const double norm = q.coeffs().stableNorm();
     if (!(norm > 1e-12)) detail::failAt(name, cursor.lineNumber(), "zero quaternion");
-    k.orientation = q.normalized();
+    k.orientation = Eigen::Quaterniond(q.coeffs() / norm);
     keyframes.push_back(k);
   }
   return keyframes;
