@@ -191,6 +191,11 @@ def bt_seeds():
     inner = child_bits(["occ"] * 8)
     write("bt", "pruned.bt", bt_file(0.05, root + inner, 12))
     write("bt", "empty.bt", bt_file(0.2, b"", 0))
+    # .ot (full format, readMap reads it too): per node its float log-odds, then one byte with a
+    # bit per existing child, children depth first. Root, an occupied and a free leaf at depth 1.
+    nodes = struct.pack("<fB", 0.85, 0x81) + struct.pack("<fB", 0.85, 0) + struct.pack("<fB", -2.0, 0)
+    write("bt", "leaves.ot", b"# Octomap OcTree file\n# (feel free to add / change comments, but leave the "
+          b"first line as it is!)\n#\nid OcTree\nsize 3\nres 0.1\ndata\n" + nodes)
 
 
 if __name__ == "__main__":
