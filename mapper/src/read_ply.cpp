@@ -266,6 +266,9 @@ void readElements(const Header& h, Reader& reader, const std::string& name, Poin
       // Never reserve more vertices than the remaining bytes can hold.
       points.reserve(points.size() + std::min(e.count, reader.remaining() / std::max<std::size_t>(min_bytes, 1) + 1));
     }
+    // An element without properties holds no bytes: walking its (up to 2^40) items would only
+    // spin.
+    if (e.properties.empty()) continue;
     const char* label = e.name.c_str();
     double xyz[3] = {0, 0, 0};
     for (std::size_t k = 0; k < e.count; ++k) {
