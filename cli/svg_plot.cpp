@@ -320,13 +320,18 @@ void writeObstacles(std::ostream& svg, const std::vector<clustering::Obstacle>& 
     }
     mean /= static_cast<double>(polygon.size());
     if (!points.empty()) points.pop_back();
+    // Numbers shrink with their outline (12 px down to 7 px), so crowded small obstacles stay legible.
+    Box2 extent;
+    for (const auto& p : polygon) extent.add(p);
+    const double size = std::clamp(0.6 * std::min(extent.x1 - extent.x0, extent.y1 - extent.y0) * vp.scale, 7.0, 12.0);
     // A white halo under the dark outline keeps it visible on any cluster colour.
     svg << "<polygon class=\"footprint-halo\" points=\"" << points
         << "\" fill=\"none\" stroke=\"#fff\" stroke-width=\"3.5\" stroke-linejoin=\"round\"/>\n"
         << "<polygon class=\"footprint\" id=\"obstacle-" << o.id << "\" points=\"" << points
         << "\" fill=\"none\" stroke=\"#111\" stroke-width=\"1.5\" stroke-linejoin=\"round\"/>\n"
-        << "<text class=\"obstacle-id\" x=\"" << num(vp.px(mean.x())) << "\" y=\"" << num(vp.py(mean.y()) + 4)
-        << "\" text-anchor=\"middle\" fill=\"#111\" stroke=\"#fff\" stroke-width=\"3\" paint-order=\"stroke\">"
+        << "<text class=\"obstacle-id\" x=\"" << num(vp.px(mean.x())) << "\" y=\"" << num(vp.py(mean.y()) + size / 3)
+        << "\" font-size=\"" << num(size) << "\" text-anchor=\"middle\" fill=\"#111\" stroke=\"#fff\" stroke-width=\""
+        << num(size / 4) << "\" paint-order=\"stroke\">"
         << o.id << "</text>\n";
   }
   svg << "</g>\n";
