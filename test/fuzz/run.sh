@@ -4,10 +4,11 @@
 #
 #   test/fuzz/run.sh SECONDS [target...]     e.g. test/fuzz/run.sh 20;  test/fuzz/run.sh 240 pcd ply
 #
-# Targets: text orbslam_echo pcd ply points tum bt. New inputs go to build-fuzz/corpus/<target>/
-# (the repository's corpus is only read); a crash, hang (> 5 s), leak or out-of-memory (> 2 GB)
-# is saved as build-fuzz/artifacts/<target>-crash-* etc. and fails the script. The last line
-# of each target's log (build-fuzz/logs/<target>.log) gives executions and coverage (cov:, ft:).
+# Targets: text orbslam_echo pcd ply points tum bt (<target>.dict here is passed as -dict).
+# New inputs go to build-fuzz/corpus/<target>/ (the repository's corpus is only read); a crash,
+# hang (> 5 s), leak or out-of-memory (> 2 GB) is saved as build-fuzz/artifacts/<target>-crash-*
+# etc. and fails the script. The last line of each target's log (build-fuzz/logs/<target>.log)
+# gives executions and coverage (cov:, ft:).
 # Environment: BUILD_DIR (default <repo>/build-fuzz), JOBS (build parallelism, default 2).
 set -euo pipefail
 
@@ -37,7 +38,9 @@ for t in "${targets[@]}"; do
   mkdir -p "$build/corpus/$t"
   log=$build/logs/$t.log
   status=0
-  "$build/test/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=5 -rss_limit_mb=2048 \
+  dict=()
+  [ -f "$here/$t.dict" ] && dict=(-dict="$here/$t.dict")
+  "$build/test/fuzz/fuzz_$t" "${dict[@]}" -max_total_time="$seconds" -timeout=5 -rss_limit_mb=2048 \
     -max_len="${max_len[$t]}" -print_final_stats=1 -artifact_prefix="$build/artifacts/$t-" \
     "$build/corpus/$t" "$here/corpus/$t" >"$log" 2>&1 || status=$?
   summary=$(grep -a -E '^#[0-9]+' "$log" | tail -n 1 || true)
