@@ -715,6 +715,12 @@ TEST(MapperReadersPly, TruncatedAndMalformedPlyNameTheFile) {
                 "huge.ply");
   });
   EXPECT_NE(msg.find("huge.ply: truncated binary PLY data: vertex 0"), std::string::npos) << msg;
+  // 10^12 items of an element without properties take no bytes: skipped, not walked one by one.
+  const PointSet empty_element = parsePoints(
+      "ply\nformat binary_little_endian 1.0\nelement nothing 1000000000000\nelement vertex 1\n"
+      "property float x\nproperty float y\nproperty float z\nend_header\n" + std::string(12, '\0'),
+      "e.ply");
+  expectPoints(empty_element.points, {{0, 0, 0}});
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -747,6 +753,10 @@ TEST(MapperReadersTum, BadLinesNameFileAndLine) {
   EXPECT_NE(errorOf([] { parseTumTrajectory("\n\n0 1 2 3 0 0 0 one\n", "t.txt"); }).find("t.txt:3: 'one'"),
             std::string::npos);
   EXPECT_TRUE(parseTumTrajectory("", "t.txt").empty());
+  // Components whose squares overflow still normalise to a unit quaternion.
+  const auto big = parseTumTrajectory("0 0 0 0 1e200 0 0 1e200\n", "t.txt");
+  EXPECT_NEAR(big.at(0).orientation.x(), std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(big.at(0).orientation.w(), std::sqrt(0.5), 1e-15);
 }
 
 }  // namespace
