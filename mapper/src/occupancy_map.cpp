@@ -1,1 +1,431 @@
 #include "hullmap/mapper/occupancy_map.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <limits>
+#include <sstream>
+
+#include <octomap/AbstractOcTree.h>
+#include <tbb/parallel_for.h>
+
+#include "hullmap/mapper/atomic_file.hpp"
+#include "hullmap/mapper/error.hpp"
+#include "octree_keys.hpp"
+
+namespace hullmap::mapper {
+namespace {
+
+constexpr unsigned kTreeDepth = 16;
+
+void checkParams(const OctreeParams& p) {
+  auto require = [](bool ok, const std::string& what) {
+    if (!ok) throw Error(what);
+  };
+  require(std::isfinite(p.resolution) && p.resolution > 0.0, "--resolution must be a positive number of map units");
+  const SensorModel& s = p.sensor;
+  require(s.hit > 0.0 && s.hit < 1.0, "--hit must be a probability in (0, 1)");
+  require(s.miss > 0.0 && s.miss < 1.0, "--miss must be a probability in (0, 1)");
+  require(s.clamp_min > 0.0 && s.clamp_min < 1.0, "--clamp-min must be a probability in (0, 1)");
+  require(s.clamp_max > 0.0 && s.clamp_max < 1.0, "--clamp-max must be a probability in (0, 1)");
+  require(s.clamp_min < s.clamp_max, "--clamp-min must be below --clamp-max");
+  require(s.occupancy_threshold > 0.0 && s.occupancy_threshold < 1.0,
+          "--occupancy-threshold must be a probability in (0, 1)");
+  require(!std::isnan(p.max_range), "--max-range must be a number");
+}
+
+octomap::point3d toPoint3d(const Point& p) {
+  return octomap::point3d(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+}
+
+bool lessKey(const octomap::OcTreeKey& a, const octomap::OcTreeKey& b) {
+  if (a[0] != b[0]) return a[0] < b[0];
+  if (a[1] != b[1]) return a[1] < b[1];
+  return a[2] < b[2];
+}
+
+// Keys of the addressable points (float coordinates, as octomap's point3d API) as sorted
+// (Morton << 1 | 1, count) runs; the others are counted as out_of_octree.
+std::vector<detail::VoxelUpdate> countPoints(const octomap::OcTree& tree, const Points& points,
+                                             std::vector<char>* addressable_flags, std::size_t& dropped) {
+  const detail::KeyCaster caster(tree);
+  std::vector<detail::VoxelUpdate> codes(points.size());
+  std::vector<char> ok(points.size());
+  tbb::parallel_for(std::size_t{0}, points.size(), std::size_t{4096}, [&](std::size_t begin) {
+    const std::size_t end = std::min(points.size(), begin + 4096);
+    for (std::size_t i = begin; i < end; ++i) {
+      int key[3];
+      ok[i] = caster.coordToKeyChecked(toPoint3d(points[i]), key);
+      codes[i].code = ok[i] ? (detail::mortonCode(detail::pack(key)) << 1 | 1) : ~std::uint64_t{0};
+    }
+  });
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (ok[i]) codes[kept++] = codes[i];
+  }
+  dropped = points.size() - kept;
+  codes.resize(kept);
+  detail::sortUpdates(codes);
+  std::size_t runs = 0;
+  for (std::size_t i = 0; i < codes.size();) {
+    std::size_t j = i + 1;
+    while (j < codes.size() && codes[j].code == codes[i].code) ++j;
+    codes[runs++] = {codes[i].code, static_cast<std::uint32_t>(j - i)};
+    i = j;
+  }
+  codes.resize(runs);
+  if (addressable_flags) addressable_flags->swap(ok);
+  return codes;
+}
+
+void recordCounts(OccupancyMap& map, const std::vector<detail::VoxelUpdate>& runs) {
+  auto& counts = map.pointCounts();
+  counts.reserve(counts.size() + runs.size());
+  for (const auto& r : runs) counts[detail::mortonKey(r.code >> 1)] += r.count;
+}
+
+void addDropped(InputStats& stats, std::size_t dropped) {
+  if (dropped > 0) stats.dropped["out_of_octree"] += dropped;
+}
+
+// Keyframe lookup: nearest keyframe (squared distance, then lower index) among those facing the
+// point, else the nearest of all. A uniform grid over the keyframe positions, searched in
+// growing Chebyshev rings, gives the same answer as the brute-force rule.
+class KeyframeIndex {
+ public:
+  explicit KeyframeIndex(const std::vector<Keyframe>& keyframes) : keyframes_(keyframes) {
+    lo_ = hi_ = keyframes.front().position;
+    for (const auto& k : keyframes) {
+      lo_ = lo_.cwiseMin(k.position);
+      hi_ = hi_.cwiseMax(k.position);
+      forward_.push_back(k.orientation * Eigen::Vector3d::UnitZ());
+    }
+    const Eigen::Vector3d extent = (hi_ - lo_).cwiseMax(1e-9);
+    const double volume_per_cell = std::max(extent.prod(), std::pow(extent.maxCoeff(), 3) * 1e-6) /
+                                   static_cast<double>(keyframes.size());
+    cell_ = std::max({std::cbrt(volume_per_cell), extent.maxCoeff() / 64.0, 1e-9});
+    for (int i = 0; i < 3; ++i) dims_[i] = static_cast<long>(std::floor(extent[i] / cell_)) + 1;
+    cells_.assign(static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]), {});
+    for (std::size_t i = 0; i < keyframes.size(); ++i) {
+      const auto c = cellOf(keyframes[i].position);
+      cells_[index(c[0], c[1], c[2])].push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+
+  std::size_t lookup(const Point& p) const {
+    const auto c = cellOf(p);
+    long r0 = 0;  // first ring that meets the grid
+    for (int i = 0; i < 3; ++i) r0 = std::max({r0, -c[i], c[i] - (dims_[i] - 1)});
+    const long r_max = r0 + std::max({dims_[0], dims_[1], dims_[2]});
+    Best facing, any;
+    for (long r = r0; r <= r_max; ++r) {
+      const double bound = static_cast<double>(std::max(0L, r - 1)) * cell_;
+      if (facing.found() && facing.d2 <= bound * bound) break;
+      for (long x = std::max(0L, c[0] - r); x <= std::min(dims_[0] - 1, c[0] + r); ++x) {
+        for (long y = std::max(0L, c[1] - r); y <= std::min(dims_[1] - 1, c[1] + r); ++y) {
+          const bool edge_xy = std::abs(x - c[0]) == r || std::abs(y - c[1]) == r;
+          for (long z = std::max(0L, c[2] - r); z <= std::min(dims_[2] - 1, c[2] + r); ++z) {
+            if (!edge_xy && std::abs(z - c[2]) != r) continue;
+            for (std::uint32_t k : cells_[index(x, y, z)]) {
+              const Eigen::Vector3d d = p - keyframes_[k].position;
+              const double d2 = d.squaredNorm();
+              any.offer(d2, k);
+              if (forward_[k].dot(d) > 0.0) facing.offer(d2, k);
+            }
+          }
+        }
+      }
+    }
+    return facing.found() ? facing.index : any.index;
+  }
+
+ private:
+  struct Best {
+    double d2 = std::numeric_limits<double>::infinity();
+    std::size_t index = std::numeric_limits<std::size_t>::max();
+    bool found() const { return index != std::numeric_limits<std::size_t>::max(); }
+    void offer(double d, std::size_t i) {
+      if (d < d2 || (d == d2 && i < index)) {
+        d2 = d;
+        index = i;
+      }
+    }
+  };
+
+  std::array<long, 3> cellOf(const Point& p) const {
+    std::array<long, 3> c{};
+    for (int i = 0; i < 3; ++i) {
+      const double v = std::floor((p[i] - lo_[i]) / cell_);
+      c[i] = static_cast<long>(std::clamp(v, -1e15, 1e15));
+    }
+    return c;
+  }
+  std::size_t index(long x, long y, long z) const {
+    return static_cast<std::size_t>((x * dims_[1] + y) * dims_[2] + z);
+  }
+
+  const std::vector<Keyframe>& keyframes_;
+  std::vector<Eigen::Vector3d> forward_;
+  Eigen::Vector3d lo_, hi_;
+  double cell_ = 1.0;
+  std::array<long, 3> dims_{};
+  std::vector<std::vector<std::uint32_t>> cells_;
+};
+
+std::string extensionOf(const std::string& path) {
+  const auto dot = path.find_last_of('.');
+  if (dot == std::string::npos || path.find_first_of('/', dot) != std::string::npos) return "";
+  std::string ext = path.substr(dot + 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+// Parses octomap's text header ("id", "size", "res" lines up to "data") and walks the node
+// stream: 2 bytes per node in .bt (2 bits per child: 01 occupied, 10 free, 11 inner), a float
+// and a child mask per node in .ot. Throws naming the file when anything does not add up.
+void validateOctreeFile(const std::string& path, const std::string& bytes, bool binary) {
+  std::size_t pos = bytes.find('\n');
+  std::string id;
+  long long size = -1;
+  double res = 0.0;
+  bool data = false;
+  while (pos != std::string::npos && pos + 1 < bytes.size()) {
+    const std::size_t begin = pos + 1;
+    pos = bytes.find('\n', begin);
+    const std::string line = bytes.substr(begin, pos == std::string::npos ? std::string::npos : pos - begin);
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream words(line);
+    std::string token;
+    words >> token;
+    if (token == "data") {
+      data = true;
+      break;
+    }
+    if (token == "id") words >> id;
+    else if (token == "size") words >> size;
+    else if (token == "res") words >> res;
+    else throw Error(path + ": unknown OctoMap header line '" + line + "'");
+    if (!words) throw Error(path + ": malformed OctoMap header line '" + line + "'");
+  }
+  if (!data || pos == std::string::npos) throw Error(path + ": OctoMap header without a 'data' line");
+  if (size < 0 || !(res > 0.0) || !std::isfinite(res)) throw Error(path + ": OctoMap header lacks a valid size and res");
+  if (id != "OcTree") throw Error(path + ": octree type '" + id + "' is not an OcTree");
+  std::size_t at = pos + 1;
+  long long nodes = 0;
+  auto need = [&](std::size_t n) {
+    if (at + n > bytes.size()) throw Error(path + ": truncated OctoMap data (file ends inside node " + std::to_string(nodes) + ")");
+  };
+  // Depth-first; the depth check bounds the recursion at 16.
+  std::function<void(unsigned)> walk = [&](unsigned depth) {
+    ++nodes;
+    if (nodes > size) throw Error(path + ": OctoMap data holds more nodes than its header's size " + std::to_string(size));
+    if (binary) {
+      need(2);
+      const unsigned char a = static_cast<unsigned char>(bytes[at]);
+      const unsigned char b = static_cast<unsigned char>(bytes[at + 1]);
+      at += 2;
+      const unsigned bits = a | (b << 8);
+      for (unsigned i = 0; i < 8; ++i) {
+        const unsigned code = (bits >> (2 * i)) & 3;
+        if (code == 0) continue;
+        if (depth + 1 > kTreeDepth) throw Error(path + ": corrupt OctoMap data (tree deeper than 16)");
+        if (code == 3) {
+          walk(depth + 1);
+        } else {
+          ++nodes;
+        }
+      }
+    } else {
+      need(sizeof(float) + 1);
+      const unsigned char mask = static_cast<unsigned char>(bytes[at + sizeof(float)]);
+      at += sizeof(float) + 1;
+      for (unsigned i = 0; i < 8; ++i) {
+        if (!(mask & (1u << i))) continue;
+        if (depth + 1 > kTreeDepth) throw Error(path + ": corrupt OctoMap data (tree deeper than 16)");
+        walk(depth + 1);
+      }
+    }
+  };
+  if (size > 0) walk(0);
+  if (nodes != size) {
+    throw Error(path + ": OctoMap data holds " + std::to_string(nodes) + " nodes, its header says " + std::to_string(size));
+  }
+}
+
+}  // namespace
+
+OccupancyMap::OccupancyMap(const OctreeParams& params) {
+  checkParams(params);
+  tree_ = std::make_unique<octomap::OcTree>(params.resolution);
+  tree_->setProbHit(params.sensor.hit);
+  tree_->setProbMiss(params.sensor.miss);
+  tree_->setClampingThresMin(params.sensor.clamp_min);
+  tree_->setClampingThresMax(params.sensor.clamp_max);
+  tree_->setOccupancyThres(params.sensor.occupancy_threshold);
+}
+
+std::vector<OccupiedVoxel> OccupancyMap::occupiedVoxels() const {
+  struct Entry {
+    octomap::OcTreeKey key;
+    float log_odds;
+  };
+  std::vector<Entry> entries;
+  for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it) {
+    if (!tree_->isNodeOccupied(*it)) continue;
+    const float log_odds = it->getLogOdds();
+    const unsigned depth = it.getDepth();
+    const octomap::OcTreeKey key = it.getKey();
+    if (depth == kTreeDepth) {
+      entries.push_back({key, log_odds});
+      continue;
+    }
+    // A pruned leaf: every finest-level key below it.
+    const unsigned size = 1u << (kTreeDepth - depth);
+    const unsigned base[3] = {key[0] & ~(size - 1), key[1] & ~(size - 1), key[2] & ~(size - 1)};
+    for (unsigned x = 0; x < size; ++x) {
+      for (unsigned y = 0; y < size; ++y) {
+        for (unsigned z = 0; z < size; ++z) {
+          entries.push_back({octomap::OcTreeKey(static_cast<octomap::key_type>(base[0] + x),
+                                                static_cast<octomap::key_type>(base[1] + y),
+                                                static_cast<octomap::key_type>(base[2] + z)),
+                             log_odds});
+        }
+      }
+    }
+  }
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return lessKey(a.key, b.key); });
+  std::vector<OccupiedVoxel> voxels;
+  voxels.reserve(entries.size());
+  for (const Entry& e : entries) {
+    OccupiedVoxel v;
+    v.center = Eigen::Vector3d(tree_->keyToCoord(e.key[0]), tree_->keyToCoord(e.key[1]), tree_->keyToCoord(e.key[2]));
+    const auto count = point_counts_.find(e.key);
+    v.weight = count == point_counts_.end() ? 1 : count->second;
+    v.log_odds = e.log_odds;
+    voxels.push_back(v);
+  }
+  return voxels;
+}
+
+bool addressable(const octomap::OcTree& tree, const Point& p) {
+  const detail::KeyCaster caster(tree);
+  int key[3];
+  return caster.coordToKeyChecked(toPoint3d(p), key);
+}
+
+OccupancyMap buildFromPoints(const Points& points, const OctreeParams& params, InputStats& stats) {
+  OccupancyMap map(params);
+  std::size_t dropped = 0;
+  std::vector<detail::VoxelUpdate> runs = countPoints(map.tree(), points, nullptr, dropped);
+  addDropped(stats, dropped);
+  recordCounts(map, runs);
+  detail::applyUpdates(map.tree(), runs);
+  return map;
+}
+
+OccupancyMap buildWithTrajectory(const Points& points, const std::vector<Keyframe>& keyframes,
+                                 const OctreeParams& params, InputStats& stats) {
+  if (keyframes.empty()) throw Error("--trajectory: no keyframes to cast free space from");
+  OccupancyMap map(params);
+  std::size_t dropped = 0;
+  std::vector<char> ok;
+  recordCounts(map, countPoints(map.tree(), points, &ok, dropped));
+  addDropped(stats, dropped);
+
+  const KeyframeIndex index(keyframes);
+  std::vector<std::uint32_t> owner(points.size());
+  tbb::parallel_for(std::size_t{0}, points.size(), std::size_t{4096}, [&](std::size_t begin) {
+    const std::size_t end = std::min(points.size(), begin + 4096);
+    for (std::size_t i = begin; i < end; ++i) {
+      owner[i] = ok[i] ? static_cast<std::uint32_t>(index.lookup(points[i])) : 0;
+    }
+  });
+  // Counting sort by keyframe, keeping the input order within each group.
+  std::vector<std::size_t> start(keyframes.size() + 1, 0);
+  for (std::size_t i = 0; i < points.size(); ++i) start[owner[i] + 1] += ok[i];
+  for (std::size_t k = 0; k < keyframes.size(); ++k) start[k + 1] += start[k];
+  Points grouped(start.back());
+  std::vector<std::size_t> next(start.begin(), start.end() - 1);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (ok[i]) grouped[next[owner[i]]++] = points[i];
+  }
+  for (std::size_t k = 0; k < keyframes.size(); ++k) {
+    if (start[k] == start[k + 1]) continue;
+    const Points scan(grouped.begin() + static_cast<std::ptrdiff_t>(start[k]),
+                      grouped.begin() + static_cast<std::ptrdiff_t>(start[k + 1]));
+    insertScan(map.tree(), scan, keyframes[k].position, params.max_range);
+  }
+  return map;
+}
+
+OccupancyMap readMap(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path + ": cannot open octree file");
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw Error(path + ": read error");
+  const bool full = bytes.rfind("# Octomap OcTree file", 0) == 0;
+  const bool binary = bytes.rfind("# Octomap OcTree binary file", 0) == 0;
+  if (!full && !binary) throw Error(path + ": not an OctoMap file (no '# Octomap OcTree' header)");
+  // octomap trusts the node stream: a truncated or corrupt one reads uninitialised bytes and can
+  // recurse without end. Walk it first.
+  validateOctreeFile(path, bytes, binary);
+
+  std::istringstream stream(bytes);
+  OctreeParams params;
+  if (full) {
+    std::unique_ptr<octomap::AbstractOcTree> tree(octomap::AbstractOcTree::read(stream));
+    auto* octree = dynamic_cast<octomap::OcTree*>(tree.get());
+    if (!octree) throw Error(path + ": not an OctoMap OcTree (.ot) of occupancy nodes");
+    params.resolution = octree->getResolution();
+    OccupancyMap map(params);
+    map.tree().swapContent(*octree);
+    map.tree().setProbHit(octree->getProbHit());
+    map.tree().setProbMiss(octree->getProbMiss());
+    map.tree().setClampingThresMin(octree->getClampingThresMin());
+    map.tree().setClampingThresMax(octree->getClampingThresMax());
+    map.tree().setOccupancyThres(octree->getOccupancyThres());
+    return map;
+  }
+  octomap::OcTree read(0.1);
+  if (!read.readBinary(stream)) throw Error(path + ": octomap could not read this binary (.bt) file");
+  params.resolution = read.getResolution();
+  OccupancyMap map(params);
+  map.tree().swapContent(read);
+  return map;
+}
+
+void writeMap(const OccupancyMap& map, const std::string& path) {
+  const std::string ext = extensionOf(path);
+  if (ext != "bt" && ext != "ot") throw Error(path + ": octree file must end in .bt or .ot");
+  writeFileAtomically(
+      path,
+      [&map, &ext, &path](std::ostream& out) {
+        const bool ok = ext == "bt" ? map.tree().writeBinaryConst(out) : map.tree().write(out);
+        if (!ok) throw Error(path + ": octomap could not write the tree");
+      },
+      true);
+}
+
+MapInfo describe(const octomap::OcTree& tree) {
+  MapInfo info;
+  info.resolution = tree.getResolution();
+  if (tree.getRoot() != nullptr) {
+    double x, y, z;
+    tree.getMetricMin(x, y, z);
+    info.min = Eigen::Vector3d(x, y, z);
+    tree.getMetricMax(x, y, z);
+    info.max = Eigen::Vector3d(x, y, z);
+  }
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+    if (tree.isNodeOccupied(*it)) ++info.occupied_leaves;
+    else ++info.free_leaves;
+  }
+  info.nodes = tree.size();
+  info.memory_bytes = tree.memoryUsage();
+  return info;
+}
+
+}  // namespace hullmap::mapper

@@ -1,0 +1,101 @@
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "hullmap/mapper/occupancy_map.hpp"
+#include "hullmap/mapper/sample_scene.hpp"
+#include "octree_oracle.hpp"
+#include "test_support.hpp"
+
+namespace hullmap::mapper {
+namespace {
+
+using test::sameTree;
+
+void expectSameAsOctomap(const Points& points, const Point& origin, double resolution, double max_range,
+                         int repeats) {
+  octomap::OcTree expected(resolution);
+  octomap::OcTree actual(resolution);
+  const octomap::Pointcloud cloud = test::toCloud(points);
+  for (int r = 0; r < repeats; ++r) {
+    expected.insertPointCloud(cloud, test::toPoint3d(origin), max_range);
+    insertScan(actual, points, origin, max_range);
+    ASSERT_TRUE(sameTree(expected, actual)) << "resolution " << resolution << ", max_range " << max_range
+                                            << ", insertion " << r + 1;
+  }
+}
+
+TEST(MapperInsertion, RealScanSameTreeAsInsertPointCloud) {
+  HULLMAP_REQUIRE_REAL_DATA(path, "octomap_scan.dat");
+  const Points scan = test::readXyz(path);
+  ASSERT_EQ(scan.size(), 88206u);
+  for (double resolution : {0.05, 0.1, 0.2}) {
+    expectSameAsOctomap(scan, Point::Zero(), resolution, -1.0, 1);
+  }
+  // Repeated insertion drives leaves to the clamping bounds, where octomap aborts early and prunes.
+  expectSameAsOctomap(scan, Point::Zero(), 0.2, -1.0, 4);
+  expectSameAsOctomap(scan, Point::Zero(), 0.1, 3.0, 3);
+}
+
+TEST(MapperInsertion, GeneratedScansSameTreeAsInsertPointCloud) {
+  SceneParams params;
+  params.points = 30000;
+  params.orbslam_frame = false;
+  params.gross_outliers = 0;
+  const Scene scene = generateScene(params);
+  for (double resolution : {0.05, 0.13, 0.25}) {
+    for (double max_range : {-1.0, 2.5}) {
+      octomap::OcTree expected(resolution);
+      octomap::OcTree actual(resolution);
+      // Several scans from different keyframes into one tree.
+      for (std::size_t k = 0; k < scene.keyframes.size(); k += 15) {
+        const Point origin = scene.keyframes[k].position;
+        expected.insertPointCloud(test::toCloud(scene.points), test::toPoint3d(origin), max_range);
+        insertScan(actual, scene.points, origin, max_range);
+        ASSERT_TRUE(sameTree(expected, actual)) << "resolution " << resolution << " max_range " << max_range
+                                                << " keyframe " << k;
+      }
+    }
+  }
+}
+
+TEST(MapperInsertion, PointsInOneVoxelAndOriginInsideTheCloud) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-0.02, 0.02);
+  Points points;
+  // Clusters of points sharing voxels, the origin among them, and points at the origin itself.
+  for (int c = 0; c < 50; ++c) {
+    const Point centre(0.3 * (c % 7) - 1.0, 0.2 * (c / 7) - 0.7, 0.05 * c - 1.2);
+    for (int i = 0; i < 40; ++i) points.push_back(centre + Point(u(rng), u(rng), u(rng)));
+  }
+  points.push_back(Point(0.01, 0.01, 0.01));
+  points.push_back(Point::Zero());
+  for (double resolution : {0.05, 0.1}) {
+    expectSameAsOctomap(points, Point(0.01, 0.02, 0.03), resolution, -1.0, 3);
+    expectSameAsOctomap(points, Point(0.01, 0.02, 0.03), resolution, 0.8, 2);
+  }
+}
+
+TEST(MapperInsertion, UnaddressablePointsAreSkippedAsOctomapDoes) {
+  // At 0.01 m octomap addresses +-327 m: these far points have no key; with a max_range their
+  // shortened rays still clear free space, as in insertPointCloud.
+  Points points = {Point(1.0, 2.0, 0.5), Point(400.0, 0.0, 0.0), Point(0.0, -1e6, 3.0), Point(-2.0, 0.5, 0.2)};
+  expectSameAsOctomap(points, Point::Zero(), 0.01, -1.0, 1);
+  expectSameAsOctomap(points, Point::Zero(), 0.01, 3.0, 2);
+  // Origin outside the tree: no free space, only the addressable endpoints.
+  expectSameAsOctomap(points, Point(1000.0, 0.0, 0.0), 0.01, -1.0, 1);
+}
+
+TEST(MapperInsertion, EmptyScanLeavesTheTreeAlone) {
+  octomap::OcTree tree(0.1);
+  insertScan(tree, {}, Point::Zero(), -1.0);
+  EXPECT_EQ(tree.size(), 0u);
+  insertScan(tree, {Point(1, 0, 0)}, Point::Zero(), -1.0);
+  const std::size_t size = tree.size();
+  insertScan(tree, {}, Point::Zero(), -1.0);
+  EXPECT_EQ(tree.size(), size);
+  EXPECT_GT(size, 0u);
+}
+
+}  // namespace
+}  // namespace hullmap::mapper
