@@ -73,6 +73,33 @@ inline double segmentHull(const V3& a, const V3& b, const clustering::ConvexHull
   return std::min({f(0.0), f(1.0), f1, f2});
 }
 
+/// Distance between a segment and an axis-aligned box: golden-section search on the convex
+/// s -> dist(a + s (b - a), box), the point-box distance by clamping.
+inline double segmentBox(const V3& a, const V3& b, const V3& lo, const V3& hi) {
+  auto f = [&](double s) {
+    const V3 p = a + s * (b - a);
+    return (p - p.cwiseMax(lo).cwiseMin(hi)).norm();
+  };
+  double l = 0, h = 1;
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  for (int i = 0; i < 90; ++i) {
+    const double x1 = h - g * (h - l), x2 = l + g * (h - l);
+    (f(x1) <= f(x2) ? h : l) = (f(x1) <= f(x2) ? x2 : x1);
+  }
+  return std::min({f(0.0), f(1.0), f(0.5 * (l + h))});
+}
+
+/// A lower bound of the distance between a segment and a hull: the gap between their boxes.
+inline double boxGap(const V3& a, const V3& b, const clustering::ConvexHull& hull) {
+  V3 lo = hull.vertices[0], hi = hull.vertices[0];
+  for (const auto& v : hull.vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  const V3 gap = (lo - a.cwiseMax(b)).cwiseMax(a.cwiseMin(b) - hi).cwiseMax(V3::Zero());
+  return gap.norm();
+}
+
 /// A random rigid motion applied to a hull (rotations make faces that no lattice would).
 inline clustering::ConvexHull moved(const clustering::ConvexHull& hull, std::mt19937& rng, double spread) {
   std::uniform_real_distribution<double> u(-1, 1);
