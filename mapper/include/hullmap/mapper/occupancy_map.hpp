@@ -14,7 +14,8 @@
 
 namespace hullmap::mapper {
 
-/// OctoMap's sensor model. Defaults are octomap's own (OcTree's constructor).
+/// OctoMap's sensor model (probabilities; the tree stores their log-odds). Defaults are octomap's
+/// own (OcTree's constructor): --hit, --miss, --clamp-min, --clamp-max, --occupancy-threshold.
 struct SensorModel {
   double hit = 0.7;
   double miss = 0.4;
@@ -36,7 +37,8 @@ struct OccupiedVoxel {
   double log_odds = 0.0;
 };
 
-/// An OctoMap OcTree plus, per occupied leaf, how many map points fell in it.
+/// An OctoMap OcTree (z-up map frame, map units) plus, per leaf key, how many map points fell in it.
+/// Not thread-safe for writing; const methods may be called concurrently.
 class OccupancyMap {
  public:
   explicit OccupancyMap(const OctreeParams& params);
@@ -63,28 +65,50 @@ class OccupancyMap {
 /// True when octomap can address `p` at this resolution (inside +-2^15 leaves of the origin).
 bool addressable(const octomap::OcTree& tree, const Point& p);
 
-/// Builds the map from points alone: each point an occupied endpoint (updateNode(p, true)).
-/// Points the tree cannot address are dropped and counted in `stats` under "out_of_octree".
+/// Builds the map from points alone: each point an occupied endpoint, exactly as calling octomap's
+/// updateNode(point3d(p), true) once per point (float coordinates, so several points in one voxel
+/// are several hit updates, clamped as octomap clamps). Points the tree cannot address (farther than
+/// 2^15 leaves from the origin: ORB-SLAM's gross outliers) are dropped and counted in `stats`
+/// under "out_of_octree". Uses all cores (TBB).
 OccupancyMap buildFromPoints(const Points& points, const OctreeParams& params, InputStats& stats);
 
-/// Builds the map with free space: each point is ray-cast from the keyframe it was most likely
-/// seen from (see docs in the README, "Keyframe rule"), bounded by params.max_range.
+/// Builds the map with free space. Keyframes must already be in the map frame.
+///
+/// Keyframe rule: a point is taken as seen from the nearest keyframe position (Euclidean, ties to
+/// the earlier keyframe) among those whose viewing direction (camera +z rotated by the keyframe's
+/// orientation) has a positive dot product with the direction to the point; when no keyframe faces
+/// it, from the nearest keyframe. A uniform grid over the keyframe positions finds the same
+/// keyframe as this brute-force rule, fast for millions of points.
+///
+/// The points of each keyframe (in input order) then form one scan inserted with insertScan from
+/// that keyframe's position, bounded by params.max_range, keyframes in trajectory order: the same
+/// tree as octomap's insertPointCloud per group. Unaddressable points are dropped and counted under
+/// "out_of_octree" before grouping (they cast no ray). Throws hullmap::Error without keyframes.
 OccupancyMap buildWithTrajectory(const Points& points, const std::vector<Keyframe>& keyframes,
                                  const OctreeParams& params, InputStats& stats);
 
 /// Inserts one scan from `origin` exactly as octomap's insertPointCloud(points, origin, max_range)
-/// would (same leaves, same log-odds), but faster: parallel ray keys, lock-free deduplication.
+/// would with its defaults (lazy_eval and discretize off): same leaves, same log-odds, same pruning.
+/// Faster: ray keys cast in parallel (TBB) into per-thread sets, merged without a lock (occupied
+/// wins over free), then applied in one depth-first pass in octree order. Points and origin are
+/// converted to float as octomap's point3d. Unlike octomap, rays longer than 100000 voxels are
+/// safe. With a bounding box or change detection set on `tree`, octomap's own insertPointCloud runs.
 void insertScan(octomap::OcTree& tree, const Points& points, const Point& origin,
                 double max_range);
 
-/// Reads a .bt (or .ot) map. Checks readBinary's result: a corrupt file is an Error naming it.
+/// Reads a .bt or .ot map (recognised by its header). The node stream is checked before octomap
+/// reads it, and octomap's result is checked: a missing, truncated, corrupt or non-OctoMap file is
+/// an Error naming it. A .bt holds no point counts (and only maximum-likelihood log-odds): its
+/// occupied voxels have weight 1. A .bt tree gets octomap's default sensor model.
 OccupancyMap readMap(const std::string& path);
 
-/// Writes tree as .bt (binary, octomap's writeBinary) or .ot (full) by extension, atomically
-/// (temporary file + rename).
+/// Writes the tree as .bt (binary, octomap's writeBinaryConst: maximum likelihood, no counts) or
+/// .ot (full log-odds) by extension, atomically (temporary file + rename). Other extensions are an
+/// Error naming the path.
 void writeMap(const OccupancyMap& map, const std::string& path);
 
-/// Summary for `hullmap info`.
+/// Summary for `hullmap info`: resolution, metric bounds of the tree (getMetricMin/Max, zero when
+/// empty), leaf counts (pruned leaves count once), nodes and octomap's memoryUsage() in bytes.
 struct MapInfo {
   double resolution = 0.0;
   Eigen::Vector3d min = Eigen::Vector3d::Zero();
