@@ -1,0 +1,54 @@
+#!/bin/sh
+# Prints the "## DBSCAN" section of docs/BENCHMARKS.md (markdown) to stdout.
+#
+# usage: bench/section_dbscan.sh BUILD_DIR [--full]
+#
+# BUILD_DIR is a build configured with -DHULLMAP_BUILD_BENCH=ON and built (target hullmap_bench_dbscan).
+# hullmap runs on generated scenes of 10k, 100k, 1M and 10M points (eps 0.1, minPts 10). Open3D's
+# cluster_dbscan and scikit-learn's DBSCAN (kd_tree, n_jobs=2) run on the same points at 10k and 100k,
+# and with --full also at 1M (minutes each). Needs /usr/bin/python3 with numpy, open3d and sklearn;
+# a missing peer is reported in the agreement column.
+set -eu
+
+if [ $# -lt 1 ]; then
+  echo "usage: $0 BUILD_DIR [--full]" >&2
+  exit 2
+fi
+build=$1
+full=${2:-}
+here=$(cd "$(dirname "$0")" && pwd)
+bench="$build/bench/hullmap_bench_dbscan"
+if [ ! -x "$bench" ]; then
+  echo "$0: $bench not found (configure with -DHULLMAP_BUILD_BENCH=ON, build hullmap_bench_dbscan)" >&2
+  exit 2
+fi
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+peers=10000,100000
+write_max=100000
+if [ "$full" = "--full" ]; then
+  peers=10000,100000,1000000
+  write_max=1000000
+fi
+
+"$bench" --sizes 10000,100000,1000000,10000000 --write-dir "$work" --write-max "$write_max" >"$work/hullmap.jsonl"
+
+threads=$(sed -n 's/.*"threads":\([0-9]*\).*/\1/p' "$work/hullmap.jsonl" | head -n 1)
+cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -n 1)
+
+echo "## DBSCAN"
+echo
+echo "Exact DBSCAN (eps 0.1, minPts 10, 3D metric) on generated scenes (\`generateScene\`, z-up, 6 obstacles"
+echo "in a 6 m room, 3% uniform outliers, 5 gross outliers hundreds of km away). hullmap: best of 3 runs"
+echo "(1 at 10M) of \`dbscan()\` on points in memory, ${threads} threads; peak MB is the growth of the resident"
+echo "set during one run (result included). Open3D \`cluster_dbscan\` and scikit-learn \`DBSCAN(algorithm='kd_tree',"
+echo "n_jobs=2)\`: one timed fit each, on the same points. Agreement: same noise set and same partition of the"
+echo "core points as hullmap (border points may join another cluster within reach and are not compared)."
+echo "Peers at 1M points run only with \`--full\`."
+echo
+OMP_NUM_THREADS=2 /usr/bin/python3 "$here/dbscan_peers.py" "$work" "$work/hullmap.jsonl" --sizes "$peers" \
+  --eps 0.1 --min-pts 10 --threads 2 --markdown
+echo
+echo "Machine: ${cpu:-unknown CPU}, $(nproc) cores. Regenerate: \`bench/section_dbscan.sh BUILD_DIR${full:+ $full}\`."
