@@ -122,15 +122,15 @@ def main():
             print(json.dumps(row), flush=True)
 
     if args.markdown:
-        print("| points | hullmap s | Open3D s | sklearn s | Open3D / hullmap | sklearn / hullmap | hullmap points/s "
+        print("| points | hullmap s | hullmap CPU s | Open3D s | sklearn s | Open3D / hullmap | sklearn / hullmap | hullmap points/s "
               "| hullmap peak MB | bytes/point | clusters | noise | agreement |")
-        print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
+        print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
         for row in results:
             h = row["hullmap"]
             hs = h["seconds"]
             o3d_s = row.get("open3d_seconds")
             sk_s = row.get("sklearn_seconds")
-            print(f"| {row['points']:,} | {hs:.4f} | {fmt(o3d_s, '{:.2f}')} | {fmt(sk_s, '{:.2f}')} "
+            print(f"| {row['points']:,} | {hs:.4f} | {fmt(h.get('cpu_seconds'), '{:.4f}')} | {fmt(o3d_s, '{:.2f}')} | {fmt(sk_s, '{:.2f}')} "
                   f"| {fmt(None if o3d_s is None else o3d_s / hs, '{:.0f}x')} "
                   f"| {fmt(None if sk_s is None else sk_s / hs, '{:.0f}x')} "
                   f"| {h['points_per_second'] / 1e6:.1f} M | {h['peak_bytes'] / 1e6:.1f} | {h['bytes_per_point']:.1f} "

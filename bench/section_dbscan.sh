@@ -42,7 +42,8 @@ echo "## DBSCAN"
 echo
 echo "Exact DBSCAN (eps 0.1, minPts 10, 3D metric) on generated scenes (\`generateScene\`, z-up, 6 obstacles"
 echo "in a 6 m room, 3% uniform outliers, 5 gross outliers hundreds of km away). hullmap: best of 3 runs"
-echo "(1 at 10M) of \`dbscan()\` on points in memory, ${threads} threads; peak MB is the growth of the resident"
+echo "(1 at 10M) of \`dbscan()\` on points in memory, ${threads} threads (wall clock; CPU s is the CPU time of all"
+echo "threads, which tells how much of the machine the run got when it is shared); peak MB is the growth of the resident"
 echo "set during one run (result included). Open3D \`cluster_dbscan\` and scikit-learn \`DBSCAN(algorithm='kd_tree',"
 echo "n_jobs=2)\`: one timed fit each, on the same points. Agreement: same noise set and same partition of the"
 echo "core points as hullmap (border points may join another cluster within reach and are not compared)."
@@ -51,4 +52,4 @@ echo
 OMP_NUM_THREADS=2 /usr/bin/python3 "$here/dbscan_peers.py" "$work" "$work/hullmap.jsonl" --sizes "$peers" \
   --eps 0.1 --min-pts 10 --threads 2 --markdown
 echo
-echo "Machine: ${cpu:-unknown CPU}, $(nproc) cores. Regenerate: \`bench/section_dbscan.sh BUILD_DIR${full:+ $full}\`."
+echo "Machine: ${cpu:-unknown CPU}, $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg) at the end. Regenerate: \`bench/section_dbscan.sh BUILD_DIR${full:+ $full}\`."
