@@ -22,33 +22,51 @@ inline std::uint64_t pack(const int key[3]) {
 std::uint64_t mortonCode(std::uint64_t packed);
 octomap::OcTreeKey mortonKey(std::uint64_t morton);
 
-/// Open-addressing set of packed keys (linear probing, load <= 1/2). Not thread-safe.
-class PackedKeySet {
+/// Free and occupied voxels of one thread's rays: 8x8x8 bricks of bits (Morton order inside a
+/// brick), found through an open-addressing index on the brick coordinate. Consecutive ray keys
+/// mostly stay in one brick, so most marks are a bit set in a cached line. Not thread-safe.
+class BrickSet {
  public:
-  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
-  void insert(std::uint64_t key);
-  bool contains(std::uint64_t key) const;
-  std::size_t size() const { return size_; }
-  const std::vector<std::uint64_t>& slots() const { return slots_; }
+  struct Brick {
+    std::uint64_t free[8] = {};
+    std::uint64_t occupied[8] = {};
+  };
+  void mark(const int key[3], bool occupied) {
+    const std::uint64_t coord = static_cast<std::uint64_t>(key[0] >> 3) |
+                                static_cast<std::uint64_t>(key[1] >> 3) << 13 |
+                                static_cast<std::uint64_t>(key[2] >> 3) << 26;
+    if (coord != last_coord_) {
+      last_index_ = find(coord);
+      last_coord_ = coord;
+    }
+    const unsigned bit = kSpread[key[0] & 7] | kSpread[key[1] & 7] << 1 | kSpread[key[2] & 7] << 2;
+    Brick& b = bricks_[last_index_];
+    (occupied ? b.occupied : b.free)[bit >> 6] |= std::uint64_t{1} << (bit & 63);
+  }
+  const std::vector<Brick>& bricks() const { return bricks_; }
+  /// Brick coordinates (k >> 3 per axis, 13 bits each, x lowest), parallel to bricks().
+  const std::vector<std::uint64_t>& coords() const { return coords_; }
 
  private:
-  std::size_t slot(std::uint64_t key) const {
-    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_);
-  }
-  void grow();
-  std::vector<std::uint64_t> slots_;
-  std::size_t size_ = 0;
+  static constexpr unsigned kSpread[8] = {0, 1, 8, 9, 64, 65, 72, 73};
+  std::uint32_t find(std::uint64_t coord);
+  std::vector<std::uint64_t> slots_;      // coord + 1, 0 = empty
+  std::vector<std::uint32_t> slot_index_;
+  std::vector<Brick> bricks_;
+  std::vector<std::uint64_t> coords_;
+  std::uint64_t last_coord_ = ~std::uint64_t{0};
+  std::uint32_t last_index_ = 0;
   unsigned shift_ = 64;
 };
 
-/// octomap's coordToKeyChecked and computeRayKeys, same arithmetic, writing into a PackedKeySet.
+/// octomap's coordToKeyChecked and computeRayKeys, same arithmetic, writing into a BrickSet.
 class KeyCaster {
  public:
   explicit KeyCaster(const octomap::OcTree& tree);
   bool coordToKeyChecked(double coordinate, int& key) const;
   bool coordToKeyChecked(const octomap::point3d& p, int key[3]) const;
   /// The free keys of the ray origin -> end (end excluded). False when either end is not addressable.
-  bool castRay(const octomap::point3d& origin, const octomap::point3d& end, PackedKeySet& out) const;
+  bool castRay(const octomap::point3d& origin, const octomap::point3d& end, BrickSet& out) const;
 
  private:
   double resolution_;

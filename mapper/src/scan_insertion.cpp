@@ -3,10 +3,11 @@
 // octomap spends its time in two places: inserting every ray key into a shared unordered_set under an
 // OpenMP critical section, and one updateNode per voxel, each a descent from the root (with a search
 // first for its early abort). Here each thread casts its share of the rays with the same DDA
-// arithmetic into its own open-addressing set, the sets are merged (occupied wins over free, as in
-// computeUpdate), the voxels are sorted in octree (Morton) order and applied in one depth-first pass
-// that visits each node once and repeats octomap's per-key rules (early abort at clamped leaves,
-// expansion of pruned leaves, child creation, pruning, inner-node maximum).
+// arithmetic into its own set of 8x8x8 bit bricks; the bricks are merged in Morton order (occupied
+// wins over free, as in computeUpdate), which yields the voxels already sorted in octree order; they
+// are applied in one depth-first pass that visits each node once and repeats octomap's per-key rules
+// (early abort at clamped leaves, expansion of pruned leaves, child creation, pruning, inner-node
+// maximum). Each voxel is updated once per scan, so the order of updates does not change the tree.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -55,35 +56,29 @@ octomap::OcTreeKey mortonKey(std::uint64_t morton) {
                             static_cast<octomap::key_type>(compactBits(morton >> 2)));
 }
 
-void PackedKeySet::insert(std::uint64_t key) {
-  if (2 * (size_ + 1) > slots_.size()) grow();
-  std::size_t i = slot(key);
-  while (slots_[i] != kEmpty) {
-    if (slots_[i] == key) return;
-    i = (i + 1) & (slots_.size() - 1);
+std::uint32_t BrickSet::find(std::uint64_t coord) {
+  if (2 * (bricks_.size() + 1) > slots_.size()) {
+    const std::size_t capacity = std::max<std::size_t>(4096, 2 * slots_.size());
+    slots_.assign(capacity, 0);
+    slot_index_.assign(capacity, 0);
+    shift_ = 64 - static_cast<unsigned>(std::log2(static_cast<double>(capacity)) + 0.5);
+    for (std::uint32_t i = 0; i < coords_.size(); ++i) {
+      std::size_t s = static_cast<std::size_t>((coords_[i] * 0x9E3779B97F4A7C15ull) >> shift_);
+      while (slots_[s] != 0) s = (s + 1) & (capacity - 1);
+      slots_[s] = coords_[i] + 1;
+      slot_index_[s] = i;
+    }
   }
-  slots_[i] = key;
-  ++size_;
-}
-
-bool PackedKeySet::contains(std::uint64_t key) const {
-  if (slots_.empty()) return false;
-  std::size_t i = slot(key);
-  while (slots_[i] != kEmpty) {
-    if (slots_[i] == key) return true;
-    i = (i + 1) & (slots_.size() - 1);
+  std::size_t s = static_cast<std::size_t>((coord * 0x9E3779B97F4A7C15ull) >> shift_);
+  while (slots_[s] != 0) {
+    if (slots_[s] == coord + 1) return slot_index_[s];
+    s = (s + 1) & (slots_.size() - 1);
   }
-  return false;
-}
-
-void PackedKeySet::grow() {
-  std::vector<std::uint64_t> old(std::max<std::size_t>(1024, 2 * slots_.size()), kEmpty);
-  old.swap(slots_);
-  shift_ = 64 - static_cast<unsigned>(std::log2(static_cast<double>(slots_.size())) + 0.5);
-  size_ = 0;
-  for (std::uint64_t k : old) {
-    if (k != kEmpty) insert(k);
-  }
+  slots_[s] = coord + 1;
+  slot_index_[s] = static_cast<std::uint32_t>(bricks_.size());
+  bricks_.emplace_back();
+  coords_.push_back(coord);
+  return slot_index_[s];
 }
 
 KeyCaster::KeyCaster(const octomap::OcTree& tree)
@@ -106,12 +101,12 @@ bool KeyCaster::coordToKeyChecked(const octomap::point3d& p, int key[3]) const {
 
 // Same arithmetic, statement for statement, as OcTreeBaseImpl::computeRayKeys (octomap 1.9),
 // without KeyRay's fixed 100000-key buffer.
-bool KeyCaster::castRay(const octomap::point3d& origin, const octomap::point3d& end, PackedKeySet& out) const {
+bool KeyCaster::castRay(const octomap::point3d& origin, const octomap::point3d& end, BrickSet& out) const {
   int key_origin[3], key_end[3];
   if (!coordToKeyChecked(origin, key_origin) || !coordToKeyChecked(end, key_end)) return false;
   if (key_origin[0] == key_end[0] && key_origin[1] == key_end[1] && key_origin[2] == key_end[2]) return true;
 
-  out.insert(pack(key_origin));
+  out.mark(key_origin, false);
 
   octomap::point3d direction = (end - origin);
   const float length = static_cast<float>(direction.norm());
@@ -149,7 +144,7 @@ bool KeyCaster::castRay(const octomap::point3d& origin, const octomap::point3d& 
     if (current[0] == key_end[0] && current[1] == key_end[1] && current[2] == key_end[2]) break;
     const double dist_from_origin = std::min(std::min(t_max[0], t_max[1]), t_max[2]);
     if (dist_from_origin > length) break;
-    out.insert(pack(current));
+    out.mark(current, false);
   }
   return true;
 }
@@ -238,53 +233,61 @@ std::vector<VoxelUpdate> computeScanUpdate(const octomap::OcTree& tree, const Po
   const KeyCaster caster(tree);
   const octomap::point3d origin(static_cast<float>(origin_d.x()), static_cast<float>(origin_d.y()),
                                 static_cast<float>(origin_d.z()));
-  struct Sets {
-    PackedKeySet free;
-    PackedKeySet occupied;
-  };
-  tbb::enumerable_thread_specific<Sets> local;
+  tbb::enumerable_thread_specific<BrickSet> local;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 1024),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-    Sets& sets = local.local();
+    BrickSet& set = local.local();
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const octomap::point3d p(static_cast<float>(points[i].x()), static_cast<float>(points[i].y()),
                                static_cast<float>(points[i].z()));
       if (max_range < 0.0 || (p - origin).norm() <= max_range) {
-        caster.castRay(origin, p, sets.free);
+        caster.castRay(origin, p, set);
         int key[3];
-        if (caster.coordToKeyChecked(p, key)) sets.occupied.insert(pack(key));
+        if (caster.coordToKeyChecked(p, key)) set.mark(key, true);
       } else {
         const octomap::point3d direction = (p - origin).normalized();
         const octomap::point3d new_end = origin + direction * static_cast<float>(max_range);
-        caster.castRay(origin, new_end, sets.free);
+        caster.castRay(origin, new_end, set);
       }
     }
   });
 
-  // Merge into the largest sets; occupied wins over free.
-  std::vector<Sets*> all;
-  for (Sets& s : local) all.push_back(&s);
-  if (all.empty()) return {};
-  std::sort(all.begin(), all.end(), [](const Sets* a, const Sets* b) { return a->free.size() > b->free.size(); });
-  PackedKeySet& free = all[0]->free;
-  PackedKeySet& occupied = all[0]->occupied;
-  for (std::size_t t = 1; t < all.size(); ++t) {
-    for (std::uint64_t k : all[t]->free.slots()) {
-      if (k != PackedKeySet::kEmpty) free.insert(k);
-    }
-    for (std::uint64_t k : all[t]->occupied.slots()) {
-      if (k != PackedKeySet::kEmpty) occupied.insert(k);
+  // All threads' bricks in brick Morton order; bricks of one coordinate are OR-ed.
+  std::vector<const BrickSet*> sets;
+  for (const BrickSet& set : local) sets.push_back(&set);
+  std::vector<VoxelUpdate> order;  // code: brick Morton; count: set << 27 | brick index
+  for (std::uint32_t t = 0; t < sets.size(); ++t) {
+    const auto& coords = sets[t]->coords();
+    for (std::uint32_t i = 0; i < coords.size(); ++i) {
+      const std::uint64_t c = coords[i];
+      const std::uint64_t packed = (c & 0x1FFF) | ((c >> 13) & 0x1FFF) << 16 | ((c >> 26) & 0x1FFF) << 32;
+      order.push_back({mortonCode(packed), t << 27 | i});
     }
   }
+  sortUpdates(order);
   std::vector<VoxelUpdate> updates;
-  updates.reserve(free.size() + occupied.size());
-  for (std::uint64_t k : occupied.slots()) {
-    if (k != PackedKeySet::kEmpty) updates.push_back({mortonCode(k) << 1 | 1, 1});
+  for (std::size_t i = 0; i < order.size();) {
+    BrickSet::Brick merged;
+    std::size_t j = i;
+    for (; j < order.size() && order[j].code == order[i].code; ++j) {
+      const BrickSet::Brick& b = sets[order[j].count >> 27]->bricks()[order[j].count & 0x7FFFFFF];
+      for (int w = 0; w < 8; ++w) {
+        merged.free[w] |= b.free[w];
+        merged.occupied[w] |= b.occupied[w];
+      }
+    }
+    const std::uint64_t base = order[i].code << 9;
+    for (unsigned w = 0; w < 8; ++w) {
+      const std::uint64_t occupied = merged.occupied[w];
+      std::uint64_t any = merged.free[w] | occupied;  // occupied wins over free
+      while (any != 0) {
+        const unsigned bit = static_cast<unsigned>(__builtin_ctzll(any));
+        any &= any - 1;
+        updates.push_back({(base | (w << 6) | bit) << 1 | ((occupied >> bit) & 1), 1});
+      }
+    }
+    i = j;
   }
-  for (std::uint64_t k : free.slots()) {
-    if (k != PackedKeySet::kEmpty && !occupied.contains(k)) updates.push_back({mortonCode(k) << 1, 1});
-  }
-  sortUpdates(updates);
   return updates;
 }
 
