@@ -1,7 +1,6 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <queue>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -32,13 +31,15 @@ class KdTree {
   }
 
   /// Squared distance from point i to its (k+1)-th nearest point, itself included (so the k-th
-  /// nearest other point; duplicates count).
-  double kthSquaredDistance(std::size_t i, int k) const {
-    std::priority_queue<double> best;  // the k+1 smallest squared distances so far, largest on top
-    const std::size_t want = static_cast<std::size_t>(k) + 1;
-    search(0, points_[i], want, best);
-    return best.top();
+  /// nearest other point; duplicates count). `best` is scratch space of the caller.
+  double kthSquaredDistance(std::size_t i, int k, std::vector<double>& best) const {
+    best.clear();
+    search(0, points_[i], static_cast<std::size_t>(k) + 1, best);
+    return best.back();
   }
+
+  /// The points in tree order (spatially coherent): querying in this order keeps caches warm.
+  const std::vector<std::uint32_t>& treeOrder() const { return index_; }
 
  private:
   struct Node {
@@ -85,17 +86,17 @@ class KdTree {
     return id;
   }
 
-  void search(std::int32_t id, const Eigen::Vector3d& q, std::size_t want, std::priority_queue<double>& best) const {
+  void search(std::int32_t id, const Eigen::Vector3d& q, std::size_t want, std::vector<double>& best) const {
     const Node& node = nodes_[id];
     if (node.axis < 0) {
+      // `best` holds the smallest squared distances so far, ascending, at most `want` of them.
       for (std::uint32_t j = node.begin; j < node.end; ++j) {
         const double d = squaredDistance(q, points_[index_[j]]);
-        if (best.size() < want) {
-          best.push(d);
-        } else if (d < best.top()) {
-          best.pop();
-          best.push(d);
+        if (best.size() == want) {
+          if (!(d < best.back())) continue;
+          best.pop_back();
         }
+        best.insert(std::upper_bound(best.begin(), best.end(), d), d);
       }
       return;
     }
@@ -104,7 +105,7 @@ class KdTree {
     const std::int32_t near = diff < 0 ? node.left : node.right;
     const std::int32_t far = diff < 0 ? node.right : node.left;
     search(near, q, want, best);
-    if (best.size() < want || diff * diff <= best.top()) search(far, q, want, best);
+    if (best.size() < want || diff * diff <= best.back()) search(far, q, want, best);
   }
 
   const std::vector<Eigen::Vector3d>& points_;
@@ -126,10 +127,14 @@ std::vector<double> kDistanceCurve(const std::vector<Eigen::Vector3d>& points, i
   std::vector<double> curve(points.size(), 0.0);
   if (k == 0) return curve;
   const detail::KdTree tree(points, metric == Metric::kXy ? 2 : 3);
+  const auto& order = tree.treeOrder();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 1024),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                        curve[i] = std::sqrt(tree.kthSquaredDistance(i, k));
+                      std::vector<double> best;
+                      best.reserve(static_cast<std::size_t>(k) + 2);
+                      for (std::size_t j = r.begin(); j != r.end(); ++j) {
+                        const std::size_t i = order[j];
+                        curve[i] = std::sqrt(tree.kthSquaredDistance(i, k, best));
                       }
                     });
   tbb::parallel_sort(curve.begin(), curve.end(), std::greater<double>());
