@@ -14,9 +14,14 @@ inline std::string realData(const std::string& name) {
   return std::filesystem::exists(p) ? p.string() : std::string();
 }
 
-/// A fresh empty directory for one test, below the build tree.
+/// A fresh empty directory for one test, below the build tree. It is named after the running test
+/// too: CTest runs tests in parallel processes, and two tests asking for the same `name` must not
+/// share (and wipe) one directory.
 inline std::filesystem::path freshDir(const std::string& name) {
-  const auto dir = std::filesystem::path(HULLMAP_TEST_TMP) / name;
+  std::string owner = "outside_tests";
+  if (const auto* info = ::testing::UnitTest::GetInstance()->current_test_info())
+    owner = std::string(info->test_suite_name()) + "." + info->name();
+  const auto dir = std::filesystem::path(HULLMAP_TEST_TMP) / owner / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
