@@ -2,7 +2,8 @@
 // origin, same machine, one run. Prints one JSON object per line:
 //   {"scan": ..., "points": N, "resolution": r, "octomap_ms": ..., "hullmap_ms": ...,
 //    "ray_keys_ms": ..., "cast_ms": ..., "apply_ms": ..., "leaves": L, "identical": true}
-// octomap_ms: insertPointCloud into an empty tree. hullmap_ms: insertScan into an empty tree.
+// octomap_ms: insertPointCloud into an empty tree. hullmap_ms: insertScan into an empty tree
+// (clearing the previous tree is not timed).
 // ray_keys_ms: octomap's computeRayKeys for every point, nothing else (one thread: the floor of
 // octomap's own approach). cast_ms / apply_ms: hullmap's two phases (parallel ray casting and
 // deduplication; the ordered tree update). Medians of several runs.
@@ -27,9 +28,11 @@ namespace {
 using hullmap::mapper::Point;
 using hullmap::mapper::Points;
 
-double millis(const std::function<void()>& run, int repeats) {
+// Median wall time of `run`; `setup` (not timed) runs before each repetition.
+double millis(const std::function<void()>& run, int repeats, const std::function<void()>& setup = [] {}) {
   std::vector<double> times;
   for (int r = 0; r < repeats; ++r) {
+    setup();
     const auto start = std::chrono::steady_clock::now();
     run();
     times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
@@ -56,16 +59,12 @@ void run(const std::string& name, const Points& points, const Point& origin, dou
   const octomap::point3d o(static_cast<float>(origin.x()), static_cast<float>(origin.y()), static_cast<float>(origin.z()));
 
   octomap::OcTree reference(resolution);
-  const double octomap_ms = millis([&] {
-    reference.clear();
-    reference.insertPointCloud(cloud, o, -1.0);
-  }, repeats);
+  const double octomap_ms = millis([&] { reference.insertPointCloud(cloud, o, -1.0); }, repeats,
+                                   [&] { reference.clear(); });
 
   octomap::OcTree ours(resolution);
-  const double hullmap_ms = millis([&] {
-    ours.clear();
-    hullmap::mapper::insertScan(ours, points, origin, -1.0);
-  }, repeats);
+  const double hullmap_ms = millis([&] { hullmap::mapper::insertScan(ours, points, origin, -1.0); }, repeats,
+                                   [&] { ours.clear(); });
 
   std::size_t keys = 0;
   const double ray_keys_ms = millis([&] {
@@ -81,11 +80,11 @@ void run(const std::string& name, const Points& points, const Point& origin, dou
     updates = hullmap::mapper::detail::computeScanUpdate(ours, points, origin, -1.0);
   }, repeats);
   octomap::OcTree phases(resolution);
-  const double apply_ms = millis([&] {
+  std::vector<hullmap::mapper::detail::VoxelUpdate> copy;
+  const double apply_ms = millis([&] { hullmap::mapper::detail::applyUpdates(phases, copy); }, repeats, [&] {
     phases.clear();
-    auto copy = updates;
-    hullmap::mapper::detail::applyUpdates(phases, copy);
-  }, repeats);
+    copy = updates;
+  });
 
   std::printf(
       "{\"scan\": \"%s\", \"points\": %zu, \"resolution\": %.3f, \"octomap_ms\": %.2f, \"hullmap_ms\": %.2f, "

@@ -23,14 +23,24 @@ std::uint64_t mortonCode(std::uint64_t packed);
 octomap::OcTreeKey mortonKey(std::uint64_t morton);
 
 /// Free and occupied voxels of one thread's rays: 8x8x8 bricks of bits (Morton order inside a
-/// brick), found through an open-addressing index on the brick coordinate. Consecutive ray keys
-/// mostly stay in one brick, so most marks are a bit set in a cached line. Not thread-safe.
+/// brick). Bricks inside an optional dense box (brick coordinates) are found by arithmetic, others
+/// through an open-addressing index. Consecutive ray keys mostly stay in one brick, so most marks
+/// are a bit set in a cached line. Not thread-safe.
 class BrickSet {
  public:
   struct Brick {
     std::uint64_t free[8] = {};
     std::uint64_t occupied[8] = {};
+    bool empty() const {
+      std::uint64_t any = 0;
+      for (int w = 0; w < 8; ++w) any |= free[w] | occupied[w];
+      return any == 0;
+    }
   };
+  BrickSet() = default;
+  /// Bricks with lo <= coordinate < lo + dims (per axis, brick = key >> 3) are stored densely.
+  BrickSet(const int lo[3], const int dims[3]);
+
   void mark(const int key[3], bool occupied) {
     const std::uint64_t coord = static_cast<std::uint64_t>(key[0] >> 3) |
                                 static_cast<std::uint64_t>(key[1] >> 3) << 13 |
@@ -43,17 +53,22 @@ class BrickSet {
     Brick& b = bricks_[last_index_];
     (occupied ? b.occupied : b.free)[bit >> 6] |= std::uint64_t{1} << (bit & 63);
   }
+  std::size_t denseCount() const { return dense_count_; }
+  std::vector<Brick>& bricks() { return bricks_; }
   const std::vector<Brick>& bricks() const { return bricks_; }
-  /// Brick coordinates (k >> 3 per axis, 13 bits each, x lowest), parallel to bricks().
-  const std::vector<std::uint64_t>& coords() const { return coords_; }
+  /// Brick coordinate (x | y << 13 | z << 26) of bricks()[i].
+  std::uint64_t coordOf(std::size_t i) const;
 
  private:
   static constexpr unsigned kSpread[8] = {0, 1, 8, 9, 64, 65, 72, 73};
   std::uint32_t find(std::uint64_t coord);
+  int lo_[3] = {0, 0, 0};
+  int dims_[3] = {0, 0, 0};
+  std::size_t dense_count_ = 0;
   std::vector<std::uint64_t> slots_;      // coord + 1, 0 = empty
   std::vector<std::uint32_t> slot_index_;
-  std::vector<Brick> bricks_;
-  std::vector<std::uint64_t> coords_;
+  std::vector<Brick> bricks_;             // dense box first, then the others
+  std::vector<std::uint64_t> coords_;     // of the bricks after the dense box
   std::uint64_t last_coord_ = ~std::uint64_t{0};
   std::uint32_t last_index_ = 0;
   unsigned shift_ = 64;

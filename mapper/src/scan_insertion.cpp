@@ -56,8 +56,31 @@ octomap::OcTreeKey mortonKey(std::uint64_t morton) {
                             static_cast<octomap::key_type>(compactBits(morton >> 2)));
 }
 
+BrickSet::BrickSet(const int lo[3], const int dims[3]) {
+  for (int i = 0; i < 3; ++i) {
+    lo_[i] = lo[i];
+    dims_[i] = dims[i];
+  }
+  dense_count_ = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
+  bricks_.resize(dense_count_);
+}
+
+std::uint64_t BrickSet::coordOf(std::size_t i) const {
+  if (i >= dense_count_) return coords_[i - dense_count_];
+  const std::uint64_t x = lo_[0] + i % dims_[0];
+  const std::uint64_t y = lo_[1] + (i / dims_[0]) % dims_[1];
+  const std::uint64_t z = lo_[2] + i / (static_cast<std::size_t>(dims_[0]) * dims_[1]);
+  return x | y << 13 | z << 26;
+}
+
 std::uint32_t BrickSet::find(std::uint64_t coord) {
-  if (2 * (bricks_.size() + 1) > slots_.size()) {
+  const unsigned x = static_cast<unsigned>(coord & 0x1FFF) - lo_[0];
+  const unsigned y = static_cast<unsigned>((coord >> 13) & 0x1FFF) - lo_[1];
+  const unsigned z = static_cast<unsigned>(coord >> 26) - lo_[2];
+  if (x < static_cast<unsigned>(dims_[0]) && y < static_cast<unsigned>(dims_[1]) && z < static_cast<unsigned>(dims_[2])) {
+    return static_cast<std::uint32_t>((static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0] + x);
+  }
+  if (2 * (coords_.size() + 1) > slots_.size()) {
     const std::size_t capacity = std::max<std::size_t>(4096, 2 * slots_.size());
     slots_.assign(capacity, 0);
     slot_index_.assign(capacity, 0);
@@ -66,7 +89,7 @@ std::uint32_t BrickSet::find(std::uint64_t coord) {
       std::size_t s = static_cast<std::size_t>((coords_[i] * 0x9E3779B97F4A7C15ull) >> shift_);
       while (slots_[s] != 0) s = (s + 1) & (capacity - 1);
       slots_[s] = coords_[i] + 1;
-      slot_index_[s] = i;
+      slot_index_[s] = static_cast<std::uint32_t>(dense_count_ + i);
     }
   }
   std::size_t s = static_cast<std::size_t>((coord * 0x9E3779B97F4A7C15ull) >> shift_);
@@ -228,58 +251,159 @@ void sortUpdates(std::vector<VoxelUpdate>& updates) {
   }
 }
 
+namespace {
+
+struct OrderedBrick {
+  std::uint64_t code;  // brick Morton
+  const BrickSet::Brick* brick;
+};
+
+void sortBricks(std::vector<OrderedBrick>& bricks) {
+  // 39-bit codes: three passes of 13 bits.
+  std::vector<OrderedBrick> buffer(bricks.size());
+  std::vector<std::size_t> count(1 << 13);
+  for (unsigned pass = 0; pass < 3; ++pass) {
+    const unsigned shift = 13 * pass;
+    std::fill(count.begin(), count.end(), 0);
+    for (const auto& b : bricks) ++count[(b.code >> shift) & 0x1FFF];
+    std::size_t sum = 0;
+    for (std::size_t& n : count) {
+      const std::size_t here = n;
+      n = sum;
+      sum += here;
+    }
+    for (const auto& b : bricks) buffer[count[(b.code >> shift) & 0x1FFF]++] = b;
+    bricks.swap(buffer);
+  }
+}
+
+std::uint64_t brickMorton(std::uint64_t c) {
+  return mortonCode((c & 0x1FFF) | ((c >> 13) & 0x1FFF) << 16 | ((c >> 26) & 0x1FFF) << 32);
+}
+
+// Per-thread dense bricks cost memory and zeroing: only for boxes that are not much larger
+// than the work.
+constexpr std::size_t kMaxDenseBricks = std::size_t{1} << 18;  // 32 MiB per thread
+
+}  // namespace
+
 std::vector<VoxelUpdate> computeScanUpdate(const octomap::OcTree& tree, const Points& points,
                                            const Point& origin_d, double max_range) {
   const KeyCaster caster(tree);
   const octomap::point3d origin(static_cast<float>(origin_d.x()), static_cast<float>(origin_d.y()),
                                 static_cast<float>(origin_d.z()));
-  tbb::enumerable_thread_specific<BrickSet> local;
+  auto toPoint3d = [](const Point& q) {
+    return octomap::point3d(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z()));
+  };
+  // Where each ray ends, as insertPointCloud decides (the measured point, or cut at max_range).
+  auto rayEnd = [&](const octomap::point3d& p, bool& endpoint) {
+    endpoint = max_range < 0.0 || (p - origin).norm() <= max_range;
+    if (endpoint) return p;
+    const octomap::point3d direction = (p - origin).normalized();
+    return origin + direction * static_cast<float>(max_range);
+  };
+
+  // Box of the ray ends' bricks (rays stay between their ends' keys, give or take a voxel).
+  struct Box {
+    int lo[3] = {1 << 30, 1 << 30, 1 << 30};
+    int hi[3] = {-1, -1, -1};
+  };
+  tbb::enumerable_thread_specific<Box> boxes;
+  int origin_key[3];
+  const bool origin_ok = caster.coordToKeyChecked(origin, origin_key);
+  if (origin_ok) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4096),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+      Box& box = boxes.local();
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        bool endpoint;
+        int key[3];
+        if (!caster.coordToKeyChecked(rayEnd(toPoint3d(points[i]), endpoint), key)) continue;
+        for (int a = 0; a < 3; ++a) {
+          box.lo[a] = std::min(box.lo[a], key[a] >> 3);
+          box.hi[a] = std::max(box.hi[a], key[a] >> 3);
+        }
+      }
+    });
+  }
+  int lo[3], dims[3] = {0, 0, 0};
+  std::size_t dense = 0;
+  if (origin_ok) {
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = origin_key[a] >> 3;
+      int hi = lo[a];
+      for (const Box& box : boxes) {
+        lo[a] = std::min(lo[a], box.lo[a]);
+        hi = std::max(hi, box.hi[a]);
+      }
+      lo[a] = std::max(0, lo[a] - 1);
+      dims[a] = std::min(8191, hi + 1) - lo[a] + 1;
+    }
+    dense = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
+    if (dense > kMaxDenseBricks || dense > 64 * points.size() + 4096) dims[0] = dims[1] = dims[2] = 0;
+  }
+
+  tbb::enumerable_thread_specific<BrickSet> local([&] { return BrickSet(lo, dims); });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 1024),
                     [&](const tbb::blocked_range<std::size_t>& range) {
     BrickSet& set = local.local();
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      const octomap::point3d p(static_cast<float>(points[i].x()), static_cast<float>(points[i].y()),
-                               static_cast<float>(points[i].z()));
-      if (max_range < 0.0 || (p - origin).norm() <= max_range) {
-        caster.castRay(origin, p, set);
-        int key[3];
-        if (caster.coordToKeyChecked(p, key)) set.mark(key, true);
-      } else {
-        const octomap::point3d direction = (p - origin).normalized();
-        const octomap::point3d new_end = origin + direction * static_cast<float>(max_range);
-        caster.castRay(origin, new_end, set);
-      }
+      const octomap::point3d p = toPoint3d(points[i]);
+      bool endpoint;
+      const octomap::point3d end = rayEnd(p, endpoint);
+      caster.castRay(origin, end, set);
+      int key[3];
+      if (endpoint && caster.coordToKeyChecked(p, key)) set.mark(key, true);
     }
   });
 
-  // All threads' bricks in brick Morton order; bricks of one coordinate are OR-ed.
-  std::vector<const BrickSet*> sets;
-  for (const BrickSet& set : local) sets.push_back(&set);
-  std::vector<VoxelUpdate> order;  // code: brick Morton; count: set << 27 | brick index
-  for (std::uint32_t t = 0; t < sets.size(); ++t) {
-    const auto& coords = sets[t]->coords();
-    for (std::uint32_t i = 0; i < coords.size(); ++i) {
-      const std::uint64_t c = coords[i];
-      const std::uint64_t packed = (c & 0x1FFF) | ((c >> 13) & 0x1FFF) << 16 | ((c >> 26) & 0x1FFF) << 32;
-      order.push_back({mortonCode(packed), t << 27 | i});
+  std::vector<BrickSet*> sets;
+  for (BrickSet& set : local) sets.push_back(&set);
+  if (sets.empty()) return {};
+  // Dense boxes: OR into the first set's.
+  BrickSet& first = *sets[0];
+  const std::size_t dense_count = first.denseCount();
+  if (sets.size() > 1 && dense_count > 0) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, dense_count, 4096),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+      for (std::size_t t = 1; t < sets.size(); ++t) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          BrickSet::Brick& into = first.bricks()[i];
+          const BrickSet::Brick& from = sets[t]->bricks()[i];
+          for (int w = 0; w < 8; ++w) {
+            into.free[w] |= from.free[w];
+            into.occupied[w] |= from.occupied[w];
+          }
+        }
+      }
+    });
+  }
+  std::vector<OrderedBrick> order;
+  for (std::size_t i = 0; i < dense_count; ++i) {
+    if (!first.bricks()[i].empty()) order.push_back({brickMorton(first.coordOf(i)), &first.bricks()[i]});
+  }
+  for (const BrickSet* set : sets) {
+    for (std::size_t i = set->denseCount(); i < set->bricks().size(); ++i) {
+      order.push_back({brickMorton(set->coordOf(i)), &set->bricks()[i]});
     }
   }
-  sortUpdates(order);
+  sortBricks(order);
+
+  // Voxels in Morton order; occupied wins over free.
   std::vector<VoxelUpdate> updates;
   for (std::size_t i = 0; i < order.size();) {
     BrickSet::Brick merged;
     std::size_t j = i;
     for (; j < order.size() && order[j].code == order[i].code; ++j) {
-      const BrickSet::Brick& b = sets[order[j].count >> 27]->bricks()[order[j].count & 0x7FFFFFF];
       for (int w = 0; w < 8; ++w) {
-        merged.free[w] |= b.free[w];
-        merged.occupied[w] |= b.occupied[w];
+        merged.free[w] |= order[j].brick->free[w];
+        merged.occupied[w] |= order[j].brick->occupied[w];
       }
     }
     const std::uint64_t base = order[i].code << 9;
     for (unsigned w = 0; w < 8; ++w) {
       const std::uint64_t occupied = merged.occupied[w];
-      std::uint64_t any = merged.free[w] | occupied;  // occupied wins over free
+      std::uint64_t any = merged.free[w] | occupied;
       while (any != 0) {
         const unsigned bit = static_cast<unsigned>(__builtin_ctzll(any));
         any &= any - 1;
