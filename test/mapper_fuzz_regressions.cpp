@@ -114,6 +114,29 @@ TEST(MapperFuzzRegressions, PropertylessPlyElementWithHugeCountIsSkipped) {
   }
 }
 
+// corpus/bt/pruned.bt (140 bytes): an occupied leaf at depth 1 stands for 2^45 finest voxels;
+// occupiedVoxels() expanded them all (hullmap build ran out of time and memory). Now refused.
+TEST(MapperFuzzRegressions, PrunedLeafNearTheRootIsRefusedNotExpanded) {
+  const OccupancyMap pruned = readMap((kCorpus / "bt" / "pruned.bt").string());
+  EXPECT_EQ(errorOf([&] { pruned.occupiedVoxels(); }),
+            "octree: its occupied leaves stand for more than 33554432 voxels of 0.05 (an occupied leaf at depth 1 "
+            "covers 35184372088832); too many to cluster");
+  // A pruned leaf of 8^3 voxels is still expanded.
+  OccupancyMap block(OctreeParams{});
+  const double r = block.resolution();
+  for (int x = 0; x < 8; ++x) {
+    for (int y = 0; y < 8; ++y) {
+      for (int z = 0; z < 8; ++z) {
+        block.tree().updateNode(octomap::point3d(float((x + 0.5) * r), float((y + 0.5) * r), float((z + 0.5) * r)),
+                                true);
+      }
+    }
+  }
+  block.tree().prune();
+  EXPECT_LT(block.tree().getNumLeafNodes(), 512u);
+  EXPECT_EQ(block.occupiedVoxels().size(), 512u);
+}
+
 // ---------------------------------------------------------------------------------------------
 // The seed corpus holds what make_corpus.py wrote
 
@@ -348,6 +371,38 @@ TEST(MapperFuzzRegressions, CorruptBtMessagesNameTheFile) {
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
   }
   EXPECT_EQ(errorOf([&] { readMap(text); }), text + ": not an OctoMap file (no '# Octomap OcTree' header)");
+}
+
+// The CLI prints the reader's message as one line `hullmap: error: <message>` and exits 2.
+TEST(MapperFuzzRegressions, CliPrintsReaderErrorsOnOneLineAndExits2) {
+  const fs::path dir = hullmap::test::freshDir("fuzz_regressions_cli");
+  const std::string good = writeFile(dir / "good.txt", "1 2 3\n4 5 6\n");
+  const std::string bad = writeFile(dir / "bad.txt", "1 2 3\n4 five 6\n");
+  const std::string empty = writeFile(dir / "empty.txt", "");
+  const std::string traj = writeFile(dir / "traj.txt", "0 1 2 3 0 0 0 0\n");
+  const std::string pcd = writeFile(dir / "z.pcd", compressedPcd(4, 24, std::string(4, '\xff')));
+  const std::string cut = writeFile(dir / "cut.bt", seed("bt", "chain.bt").substr(0, 150));
+  const std::string out = " -o " + (dir / "out").string();
+  const struct {
+    std::string args;
+    std::string err;
+  } cases[] = {
+      {"build " + bad + out, bad + ":2: 'five' is not a number"},
+      {"build " + empty + out, empty + ": no points"},
+      {"build " + good + " --trajectory " + traj + out, traj + ":1: zero quaternion"},
+      {"build " + pcd + out, pcd + ": binary_compressed PCD: LZF data from byte offset 152 decompresses to 0 "
+                                   "bytes, expected 24 (corrupt or truncated)"},
+      {"build " + cut + out, cut + ": truncated OctoMap data (file ends inside node 8)"},
+      {"build " + good + " --frobnicate" + out,
+       "The following argument was not expected: --frobnicate (see hullmap --help)"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.args);
+    const hullmap::test::CommandResult r = hullmap::test::runHullmap(c.args);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_EQ(r.err, "hullmap: error: " + c.err + "\n");
+    EXPECT_FALSE(fs::exists(dir / "out"));  // nothing half-written
+  }
 }
 
 }  // namespace

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <functional>
 #include <iterator>
 #include <limits>
 #include <sstream>
+#include <string>
 
 #include <octomap/AbstractOcTree.h>
 #include <tbb/parallel_for.h>
@@ -20,6 +22,8 @@ namespace hullmap::mapper {
 namespace {
 
 constexpr unsigned kTreeDepth = 16;
+// occupiedVoxels() lists at most this many finest voxels (52 bytes each at the peak: ~1.7 GB).
+constexpr std::uint64_t kMaxOccupiedVoxels = std::uint64_t(1) << 25;
 
 void checkParams(const OctreeParams& p) {
   auto require = [](bool ok, const std::string& what) {
@@ -272,7 +276,21 @@ std::vector<OccupiedVoxel> OccupancyMap::occupiedVoxels() const {
     octomap::OcTreeKey key;
     float log_odds;
   };
+  // A pruned leaf at depth d stands for 8^(16 - d) finest voxels: one near the root of a 140-byte
+  // .bt is 2^45 of them. Count before expanding, and refuse what cannot be listed.
+  std::uint64_t total = 0;
+  for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it) {
+    if (tree_->isNodeOccupied(*it)) total += std::uint64_t(1) << (3 * (kTreeDepth - it.getDepth()));
+    if (total > kMaxOccupiedVoxels) {
+      std::ostringstream what;
+      what << "octree: its occupied leaves stand for more than " << kMaxOccupiedVoxels << " voxels of "
+           << tree_->getResolution() << " (an occupied leaf at depth " << it.getDepth() << " covers "
+           << (std::uint64_t(1) << (3 * (kTreeDepth - it.getDepth()))) << "); too many to cluster";
+      throw Error(what.str());
+    }
+  }
   std::vector<Entry> entries;
+  entries.reserve(total);
   for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it) {
     if (!tree_->isNodeOccupied(*it)) continue;
     const float log_odds = it->getLogOdds();

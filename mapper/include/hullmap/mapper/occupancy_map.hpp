@@ -55,6 +55,8 @@ class OccupancyMap {
 
   /// Occupied leaves at the finest depth (pruned inner leaves expanded), sorted by key so the
   /// order is deterministic. Weight from pointCounts(), or 1 where no count is known.
+  /// Throws hullmap::Error when they would be more than 2^25 (a pruned leaf near the root of a
+  /// corrupt .bt stands for up to 2^45).
   std::vector<OccupiedVoxel> occupiedVoxels() const;
 
  private:
