@@ -365,17 +365,6 @@ class GridDbscan {
     // points of one cell can never make a cell wider than eps.
     side_ = params.eps / std::sqrt(double(D)) * (1.0 - 1e-6);
     inv_side_ = 1.0 / side_;
-    for (int dx = -2; dx <= 2; ++dx)
-      for (int dy = -2; dy <= 2; ++dy)
-        for (int dz = (D == 3 ? -2 : 0); dz <= (D == 3 ? 2 : 0); ++dz)
-          if (dx != 0 || dy != 0 || dz != 0) {
-            const bool forward = dx > 0 || (dx == 0 && (dy > 0 || (dy == 0 && dz > 0)));
-            stencil_.push_back({CellCoord{dx, dy, dz}, forward});
-          }
-    // Nearest cells first: counting and border searches stop earlier.
-    std::stable_sort(stencil_.begin(), stencil_.end(), [](const StencilOffset& a, const StencilOffset& b) {
-      return a.d.x * a.d.x + a.d.y * a.d.y + a.d.z * a.d.z < b.d.x * b.d.x + b.d.y * b.d.y + b.d.z * b.d.z;
-    });
   }
 
   DbscanResult run() {
@@ -547,14 +536,25 @@ class GridDbscan {
         gap2[k][o + 2] = g * g;
       }
     }
+    // Nested loops, nearest offsets first on each axis, so that whole rows and planes of the stencil
+    // are skipped at once (sparse clouds spend most of their time here).
+    static constexpr int kOrder[5] = {0, -1, 1, -2, 2};
     int count = 0;
-    for (const StencilOffset& o : stencil_) {
-      if (forward_only && !o.forward) continue;
-      double gap = gap2[0][o.d.x + 2] + gap2[1][o.d.y + 2];
-      if (D == 3) gap += gap2[2][o.d.z + 2];
-      if (gap > eps2_) continue;
-      const Index other = table_->find(CellCoord{base.x + o.d.x, base.y + o.d.y, base.z + o.d.z});
-      if (other != kNone) out[count++] = other;
+    for (int dx : kOrder) {
+      const double gx = gap2[0][dx + 2];
+      if (gx > eps2_) continue;
+      for (int dy : kOrder) {
+        const double gxy = gx + gap2[1][dy + 2];
+        if (gxy > eps2_) continue;
+        for (int dz : kOrder) {
+          if (D == 2 && dz != 0) continue;
+          if (gxy + gap2[2][dz + 2] > eps2_) continue;
+          if (dx == 0 && dy == 0 && dz == 0) continue;
+          if (forward_only && !(dx > 0 || (dx == 0 && (dy > 0 || (dy == 0 && dz > 0))))) continue;
+          const Index other = table_->find(CellCoord{base.x + dx, base.y + dy, base.z + dz});
+          if (other != kNone) out[count++] = other;
+        }
+      }
     }
     return count;
   }
@@ -728,11 +728,6 @@ class GridDbscan {
   double eps2_;
   double side_ = 0.0;
   double inv_side_ = 0.0;
-  struct StencilOffset {
-    CellCoord d;
-    bool forward;  // after (0,0,0) in lexicographic order
-  };
-  std::vector<StencilOffset> stencil_;
 
   BigVector<Eigen::Vector3d> pts_;       // points sorted by cell
   BigVector<Index> order_;               // sorted position -> input index
