@@ -1,6 +1,7 @@
 #include <exception>
 #include <iostream>
 #include <new>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -19,6 +20,18 @@ int main(int argc, char** argv) {
   hullmap::cli::addSweepCommand(app, status);
   hullmap::cli::addCheckCommand(app, status);
   hullmap::cli::addPlotCommand(app, status);
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+      known = known || sub->get_name() == argv[1];
+    }
+    if (!known) {
+    std::cerr << "hullmap: error: unknown subcommand '" << argv[1] << "' (expected one of " << names << ")\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

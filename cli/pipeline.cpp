@@ -1,0 +1,309 @@
+#include "pipeline.hpp"
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include "hullmap/mapper/atomic_file.hpp"
+#include "hullmap/mapper/error.hpp"
+#include "obstacle_io.hpp"
+
+namespace hullmap::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+double peakRssMb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
+}
+
+/// Wall time of each stage, and the process's peak resident memory when it ends.
+class StageTimer {
+ public:
+  explicit StageTimer(BuildResult& result) : result_(result) {}
+  void stage(const std::string& name) {
+    const auto now = std::chrono::steady_clock::now();
+    result_.timings_ms.emplace_back(name, std::chrono::duration<double, std::milli>(now - start_).count());
+    result_.peak_rss_mb.emplace_back(name, peakRssMb());
+    start_ = now;
+  }
+
+ private:
+  BuildResult& result_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+bool isOctomapFile(const std::string& path) {
+  const std::string ext = fs::path(path).extension().string();
+  return ext == ".bt" || ext == ".ot";
+}
+
+void addDropped(PointAccount& account, const mapper::InputStats& stats) {
+  for (const auto& [reason, count] : stats.dropped) account.dropped[reason] += count;
+}
+
+}  // namespace
+
+std::string frameDescription(const std::string& up, double scale) {
+  std::ostringstream s;
+  s << "z-up map frame: input axis " << up << " rotated to +z";
+  if (scale != 1.0) s << ", scaled by " << scale;
+  return s.str();
+}
+
+BuildResult runBuild(const BuildOptions& options) {
+  BuildResult result;
+  StageTimer timer(result);
+  if (options.inputs.empty()) throw Error("build: no input files");
+  if (!(options.scale > 0.0) || !std::isfinite(options.scale))
+    throw Error("--scale: must be a positive finite number");
+  if (options.trajectory && options.origin)
+    throw Error("--trajectory and --origin: give one or the other");
+
+  const mapper::FrameParams frame{mapper::parseUpAxis(options.up), options.scale};
+  mapper::FilterParams filters;
+  if (options.crop) filters.crop = mapper::parseBox("--crop", *options.crop);
+  filters.z_min = options.z_min;
+  filters.z_max = options.z_max;
+  clustering::DbscanParams dbscan = options.dbscan;
+  dbscan.metric = clustering::parseMetric(options.metric);
+
+  if (options.inputs.size() == 1 && isOctomapFile(options.inputs.front())) {
+    // A finished map: no points to account for, voxels weigh 1 each.
+    result.map.emplace(mapper::readMap(options.inputs.front()));
+    mapper::InputStats stats;
+    stats.path = options.inputs.front();
+    stats.format = fs::path(stats.path).extension().string().substr(1);
+    result.inputs.push_back(stats);
+    timer.stage("read");
+  } else {
+    for (const auto& input : options.inputs)
+      if (isOctomapFile(input))
+        throw Error(input + ": an octomap file can only be the single input of build");
+    mapper::PointSet set = mapper::readPointFiles(options.inputs);
+    result.inputs = set.inputs;
+    for (const auto& stats : set.inputs) {
+      result.account.read += stats.read;
+      addDropped(result.account, stats);
+    }
+    if (set.points.empty()) {
+      std::string names;
+      for (const auto& input : options.inputs) names += (names.empty() ? "" : ", ") + input;
+      throw Error(names + ": no points");
+    }
+    timer.stage("read");
+
+    std::vector<mapper::Keyframe> keyframes;
+    if (options.trajectory) {
+      keyframes = mapper::readTumTrajectory(*options.trajectory);
+      if (keyframes.empty()) throw Error(*options.trajectory + ": no keyframes");
+      mapper::toMapFrame(frame, keyframes);
+    }
+    mapper::toMapFrame(frame, set.points);
+    mapper::InputStats filtered;
+    mapper::applyFilters(filters, set.points, filtered);
+    addDropped(result.account, filtered);
+    if (set.points.empty()) throw Error("--crop/--z-min/--z-max: no points left inside the bounds");
+    timer.stage("frame_and_filters");
+
+    mapper::InputStats built;
+    if (options.trajectory) {
+      result.map.emplace(mapper::buildWithTrajectory(set.points, keyframes, options.octree, built));
+      result.keyframes = keyframes.size();
+    } else if (options.origin) {
+      Eigen::Vector3d origin = mapper::parseVector3("--origin", *options.origin);
+      std::vector<Eigen::Vector3d> one{origin};
+      mapper::toMapFrame(frame, one);
+      origin = one.front();
+      result.map.emplace(options.octree);
+      mapper::Points addressable;
+      addressable.reserve(set.points.size());
+      for (const auto& p : set.points) {
+        if (mapper::addressable(result.map->tree(), p)) addressable.push_back(p);
+        else ++built.dropped["out_of_octree"];
+      }
+      mapper::insertScan(result.map->tree(), addressable, origin, options.octree.max_range);
+      auto& counts = result.map->pointCounts();
+      for (const auto& p : addressable) ++counts[result.map->tree().coordToKey(p.x(), p.y(), p.z())];
+      set.points.swap(addressable);
+    } else {
+      result.map.emplace(mapper::buildFromPoints(set.points, options.octree, built));
+    }
+    addDropped(result.account, built);
+    result.account.used = result.account.read;
+    for (const auto& [reason, count] : result.account.dropped) result.account.used -= count;
+    timer.stage("octree");
+  }
+
+  result.voxels = result.map->occupiedVoxels();
+  std::vector<Eigen::Vector3d> centers;
+  std::vector<std::uint32_t> weights;
+  centers.reserve(result.voxels.size());
+  weights.reserve(result.voxels.size());
+  for (const auto& v : result.voxels) {
+    centers.push_back(v.center);
+    weights.push_back(v.weight);
+  }
+  result.clusters = clustering::dbscan(centers, weights, dbscan);
+  timer.stage("dbscan");
+  result.obstacles =
+      clustering::buildObstacles(centers, weights, result.clusters.labels, result.map->resolution());
+  timer.stage("obstacles");
+  return result;
+}
+
+nlohmann::json buildReport(const BuildOptions& options, const BuildResult& result) {
+  using nlohmann::json;
+  json inputs = json::array();
+  for (const auto& in : result.inputs) {
+    inputs.push_back({{"path", in.path}, {"format", in.format}, {"points_read", in.read},
+                      {"points_dropped", in.dropped}});
+  }
+  json timings = json::object();
+  double total = 0.0;
+  for (const auto& [stage, ms] : result.timings_ms) {
+    timings[stage] = ms;
+    total += ms;
+  }
+  timings["total"] = total;
+  json peak = json::object();
+  for (const auto& [stage, mb] : result.peak_rss_mb) peak[stage] = mb;
+  const auto info = mapper::describe(result.map->tree());
+  std::vector<std::size_t> largest(result.clusters.cluster_sizes);
+  std::sort(largest.rbegin(), largest.rend());
+  if (largest.size() > 10) largest.resize(10);
+  std::size_t core = 0;
+  for (auto c : result.clusters.core) core += c;
+
+  json parameters = {
+      {"inputs", options.inputs},
+      {"trajectory", options.trajectory ? json(*options.trajectory) : json(nullptr)},
+      {"origin", options.origin ? json(*options.origin) : json(nullptr)},
+      {"up", options.up},
+      {"scale", options.scale},
+      {"crop", options.crop ? json(*options.crop) : json(nullptr)},
+      {"z_min", options.z_min ? json(*options.z_min) : json(nullptr)},
+      {"z_max", options.z_max ? json(*options.z_max) : json(nullptr)},
+      {"resolution", options.octree.resolution},
+      {"hit", options.octree.sensor.hit},
+      {"miss", options.octree.sensor.miss},
+      {"clamp_min", options.octree.sensor.clamp_min},
+      {"clamp_max", options.octree.sensor.clamp_max},
+      {"occupancy_threshold", options.octree.sensor.occupancy_threshold},
+      {"max_range", options.octree.max_range},
+      {"eps", options.dbscan.eps},
+      {"min_pts", options.dbscan.min_pts},
+      {"metric", options.metric},
+      {"ot", options.write_ot},
+  };
+  return {
+      {"hullmap_version", HULLMAP_VERSION},
+      {"frame", frameDescription(options.up, options.scale)},
+      {"parameters", parameters},
+      {"inputs", inputs},
+      {"points", {{"read", result.account.read},
+                  {"dropped", result.account.dropped},
+                  {"used", result.account.used}}},
+      {"keyframes", result.keyframes},
+      {"octree", {{"resolution", info.resolution},
+                  {"bounds", {{"min", {info.min.x(), info.min.y(), info.min.z()}},
+                              {"max", {info.max.x(), info.max.y(), info.max.z()}}}},
+                  {"occupied_leaves", info.occupied_leaves},
+                  {"free_leaves", info.free_leaves},
+                  {"nodes", info.nodes},
+                  {"memory_bytes", info.memory_bytes},
+                  {"occupied_voxels", result.voxels.size()}}},
+      {"clusters", {{"count", result.clusters.cluster_sizes.size()},
+                    {"noise_voxels", result.clusters.noise},
+                    {"core_voxels", core},
+                    {"largest_voxel_counts", largest}}},
+      {"obstacles", result.obstacles.size()},
+      {"timings_ms", timings},
+      {"peak_rss_mb", peak},
+  };
+}
+
+namespace {
+
+/// Removes `.NAME.new<pid>` / `.NAME.old<pid>` siblings left by runs that were killed (their
+/// process is gone); those of a live run (another hullmap writing the same output) are left.
+void removeStaleStaging(const fs::path& parent, const std::string& name) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(parent, ec)) {
+    const std::string file = entry.path().filename().string();
+    for (const std::string tag : {".new", ".old"}) {
+      const std::string prefix = "." + name + tag;
+      if (file.size() <= prefix.size() || file.compare(0, prefix.size(), prefix) != 0) continue;
+      const std::string pid = file.substr(prefix.size());
+      if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
+      if (fs::exists("/proc/" + pid)) continue;
+      std::error_code ignored;
+      fs::remove_all(entry.path(), ignored);
+    }
+  }
+}
+
+}  // namespace
+
+void writeBuild(const BuildOptions& options, const BuildResult& result) {
+  const fs::path out = fs::absolute(options.output_dir).lexically_normal();
+  const fs::path parent = out.parent_path();
+  std::error_code ec;
+  fs::create_directories(parent, ec);
+  if (ec) throw Error(parent.string() + ": cannot create directory: " + ec.message());
+  if (fs::exists(out) && !fs::is_directory(out))
+    throw Error(options.output_dir + ": exists and is not a directory");
+  removeStaleStaging(parent, out.filename().string());
+
+  const fs::path staging = parent / ("." + out.filename().string() + ".new" + std::to_string(::getpid()));
+  fs::remove_all(staging, ec);
+  fs::create_directories(staging, ec);
+  if (ec) throw Error(staging.string() + ": cannot create directory: " + ec.message());
+  try {
+    mapper::writeMap(*result.map, (staging / "map.bt").string());
+    if (options.write_ot) mapper::writeMap(*result.map, (staging / "map.ot").string());
+
+    mapper::writeFileAtomically((staging / "voxels.csv").string(), [&](std::ostream& os) {
+      os << "x,y,z,weight,label,core\n" << std::setprecision(9);
+      for (std::size_t i = 0; i < result.voxels.size(); ++i) {
+        const auto& v = result.voxels[i];
+        os << v.center.x() << ',' << v.center.y() << ',' << v.center.z() << ',' << v.weight << ','
+           << result.clusters.labels[i] << ',' << int(result.clusters.core[i]) << '\n';
+      }
+    });
+    nlohmann::json report = buildReport(options, result);
+    writeObstaclesJson((staging / "obstacles.json").string(), result.obstacles,
+                       ObstaclesMeta{frameDescription(options.up, options.scale), report["parameters"]});
+    writeObstaclesObj((staging / "obstacles.obj").string(), result.obstacles);
+    mapper::writeFileAtomically((staging / "report.json").string(),
+                                [&](std::ostream& os) { os << report.dump(2) << '\n'; });
+
+    // One atomic step puts the finished directory in place: a rename when there is no previous
+    // output, else an exchange of the two directories (Linux renameat2), after which the staging
+    // name holds the previous output. At no instant is there no OUT/ or a half-written one.
+    if (!fs::exists(out)) {
+      fs::rename(staging, out, ec);
+      if (ec) throw Error(options.output_dir + ": cannot move into place: " + ec.message());
+    } else {
+      if (::renameat2(AT_FDCWD, staging.c_str(), AT_FDCWD, out.c_str(), RENAME_EXCHANGE) != 0)
+        throw Error(options.output_dir + ": cannot replace: " + std::strerror(errno));
+      fs::remove_all(staging, ec);  // the previous output
+    }
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove_all(staging, ignored);
+    throw;
+  }
+}
+
+}  // namespace hullmap::cli
