@@ -1,13 +1,186 @@
-#include "commands.hpp"
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "hullmap/collision/path_check.hpp"
 #include "hullmap/mapper/error.hpp"
+#include "hullmap/mapper/occupancy_map.hpp"
+#include "obstacle_io.hpp"
 
 namespace hullmap::cli {
+namespace {
 
-// Placeholder registration until the check subcommand lands; replaced by its owner.
+struct CheckOptions {
+  std::string input;  ///< a `hullmap build` directory or an obstacles.json
+  double radius = 0.0;
+  std::string path_file;
+  std::string segments_file;
+  std::string segment;
+  std::string against = "hulls";
+  bool json = false;
+};
+
+std::string numberText(double value) {
+  char buffer[32];
+  return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
+}
+
+/// Parses `count` finite numbers from `text`; `where` prefixes the error ("file:line" or the option).
+std::vector<double> parseNumbers(const std::string& text, std::size_t count, const std::string& where,
+                                 char separator) {
+  std::vector<double> values;
+  const char* p = text.data();
+  const char* end = p + text.size();
+  auto skip = [&] {
+    while (p < end && (*p == ' ' || *p == '\t' || *p == '\r' || *p == separator)) ++p;
+  };
+  skip();
+  while (p < end) {
+    double v = 0;
+    const auto r = std::from_chars(p, end, v);
+    if (r.ec != std::errc() || (r.ptr < end && !(*r.ptr == ' ' || *r.ptr == '\t' || *r.ptr == '\r' || *r.ptr == separator))) {
+      const char* stop = p;
+      while (stop < end && *stop != ' ' && *stop != '\t' && *stop != separator) ++stop;
+      throw Error(where + ": not a number: \"" + std::string(p, stop) + "\"");
+    }
+    if (!std::isfinite(v)) throw Error(where + ": non-finite coordinate");
+    values.push_back(v);
+    p = r.ptr;
+    skip();
+  }
+  if (values.size() != count)
+    throw Error(where + ": expected " + std::to_string(count) + " numbers, got " + std::to_string(values.size()));
+  return values;
+}
+
+/// Lines of numbers, `count` a line; blank lines and `#` comments skipped.
+std::vector<std::vector<double>> readNumberLines(const std::string& path, std::size_t count) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open");
+  std::vector<std::vector<double>> rows;
+  std::string line;
+  for (std::size_t number = 1; std::getline(in, line); ++number) {
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    rows.push_back(parseNumbers(line, count, path + ":" + std::to_string(number), ' '));
+  }
+  if (rows.empty()) throw Error(path + ": no coordinates");
+  return rows;
+}
+
+/// obstacles.json and map.bt of a build directory, or the file itself.
+std::string artefact(const std::string& input, const std::string& name) {
+  namespace fs = std::filesystem;
+  if (fs::is_directory(input)) {
+    const fs::path p = fs::path(input) / name;
+    if (!fs::exists(p)) throw Error(input + ": no " + name + " in this directory (is it a `hullmap build` output?)");
+    return p.string();
+  }
+  if (!fs::exists(input)) throw Error(input + ": no such file or directory");
+  return input;
+}
+
+std::string describe(std::size_t index, const collision::Segment& s, const collision::SegmentCheck& c, bool json) {
+  if (json) {
+    nlohmann::json j{{"index", index}, {"collides", c.collides}};
+    j["obstacle"] = c.obstacle >= 0 ? nlohmann::json(c.obstacle) : nlohmann::json(nullptr);
+    j["t"] = c.collides ? nlohmann::json(c.t) : nlohmann::json(nullptr);
+    j["clearance"] = c.clearance;
+    return j.dump();
+  }
+  std::string line = "segment " + std::to_string(index) + ": ";
+  if (!c.collides) return line + "clear, clearance " + numberText(c.clearance);
+  const Eigen::Vector3d p = s.a + c.t * (s.b - s.a);
+  line += "COLLIDES";
+  if (c.obstacle >= 0) line += " with obstacle " + std::to_string(c.obstacle);
+  return line + " at t=" + numberText(c.t) + " (" + numberText(p.x()) + " " + numberText(p.y()) + " " +
+         numberText(p.z()) + ")";
+}
+
+void runCheck(const CheckOptions& o, int& status) {
+  if (!(o.radius >= 0) || !std::isfinite(o.radius)) throw Error("--radius: must be >= 0, got " + numberText(o.radius));
+  const int sources = !o.path_file.empty() + !o.segments_file.empty() + !o.segment.empty();
+  if (sources != 1) throw Error("give exactly one of --path, --segments, --segment");
+  if (o.against != "hulls" && o.against != "octree")
+    throw Error("--against: expected \"hulls\" or \"octree\", got \"" + o.against + "\"");
+
+  std::vector<collision::Segment> segments;
+  bool is_path = false;
+  if (!o.path_file.empty()) {
+    is_path = true;
+    const auto rows = readNumberLines(o.path_file, 3);
+    std::vector<Eigen::Vector3d> points;
+    for (const auto& r : rows) points.emplace_back(r[0], r[1], r[2]);
+    if (points.size() == 1) segments.push_back({points[0], points[0]});
+    for (std::size_t i = 0; i + 1 < points.size(); ++i) segments.push_back({points[i], points[i + 1]});
+  } else if (!o.segments_file.empty()) {
+    for (const auto& r : readNumberLines(o.segments_file, 6))
+      segments.push_back({{r[0], r[1], r[2]}, {r[3], r[4], r[5]}});
+  } else {
+    const auto r = parseNumbers(o.segment, 6, "--segment", ',');
+    segments.push_back({{r[0], r[1], r[2]}, {r[3], r[4], r[5]}});
+  }
+
+  std::vector<collision::SegmentCheck> results;
+  if (o.against == "octree") {
+    const mapper::OccupancyMap map = mapper::readMap(artefact(o.input, "map.bt"));
+    const collision::OctreeChecker checker(map.tree());
+    for (const auto& s : segments) results.push_back(checker.check(s, o.radius));
+  } else {
+    const collision::HullChecker checker(readObstaclesJson(artefact(o.input, "obstacles.json")));
+    results = checker.checkBatch(segments, o.radius);
+  }
+
+  std::string out;
+  std::optional<std::size_t> first;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    out += describe(i, segments[i], results[i], o.json) + "\n";
+    if (results[i].collides && !first) first = i;
+  }
+  if (is_path && !o.json) {
+    if (first) {
+      const auto& s = segments[*first];
+      const Eigen::Vector3d p = s.a + results[*first].t * (s.b - s.a);
+      out += "path: first collision in segment " + std::to_string(*first) + " at (" + numberText(p.x()) + " " +
+             numberText(p.y()) + " " + numberText(p.z()) + ")\n";
+    } else {
+      out += "path: clear\n";
+    }
+  }
+  std::cout << out << std::flush;
+  status = first ? 1 : 0;
+}
+
+}  // namespace
+
 void addCheckCommand(CLI::App& app, int& status) {
-  auto* cmd = app.add_subcommand("check", "(pending)");
-  cmd->callback([&status] { status = 2; throw Error("check: pending"); });
+  auto options = std::make_shared<CheckOptions>();
+  auto* cmd = app.add_subcommand(
+      "check", "Check a path or segments, swept by a sphere of --radius, against a build's obstacles (exit 1 if "
+               "anything collides). Coordinates in the build's z-up map frame.");
+  cmd->add_option("input", options->input, "a `hullmap build` directory, or an obstacles.json (or map.bt for --against octree)")
+      ->required();
+  cmd->add_option("--radius,-r", options->radius, "drone radius, map units")->required();
+  cmd->add_option("--path", options->path_file, "waypoints file: x y z a line, # comments");
+  cmd->add_option("--segments", options->segments_file, "segments file: x0 y0 z0 x1 y1 z1 a line");
+  cmd->add_option("--segment", options->segment, "one segment: x0,y0,z0,x1,y1,z1");
+  cmd->add_option("--against", options->against, "hulls (convex obstacles) or octree (every occupied voxel)")
+      ->capture_default_str();
+  cmd->add_flag("--json", options->json, "JSON lines: index, collides, obstacle, t, clearance");
+  cmd->callback([options, &status] {
+    status = 2;
+    runCheck(*options, status);
+  });
 }
 
 }  // namespace hullmap::cli
