@@ -338,7 +338,7 @@ void writeObstacles(std::ostream& svg, const std::vector<clustering::Obstacle>& 
 }
 
 std::string point3(const Eigen::Vector3d& p) {
-  return "(" + shortNum(p.x()) + ", " + shortNum(p.y()) + ", " + shortNum(p.z()) + ")";
+  return "(" + num(p.x(), 3) + ", " + num(p.y(), 3) + ", " + num(p.z(), 3) + ")";
 }
 
 // Draws the path; returns its caption line.

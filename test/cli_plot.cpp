@@ -562,6 +562,34 @@ TEST(PlotCommand, PathThroughAnObstacleIsMarkedRed) {
   EXPECT_NE(bad.err.find("bad.txt:2"), std::string::npos) << bad.err;
 }
 
+TEST(PlotCommand, GenerateBuildPlotEndToEnd) {
+  const auto dir = hullmap::test::freshDir("plot_e2e");
+  const auto scene = dir / "scene";
+  const auto out = dir / "out";
+  auto r = hullmap::test::runHullmap("generate --points 6000 --obstacles 5 -o '" + scene.string() + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = hullmap::test::runHullmap("build '" + (scene / "map_points.txt").string() + "' --up -y --eps 0.15 --min-pts 5 -o '" +
+                                out.string() + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = hullmap::test::runHullmap("plot '" + out.string() + "' -o '" + (dir / "top.svg").string() + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto obstacles = hullmap::cli::readObstaclesJson((out / "obstacles.json").string());
+  ASSERT_FALSE(obstacles.empty());
+  const std::string svg = hullmap::test::slurp(dir / "top.svg");
+  for (const auto& o : obstacles) {
+    EXPECT_NE(svg.find("class=\"footprint\" id=\"obstacle-" + std::to_string(o.id) + "\""), std::string::npos) << o.id;
+  }
+  if (havePython()) {
+    const auto elements = parseSvg(svg, "e2e");
+    EXPECT_EQ(countClass(elements, "footprint"), obstacles.size());
+    for (const auto& e : elements) {
+      if (e.cls == "cells") {
+        EXPECT_EQ(e.fill, toHex(clusterColour(std::stoi(e.label))));
+      }
+    }
+  }
+}
+
 TEST(PlotCommand, SweepPlotHasOnePanelPerPairMatchingTheTable) {
   const auto dir = hullmap::test::freshDir("plot_sweep_cmd");
   {
