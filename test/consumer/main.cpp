@@ -1,0 +1,38 @@
+// Uses each installed library once: a two-blob DBSCAN, an octree, a hull and a path check.
+#include <cstdio>
+#include <vector>
+
+#include <hullmap/clustering/dbscan.hpp>
+#include <hullmap/clustering/obstacles.hpp>
+#include <hullmap/collision/path_check.hpp>
+#include <hullmap/mapper/occupancy_map.hpp>
+
+int main() {
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 20; ++i) points.emplace_back(0.01 * i, 0.0, 1.0);
+  for (int i = 0; i < 20; ++i) points.emplace_back(5.0 + 0.01 * i, 0.0, 1.0);
+  hullmap::clustering::DbscanParams params;
+  params.eps = 0.05;
+  params.min_pts = 5;
+  const auto result = hullmap::clustering::dbscan(points, {}, params);
+
+  hullmap::mapper::InputStats stats;
+  const auto map = hullmap::mapper::buildFromPoints(points, hullmap::mapper::OctreeParams{}, stats);
+  const auto voxels = map.occupiedVoxels();
+  std::vector<Eigen::Vector3d> centers;
+  std::vector<std::uint32_t> weights;
+  for (const auto& v : voxels) {
+    centers.push_back(v.center);
+    weights.push_back(v.weight);
+  }
+  hullmap::clustering::DbscanParams voxel_params;
+  voxel_params.eps = 0.1;
+  voxel_params.min_pts = 2;
+  const auto labels = hullmap::clustering::dbscan(centers, weights, voxel_params).labels;
+  const auto obstacles = hullmap::clustering::buildObstacles(centers, weights, labels, map.resolution());
+  const hullmap::collision::HullChecker checker(obstacles);
+  const auto hit = checker.check({Eigen::Vector3d(0.1, -1.0, 1.0), Eigen::Vector3d(0.1, 1.0, 1.0)}, 0.1);
+  std::printf("clusters %zu obstacles %zu collides %d\n", result.cluster_sizes.size(), obstacles.size(),
+              int(hit.collides));
+  return result.cluster_sizes.size() == 2 && obstacles.size() == 2 && hit.collides ? 0 : 1;
+}
