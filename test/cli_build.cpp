@@ -48,6 +48,7 @@ TEST(CliBuild, SampleSceneEndToEndAccountsForEveryPoint) {
   const auto r = runHullmap("build " + (dir / "map_points.txt").string() + " --trajectory " +
                             (dir / "KeyFrameTrajectory.txt").string() + " --up -y -o " + out.string());
   ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err, "") << "stderr is for errors (octomap's own progress lines are muted)";
   for (const char* name : {"map.bt", "voxels.csv", "obstacles.json", "obstacles.obj", "report.json"})
     EXPECT_TRUE(fs::exists(out / name)) << name;
   const auto report = readJson(out / "report.json");
@@ -79,6 +80,7 @@ TEST(CliBuild, SampleSceneEndToEndAccountsForEveryPoint) {
   // The map reads back with `info`, and `build` accepts it as input.
   const auto info = runHullmap("info --json " + (out / "map.bt").string());
   ASSERT_EQ(info.status, 0) << info.err;
+  EXPECT_EQ(info.err, "");
   const auto j = nlohmann::json::parse(info.out);
   EXPECT_DOUBLE_EQ(j["resolution"].get<double>(), 0.05);
   EXPECT_GT(j["occupied_leaves"].get<std::size_t>(), 0u);

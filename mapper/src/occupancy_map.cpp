@@ -4,6 +4,11 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <fcntl.h>
+#include <iostream>
+#include <mutex>
+#include <unistd.h>
 #include <fstream>
 #include <functional>
 #include <iterator>
@@ -22,6 +27,42 @@ namespace hullmap::mapper {
 namespace {
 
 constexpr unsigned kTreeDepth = 16;
+
+// Debian's liboctomap is built with its debug output on: reading and writing a tree print
+// progress ("Writing 123 nodes to output stream... done.") on stderr, with fprintf and std::cerr.
+// hullmap's stderr is for its one-line errors, so fd 2 points to /dev/null around those calls.
+// One at a time (fd 2 is process-wide); a thread writing to stderr meanwhile is muted too.
+class MuteOctomapStderr {
+ public:
+  MuteOctomapStderr() : lock_(mutex()) {
+    std::cerr.flush();
+    std::fflush(stderr);
+    saved_ = ::dup(2);
+    const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (saved_ >= 0 && null >= 0) ::dup2(null, 2);
+    if (null >= 0) ::close(null);
+  }
+  ~MuteOctomapStderr() {
+    std::cerr.flush();
+    std::fflush(stderr);
+    if (saved_ >= 0) {
+      ::dup2(saved_, 2);
+      ::close(saved_);
+    }
+  }
+  MuteOctomapStderr(const MuteOctomapStderr&) = delete;
+  MuteOctomapStderr& operator=(const MuteOctomapStderr&) = delete;
+
+ private:
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  std::lock_guard<std::mutex> lock_;
+  int saved_ = -1;
+};
+
+
 // occupiedVoxels() lists at most this many finest voxels (52 bytes each at the peak: ~1.7 GB).
 constexpr std::uint64_t kMaxOccupiedVoxels = std::uint64_t(1) << 25;
 
@@ -394,7 +435,11 @@ OccupancyMap readMap(const std::string& path) {
   std::istringstream stream(bytes);
   OctreeParams params;
   if (full) {
-    std::unique_ptr<octomap::AbstractOcTree> tree(octomap::AbstractOcTree::read(stream));
+    std::unique_ptr<octomap::AbstractOcTree> tree;
+    {
+      const MuteOctomapStderr mute;
+      tree.reset(octomap::AbstractOcTree::read(stream));
+    }
     auto* octree = dynamic_cast<octomap::OcTree*>(tree.get());
     if (!octree) throw Error(path + ": not an OctoMap OcTree (.ot) of occupancy nodes");
     params.resolution = octree->getResolution();
@@ -408,7 +453,12 @@ OccupancyMap readMap(const std::string& path) {
     return map;
   }
   octomap::OcTree read(0.1);
-  if (!read.readBinary(stream)) throw Error(path + ": octomap could not read this binary (.bt) file");
+  bool read_ok;
+  {
+    const MuteOctomapStderr mute;
+    read_ok = read.readBinary(stream);
+  }
+  if (!read_ok) throw Error(path + ": octomap could not read this binary (.bt) file");
   params.resolution = read.getResolution();
   OccupancyMap map(params);
   map.tree().swapContent(read);
@@ -421,7 +471,11 @@ void writeMap(const OccupancyMap& map, const std::string& path) {
   writeFileAtomically(
       path,
       [&map, &ext, &path](std::ostream& out) {
-        const bool ok = ext == "bt" ? map.tree().writeBinaryConst(out) : map.tree().write(out);
+        bool ok;
+        {
+          const MuteOctomapStderr mute;
+          ok = ext == "bt" ? map.tree().writeBinaryConst(out) : map.tree().write(out);
+        }
         if (!ok) throw Error(path + ": octomap could not write the tree");
       },
       true);
