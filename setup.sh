@@ -15,7 +15,9 @@ jobs=${JOBS:-$(nproc)}
 packages=(build-essential cmake pkg-config liboctomap-dev libfcl-dev libcgal-dev libeigen3-dev
           libtbb-dev liblzf-dev libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev)
 if [ "$mode" = test ]; then
-  packages+=(python3 python3-sklearn python3-numpy librsvg2-bin xz-utils)
+  # python3-sklearn: DBSCAN oracle on real maps; librsvg2-bin: PNG rendering test;
+  # clang + libclang-rt-14-dev: the libFuzzer targets that .ci/run runs briefly.
+  packages+=(python3 python3-sklearn python3-numpy librsvg2-bin xz-utils clang libclang-rt-14-dev)
 fi
 
 missing=()
