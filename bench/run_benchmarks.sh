@@ -1,0 +1,46 @@
+#!/bin/sh
+# Regenerates docs/BENCHMARKS.md: builds the benchmarks (Release) in BUILD_DIR, then runs every
+# section one after the other on this machine and writes them into one file.
+#
+#   bench/run_benchmarks.sh [BUILD_DIR]        (default: build-bench)
+#
+# Needs Debian's python3-open3d, python3-sklearn, python3-numpy (the DBSCAN peers) and
+# shared/data/real/octomap_scan.dat (the insertion scan; set HULLMAP_REAL_DATA_DIR to move it).
+# Takes about 15 minutes on 2 cores, most of it Open3D and scikit-learn at 1M points.
+set -eu
+
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:-$root/build-bench}
+out=$root/docs/BENCHMARKS.md
+
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DHULLMAP_BUILD_BENCH=ON -DHULLMAP_BUILD_TESTS=OFF >/dev/null
+cmake --build "$build" -j"$(nproc)" --target hullmap hullmap_bench_dbscan hullmap_bench_insertion hullmap_bench_collision >/dev/null
+
+mkdir -p "$root/docs"
+tmp=$(mktemp "$root/docs/.BENCHMARKS.md.XXXXXX")
+trap 'rm -f "$tmp"' EXIT
+{
+  echo "# Benchmarks"
+  echo
+  echo "Every number below comes from one run of \`bench/run_benchmarks.sh\` on the machine it names, hullmap"
+  echo "and its peers side by side in that run (ratios are within the run). Regenerate the whole file with:"
+  echo
+  echo '```'
+  echo "bench/run_benchmarks.sh"
+  echo '```'
+  echo
+  echo "Run on $(date -u +%Y-%m-%d), hullmap $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown),"
+  echo "$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n 1), $(nproc) cores,"
+  echo "$(awk '/^MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo)."
+  echo
+  sh "$root/bench/section_dbscan.sh" "$build" --full
+  echo
+  sh "$root/bench/section_insertion.sh" "$build"
+  echo
+  sh "$root/bench/section_collision.sh" "$build"
+  echo
+  sh "$root/bench/section_large_map.sh" "$build"
+} >"$tmp"
+mv "$tmp" "$out"
+trap - EXIT
+echo "wrote $out"
