@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "pipeline.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/mapper/atomic_file.hpp"
 #include "hullmap/mapper/error.hpp"
@@ -30,12 +31,7 @@ struct ClusterOptions {
 // The inputs' points, unioned in order, in the z-up map frame.
 mapper::Points loadMapPoints(const ClusterOptions& o) {
   const mapper::FrameParams frame{mapper::parseUpAxis(o.up), o.scale};
-  mapper::PointSet set = mapper::readPointFiles(o.inputs);
-  if (set.points.empty()) {
-    std::string names;
-    for (const auto& input : o.inputs) names += (names.empty() ? "" : ", ") + input;
-    throw Error(names + ": no points");
-  }
+  mapper::PointSet set = readInputPoints(o.inputs);
   mapper::toMapFrame(frame, set.points);
   return std::move(set.points);
 }

@@ -61,6 +61,16 @@ std::string frameDescription(const std::string& up, double scale) {
   return s.str();
 }
 
+mapper::PointSet readInputPoints(const std::vector<std::string>& inputs) {
+  mapper::PointSet set = mapper::readPointFiles(inputs);
+  if (set.points.empty()) {
+    std::string names;
+    for (const auto& input : inputs) names += (names.empty() ? "" : ", ") + input;
+    throw Error(names + ": no points");
+  }
+  return set;
+}
+
 BuildResult runBuild(const BuildOptions& options) {
   BuildResult result;
   StageTimer timer(result);
@@ -90,16 +100,11 @@ BuildResult runBuild(const BuildOptions& options) {
     for (const auto& input : options.inputs)
       if (isOctomapFile(input))
         throw Error(input + ": an octomap file can only be the single input of build");
-    mapper::PointSet set = mapper::readPointFiles(options.inputs);
+    mapper::PointSet set = readInputPoints(options.inputs);
     result.inputs = set.inputs;
     for (const auto& stats : set.inputs) {
       result.account.read += stats.read;
       addDropped(result.account, stats);
-    }
-    if (set.points.empty()) {
-      std::string names;
-      for (const auto& input : options.inputs) names += (names.empty() ? "" : ", ") + input;
-      throw Error(names + ": no points");
     }
     timer.stage("read");
 

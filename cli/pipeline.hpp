@@ -52,6 +52,10 @@ struct BuildResult {
   std::size_t keyframes = 0;
 };
 
+/// Reads and unions the map-point files (any format the mapper reads); throws hullmap::Error
+/// naming them when none holds a point.
+mapper::PointSet readInputPoints(const std::vector<std::string>& inputs);
+
 /// Runs read -> frame -> filters -> octree -> DBSCAN -> obstacles. Throws hullmap::Error.
 BuildResult runBuild(const BuildOptions& options);
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "pipeline.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/mapper/atomic_file.hpp"
 #include "hullmap/mapper/error.hpp"
@@ -103,12 +104,7 @@ void runSweep(const SweepOptions& o) {
   const std::vector<int> min_pts_values = parseMinPtsList(o.min_pts_list);
   const clustering::Metric metric = clustering::parseMetric(o.metric);
   const mapper::FrameParams frame{mapper::parseUpAxis(o.up), o.scale};
-  mapper::PointSet set = mapper::readPointFiles(o.inputs);
-  if (set.points.empty()) {
-    std::string names;
-    for (const auto& input : o.inputs) names += (names.empty() ? "" : ", ") + input;
-    throw Error(names + ": no points");
-  }
+  mapper::PointSet set = readInputPoints(o.inputs);
   mapper::toMapFrame(frame, set.points);
   // Looked up before the runs, so a PNG without a converter fails before the work.
   const auto converter = findPngConverter();

@@ -6,22 +6,14 @@
 
 #include "hullmap/mapper/error.hpp"
 #include "hullmap/mapper/frame.hpp"
+#include "test_support.hpp"
 
 namespace {
 
 using hullmap::Error;
 using namespace hullmap::mapper;
 
-template <typename F>
-std::string errorOf(F&& body) {
-  try {
-    body();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected hullmap::Error";
-  return "";
-}
+using hullmap::test::errorOf;
 
 struct AxisCase {
   const char* text;

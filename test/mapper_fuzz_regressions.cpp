@@ -51,16 +51,7 @@ void expectPoints(const Points& got, const Points& want, double tolerance = 0.0)
   }
 }
 
-template <typename F>
-std::string errorOf(F&& body) {
-  try {
-    body();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected hullmap::Error";
-  return "";
-}
+using hullmap::test::errorOf;
 
 std::string writeFile(const fs::path& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary);

@@ -39,17 +39,7 @@ std::string writeFile(const fs::path& dir, const std::string& name, const std::s
   return p.string();
 }
 
-/// Runs `body` and returns the hullmap::Error message it throws (fails the test if none).
-template <typename F>
-std::string errorOf(F&& body) {
-  try {
-    body();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected hullmap::Error";
-  return "";
-}
+using hullmap::test::errorOf;
 
 bool hasNonFinite(const std::vector<double>& row) {
   for (double v : row) {

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "hullmap/mapper/error.hpp"
+
 namespace hullmap::test {
 
 /// Path of a file in shared/data/real, or empty when the data is not there.
@@ -71,6 +73,18 @@ inline CommandResult runHullmap(const std::string& args) {
   r.out = slurp(stem + ".out");
   r.err = slurp(stem + ".err");
   return r;
+}
+
+/// Runs `body` and returns the hullmap::Error message it throws (fails the test if none).
+template <typename F>
+std::string errorOf(F&& body) {
+  try {
+    body();
+  } catch (const ::hullmap::Error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "expected hullmap::Error";
+  return "";
 }
 
 /// Number of lines in `text` (a final line without newline counts).
