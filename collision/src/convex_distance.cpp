@@ -287,45 +287,140 @@ double segmentPolytopeDistanceBruteForce(const V3& a, const V3& b, const ConvexP
   return best;
 }
 
-double segmentPolytopeDistance(const V3& a, const V3& b, const ConvexPolytope& polytope) {
+namespace {
+
+detail::DistanceCertificate bruteForceCertificate(const V3& a, const V3& b, const ConvexPolytope& polytope) {
+  detail::DistanceCertificate certificate;
+  certificate.upper = segmentPolytopeDistanceBruteForce(a, b, polytope);
+  return certificate;  // no plane: lower bound 0
+}
+
+}  // namespace
+
+namespace detail {
+
+DistanceCertificate certifiedDistance(const V3& a, const V3& b, const ConvexPolytope& polytope, double settle_at,
+                                      double give_up_beyond) {
   const double tol_abs = 1e-9 * std::max(polytope.scale, std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()));
+  DistanceCertificate certificate;
+  // Start from the pair the boxes suggest: the segment's point nearest the polytope's box centre,
+  // and the polytope's vertex farthest towards it.
+  const V3 centre = 0.5 * (polytope.aabb_min + polytope.aabb_max);
+  const V3 d = b - a;
+  const double dd = d.squaredNorm();
+  const V3 nearest = dd > 0 ? V3(a + std::clamp((centre - a).dot(d) / dd, 0.0, 1.0) * d) : a;
   Simplex s;
-  s.p[0] = a - polytope.vertices[0];
+  s.p[0] = nearest - supportVertex(polytope, nearest - centre);
   s.n = 1;
   V3 v = s.p[0];
-  double lower = 0;
   for (int iteration = 0; iteration < 64; ++iteration) {
     const double vv = v.squaredNorm();
     const double vn = std::sqrt(vv);
     // The closest point v is realised by a pair of points: vn is an upper bound.
-    if (vn <= tol_abs) return vn;
+    if (vn <= tol_abs || vn <= settle_at) {
+      certificate.upper = vn;
+      return certificate;
+    }
     // Support of (segment - polytope) in direction -v; v.w / |v| is a lower bound (separating plane).
     const V3 w = (v.dot(a) <= v.dot(b) ? a : b) - supportVertex(polytope, v);
-    lower = std::max(lower, v.dot(w) / vn);
-    if (vn - lower <= std::max(tol_abs, 1e-10 * vn)) return vn;
+    const double lower = v.dot(w) / vn;
+    if (lower > certificate.lower) {
+      certificate.lower = lower;
+      certificate.normal = v / vn;
+    }
+    if (vn - certificate.lower <= std::max(tol_abs, 1e-10 * vn) || certificate.lower > give_up_beyond) {
+      certificate.upper = vn;
+      return certificate;
+    }
     for (int k = 0; k < s.n; ++k)
-      if (s.p[k] == w) return segmentPolytopeDistanceBruteForce(a, b, polytope);
+      if (s.p[k] == w) return bruteForceCertificate(a, b, polytope);
     s.p[s.n++] = w;
     v = closestOnSimplex(s);
-    if (s.n == 4) return 0.0;
+    if (s.n == 4) {
+      certificate.upper = 0.0;
+      return certificate;
+    }
   }
-  return segmentPolytopeDistanceBruteForce(a, b, polytope);
+  return bruteForceCertificate(a, b, polytope);
 }
 
-double firstContact(const V3& a, const V3& b, const ConvexPolytope& polytope, double radius, double t_tolerance) {
-  if (segmentPolytopeDistance(a, a, polytope) <= radius) return 0.0;
-  if (segmentPolytopeDistance(a, b, polytope) > radius) return -1.0;
-  double lo = 0, hi = 1;
+}  // namespace detail
+
+double segmentPolytopeDistance(const V3& a, const V3& b, const ConvexPolytope& polytope) {
+  return detail::certifiedDistance(a, b, polytope, -1.0, std::numeric_limits<double>::infinity()).upper;
+}
+
+namespace {
+
+/// Smallest t with the sweep touching, by bisection on the prefix distance (non-increasing in t),
+/// knowing that the sweep touches by t = 1 and not before `lo`.
+double bisectContact(const V3& a, const V3& b, const ConvexPolytope& polytope, double radius, double t_tolerance,
+                     double lo) {
   const V3 d = b - a;
+  const V3 from = a + lo * d;
+  double hi = 1;
   while (hi - lo > t_tolerance) {
     const double mid = 0.5 * (lo + hi);
-    if (segmentPolytopeDistance(a, a + mid * d, polytope) <= radius) {
+    if (segmentPolytopeDistance(from, a + mid * d, polytope) <= radius) {
       hi = mid;
     } else {
       lo = mid;
     }
   }
   return hi;
+}
+
+}  // namespace
+
+double detail::contactLowerBound(const V3& a, const V3& b, const ConvexPolytope& polytope, double radius) {
+  // The polytope grown by `radius` (every point within radius of it) lies inside its face planes
+  // pushed out by `radius`: the sweep cannot touch before the segment is inside all of them, so
+  // before it has crossed every plane it starts outside of. (Slivers: zero normal, infinite offset,
+  // never crossed.)
+  const V3 d = b - a;
+  double t = 0;
+  for (std::size_t f = 0; f < polytope.normals.size(); ++f) {
+    const double outside = polytope.normals[f].dot(a) - polytope.offsets[f] - radius;
+    if (outside <= 0) continue;
+    const double approach = -polytope.normals[f].dot(d);
+    if (approach <= 0) return 2.0;  // outside this plane and not moving in: never touches
+    if (outside > t * approach) t = outside / approach;
+  }
+  return t;
+}
+
+double detail::firstContactTouching(const V3& a, const V3& b, const ConvexPolytope& polytope, double radius,
+                                    double t_tolerance, double lower_bound) {
+  const V3 d = b - a;
+  const double length = d.norm();
+  double lo = std::clamp(lower_bound, 0.0, 1.0);
+  if (lo == 0 && segmentPolytopeDistance(a, a, polytope) <= radius) return 0.0;
+  // Each step evaluates the point q = lo + tolerance / 2: within radius there, q is the answer (the
+  // contact lies in [lo, q], so q is at most half the tolerance late). Else the distance
+  // certificate at q (a plane separating q from the polytope by `lower`) bounds the distance along
+  // the whole line from below, and so where the sweep can first touch: a Newton step on the convex
+  // distance, never past the contact.
+  for (int iteration = 0; iteration < 32; ++iteration) {
+    const double q = std::min(1.0, lo + 0.5 * t_tolerance);
+    const DistanceCertificate c =
+        certifiedDistance(a + q * d, a + q * d, polytope, radius, std::numeric_limits<double>::infinity());
+    if (c.upper <= radius) return q;
+    if (!(c.lower > radius)) break;  // undecided within the distance's own tolerance
+    const double slope = c.normal.dot(d);
+    // Distance along the line >= c.lower + (t - q) * slope: no contact after q when slope >= 0,
+    // so the (known) contact is in [lo, q).
+    if (slope >= 0) return q;
+    const double next = q + (c.lower - radius) / std::min(-slope, length);
+    if (!(next <= 1.0)) break;  // only by rounding: the sweep is known to touch by t = 1
+    lo = next;
+  }
+  return bisectContact(a, b, polytope, radius, t_tolerance, lo);
+}
+
+double firstContact(const V3& a, const V3& b, const ConvexPolytope& polytope, double radius, double t_tolerance) {
+  if (segmentPolytopeDistance(a, b, polytope) > radius) return -1.0;
+  const double lower = detail::contactLowerBound(a, b, polytope, radius);
+  return detail::firstContactTouching(a, b, polytope, radius, t_tolerance, lower > 1.0 ? 0.0 : lower);
 }
 
 }  // namespace hullmap::collision

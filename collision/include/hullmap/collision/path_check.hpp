@@ -32,7 +32,8 @@ struct PathCheck {
   std::optional<Eigen::Vector3d> first_contact;   ///< point on the path
 };
 
-/// Hull mode: FCL convex objects in a broadphase manager, answers cross-checked against exact geometry.
+/// Hull mode: the obstacles' convex hulls in a bounding-box tree; every answer from certified
+/// segment-hull distances (convex_distance.hpp), the first contact bracketed as firstContact does.
 /// Thread-safe for concurrent checks after construction.
 class HullChecker {
  public:
