@@ -9,7 +9,9 @@
 #include <fstream>
 #include <iomanip>
 #include <sstream>
+#include <sys/file.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "hullmap/mapper/atomic_file.hpp"
@@ -240,21 +242,45 @@ nlohmann::json buildReport(const BuildOptions& options, const BuildResult& resul
 
 namespace {
 
-/// Removes `.NAME.new<pid>` / `.NAME.old<pid>` siblings left by runs that were killed (their
-/// process is gone); those of a live run (another hullmap writing the same output) are left.
+/// Holds an exclusive flock(2) on a staging directory while a run writes into it. The kernel drops
+/// the lock when the process ends, however it ends (SIGKILL included), so "can this directory be
+/// locked?" tells a killed run's leftovers from a live run's work. The pid in the name cannot tell:
+/// pids are reused, and by the next run a killed run's pid may belong to any process.
+class StagingLock {
+ public:
+  explicit StagingLock(const fs::path& dir) : fd_(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)) {
+    if (fd_ < 0 || ::flock(fd_, LOCK_EX) != 0)
+      throw Error(dir.string() + ": cannot lock staging directory: " + std::strerror(errno));
+    // A run sweeping stale staging directories may have locked and removed this one in the moment
+    // between its creation and the lock above.
+    struct stat st {};
+    if (::fstat(fd_, &st) != 0 || st.st_nlink == 0)
+      throw Error(dir.string() + ": staging directory was removed by another run into the same output");
+  }
+  StagingLock(const StagingLock&) = delete;
+  StagingLock& operator=(const StagingLock&) = delete;
+  ~StagingLock() { ::close(fd_); }
+
+ private:
+  int fd_;
+};
+
+/// Removes `.NAME.new<pid>` siblings left by runs that were killed: those nobody holds a lock on.
+/// Those of a live run (another hullmap writing the same output) are locked and left alone.
 void removeStaleStaging(const fs::path& parent, const std::string& name) {
+  const std::string prefix = "." + name + ".new";
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(parent, ec)) {
     const std::string file = entry.path().filename().string();
-    for (const std::string tag : {".new", ".old"}) {
-      const std::string prefix = "." + name + tag;
-      if (file.size() <= prefix.size() || file.compare(0, prefix.size(), prefix) != 0) continue;
-      const std::string pid = file.substr(prefix.size());
-      if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
-      if (fs::exists("/proc/" + pid)) continue;
+    if (file.size() <= prefix.size() || file.compare(0, prefix.size(), prefix) != 0) continue;
+    if (file.find_first_not_of("0123456789", prefix.size()) != std::string::npos) continue;
+    const int fd = ::open(entry.path().c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) continue;
+    if (::flock(fd, LOCK_EX | LOCK_NB) == 0) {  // held while removing: a racing creator waits
       std::error_code ignored;
       fs::remove_all(entry.path(), ignored);
     }
+    ::close(fd);
   }
 }
 
@@ -275,6 +301,7 @@ void writeBuild(const BuildOptions& options, const BuildResult& result) {
   fs::create_directories(staging, ec);
   if (ec) throw Error(staging.string() + ": cannot create directory: " + ec.message());
   try {
+    const StagingLock lock(staging);
     mapper::writeMap(*result.map, (staging / "map.bt").string());
     if (options.write_ot) mapper::writeMap(*result.map, (staging / "map.ot").string());
 

@@ -3,6 +3,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -219,4 +223,28 @@ TEST(CliBuild, KilledRunsLeaveAWholeOutput) {
   for (const auto& entry : fs::directory_iterator(dir))
     EXPECT_EQ(entry.path().filename().string().find(".out."), std::string::npos)
         << "left a temporary directory: " << entry.path();
+}
+
+// A staging directory nobody holds a lock on is a killed run's leftover, even when the pid in its name
+// belongs to a live process (pids are reused; here: this test's own pid). One a live run holds a lock on
+// (here: this test, through flock) is another hullmap writing the same output, and is left alone.
+TEST(CliBuild, StaleStagingIsToldByItsLockNotByItsPid) {
+  const auto dir = freshDir("cli_stale_staging");
+  writeText(dir / "small.txt", "0 0 0\n0.01 0 0\n");
+  const auto out = dir / "out";
+  const fs::path stale = dir / (".out.new" + std::to_string(::getpid()));
+  const fs::path live = dir / ".out.new1";
+  for (const auto& d : {stale, live}) {
+    fs::create_directories(d);
+    writeText(d / "report.json", "half-written");
+  }
+  const int fd = ::open(live.c_str(), O_RDONLY | O_DIRECTORY);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX), 0);
+  ASSERT_EQ(runHullmap("build " + (dir / "small.txt").string() + " --min-pts 1 -o " + out.string()).status, 0);
+  EXPECT_FALSE(fs::exists(stale)) << "an unlocked staging directory was kept because its pid is alive";
+  EXPECT_TRUE(fs::exists(live / "report.json")) << "a locked staging directory was removed";
+  ::close(fd);
+  ASSERT_EQ(runHullmap("build " + (dir / "small.txt").string() + " --min-pts 1 -o " + out.string()).status, 0);
+  EXPECT_FALSE(fs::exists(live)) << "the lock is gone, the directory is stale";
 }
