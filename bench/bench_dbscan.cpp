@@ -3,9 +3,11 @@
 // usage: hullmap_bench_dbscan [--sizes 10000,100000,1000000,10000000] [--eps 0.1] [--min-pts 10]
 //                             [--repeat 3] [--write-dir DIR] [--write-max 1000000]
 //
-// Scenes: generateScene with orbslam_frame = false (z-up map frame), 6 obstacles in a 6 m room (default 8 in 10 m), so the points
-// lie densely on the obstacles' surfaces and eps 0.1 / minPts 10 gives meaningful clusters; the
-// scene's uniform and gross outliers (hundreds of km away) are kept.
+// Scenes: generateScene's defaults (8 obstacles in a 10 m room, as `hullmap generate`) in the z-up map
+// frame, at n points: the points lie densely on the obstacles' edges and faces (about 1,500 neighbours
+// within 0.1 per point at 1M, the density at which the peer timings were taken) and eps 0.1 /
+// minPts 10 gives meaningful clusters; the scene's uniform and gross outliers (hundreds of km away)
+// are kept.
 // For every size up to --write-max, the points and hullmap's labels are written to --write-dir
 // for bench/dbscan_peers.py (Open3D, scikit-learn):
 //   scene_<n>.f64     n x 3 float64, little-endian, row-major
@@ -117,18 +119,21 @@ int main(int argc, char** argv) {
   for (std::size_t n : sizes) {
     hullmap::mapper::SceneParams scene_params;
     scene_params.points = n;
-    scene_params.room_size = 6.0;
-    scene_params.obstacles = 6;
     scene_params.orbslam_frame = false;
     const hullmap::mapper::Scene scene = hullmap::mapper::generateScene(scene_params);
     const auto& points = scene.points;
 
-    // Peak memory of one run. Free heap memory goes back to the system first, so that what dbscan
-    // allocates shows up as resident-set growth even when it reuses freed blocks.
+    // Peak memory of one run, after a run on a few points that starts TBB's worker threads (their
+    // stacks and the scheduler's own memory are a fixed cost of the process, not of the algorithm).
+    // Free heap memory goes back to the system first, so that what dbscan allocates shows up as
+    // resident-set growth even when it reuses freed blocks.
+    const std::vector<Eigen::Vector3d> few(points.begin(), points.begin() + std::min<std::size_t>(n, 5000));
+    DbscanResult result = hullmap::clustering::dbscan(few, {}, params);
+    result = DbscanResult{};
     malloc_trim(0);
     const bool peak_ok = resetPeak();
     const long before = statusBytes("VmRSS:");
-    DbscanResult result = hullmap::clustering::dbscan(points, {}, params);
+    result = hullmap::clustering::dbscan(points, {}, params);
     const long peak = statusBytes("VmHWM:");
     const long grown = peak_ok && before >= 0 && peak >= 0 ? std::max(0L, peak - before) : -1;
 

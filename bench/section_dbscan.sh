@@ -40,11 +40,12 @@ cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -
 
 echo "## DBSCAN"
 echo
-echo "Exact DBSCAN (eps 0.1, minPts 10, 3D metric) on generated scenes (\`generateScene\`, z-up, 6 obstacles"
-echo "in a 6 m room, 3% uniform outliers, 5 gross outliers hundreds of km away). hullmap: best of 3 runs"
+echo "Exact DBSCAN (eps 0.1, minPts 10, 3D metric) on generated scenes (\`generateScene\` defaults, z-up, 8 obstacles"
+echo "in a 10 m room, about 1,500 neighbours within eps per point at 1M, 3% uniform outliers, 5 gross outliers hundreds"
+echo "of km away). hullmap: best of 3 runs"
 echo "(1 at 10M) of \`dbscan()\` on points in memory, ${threads} threads (wall clock; CPU s is the CPU time of all"
 echo "threads, which tells how much of the machine the run got when it is shared); peak MB is the growth of the resident"
-echo "set during one run (result included). Open3D \`cluster_dbscan\` and scikit-learn \`DBSCAN(algorithm='kd_tree',"
+echo "set during one run (result included; TBB's threads started before). Open3D \`cluster_dbscan\` and scikit-learn \`DBSCAN(algorithm='kd_tree',"
 echo "n_jobs=2)\`: one timed fit each, on the same points. Agreement: same noise set and same partition of the"
 echo "core points as hullmap (border points may join another cluster within reach and are not compared)."
 echo "Peers at 1M points run only with \`--full\`."
