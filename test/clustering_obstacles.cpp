@@ -11,6 +11,8 @@
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/clustering/obstacles.hpp"
 #include "hullmap/mapper/error.hpp"
+#include "hullmap/mapper/sample_scene.hpp"
+#include "pipeline.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::clustering {
@@ -169,6 +171,69 @@ TEST(Obstacles, OffLatticeAndFarFromOriginStillContained) {
   ASSERT_EQ(obstacles.size(), 1u);
   EXPECT_EQ(obstacles[0].id, 5);
   expectWraps(obstacles[0], v, size);
+}
+
+/// The obstacles `hullmap build` makes of a map, checked against their voxels as above.
+void expectBuildWrapsEveryCluster(const cli::BuildOptions& options) {
+  const cli::BuildResult r = cli::runBuild(options);
+  Voxels v;
+  for (std::size_t i = 0; i < r.voxels.size(); ++i) add(v, r.voxels[i].center, r.clusters.labels[i], r.voxels[i].weight);
+  ASSERT_GT(r.obstacles.size(), 5u);
+  std::size_t clustered = 0;
+  for (const auto& o : r.obstacles) {
+    expectWraps(o, v, r.map->resolution());
+    clustered += o.voxel_count;
+  }
+  EXPECT_EQ(clustered + r.clusters.noise, r.voxels.size());
+}
+
+TEST(Obstacles, HullsOfGeneratedMapsContainEveryClusteredVoxel) {
+  for (const std::uint64_t seed : {42u, 7u}) {
+    mapper::SceneParams params;
+    params.seed = seed;
+    params.points = 40000;
+    const auto dir = test::freshDir("scene_" + std::to_string(seed));
+    mapper::writeScene(mapper::generateScene(params), params, dir.string());
+    cli::BuildOptions options;
+    options.inputs = {(dir / "map_points.txt").string()};
+    options.trajectory = (dir / "KeyFrameTrajectory.txt").string();
+    options.up = "-y";
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    expectBuildWrapsEveryCluster(options);
+  }
+}
+
+TEST(Obstacles, HullsOfRealMapsContainEveryClusteredVoxel) {
+  HULLMAP_REQUIRE_REAL_DATA(v1, "orbslam2_euroc_V1_01_MapPoints.txt");
+  HULLMAP_REQUIRE_REAL_DATA(mh, "orbslam3_euroc_MH_01_mono_pointcloud.txt");
+  HULLMAP_REQUIRE_REAL_DATA(mh_ref, "orbslam3_euroc_MH_01_mono_ref_pointcloud.txt");
+  HULLMAP_REQUIRE_REAL_DATA(mh_traj, "orbslam3_euroc_MH_01_mono_KeyFrameTrajectory.txt");
+  HULLMAP_REQUIRE_REAL_DATA(people, "pcl_five_people.pcd");
+  {
+    SCOPED_TRACE("ORB-SLAM2 EuRoC V1_01, points only");
+    cli::BuildOptions options;
+    options.inputs = {v1};
+    options.up = "-y";
+    expectBuildWrapsEveryCluster(options);
+  }
+  {
+    SCOPED_TRACE("ORB-SLAM3 EuRoC MH_01, both files, with the keyframes");
+    cli::BuildOptions options;
+    options.inputs = {mh, mh_ref};
+    options.trajectory = mh_traj;
+    options.up = "-y";
+    expectBuildWrapsEveryCluster(options);
+  }
+  {
+    SCOPED_TRACE("PCL five people (Kinect), from the camera at the origin, 0.1 m voxels");
+    cli::BuildOptions options;
+    options.inputs = {people};
+    options.origin = "0,0,0";
+    options.up = "-y";
+    options.octree.resolution = 0.1;
+    options.dbscan.eps = 0.2;
+    expectBuildWrapsEveryCluster(options);
+  }
 }
 
 TEST(Obstacles, FullBlockHasExactVolumeAndCentroid) {

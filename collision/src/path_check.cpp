@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <fcl/geometry/octree/octree.h>
+#include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/capsule.h>
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/collision.h>
@@ -18,6 +19,7 @@
 #include <tbb/parallel_for.h>
 
 #include "hullmap/collision/convex_distance.hpp"
+#include "hullmap/collision/fcl_obstacles.hpp"
 #include "hullmap/mapper/error.hpp"
 
 namespace hullmap::collision {
@@ -64,58 +66,6 @@ PathCheck checkWaypoints(const std::vector<Eigen::Vector3d>& waypoints, CheckOne
 
 namespace {
 
-/// A node of the bounding-box tree over the hulls: a leaf holds one hull.
-struct BoxNode {
-  Eigen::Array4d lo, hi;  ///< x, y, z and a zero, so that box gaps take whole SIMD registers
-  int left = -1;  ///< children (leaf when left < 0)
-  int right = -1;
-  int hull = -1;  ///< at a leaf
-};
-
-/// Median split on the longest axis of the boxes' centres: depth <= ceil(log2(hulls)) + 1.
-int buildTree(std::vector<BoxNode>& nodes, std::vector<int>& hulls, std::size_t begin, std::size_t end,
-              const std::vector<ConvexPolytope>& polytopes) {
-  const int index = int(nodes.size());
-  nodes.emplace_back();
-  const ConvexPolytope& first = polytopes[std::size_t(hulls[begin])];
-  Eigen::Vector3d lo = first.aabb_min, hi = first.aabb_max;
-  Eigen::Vector3d c_lo = lo + hi, c_hi = lo + hi;
-  for (std::size_t i = begin + 1; i < end; ++i) {
-    const ConvexPolytope& p = polytopes[std::size_t(hulls[i])];
-    lo = lo.cwiseMin(p.aabb_min);
-    hi = hi.cwiseMax(p.aabb_max);
-    c_lo = c_lo.cwiseMin(p.aabb_min + p.aabb_max);
-    c_hi = c_hi.cwiseMax(p.aabb_min + p.aabb_max);
-  }
-  nodes[std::size_t(index)].lo << lo.array(), 0.0;
-  nodes[std::size_t(index)].hi << hi.array(), 0.0;
-  if (end - begin == 1) {
-    nodes[std::size_t(index)].hull = hulls[begin];
-    return index;
-  }
-  int axis = 0;
-  (c_hi - c_lo).maxCoeff(&axis);
-  const std::size_t mid = begin + (end - begin) / 2;
-  std::nth_element(hulls.begin() + std::ptrdiff_t(begin), hulls.begin() + std::ptrdiff_t(mid),
-                   hulls.begin() + std::ptrdiff_t(end), [&](int x, int y) {
-                     const ConvexPolytope& p = polytopes[std::size_t(x)];
-                     const ConvexPolytope& q = polytopes[std::size_t(y)];
-                     const double cx = p.aabb_min[axis] + p.aabb_max[axis], cy = q.aabb_min[axis] + q.aabb_max[axis];
-                     return cx < cy || (cx == cy && x < y);
-                   });
-  const int left = buildTree(nodes, hulls, begin, mid, polytopes);
-  const int right = buildTree(nodes, hulls, mid, end, polytopes);
-  nodes[std::size_t(index)].left = left;
-  nodes[std::size_t(index)].right = right;
-  return index;
-}
-
-/// Squared distance between two axis-aligned boxes (fourth coordinates zero).
-inline double boxGapSquared(const Eigen::Array4d& lo1, const Eigen::Array4d& hi1, const Eigen::Array4d& lo2,
-                            const Eigen::Array4d& hi2) {
-  return (lo2 - hi1).max(lo1 - hi2).max(0.0).square().sum();
-}
-
 /// The segment a + t d, t in [0, 1], with the reciprocals of d for slab tests.
 struct SegmentRay {
   Eigen::Vector3d a, d, inverse;
@@ -126,7 +76,7 @@ struct SegmentRay {
   /// Whether the segment may come within `reach` of the box; false proves its distance is more.
   /// Clips the segment to the box grown by `reach` in every coordinate (where its max-norm
   /// distance is <= reach), then takes the gap between the clipped piece's box and the box.
-  bool near(const Eigen::Array4d& lo, const Eigen::Array4d& hi, double reach) const {
+  bool near(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double reach) const {
     double t0 = 0, t1 = 1;
     for (int k = 0; k < 3; ++k) {
       const double low = lo[k] - reach - a[k], high = hi[k] + reach - a[k];
@@ -141,10 +91,8 @@ struct SegmentRay {
     }
     if (t0 > t1) return false;
     const Eigen::Vector3d p0 = a + t0 * d, p1 = a + t1 * d;
-    Eigen::Array4d piece_lo, piece_hi;
-    piece_lo << p0.cwiseMin(p1).array(), 0.0;
-    piece_hi << p0.cwiseMax(p1).array(), 0.0;
-    return boxGapSquared(piece_lo, piece_hi, lo, hi) <= reach * reach;
+    const Eigen::Vector3d gap = (lo - p0.cwiseMax(p1)).cwiseMax(p0.cwiseMin(p1) - hi).cwiseMax(0.0);
+    return gap.squaredNorm() <= reach * reach;
   }
 };
 
@@ -178,22 +126,69 @@ class TouchingHulls {
 }  // namespace
 
 struct HullChecker::Impl {
-  std::vector<ConvexPolytope> polytopes;
+  explicit Impl(const std::vector<clustering::Obstacle>& obstacles) : fcl(obstacles) {
+    for (const auto& o : obstacles) ids.push_back(o.id);
+  }
+  FclObstacles fcl;
   std::vector<int> ids;
-  std::vector<BoxNode> nodes;  ///< root first
 };
 
-HullChecker::HullChecker(const std::vector<clustering::Obstacle>& obstacles) : impl_(std::make_unique<Impl>()) {
-  for (const auto& o : obstacles) {
-    impl_->polytopes.push_back(ConvexPolytope::fromHull(o.hull, "obstacle " + std::to_string(o.id)));
-    impl_->ids.push_back(o.id);
+namespace {
+
+/// The query object of FCL's broadphase: the segment's bounding box, reused by each thread (FCL's
+/// manager needs an object, and a fresh one per check costs two allocations).
+class SegmentBox {
+ public:
+  fcl::CollisionObjectd& place(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+    box_->side = hi - lo;
+    // What Box::computeLocalAABB gives for an axis-aligned box, without its general rotated-box path.
+    box_->aabb_local = fcl::AABBd(-0.5 * box_->side, 0.5 * box_->side);
+    object_.setTranslation(0.5 * (lo + hi));
+    object_.computeAABB();
+    return object_;
   }
-  if (obstacles.empty()) return;
-  std::vector<int> hulls(obstacles.size());
-  for (std::size_t i = 0; i < hulls.size(); ++i) hulls[i] = int(i);
-  impl_->nodes.reserve(2 * hulls.size());
-  buildTree(impl_->nodes, hulls, 0, hulls.size(), impl_->polytopes);
+
+ private:
+  std::shared_ptr<fcl::Boxd> box_ = std::make_shared<fcl::Boxd>(1.0, 1.0, 1.0);
+  fcl::CollisionObjectd object_{box_};
+};
+
+/// One check's state in FCL's broadphase traversal.
+struct HullQuery {
+  const FclObstacles* obstacles;
+  const Eigen::Vector3d* a;
+  const Eigen::Vector3d* b;
+  const SegmentRay* ray;
+  double radius;
+  double nearest = std::numeric_limits<double>::infinity();
+  double reach = std::numeric_limits<double>::infinity();  ///< max(nearest, radius), widened
+  TouchingHulls touching;
+};
+
+/// FCL visits the hulls whose boxes are within `prune` of the segment's box, nearer boxes first.
+/// Every hull within radius is kept (all are needed for the first contact), and else the nearest
+/// one; hulls are computed exactly only where it matters: one within radius is touching whatever
+/// its distance, one proven beyond the reach is neither touching nor the nearest.
+bool visitHull(fcl::CollisionObjectd* object, fcl::CollisionObjectd*, void* data, double& prune) {
+  auto& q = *static_cast<HullQuery*>(data);
+  const std::size_t hull = FclObstacles::indexOf(*object);
+  const ConvexPolytope& polytope = q.obstacles->polytope(hull);
+  if (q.ray->near(polytope.aabb_min, polytope.aabb_max, q.reach)) {
+    const detail::DistanceCertificate c = detail::certifiedDistance(*q.a, *q.b, polytope, q.radius, q.reach);
+    if (c.upper <= q.radius) q.touching.push(int(hull));
+    if (c.lower <= q.reach && c.upper < q.nearest) {
+      q.nearest = c.upper;
+      q.reach = widen(std::max(q.nearest, q.radius));
+    }
+  }
+  prune = q.reach;
+  return false;
 }
+
+}  // namespace
+
+HullChecker::HullChecker(const std::vector<clustering::Obstacle>& obstacles)
+    : impl_(std::make_unique<Impl>(obstacles)) {}
 
 HullChecker::~HullChecker() = default;
 HullChecker::HullChecker(HullChecker&&) noexcept = default;
@@ -203,61 +198,19 @@ SegmentCheck HullChecker::check(const Segment& segment, double radius) const {
   checkRadius(radius);
   checkSegment(segment);
   SegmentCheck result;
-  const auto& polytopes = impl_->polytopes;
-  const auto& nodes = impl_->nodes;
-  if (polytopes.empty()) {
+  const FclObstacles& obstacles = impl_->fcl;
+  if (obstacles.size() == 0) {
     result.clearance = std::numeric_limits<double>::infinity();
     return result;
   }
   const Eigen::Vector3d& a = segment.a;
   const SegmentRay ray(a, segment.b);
-  Eigen::Array4d lo, hi;
-  lo << a.cwiseMin(segment.b).array(), 0.0;
-  hi << a.cwiseMax(segment.b).array(), 0.0;
-
-  // Every hull within radius (all are needed for the first contact), and else the nearest one:
-  // depth first, the nearer box first, pruning boxes farther than max(nearest so far, radius)
-  // (the boxes' gap to the segment's box, then the segment's own max-norm distance).
-  double nearest = std::numeric_limits<double>::infinity();
-  double reach = std::numeric_limits<double>::infinity();  // max(nearest, radius), widened
-  TouchingHulls touching;
-  // Two entries per level at most, and the median split keeps the tree about log2(hulls) deep.
-  struct Pending {
-    int node;
-    double gap_squared;
-  } stack[128];
-  int top = 0;
-  stack[top++] = {0, boxGapSquared(lo, hi, nodes[0].lo, nodes[0].hi)};
-  while (top > 0) {
-    const Pending pending = stack[--top];
-    if (pending.gap_squared > reach * reach) continue;
-    const BoxNode& node = nodes[std::size_t(pending.node)];
-    if (node.left < 0) {
-      if (!ray.near(node.lo, node.hi, reach)) continue;
-      // Exact only where it matters: a hull within radius is touching whatever its distance, and
-      // one proven beyond the reach is neither touching nor the nearest.
-      const detail::DistanceCertificate c =
-          detail::certifiedDistance(a, segment.b, polytopes[std::size_t(node.hull)], radius, reach);
-      if (c.upper <= radius) touching.push(node.hull);
-      if (c.lower <= reach && c.upper < nearest) {
-        nearest = c.upper;
-        reach = widen(std::max(nearest, radius));
-      }
-      continue;
-    }
-    const BoxNode& l = nodes[std::size_t(node.left)];
-    const BoxNode& r = nodes[std::size_t(node.right)];
-    const double gap_l = boxGapSquared(lo, hi, l.lo, l.hi), gap_r = boxGapSquared(lo, hi, r.lo, r.hi);
-    // The nearer child on top of the stack, visited first.
-    assert(top + 2 <= 128);
-    if (gap_l <= gap_r) {
-      stack[top++] = {node.right, gap_r};
-      stack[top++] = {node.left, gap_l};
-    } else {
-      stack[top++] = {node.left, gap_l};
-      stack[top++] = {node.right, gap_r};
-    }
-  }
+  thread_local SegmentBox query;
+  HullQuery q{&obstacles, &segment.a, &segment.b, &ray, radius, std::numeric_limits<double>::infinity(),
+              std::numeric_limits<double>::infinity(), {}};
+  obstacles.manager().distance(&query.place(a.cwiseMin(segment.b), a.cwiseMax(segment.b)), &q, visitHull);
+  const double nearest = q.nearest;
+  TouchingHulls& touching = q.touching;
 
   if (touching.size() == 0) {
     result.clearance = nearest - radius;
@@ -269,7 +222,7 @@ SegmentCheck HullChecker::check(const Segment& segment, double radius) const {
   // Hulls in the order the sweep can first reach them; one that cannot be reached before the
   // first contact found so far is not computed.
   for (auto& [bound, hull] : touching) {
-    bound = detail::contactLowerBound(a, segment.b, polytopes[std::size_t(hull)], radius);
+    bound = detail::contactLowerBound(a, segment.b, obstacles.polytope(std::size_t(hull)), radius);
     if (bound > 1.0) bound = 0.0;  // rounding only: the hull is within radius of the segment
   }
   std::sort(touching.begin(), touching.end());
@@ -278,7 +231,7 @@ SegmentCheck HullChecker::check(const Segment& segment, double radius) const {
   for (const auto& [bound, hull] : touching) {
     if (bound > first) break;
     const double t =
-        detail::firstContactTouching(a, segment.b, polytopes[std::size_t(hull)], radius, tolerance, bound);
+        detail::firstContactTouching(a, segment.b, obstacles.polytope(std::size_t(hull)), radius, tolerance, bound);
     if (t < first || (t == first && hull < first_hull)) {
       first = t;
       first_hull = hull;

@@ -1,9 +1,13 @@
-// Uses each installed library once: a two-blob DBSCAN, an octree, a hull and a path check.
+// Uses each installed library once: a two-blob DBSCAN, an octree, a hull, a path check and the
+// hulls as FCL objects.
 #include <cstdio>
+#include <memory>
 #include <vector>
 
+#include <fcl/geometry/shape/sphere.h>
 #include <hullmap/clustering/dbscan.hpp>
 #include <hullmap/clustering/obstacles.hpp>
+#include <hullmap/collision/fcl_obstacles.hpp>
 #include <hullmap/collision/path_check.hpp>
 #include <hullmap/mapper/occupancy_map.hpp>
 
@@ -32,7 +36,17 @@ int main() {
   const auto obstacles = hullmap::clustering::buildObstacles(centers, weights, labels, map.resolution());
   const hullmap::collision::HullChecker checker(obstacles);
   const auto hit = checker.check({Eigen::Vector3d(0.1, -1.0, 1.0), Eigen::Vector3d(0.1, 1.0, 1.0)}, 0.1);
-  std::printf("clusters %zu obstacles %zu collides %d\n", result.cluster_sizes.size(), obstacles.size(),
-              int(hit.collides));
-  return result.cluster_sizes.size() == 2 && obstacles.size() == 2 && hit.collides ? 0 : 1;
+  // The same obstacles as FCL objects: a sphere at the first blob collides with one of them.
+  const hullmap::collision::FclObstacles fcl(obstacles);
+  fcl::CollisionObjectd sphere(std::make_shared<fcl::Sphered>(0.1), fcl::Transform3d(Eigen::Translation3d(0.1, 0, 1)));
+  struct Hit {
+    std::size_t index = 99;
+  } first;
+  fcl.manager().collide(&sphere, &first, [](fcl::CollisionObjectd* o, fcl::CollisionObjectd*, void* data) {
+    static_cast<Hit*>(data)->index = hullmap::collision::FclObstacles::indexOf(*o);
+    return true;
+  });
+  std::printf("clusters %zu obstacles %zu collides %d fcl hit %zu\n", result.cluster_sizes.size(), obstacles.size(),
+              int(hit.collides), first.index);
+  return result.cluster_sizes.size() == 2 && obstacles.size() == 2 && hit.collides && first.index == 0 ? 0 : 1;
 }

@@ -32,8 +32,9 @@ struct PathCheck {
   std::optional<Eigen::Vector3d> first_contact;   ///< point on the path
 };
 
-/// Hull mode: the obstacles' convex hulls in a bounding-box tree; every answer from certified
-/// segment-hull distances (convex_distance.hpp), the first contact bracketed as firstContact does.
+/// Hull mode: the obstacles' convex hulls as FCL objects in FCL's broadphase manager (FclObstacles);
+/// every answer from certified segment-hull distances (convex_distance.hpp), the first contact
+/// bracketed as firstContact does. Throws hullmap::Error on an invalid hull (naming its id).
 /// Thread-safe for concurrent checks after construction.
 class HullChecker {
  public:
