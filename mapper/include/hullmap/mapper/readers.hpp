@@ -71,20 +71,22 @@ PointSet readPointFiles(const std::vector<std::string>& paths);
 /// same errors) but hands the points to `consume` in batches as it parses, without holding the
 /// file or its points:
 /// - a regular file is mapped and the pages already parsed are handed back to the kernel as the
-///   parse moves on (madvise MADV_DONTNEED), so its resident memory stays a few MiB whatever its
-///   size; pipes and other non-regular files are read params.read_bytes at a time;
+///   parse moves on (madvise MADV_DONTNEED, 8 MiB at a time): about 8 MiB of it stays resident,
+///   whatever its size; pipes and other non-regular files are read params.read_bytes at a time;
 /// - text, PCD ascii and binary and PLY are parsed incrementally; PCD binary_compressed is one LZF
 ///   block holding the fields one after another, so it is decompressed whole, then delivered in
 ///   batches; an ORB-SLAM echo dump is loaded whole (the map is its last message of id 0 and of
 ///   id 6, known only at the end of the dump) and its points are delivered after the whole dump
 ///   has been parsed.
+/// Points are in the input's frame, map units.
 /// On an error the batches before it have already been delivered; the Error names the file and
 /// line (or byte offset) as readPointFile's. Throws hullmap::Error when batch_points or read_bytes
 /// is 0. Thread-safe (no shared state) when `consume` is.
 InputStats streamPointFile(const std::string& path, const PointStreamParams& params,
                            const PointBatchConsumer& consume);
 
-/// streamPointFile on each file in order, one consumer for all; one InputStats per file.
+/// streamPointFile on each file in order, one consumer for all (a batch never holds points of two
+/// files); one InputStats per file.
 std::vector<InputStats> streamPointFiles(const std::vector<std::string>& paths, const PointStreamParams& params,
                                          const PointBatchConsumer& consume);
 
