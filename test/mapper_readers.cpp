@@ -219,6 +219,38 @@ TEST(MapperReadersReal, OrbSlam3PointCloudsUnionTo12292) {
   EXPECT_NEAR(set.points[4492].z(), 0.288764, 1e-12);  // first data line of ref_pointcloud.txt
 }
 
+// Every real point file streams (from the file in batches of 1 and 4096, through a pipe read 4096
+// bytes at a time, and 1 byte at a time for the smaller ones) to what readPointFile reads.
+TEST(MapperReadersReal, EveryRealPointFileStreamsAsItIsReadWhole) {
+  std::size_t found = 0;
+  for (const char* name : {"orbslam2_euroc_V1_01_MapPoints.txt", "orbslam2_euroc_V1_01_MapPoints.pcd",
+                           "orbslam3_euroc_MH_01_mono_pointcloud.txt", "orbslam3_euroc_MH_01_mono_ref_pointcloud.txt",
+                           "octomap_scan.dat", "pcl_table_scene_mug_stereo_textured.pcd", "pcl_five_people.pcd"}) {
+    const std::string path = hullmap::test::realData(name);
+    if (path.empty()) continue;
+    ++found;
+    SCOPED_TRACE(name);
+    const hullmap::test::ReadOutcome want = hullmap::test::readOutcome(path, [&](const PointBatchConsumer& consume) {
+      PointSet set = readPointFile(path);
+      consume(set.points);
+      return set.inputs.at(0);
+    });
+    ASSERT_EQ(want.error, "");
+    ASSERT_GT(want.points.size(), 4000u);
+    for (const std::size_t batch : {1, 4096}) {
+      EXPECT_TRUE(hullmap::test::sameOutcome(want, hullmap::test::fileOutcome(path, batch, 1 << 20))) << batch;
+    }
+    const std::string bytes = hullmap::test::slurp(path);
+    for (const std::size_t read_bytes : {1, 4096}) {
+      if (read_bytes == 1 && bytes.size() > 300000) continue;
+      const hullmap::test::FedPipe pipe(bytes);
+      EXPECT_TRUE(hullmap::test::sameOutcome(want, hullmap::test::fileOutcome(pipe.path(), 4096, read_bytes)))
+          << "pipe read " << read_bytes << " bytes at a time";
+    }
+  }
+  if (found == 0) GTEST_SKIP() << "no real point file in " << HULLMAP_REAL_DATA_DIR;
+}
+
 std::vector<Eigen::Vector3d> readXzTwin(const std::string& path, bool& ok) {
   std::vector<Eigen::Vector3d> out;
   ok = false;
