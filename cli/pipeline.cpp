@@ -4,10 +4,12 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 #include <sys/file.h>
 #include <sys/resource.h>
@@ -29,20 +31,28 @@ double peakRssMb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
 }
 
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
 /// Wall time of each stage, and the process's peak resident memory when it ends.
 class StageTimer {
  public:
   explicit StageTimer(BuildResult& result) : result_(result) {}
-  void stage(const std::string& name) {
-    const auto now = std::chrono::steady_clock::now();
-    result_.timings_ms.emplace_back(name, std::chrono::duration<double, std::milli>(now - start_).count());
+  /// The stage that ends now began when the previous one ended.
+  void stage(const std::string& name) { stage(name, msSince(start_)); }
+  /// A stage whose time was summed over pieces interleaved with other stages.
+  void stage(const std::string& name, double ms) {
+    result_.timings_ms.emplace_back(name, ms);
     result_.peak_rss_mb.emplace_back(name, peakRssMb());
-    start_ = now;
+    start_ = Clock::now();
   }
 
  private:
   BuildResult& result_;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  Clock::time_point start_ = Clock::now();
 };
 
 bool isOctomapFile(const std::string& path) {
@@ -52,6 +62,112 @@ bool isOctomapFile(const std::string& path) {
 
 void addDropped(PointAccount& account, const mapper::InputStats& stats) {
   for (const auto& [reason, count] : stats.dropped) account.dropped[reason] += count;
+}
+
+Error noPoints(const std::vector<std::string>& inputs) {
+  std::string names;
+  for (const auto& input : inputs) names += (names.empty() ? "" : ", ") + input;
+  return Error(names + ": no points");
+}
+
+void accountForInputs(BuildResult& result) {
+  for (const auto& stats : result.inputs) {
+    result.account.read += stats.read;
+    addDropped(result.account, stats);
+  }
+}
+
+/// With --trajectory or --origin: every point is needed at once (the keyframe rule groups the
+/// points per keyframe; --origin inserts them as one scan), so the inputs are read whole.
+void buildWhole(const BuildOptions& options, const mapper::FrameParams& frame,
+                const mapper::FilterParams& filters, BuildResult& result, StageTimer& timer) {
+  mapper::PointSet set = readInputPoints(options.inputs);
+  result.inputs = set.inputs;
+  accountForInputs(result);
+  timer.stage("read");
+
+  std::vector<mapper::Keyframe> keyframes;
+  if (options.trajectory) {
+    keyframes = mapper::readTumTrajectory(*options.trajectory);
+    if (keyframes.empty()) throw Error(*options.trajectory + ": no keyframes");
+    mapper::toMapFrame(frame, keyframes);
+  }
+  mapper::toMapFrame(frame, set.points);
+  mapper::InputStats filtered;
+  mapper::applyFilters(filters, set.points, filtered);
+  addDropped(result.account, filtered);
+  if (set.points.empty()) throw Error("--crop/--z-min/--z-max: no points left inside the bounds");
+  timer.stage("frame_and_filters");
+
+  mapper::InputStats built;
+  if (options.trajectory) {
+    result.map.emplace(mapper::buildWithTrajectory(set.points, keyframes, options.octree, built));
+    result.keyframes = keyframes.size();
+  } else {
+    Eigen::Vector3d origin = mapper::parseVector3("--origin", *options.origin);
+    std::vector<Eigen::Vector3d> one{origin};
+    mapper::toMapFrame(frame, one);
+    origin = one.front();
+    result.map.emplace(options.octree);
+    mapper::Points addressable;
+    addressable.reserve(set.points.size());
+    for (const auto& p : set.points) {
+      if (mapper::addressable(result.map->tree(), p)) addressable.push_back(p);
+      else ++built.dropped["out_of_octree"];
+    }
+    mapper::insertScan(result.map->tree(), addressable, origin, options.octree.max_range);
+    auto& counts = result.map->pointCounts();
+    for (const auto& p : addressable) ++counts[result.map->tree().coordToKey(p.x(), p.y(), p.z())];
+  }
+  addDropped(result.account, built);
+  timer.stage("octree");
+}
+
+/// Points only: read -> frame -> filters -> octree batch by batch, so neither the input files nor
+/// their points are ever whole in memory; the same tree, counts, account and errors as reading
+/// everything first. Times are summed over the batches per stage.
+void buildStreamed(const BuildOptions& options, const mapper::FrameParams& frame,
+                   const mapper::FilterParams& filters, BuildResult& result, StageTimer& timer) {
+  // The whole-input path meets bad octree parameters when it builds, after the input's errors,
+  // "no points" and the filters' error: they are reported in that order here too.
+  std::optional<mapper::PointMapBuilder> builder;
+  std::exception_ptr bad_octree_params;
+  try {
+    builder.emplace(options.octree);
+  } catch (const Error&) {
+    bad_octree_params = std::current_exception();
+  }
+  mapper::InputStats filtered;
+  mapper::InputStats built;
+  std::size_t delivered = 0;
+  std::size_t kept = 0;
+  double frame_ms = 0.0;
+  double octree_ms = 0.0;
+  const auto consume = [&](mapper::Points& batch) {
+    const auto start = Clock::now();
+    delivered += batch.size();
+    mapper::toMapFrame(frame, batch);
+    mapper::applyFilters(filters, batch, filtered);
+    kept += batch.size();
+    const auto filtered_at = Clock::now();
+    frame_ms += std::chrono::duration<double, std::milli>(filtered_at - start).count();
+    if (builder) builder->add(batch, built);
+    octree_ms += msSince(filtered_at);
+  };
+  const auto start = Clock::now();
+  result.inputs = mapper::streamPointFiles(options.inputs, mapper::PointStreamParams{}, consume);
+  const double stream_ms = msSince(start);
+  accountForInputs(result);
+  if (delivered == 0) throw noPoints(options.inputs);
+  addDropped(result.account, filtered);
+  if (kept == 0) throw Error("--crop/--z-min/--z-max: no points left inside the bounds");
+  if (bad_octree_params) std::rethrow_exception(bad_octree_params);
+  timer.stage("read", stream_ms - frame_ms - octree_ms);
+  timer.stage("frame_and_filters", frame_ms);
+  const auto finish_start = Clock::now();
+  result.map.emplace(builder->finish());
+  timer.stage("octree", octree_ms + msSince(finish_start));
+  addDropped(result.account, built);
 }
 
 }  // namespace
@@ -65,11 +181,7 @@ std::string frameDescription(const std::string& up, double scale) {
 
 mapper::PointSet readInputPoints(const std::vector<std::string>& inputs) {
   mapper::PointSet set = mapper::readPointFiles(inputs);
-  if (set.points.empty()) {
-    std::string names;
-    for (const auto& input : inputs) names += (names.empty() ? "" : ", ") + input;
-    throw Error(names + ": no points");
-  }
+  if (set.points.empty()) throw noPoints(inputs);
   return set;
 }
 
@@ -102,54 +214,13 @@ BuildResult runBuild(const BuildOptions& options) {
     for (const auto& input : options.inputs)
       if (isOctomapFile(input))
         throw Error(input + ": an octomap file can only be the single input of build");
-    mapper::PointSet set = readInputPoints(options.inputs);
-    result.inputs = set.inputs;
-    for (const auto& stats : set.inputs) {
-      result.account.read += stats.read;
-      addDropped(result.account, stats);
-    }
-    timer.stage("read");
-
-    std::vector<mapper::Keyframe> keyframes;
-    if (options.trajectory) {
-      keyframes = mapper::readTumTrajectory(*options.trajectory);
-      if (keyframes.empty()) throw Error(*options.trajectory + ": no keyframes");
-      mapper::toMapFrame(frame, keyframes);
-    }
-    mapper::toMapFrame(frame, set.points);
-    mapper::InputStats filtered;
-    mapper::applyFilters(filters, set.points, filtered);
-    addDropped(result.account, filtered);
-    if (set.points.empty()) throw Error("--crop/--z-min/--z-max: no points left inside the bounds");
-    timer.stage("frame_and_filters");
-
-    mapper::InputStats built;
-    if (options.trajectory) {
-      result.map.emplace(mapper::buildWithTrajectory(set.points, keyframes, options.octree, built));
-      result.keyframes = keyframes.size();
-    } else if (options.origin) {
-      Eigen::Vector3d origin = mapper::parseVector3("--origin", *options.origin);
-      std::vector<Eigen::Vector3d> one{origin};
-      mapper::toMapFrame(frame, one);
-      origin = one.front();
-      result.map.emplace(options.octree);
-      mapper::Points addressable;
-      addressable.reserve(set.points.size());
-      for (const auto& p : set.points) {
-        if (mapper::addressable(result.map->tree(), p)) addressable.push_back(p);
-        else ++built.dropped["out_of_octree"];
-      }
-      mapper::insertScan(result.map->tree(), addressable, origin, options.octree.max_range);
-      auto& counts = result.map->pointCounts();
-      for (const auto& p : addressable) ++counts[result.map->tree().coordToKey(p.x(), p.y(), p.z())];
-      set.points.swap(addressable);
+    if (!options.trajectory && !options.origin) {
+      buildStreamed(options, frame, filters, result, timer);
     } else {
-      result.map.emplace(mapper::buildFromPoints(set.points, options.octree, built));
+      buildWhole(options, frame, filters, result, timer);
     }
-    addDropped(result.account, built);
     result.account.used = result.account.read;
     for (const auto& [reason, count] : result.account.dropped) result.account.used -= count;
-    timer.stage("octree");
   }
 
   result.voxels = result.map->occupiedVoxels();

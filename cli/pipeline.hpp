@@ -57,6 +57,10 @@ struct BuildResult {
 mapper::PointSet readInputPoints(const std::vector<std::string>& inputs);
 
 /// Runs read -> frame -> filters -> octree -> DBSCAN -> obstacles. Throws hullmap::Error.
+/// Point files without --trajectory and --origin are streamed: read, frame change, filters and
+/// octree run batch by batch (mapper::streamPointFiles into a mapper::PointMapBuilder) and the
+/// timings of those three stages are each summed over the batches; with --trajectory or --origin
+/// every point is needed at once and the inputs are read whole. Both give the same outputs.
 BuildResult runBuild(const BuildOptions& options);
 
 /// Writes map.bt (+ map.ot), voxels.csv, obstacles.json, obstacles.obj, report.json into

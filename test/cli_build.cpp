@@ -1,7 +1,11 @@
 // End-to-end tests of `hullmap build` and `hullmap info`, and of every bad input in the brief's list:
 // one line on stderr naming the file and line (or the option), exit status 2, no partial output.
 #include <filesystem>
+#include <algorithm>
 #include <fstream>
+#include <sstream>
+#include <sys/stat.h>
+#include <tuple>
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -10,7 +14,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
+#include "pipeline.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -247,4 +253,195 @@ TEST(CliBuild, StaleStagingIsToldByItsLockNotByItsPid) {
   ::close(fd);
   ASSERT_EQ(runHullmap("build " + (dir / "small.txt").string() + " --min-pts 1 -o " + out.string()).status, 0);
   EXPECT_FALSE(fs::exists(live)) << "the lock is gone, the directory is stale";
+}
+
+namespace {
+
+/// `build` of points alone the way it was done before it streamed: every input read whole
+/// (readPointFiles), then the frame change, the filters and buildFromPoints on all points, then
+/// DBSCAN and the obstacles, written by writeBuild.
+void buildWholeFile(const hullmap::cli::BuildOptions& options) {
+  using namespace hullmap;
+  cli::BuildResult result;
+  mapper::PointSet set = cli::readInputPoints(options.inputs);
+  result.inputs = set.inputs;
+  for (const auto& in : set.inputs) {
+    result.account.read += in.read;
+    for (const auto& [reason, n] : in.dropped) result.account.dropped[reason] += n;
+  }
+  mapper::toMapFrame({mapper::parseUpAxis(options.up), options.scale}, set.points);
+  mapper::FilterParams filters;
+  if (options.crop) filters.crop = mapper::parseBox("--crop", *options.crop);
+  filters.z_min = options.z_min;
+  filters.z_max = options.z_max;
+  mapper::InputStats dropped;
+  mapper::applyFilters(filters, set.points, dropped);
+  result.map.emplace(mapper::buildFromPoints(set.points, options.octree, dropped));
+  for (const auto& [reason, n] : dropped.dropped) result.account.dropped[reason] += n;
+  result.account.used = result.account.read;
+  for (const auto& [reason, n] : result.account.dropped) result.account.used -= n;
+  result.voxels = result.map->occupiedVoxels();
+  std::vector<Eigen::Vector3d> centers;
+  std::vector<std::uint32_t> weights;
+  for (const auto& v : result.voxels) {
+    centers.push_back(v.center);
+    weights.push_back(v.weight);
+  }
+  clustering::DbscanParams dbscan = options.dbscan;
+  dbscan.metric = clustering::parseMetric(options.metric);
+  result.clusters = clustering::dbscan(centers, weights, dbscan);
+  result.obstacles = clustering::buildObstacles(centers, weights, result.clusters.labels, result.map->resolution());
+  for (const char* stage : {"read", "frame_and_filters", "octree", "dbscan", "obstacles"}) {
+    result.timings_ms.emplace_back(stage, 0.0);
+    result.peak_rss_mb.emplace_back(stage, 0.0);
+  }
+  cli::writeBuild(options, result);
+}
+
+/// An OBJ's `v` lines sorted, its `o` lines, and its number of `f` lines: faces index vertices in
+/// the order CGAL lists them (see expectSameObstacles).
+std::tuple<std::vector<std::string>, std::vector<std::string>, std::size_t> objSummary(const fs::path& path) {
+  std::vector<std::string> vertices, objects;
+  std::size_t faces = 0;
+  std::istringstream in(slurp(path));
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("v ", 0) == 0) vertices.push_back(line);
+    else if (line.rfind("o ", 0) == 0) objects.push_back(line);
+    else faces += line.rfind("f ", 0) == 0;
+  }
+  std::sort(vertices.begin(), vertices.end());
+  return {vertices, objects, faces};
+}
+
+/// Two obstacles.json documents describe the same obstacles. The order in which CGAL lists a
+/// hull's vertices follows memory addresses (two runs of one binary differ), so hull vertices are
+/// compared as sets and the volume and centroid, summed over the triangles, to 1e-12.
+void expectSameObstacles(const nlohmann::json& want, const nlohmann::json& got) {
+  EXPECT_EQ(want["format"], got["format"]);
+  EXPECT_EQ(want["frame"], got["frame"]);
+  EXPECT_EQ(want["parameters"], got["parameters"]);
+  ASSERT_EQ(want["obstacles"].size(), got["obstacles"].size());
+  for (std::size_t i = 0; i < want["obstacles"].size(); ++i) {
+    const auto& a = want["obstacles"][i];
+    const auto& b = got["obstacles"][i];
+    SCOPED_TRACE("obstacle " + std::to_string(i));
+    for (const char* key : {"id", "voxel_count", "point_weight", "aabb", "footprint"}) EXPECT_EQ(a[key], b[key]) << key;
+    EXPECT_NEAR(a["volume"].get<double>(), b["volume"].get<double>(), 1e-12);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(a["centroid"][k].get<double>(), b["centroid"][k].get<double>(), 1e-12);
+    auto sorted = [](const nlohmann::json& v) {
+      std::vector<std::vector<double>> out = v;
+      std::sort(out.begin(), out.end());
+      return out;
+    };
+    EXPECT_EQ(sorted(a["hull"]["vertices"]), sorted(b["hull"]["vertices"]));
+    EXPECT_EQ(a["hull"]["triangles"].size(), b["hull"]["triangles"].size());
+  }
+}
+
+}  // namespace
+
+// Points only, `build` streams its inputs; the outputs are those of reading them whole: map.bt and
+// voxels.csv byte for byte, the same obstacles, the same account of every point. Two inputs (the
+// second with NaNs), a crop and a z bound that drop points, several batches of 65536 points.
+TEST(CliBuild, PointsOnlyStreamsTheOutputsOfReadingWhole) {
+  const auto dir = freshDir("cli_streamed");
+  sampleScene(dir, 200000);
+  std::ifstream scene(dir / "map_points.txt");
+  std::ofstream a(dir / "a.txt");
+  std::ofstream b(dir / "b.txt");
+  std::size_t line_no = 0;
+  for (std::string line; std::getline(scene, line); ++line_no) {
+    (line_no < 150000 ? a : b) << line << '\n';
+    if (line_no % 5000 == 0) b << "nan 1 2\n";
+  }
+  a.close();
+  b.close();
+  hullmap::cli::BuildOptions options;
+  options.inputs = {(dir / "a.txt").string(), (dir / "b.txt").string()};
+  options.up = "-y";
+  options.crop = "-4,-4,-1,4,4,2.5";
+  options.z_min = 0.02;
+  options.dbscan.min_pts = 5;
+  options.output_dir = (dir / "whole").string();
+  buildWholeFile(options);
+
+  const auto out = dir / "out";
+  const auto r = runHullmap("build " + options.inputs[0] + " " + options.inputs[1] +
+                            " --up -y --crop -4,-4,-1,4,4,2.5 --z-min 0.02 --min-pts 5 -o " + out.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(slurp(out / "map.bt"), slurp(dir / "whole" / "map.bt"));
+  EXPECT_EQ(slurp(out / "voxels.csv"), slurp(dir / "whole" / "voxels.csv"));
+  expectSameObstacles(readJson(dir / "whole" / "obstacles.json"), readJson(out / "obstacles.json"));
+  EXPECT_EQ(objSummary(out / "obstacles.obj"), objSummary(dir / "whole" / "obstacles.obj"));
+
+  const auto report = readJson(out / "report.json");
+  const auto whole = readJson(dir / "whole" / "report.json");
+  for (const char* key : {"inputs", "points", "octree", "clusters", "obstacles", "parameters", "frame", "keyframes"})
+    EXPECT_EQ(report[key], whole[key]) << key;
+  for (const char* reason : {"non_finite", "outside_crop", "below_z_min"})
+    EXPECT_GT(report["points"]["dropped"].value(reason, 0), 0) << reason;
+  EXPECT_EQ(report["points"]["read"].get<std::size_t>(), 200000u + 40u);
+  for (const char* stage : {"read", "frame_and_filters", "octree", "dbscan", "obstacles"})
+    EXPECT_GT(report["peak_rss_mb"].value(stage, 0.0), 1.0) << stage;
+  double sum = 0;
+  for (const auto& [stage, ms] : report["timings_ms"].items()) {
+    if (stage != "total") sum += ms.get<double>();
+  }
+  EXPECT_NEAR(report["timings_ms"]["total"].get<double>(), sum, 1e-6);
+}
+
+// A FIFO (not a regular file: read in chunks, never mapped) streams to the same map.
+TEST(CliBuild, FifoInputStreamsToTheSameMap) {
+  const auto dir = freshDir("cli_fifo");
+  sampleScene(dir, 100000);
+  const auto fifo = dir / "points.fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string file = (dir / "map_points.txt").string();
+  ASSERT_EQ(runHullmap("build " + file + " --up -y -o " + (dir / "file").string()).status, 0);
+  // The writer gives up after 60 s should hullmap never open the FIFO.
+  const std::string command = "(timeout 60 sh -c 'cat \"" + file + "\" > \"" + fifo.string() + "\"' &) ; '" +
+                              HULLMAP_BINARY + "' build '" + fifo.string() + "' --up -y -o '" +
+                              (dir / "fifo").string() + "' >/dev/null 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  EXPECT_EQ(slurp(dir / "fifo" / "map.bt"), slurp(dir / "file" / "map.bt"));
+  EXPECT_EQ(slurp(dir / "fifo" / "voxels.csv"), slurp(dir / "file" / "voxels.csv"));
+  EXPECT_EQ(readJson(dir / "fifo" / "report.json")["points"], readJson(dir / "file" / "report.json")["points"]);
+}
+
+// Errors of a streamed build are those of a build that reads its inputs whole (--origin does),
+// in the same order: an input error (even after batches went into the octree), then "no points",
+// then the filters', then a bad octree parameter. Exit 2, nothing written.
+TEST(CliBadInput, StreamedBuildFailsAsTheWholeFileBuild) {
+  const auto dir = freshDir("cli_streamed_errors");
+  std::string big;
+  for (int i = 0; i < 100000; ++i) big += "0." + std::to_string(i % 1000) + " 1 2\n";
+  writeText(dir / "big_bad.txt", big + "1 2 3 4\n");
+  writeText(dir / "good.txt", big);
+  writeText(dir / "nan1.txt", "nan 1 2\n");
+  writeText(dir / "nan2.txt", "1 inf 2\n");
+  const std::string out = " -o " + (dir / "out").string();
+  const std::string bad_params = " --clamp-min 0.9 --clamp-max 0.5";
+  const std::string outside = " --crop 5,5,5,6,6,6";
+  const struct {
+    std::string args;
+    std::string message;
+  } cases[] = {
+      {(dir / "big_bad.txt").string(), (dir / "big_bad.txt").string() + ":100001: expected 3 numbers like the first data line, got 4"},
+      {(dir / "big_bad.txt").string() + bad_params + outside, (dir / "big_bad.txt").string() + ":100001: "},
+      {(dir / "nan1.txt").string() + " " + (dir / "nan2.txt").string() + bad_params,
+       (dir / "nan1.txt").string() + ", " + (dir / "nan2.txt").string() + ": no points"},
+      {(dir / "good.txt").string() + outside + bad_params, "--crop/--z-min/--z-max: no points left inside the bounds"},
+      {(dir / "good.txt").string() + " --z-min 3", "--crop/--z-min/--z-max: no points left inside the bounds"},
+      {(dir / "good.txt").string() + bad_params, "--clamp-min must be below --clamp-max"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.args);
+    const auto streamed = runHullmap("build " + c.args + out);
+    expectOneLineError(streamed, c.message);
+    EXPECT_FALSE(fs::exists(dir / "out"));
+    const auto whole = runHullmap("build " + c.args + " --origin 0,0,0" + out);
+    EXPECT_EQ(streamed.err, whole.err);
+    EXPECT_EQ(whole.status, 2);
+    EXPECT_FALSE(fs::exists(dir / "out"));
+  }
 }

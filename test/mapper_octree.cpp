@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -7,7 +8,9 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/mapper/error.hpp"
+#include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
+#include "hullmap/mapper/readers.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 #include "octree_oracle.hpp"
 #include "test_support.hpp"
@@ -47,31 +50,173 @@ Points denseCloud() {
   return points;
 }
 
+// octomap's own insertion: updateNode(point, true) once per point it can address, the points per
+// leaf key, and how many points it could not address.
+struct UpdateNodeOracle {
+  explicit UpdateNodeOracle(const OctreeParams& params) : tree(oracleTree(params)) {}
+  octomap::OcTree tree;
+  std::map<std::tuple<int, int, int>, std::uint32_t> counts;
+  std::size_t out = 0;
+};
+
+UpdateNodeOracle updateNodePerPoint(const Points& points, const OctreeParams& params) {
+  UpdateNodeOracle oracle(params);
+  for (const Point& p : points) {
+    octomap::OcTreeKey key;
+    if (!oracle.tree.coordToKeyChecked(test::toPoint3d(p), key)) {
+      ++oracle.out;
+      continue;
+    }
+    oracle.tree.updateNode(key, true);
+    ++oracle.counts[{key[0], key[1], key[2]}];
+  }
+  return oracle;
+}
+
+::testing::AssertionResult sameCounts(const UpdateNodeOracle& oracle, const OccupancyMap& map) {
+  if (map.pointCounts().size() != oracle.counts.size()) {
+    return ::testing::AssertionFailure() << map.pointCounts().size() << " counted keys, expected "
+                                         << oracle.counts.size();
+  }
+  for (const auto& [key, n] : map.pointCounts()) {
+    const auto it = oracle.counts.find({key[0], key[1], key[2]});
+    if (it == oracle.counts.end() || it->second != n) {
+      return ::testing::AssertionFailure() << "key " << key[0] << " " << key[1] << " " << key[2] << ": " << n
+                                           << " points, expected "
+                                           << (it == oracle.counts.end() ? 0 : it->second);
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
 TEST(MapperOctree, PointsOnlyIsUpdateNodePerPoint) {
   OctreeParams params;
   params.resolution = 0.1;
   const Points points = denseCloud();
   InputStats stats;
   const OccupancyMap map = buildFromPoints(points, params, stats);
-
-  octomap::OcTree expected = oracleTree(params);
-  std::map<std::tuple<int, int, int>, std::uint32_t> counts;
-  std::size_t out = 0;
-  for (const Point& p : points) {
-    octomap::OcTreeKey key;
-    if (!expected.coordToKeyChecked(test::toPoint3d(p), key)) {
-      ++out;
-      continue;
-    }
-    expected.updateNode(key, true);
-    ++counts[{key[0], key[1], key[2]}];
-  }
-  EXPECT_EQ(out, 2u);
+  const UpdateNodeOracle expected = updateNodePerPoint(points, params);
+  EXPECT_EQ(expected.out, 2u);
   EXPECT_EQ(stats.dropped.at("out_of_octree"), 2u);
-  EXPECT_TRUE(sameTree(expected, map.tree()));
-  ASSERT_EQ(map.pointCounts().size(), counts.size());
-  for (const auto& [key, n] : map.pointCounts()) {
-    EXPECT_EQ(n, (counts[{key[0], key[1], key[2]}])) << key[0] << " " << key[1] << " " << key[2];
+  EXPECT_TRUE(sameTree(expected.tree, map.tree()));
+  EXPECT_TRUE(sameCounts(expected, map));
+}
+
+// The batched builder against the same oracle: batches of one point, batches that cut a voxel's
+// consecutive points apart (denseCloud puts up to 30 points of a voxel one after another), batches
+// of many voxels, one batch; the ~48k points make the builder merge its pending keys several times.
+TEST(MapperOctree, PointsOnlyInBatchesIsUpdateNodePerPoint) {
+  OctreeParams params;
+  params.resolution = 0.1;
+  const Points points = denseCloud();
+  const UpdateNodeOracle expected = updateNodePerPoint(points, params);
+  const octomap::OcTree& keys = expected.tree;
+  for (const std::size_t batch : {std::size_t{1}, std::size_t{2}, std::size_t{7}, std::size_t{1000},
+                                  std::size_t{4096}, std::size_t{20000}, points.size()}) {
+    SCOPED_TRACE("batches of " + std::to_string(batch));
+    std::size_t split_voxels = 0;  // a voxel's points on both sides of a batch boundary
+    for (std::size_t i = batch; i < points.size(); i += batch) {
+      split_voxels += keys.coordToKey(test::toPoint3d(points[i - 1])) == keys.coordToKey(test::toPoint3d(points[i]));
+    }
+    if (batch < 1000) {
+      EXPECT_GT(split_voxels, 0u) << "no batch boundary cuts a voxel's points";
+    }
+    PointMapBuilder builder(params);
+    InputStats stats;
+    for (std::size_t first = 0; first < points.size(); first += batch) {
+      const Points slice(points.begin() + static_cast<std::ptrdiff_t>(first),
+                         points.begin() + static_cast<std::ptrdiff_t>(std::min(points.size(), first + batch)));
+      builder.add(slice, stats);
+    }
+    const OccupancyMap map = builder.finish();
+    EXPECT_EQ(stats.dropped.at("out_of_octree"), 2u);
+    EXPECT_TRUE(sameTree(expected.tree, map.tree()));
+    EXPECT_TRUE(sameCounts(expected, map));
+  }
+}
+
+TEST(MapperOctree, PointMapBuilderStartsOverAfterFinishAndIgnoresOrder) {
+  OctreeParams params;
+  params.resolution = 0.1;
+  Points points = denseCloud();
+  PointMapBuilder builder(params);
+  InputStats stats;
+  builder.add(points, stats);
+  EXPECT_GT(builder.finish().tree().size(), 0u);
+  const OccupancyMap empty = builder.finish();
+  EXPECT_EQ(empty.tree().size(), 0u);
+  EXPECT_TRUE(empty.pointCounts().empty());
+  EXPECT_DOUBLE_EQ(empty.resolution(), 0.1);
+  std::reverse(points.begin(), points.end());
+  builder.add(points, stats);
+  const OccupancyMap reversed = builder.finish();
+  const UpdateNodeOracle expected = updateNodePerPoint(denseCloud(), params);
+  EXPECT_TRUE(sameTree(expected.tree, reversed.tree()));
+  EXPECT_TRUE(sameCounts(expected, reversed));
+  EXPECT_EQ(stats.dropped.at("out_of_octree"), 4u);
+  params.sensor.clamp_min = 0.99;
+  EXPECT_THROW(PointMapBuilder{params}, Error);
+}
+
+// The streaming readers into the batched builder give the map of the whole-file readers into
+// buildFromPoints: the same tree, point counts and voxels.
+TEST(MapperOctree, StreamedFilesBuildTheMapOfWholeFiles) {
+  const auto dir = test::freshDir("mapper_octree_streamed");
+  SceneParams scene_params;
+  scene_params.points = 30000;
+  const Scene scene = generateScene(scene_params);
+  std::ofstream a(dir / "a.txt");
+  std::ofstream b(dir / "b.txt");
+  a.precision(17);
+  b.precision(17);
+  for (std::size_t i = 0; i < scene.points.size(); ++i) {
+    std::ofstream& out = i < scene.points.size() / 3 ? a : b;
+    out << scene.points[i].x() << ' ' << scene.points[i].y() << ' ' << scene.points[i].z() << '\n';
+    if (i % 1000 == 0) out << "nan 0 0\n";
+  }
+  a.close();
+  b.close();
+  const std::vector<std::string> files = {(dir / "a.txt").string(), (dir / "b.txt").string()};
+  const FrameParams frame{UpAxis::kNegY, 1.5};
+  FilterParams filters;
+  filters.z_min = -0.5;
+  OctreeParams params;
+  params.resolution = 0.08;
+
+  PointSet set = readPointFiles(files);
+  toMapFrame(frame, set.points);
+  InputStats whole_stats;
+  applyFilters(filters, set.points, whole_stats);
+  const OccupancyMap whole = buildFromPoints(set.points, params, whole_stats);
+
+  PointMapBuilder builder(params);
+  InputStats streamed_stats;
+  PointStreamParams stream;
+  stream.batch_points = 4096;
+  const std::vector<InputStats> inputs = streamPointFiles(files, stream, [&](Points& batch) {
+    toMapFrame(frame, batch);
+    applyFilters(filters, batch, streamed_stats);
+    builder.add(batch, streamed_stats);
+  });
+  const OccupancyMap streamed = builder.finish();
+
+  ASSERT_EQ(inputs.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(inputs[i].read, set.inputs[i].read);
+    EXPECT_EQ(inputs[i].dropped, set.inputs[i].dropped);
+  }
+  EXPECT_GT(inputs[1].dropped.at("non_finite"), 0u);
+  EXPECT_GT(whole_stats.dropped.at("below_z_min"), 0u);
+  EXPECT_EQ(streamed_stats.dropped, whole_stats.dropped);
+  EXPECT_TRUE(sameTree(whole.tree(), streamed.tree()));
+  EXPECT_EQ(whole.pointCounts(), streamed.pointCounts());
+  const auto want = whole.occupiedVoxels();
+  const auto got = streamed.occupiedVoxels();
+  ASSERT_EQ(want.size(), got.size());
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    EXPECT_EQ(want[i].center, got[i].center) << i;
+    EXPECT_EQ(want[i].weight, got[i].weight) << i;
+    EXPECT_EQ(want[i].log_odds, got[i].log_odds) << i;
   }
 }
 

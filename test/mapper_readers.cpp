@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <malloc.h>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -215,6 +217,38 @@ TEST(MapperReadersReal, OrbSlam3PointCloudsUnionTo12292) {
   ASSERT_EQ(set.points.size(), 12292u);
   EXPECT_NEAR(set.points[0].x(), 2.651035, 1e-12);      // first line of pointcloud.txt
   EXPECT_NEAR(set.points[4492].z(), 0.288764, 1e-12);  // first data line of ref_pointcloud.txt
+}
+
+// Every real point file streams (from the file in batches of 1 and 4096, through a pipe read 4096
+// bytes at a time, and 1 byte at a time for the smaller ones) to what readPointFile reads.
+TEST(MapperReadersReal, EveryRealPointFileStreamsAsItIsReadWhole) {
+  std::size_t found = 0;
+  for (const char* name : {"orbslam2_euroc_V1_01_MapPoints.txt", "orbslam2_euroc_V1_01_MapPoints.pcd",
+                           "orbslam3_euroc_MH_01_mono_pointcloud.txt", "orbslam3_euroc_MH_01_mono_ref_pointcloud.txt",
+                           "octomap_scan.dat", "pcl_table_scene_mug_stereo_textured.pcd", "pcl_five_people.pcd"}) {
+    const std::string path = hullmap::test::realData(name);
+    if (path.empty()) continue;
+    ++found;
+    SCOPED_TRACE(name);
+    const hullmap::test::ReadOutcome want = hullmap::test::readOutcome(path, [&](const PointBatchConsumer& consume) {
+      PointSet set = readPointFile(path);
+      consume(set.points);
+      return set.inputs.at(0);
+    });
+    ASSERT_EQ(want.error, "");
+    ASSERT_GT(want.points.size(), 4000u);
+    for (const std::size_t batch : {1, 4096}) {
+      EXPECT_TRUE(hullmap::test::sameOutcome(want, hullmap::test::fileOutcome(path, batch, 1 << 20))) << batch;
+    }
+    const std::string bytes = hullmap::test::slurp(path);
+    for (const std::size_t read_bytes : {1, 4096}) {
+      if (read_bytes == 1 && bytes.size() > 300000) continue;
+      const hullmap::test::FedPipe pipe(bytes);
+      EXPECT_TRUE(hullmap::test::sameOutcome(want, hullmap::test::fileOutcome(pipe.path(), 4096, read_bytes)))
+          << "pipe read " << read_bytes << " bytes at a time";
+    }
+  }
+  if (found == 0) GTEST_SKIP() << "no real point file in " << HULLMAP_REAL_DATA_DIR;
 }
 
 std::vector<Eigen::Vector3d> readXzTwin(const std::string& path, bool& ok) {
@@ -711,6 +745,238 @@ TEST(MapperReadersPly, TruncatedAndMalformedPlyNameTheFile) {
       "property float x\nproperty float y\nproperty float z\nend_header\n" + std::string(12, '\0'),
       "e.ply");
   expectPoints(empty_element.points, {{0, 0, 0}});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Streaming readers: against parsePoints, the whole-input reader
+
+using hullmap::test::FedPipe;
+using hullmap::test::ReadOutcome;
+using hullmap::test::sameOutcome;
+
+/// `n` lines of `x y z nx ny nz` after a header and comments; CRLF on some lines, a NaN on every
+/// 97th, a comment every 1000th.
+std::string textCloud(std::size_t n) {
+  std::string out = "# generated\npos_x, pos_y, pos_z, nx, ny, nz\n";
+  char line[160];
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i % 1000 == 500) out += "# a comment line\n";
+    const double x = 0.001 * double(i) - 3.0, y = std::sin(0.01 * double(i)), z = 1.0 / (1.0 + double(i));
+    std::snprintf(line, sizeof line, "%.9g %.9g %s 0 0 1%s", x, y, i % 97 == 3 ? "nan" : std::to_string(z).c_str(),
+                  i % 5 == 0 ? "\r\n" : "\n");
+    out += line;
+  }
+  return out;
+}
+
+PcdCloud pcdCloud(std::size_t n) {
+  PcdCloud c;
+  c.fields = {{"x", 'F', 4}, {"y", 'F', 4}, {"z", 'F', 4}, {"rgb", 'U', 4}};
+  c.width = n;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v = 0.01 * double(i);
+    c.rows.push_back({i % 50 == 7 ? kNaN : v, -v, 2.0 + std::cos(v), double(i % 256)});
+  }
+  return c;
+}
+
+/// `n` vertices `x y z` (float) and `red`, then two faces.
+std::string plyCloud(const std::string& format, std::size_t n) {
+  std::string out = "ply\nformat " + format + " 1.0\nelement vertex " + std::to_string(n) +
+                    "\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\n"
+                    "element face 2\nproperty list uchar int vertex_indices\nend_header\n";
+  const bool big = format == "binary_big_endian";
+  char line[128];
+  for (std::size_t i = 0; i < n; ++i) {
+    const float x = 0.5f * float(i), y = i % 31 == 2 ? float(kInf) : -0.25f * float(i), z = 1.0f / float(i + 1);
+    if (format == "ascii") {
+      std::snprintf(line, sizeof line, "%.9g %.9g %.9g %d\n", double(x), double(y), double(z), int(i % 256));
+      out += line;
+    } else {
+      put<float>(out, x, big), put<float>(out, y, big), put<float>(out, z, big);
+      put<std::uint8_t>(out, std::uint8_t(i % 256), big);
+    }
+  }
+  if (format == "ascii") return out + "3 0 1 2\n4 0 1 2 3\n";
+  put<std::uint8_t>(out, 3, big);
+  for (int i : {0, 1, 2}) put<std::int32_t>(out, i, big);
+  put<std::uint8_t>(out, 4, big);
+  for (int i : {0, 1, 2, 3}) put<std::int32_t>(out, i, big);
+  return out;
+}
+
+struct StreamCase {
+  std::string name;
+  std::string bytes;
+  bool bad;  ///< parsePoints throws
+};
+
+std::vector<StreamCase> streamCases() {
+  std::vector<StreamCase> cases;
+  const std::string text = textCloud(20000);
+  cases.push_back({"cloud.txt", text, false});
+  std::string short_line = text;
+  short_line.insert(short_line.find('\n', short_line.size() / 2) + 1, "1 2 3 4 5\n");
+  cases.push_back({"short.txt", short_line, true});
+  for (const std::string data : {"ascii", "binary", "binary_compressed"}) {
+    const std::string pcd = writePcd(pcdCloud(5000), data);
+    cases.push_back({data + ".pcd", pcd, false});
+    cases.push_back({"cut_" + data + ".pcd", pcd.substr(0, pcd.size() - 6), true});
+  }
+  for (const std::string format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
+    const std::string ply = plyCloud(format, 3000);
+    cases.push_back({format + ".ply", ply, false});
+    cases.push_back({"cut_" + format + ".ply", ply.substr(0, ply.size() - 9), true});
+  }
+  cases.push_back({"echo.txt", hullmap::test::slurp(fixture("orbslam_echo_map.txt")), false});
+  cases.push_back({"echo_cut.txt", hullmap::test::slurp(fixture("orbslam_echo_truncated.txt")), false});
+  std::string echo_bad = hullmap::test::slurp(fixture("orbslam_echo_map.txt"));
+  // A coordinate of the map's last id 6 marker (the markers after it are not map points).
+  const std::size_t last_id6 = echo_bad.rfind("ns: \"MapPoints\"\nid: 6");
+  echo_bad.replace(echo_bad.find("x: ", echo_bad.find("points:", last_id6)), 3, "x: one");
+  cases.push_back({"echo_bad.txt", echo_bad, true});
+  cases.push_back({"empty.txt", "", false});
+  cases.push_back({"blank.txt", " \n\r\n\t\n", false});
+  cases.push_back({"header_only.txt", "# nothing\nx y z\n", false});
+  cases.push_back({"garbage.txt", "1 2 3\n\x01\x02", true});
+  return cases;
+}
+
+TEST(MapperReadersStream, BatchesHoldWhatParsePointsReadsInOrderWithTheSameErrors) {
+  const auto dir = hullmap::test::freshDir("readers_stream");
+  for (const StreamCase& c : streamCases()) {
+    SCOPED_TRACE(c.name);
+    const ReadOutcome want = hullmap::test::parseOutcome(c.bytes, c.name);
+    ASSERT_EQ(!want.error.empty(), c.bad) << want.error;
+    const auto expectBatches = [&](const ReadOutcome& got, std::size_t batch) {
+      if (c.bad) return;
+      EXPECT_LE(got.largest_batch, batch);
+      EXPECT_EQ(got.batches, (want.points.size() + batch - 1) / batch);
+    };
+    for (const std::size_t batch : {1, 2, 1000, 65536}) {
+      SCOPED_TRACE("in memory, batches of " + std::to_string(batch));
+      const ReadOutcome got = hullmap::test::streamOutcome(c.bytes, c.name, batch);
+      EXPECT_TRUE(sameOutcome(want, got));
+      expectBatches(got, batch);
+    }
+    const std::string path = writeFile(dir, c.name, c.bytes);
+    for (const std::size_t batch : {1, 7}) {
+      SCOPED_TRACE("mapped file, batches of " + std::to_string(batch));
+      const ReadOutcome got = hullmap::test::fileOutcome(path, batch, 1 << 20);
+      EXPECT_TRUE(sameOutcome(want, got));
+      expectBatches(got, batch);
+    }
+    for (const std::size_t read_bytes : {1, 13, 4096}) {
+      if (read_bytes == 1 && c.bytes.size() > 200000) continue;
+      SCOPED_TRACE("pipe read " + std::to_string(read_bytes) + " bytes at a time");
+      const FedPipe pipe(c.bytes);
+      const ReadOutcome got = hullmap::test::fileOutcome(pipe.path(), 3, read_bytes);
+      EXPECT_TRUE(sameOutcome(want, got));
+      expectBatches(got, 3);
+      if (!c.bad) {
+        EXPECT_EQ(got.stats.path, pipe.path());
+      }
+    }
+  }
+}
+
+TEST(MapperReadersStream, SeveralFilesStreamInOrderAndStopAtTheFirstError) {
+  const auto dir = hullmap::test::freshDir("readers_stream_files");
+  const std::string a = writeFile(dir, "a.txt", textCloud(3000));
+  const std::string b = writeFile(dir, "b.pcd", writePcd(pcdCloud(2000), "binary"));
+  const std::string bad = writeFile(dir, "bad.txt", "1 2 3\n4 5\n");
+  const PointSet whole = readPointFiles({a, b});
+  Points streamed;
+  PointStreamParams params;
+  params.batch_points = 100;
+  const auto inputs = streamPointFiles({a, b}, params, [&](Points& batch) {
+    EXPECT_LE(batch.size(), 100u);
+    streamed.insert(streamed.end(), batch.begin(), batch.end());
+  });
+  ASSERT_EQ(inputs.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(inputs[i].path, whole.inputs[i].path);
+    EXPECT_EQ(inputs[i].format, whole.inputs[i].format);
+    EXPECT_EQ(inputs[i].read, whole.inputs[i].read);
+    EXPECT_EQ(inputs[i].dropped, whole.inputs[i].dropped);
+  }
+  EXPECT_EQ(inputs[1].format, "pcd");
+  EXPECT_EQ(streamed, whole.points);
+  // The first file's points are delivered before the second's error; a batch never spans two
+  // files, and the bad file's first point waits in its unfinished batch.
+  std::size_t delivered = 0;
+  const std::string msg = errorOf([&] {
+    streamPointFiles({a, bad}, params, [&](Points& batch) { delivered += batch.size(); });
+  });
+  EXPECT_EQ(msg, bad + ":2: expected 3 numbers like the first data line, got 2");
+  EXPECT_EQ(delivered, readPointFile(a).points.size());
+}
+
+TEST(MapperReadersStream, ZeroBatchOrReadSizeIsAnError) {
+  PointStreamParams params;
+  params.batch_points = 0;
+  const PointBatchConsumer ignore = [](Points&) {};
+  EXPECT_EQ(errorOf([&] { streamPoints("1 2 3\n", "p.txt", params, ignore); }),
+            "PointStreamParams::batch_points must be at least 1");
+  params = PointStreamParams{};
+  params.read_bytes = 0;
+  EXPECT_EQ(errorOf([&] { streamPointFile(fixture("orbslam_echo_map.txt"), params, ignore); }),
+            "PointStreamParams::read_bytes must be at least 1");
+}
+
+/// A line of /proc/self/status ("RssFile", "RssAnon") in bytes.
+std::size_t statusBytes(const std::string& key) {
+  // Memory freed by earlier tests stays resident in malloc's heap, where new allocations would
+  // hide: handed back first, reusing it shows as growth.
+  ::malloc_trim(0);
+  std::ifstream in("/proc/self/status");
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind(key + ":", 0) == 0) return std::stoull(line.substr(key.size() + 1)) * 1024;
+  }
+  ADD_FAILURE() << key << " not in /proc/self/status";
+  return 0;
+}
+
+// 48 MiB of text through the streaming reader: neither the file's pages (resident while mapped,
+// unless handed back) nor its 1.6 million points (38 MiB) may pile up.
+TEST(MapperReadersStream, ALargeFileIsNotHeldWholeMappedOrPiped) {
+  const auto dir = hullmap::test::freshDir("readers_stream_large");
+  std::string text;
+  text.reserve(std::size_t(50) << 20);
+  char line[64];
+  for (std::size_t i = 0; text.size() < (std::size_t(48) << 20); ++i) {
+    std::snprintf(line, sizeof line, "%.9f %.9f %.9f\n", 1e-6 * double(i), -2e-6 * double(i), 3.5 + 1e-7 * double(i));
+    text += line;
+  }
+  const std::string path = writeFile(dir, "large.txt", text);
+  const std::size_t lines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+  constexpr std::size_t kBound = std::size_t(24) << 20;
+  for (const bool piped : {false, true}) {
+    SCOPED_TRACE(piped ? "pipe" : "mapped file");
+    std::unique_ptr<FedPipe> pipe;
+    if (piped) pipe = std::make_unique<FedPipe>(text);
+    const std::size_t file0 = statusBytes("RssFile");
+    const std::size_t anon0 = statusBytes("RssAnon");
+    std::size_t file_growth = 0;
+    std::size_t anon_growth = 0;
+    std::size_t points = 0;
+    const InputStats stats = streamPointFile(piped ? pipe->path() : path, PointStreamParams{}, [&](Points& batch) {
+      points += batch.size();
+      const std::size_t file = statusBytes("RssFile");
+      const std::size_t anon = statusBytes("RssAnon");
+      file_growth = std::max(file_growth, file > file0 ? file - file0 : 0);
+      anon_growth = std::max(anon_growth, anon > anon0 ? anon - anon0 : 0);
+    });
+    EXPECT_EQ(stats.read, lines);
+    EXPECT_EQ(points, lines);
+    EXPECT_LT(file_growth, kBound) << "file pages stay resident";
+    EXPECT_LT(anon_growth, kBound) << "points or bytes pile up in memory";
+  }
+  // The whole-file reader, by contrast, holds every point.
+  const std::size_t anon0 = statusBytes("RssAnon");
+  const PointSet set = readPointFile(path);
+  EXPECT_EQ(set.points.size(), lines);
+  EXPECT_GT(statusBytes("RssAnon"), anon0 + kBound) << "the measurement cannot tell held points from none";
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -92,37 +92,52 @@ bool lessKey(const octomap::OcTreeKey& a, const octomap::OcTreeKey& b) {
   return a[2] < b[2];
 }
 
-// Keys of the addressable points (float coordinates, as octomap's point3d API) as sorted
-// (Morton << 1 | 1, count) runs; the others are counted as out_of_octree.
-std::vector<detail::VoxelUpdate> countPoints(const octomap::OcTree& tree, const Points& points,
-                                             std::vector<char>* addressable_flags, std::size_t& dropped) {
-  const detail::KeyCaster caster(tree);
-  std::vector<detail::VoxelUpdate> codes(points.size());
-  std::vector<char> ok(points.size());
-  tbb::parallel_for(std::size_t{0}, points.size(), std::size_t{4096}, [&](std::size_t begin) {
-    const std::size_t end = std::min(points.size(), begin + 4096);
+// Appends the codes (Morton << 1 | 1, count 1) of the points octomap can address (float
+// coordinates, as its point3d API) to `codes`, in input order; ok[i] says whether points[i] was one.
+// Returns how many were not.
+std::size_t appendCodes(const detail::KeyCaster& caster, const Point* points, std::size_t n,
+                        std::vector<detail::VoxelUpdate>& codes, std::vector<char>& ok) {
+  const std::size_t first = codes.size();
+  codes.resize(first + n);
+  ok.resize(n);
+  detail::VoxelUpdate* out = codes.data() + first;
+  tbb::parallel_for(std::size_t{0}, n, std::size_t{4096}, [&](std::size_t begin) {
+    const std::size_t end = std::min(n, begin + 4096);
     for (std::size_t i = begin; i < end; ++i) {
       int key[3];
       ok[i] = caster.coordToKeyChecked(toPoint3d(points[i]), key);
-      codes[i].code = ok[i] ? (detail::mortonCode(detail::pack(key)) << 1 | 1) : ~std::uint64_t{0};
+      out[i].code = ok[i] ? (detail::mortonCode(detail::pack(key)) << 1 | 1) : ~std::uint64_t{0};
     }
   });
   std::size_t kept = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (ok[i]) codes[kept++] = codes[i];
+  for (std::size_t i = 0; i < n; ++i) {
+    if (ok[i]) out[kept++] = out[i];
   }
-  dropped = points.size() - kept;
-  codes.resize(kept);
-  detail::sortUpdates(codes);
+  codes.resize(first + kept);
+  return n - kept;
+}
+
+// Sorted codes -> one entry per voxel, counts summed.
+void collapseRuns(std::vector<detail::VoxelUpdate>& codes) {
   std::size_t runs = 0;
   for (std::size_t i = 0; i < codes.size();) {
-    std::size_t j = i + 1;
-    while (j < codes.size() && codes[j].code == codes[i].code) ++j;
-    codes[runs++] = {codes[i].code, static_cast<std::uint32_t>(j - i)};
+    std::uint32_t count = 0;
+    std::size_t j = i;
+    for (; j < codes.size() && codes[j].code == codes[i].code; ++j) count += codes[j].count;
+    codes[runs++] = {codes[i].code, count};
     i = j;
   }
   codes.resize(runs);
-  if (addressable_flags) addressable_flags->swap(ok);
+}
+
+// Keys of the addressable points as sorted (Morton << 1 | 1, count) runs; the others are counted
+// as out_of_octree.
+std::vector<detail::VoxelUpdate> countPoints(const octomap::OcTree& tree, const Points& points,
+                                             std::vector<char>& addressable_flags, std::size_t& dropped) {
+  std::vector<detail::VoxelUpdate> codes;
+  dropped = appendCodes(detail::KeyCaster(tree), points.data(), points.size(), codes, addressable_flags);
+  detail::sortUpdates(codes);
+  collapseRuns(codes);
   return codes;
 }
 
@@ -375,14 +390,78 @@ bool addressable(const octomap::OcTree& tree, const Point& p) {
   return caster.coordToKeyChecked(toPoint3d(p), key);
 }
 
-OccupancyMap buildFromPoints(const Points& points, const OctreeParams& params, InputStats& stats) {
-  OccupancyMap map(params);
-  std::size_t dropped = 0;
-  std::vector<detail::VoxelUpdate> runs = countPoints(map.tree(), points, nullptr, dropped);
-  addDropped(stats, dropped);
-  recordCounts(map, runs);
-  detail::applyUpdates(map.tree(), runs);
+struct PointMapBuilder::State {
+  explicit State(const OctreeParams& p) : params(p), map(p), caster(map.tree()) {}
+
+  // Pending codes are merged into the runs once they are as many as the runs (and at least this
+  // many): a merge then costs about what making its codes cost, and at most half of what is held
+  // is pending.
+  static constexpr std::size_t kMinPending = std::size_t(1) << 14;
+
+  void add(const Point* points, std::size_t n, InputStats& stats) {
+    addDropped(stats, appendCodes(caster, points, n, pending, ok));
+    if (pending.size() >= std::max(runs.size(), kMinPending)) merge();
+  }
+
+  void merge() {
+    detail::sortUpdates(pending);
+    collapseRuns(pending);
+    merged.resize(runs.size() + pending.size());
+    std::size_t a = 0, b = 0, out = 0;
+    while (a < runs.size() && b < pending.size()) {
+      if (runs[a].code < pending[b].code) {
+        merged[out++] = runs[a++];
+      } else if (pending[b].code < runs[a].code) {
+        merged[out++] = pending[b++];
+      } else {
+        merged[out++] = {runs[a].code, runs[a].count + pending[b].count};
+        ++a;
+        ++b;
+      }
+    }
+    while (a < runs.size()) merged[out++] = runs[a++];
+    while (b < pending.size()) merged[out++] = pending[b++];
+    merged.resize(out);
+    runs.swap(merged);
+    pending.clear();
+    merged.clear();
+  }
+
+  OctreeParams params;
+  OccupancyMap map;
+  detail::KeyCaster caster;
+  std::vector<detail::VoxelUpdate> runs;     // sorted by code, one per voxel, counts summed
+  std::vector<detail::VoxelUpdate> pending;  // codes of points not merged yet
+  std::vector<detail::VoxelUpdate> merged;   // merge target
+  std::vector<char> ok;
+};
+
+PointMapBuilder::PointMapBuilder(const OctreeParams& params) : state_(std::make_unique<State>(params)) {}
+PointMapBuilder::~PointMapBuilder() = default;
+PointMapBuilder::PointMapBuilder(PointMapBuilder&&) noexcept = default;
+PointMapBuilder& PointMapBuilder::operator=(PointMapBuilder&&) noexcept = default;
+
+void PointMapBuilder::add(const Points& points, InputStats& stats) {
+  state_->add(points.data(), points.size(), stats);
+}
+
+OccupancyMap PointMapBuilder::finish() {
+  if (!state_->pending.empty()) state_->merge();
+  OccupancyMap map = std::move(state_->map);
+  recordCounts(map, state_->runs);
+  detail::applyUpdates(map.tree(), state_->runs);
+  state_ = std::make_unique<State>(state_->params);
   return map;
+}
+
+OccupancyMap buildFromPoints(const Points& points, const OctreeParams& params, InputStats& stats) {
+  PointMapBuilder builder(params);
+  // In slices: the keys of one slice at a time, not of all points, are held besides the runs.
+  const std::size_t slice = std::size_t(1) << 20;
+  for (std::size_t first = 0; first < points.size(); first += slice) {
+    builder.state_->add(points.data() + first, std::min(slice, points.size() - first), stats);
+  }
+  return builder.finish();
 }
 
 OccupancyMap buildWithTrajectory(const Points& points, const std::vector<Keyframe>& keyframes,
@@ -391,7 +470,7 @@ OccupancyMap buildWithTrajectory(const Points& points, const std::vector<Keyfram
   OccupancyMap map(params);
   std::size_t dropped = 0;
   std::vector<char> ok;
-  recordCounts(map, countPoints(map.tree(), points, &ok, dropped));
+  recordCounts(map, countPoints(map.tree(), points, ok, dropped));
   addDropped(stats, dropped);
 
   const KeyframeIndex index(keyframes);

@@ -2,6 +2,7 @@
 
 // Shared pieces of the point readers (read_*.cpp). Not installed.
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstddef>
@@ -9,8 +10,10 @@
 #include <string>
 #include <string_view>
 
+#include "byte_source.hpp"
 #include "hullmap/mapper/error.hpp"
 #include "hullmap/mapper/point_cloud.hpp"
+#include "hullmap/mapper/readers.hpp"
 
 namespace hullmap::mapper::detail {
 
@@ -38,19 +41,22 @@ inline bool isFinite(const Point& p) {
   return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z());
 }
 
-/// Walks `bytes` line by line; tracks the 1-based line number. Handles \n and \r\n.
+/// Walks a source line by line from `offset`; tracks the 1-based line number (counted from
+/// `offset`). Handles \n and \r\n. Each line stays valid until the next call: the bytes before it
+/// are released.
 class LineCursor {
  public:
-  explicit LineCursor(std::string_view bytes) : bytes_(bytes) {}
+  explicit LineCursor(ByteSource& source, std::size_t offset = 0) : source_(source), pos_(offset) {}
 
   /// Next line without its terminator; false at the end.
   bool next(std::string_view& line) {
-    if (pos_ >= bytes_.size()) return false;
-    const std::size_t end = bytes_.find('\n', pos_);
-    const std::size_t stop = end == std::string_view::npos ? bytes_.size() : end;
-    line = bytes_.substr(pos_, stop - pos_);
+    source_.release(pos_);
+    if (!source_.ensure(pos_, 1)) return false;
+    const std::size_t end = source_.find('\n', pos_);
+    const std::size_t stop = end == ByteSource::kNpos ? source_.end() : end;
+    line = source_.view(pos_, stop - pos_);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    pos_ = end == std::string_view::npos ? bytes_.size() : end + 1;
+    pos_ = end == ByteSource::kNpos ? stop : end + 1;
     ++line_;
     return true;
   }
@@ -60,20 +66,18 @@ class LineCursor {
   std::size_t offset() const { return pos_; }
 
  private:
-  std::string_view bytes_;
-  std::size_t pos_ = 0;
+  ByteSource& source_;
+  std::size_t pos_;
   std::size_t line_ = 0;
 };
 
-inline bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
-
-/// True when `s` holds only whitespace (newlines included); stops at the first other byte.
-inline bool isBlank(std::string_view s) {
-  for (char c : s) {
-    if (!isSpace(c) && c != '\n') return false;
-  }
-  return true;
+/// The bytes of the source after `pos` when its size is known before reading it all (an estimate
+/// for reserving), else 0.
+inline std::size_t remainingHint(const ByteSource& source, std::size_t pos) {
+  return source.sizeHint() > pos ? source.sizeHint() - pos : 0;
 }
+
+inline bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
 
 inline std::string_view trim(std::string_view s) {
   while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
@@ -123,19 +127,54 @@ inline std::string quoted(std::string_view token) {
   throw Error(name + ": " + what);
 }
 
-/// Appends `p` or counts it as non-finite.
-inline void keepOrDrop(const Point& p, Points& points, InputStats& stats) {
+/// Gathers the points a parser keeps into batches of `batch_points` for a PointBatchConsumer.
+/// With batch_points = SIZE_MAX the one batch is the whole input (readPointFile's case).
+class PointSink {
+ public:
+  PointSink(std::size_t batch_points, const PointBatchConsumer& consume)
+      : batch_points_(batch_points), consume_(consume) {}
+
+  /// About `n` more points are coming (an estimate bounded by the input's size): reserves room
+  /// for them, at most one batch.
+  void expect(std::size_t n) { batch_.reserve(batch_.size() + std::min(n, batch_points_ - batch_.size())); }
+
+  void push(const Point& p) {
+    batch_.push_back(p);
+    if (batch_.size() >= batch_points_) flush();
+  }
+
+  /// Hands the points gathered so far to the consumer.
+  void flush() {
+    if (batch_.empty()) return;
+    consume_(batch_);
+    batch_.clear();
+  }
+
+ private:
+  std::size_t batch_points_;
+  const PointBatchConsumer& consume_;
+  Points batch_;
+};
+
+/// Keeps `p` or counts it as non-finite.
+inline void keepOrDrop(const Point& p, PointSink& sink, InputStats& stats) {
   if (isFinite(p)) {
-    points.push_back(p);
+    sink.push(p);
   } else {
     ++stats.dropped["non_finite"];
   }
 }
 
-// One parser per format. Each fills `stats.read` and `stats.dropped`, appends to `points`.
-void parseText(std::string_view bytes, const std::string& name, Points& points, InputStats& stats);
-void parseOrbSlamEcho(std::string_view bytes, const std::string& name, Points& points, InputStats& stats);
-void parsePcd(std::string_view bytes, const std::string& name, Points& points, InputStats& stats);
-void parsePly(std::string_view bytes, const std::string& name, Points& points, InputStats& stats);
+/// Guesses the format from the first bytes of `source` (see detectPointFormat); `blank` is set
+/// when the whole input is whitespace.
+PointFormat detectPointFormat(ByteSource& source, const std::string& name, bool& blank);
+
+// One parser per format, reading `source` from its start. Each fills `stats.read` and
+// `stats.dropped` and pushes the points it keeps into `sink`; the caller flushes it.
+void parseText(ByteSource& source, const std::string& name, PointSink& sink, InputStats& stats);
+// The map is the last message of each id: the whole dump is loaded before a point is known.
+void parseOrbSlamEcho(ByteSource& source, const std::string& name, PointSink& sink, InputStats& stats);
+void parsePcd(ByteSource& source, const std::string& name, PointSink& sink, InputStats& stats);
+void parsePly(ByteSource& source, const std::string& name, PointSink& sink, InputStats& stats);
 
 }  // namespace hullmap::mapper::detail

@@ -51,10 +51,11 @@ bool startsWith(std::string_view s, std::string_view prefix) {
   return s.size() >= prefix.size() && s.compare(0, prefix.size(), prefix) == 0;
 }
 
-// Reads the `points:` list of one message into `points`.
+// Reads the `points:` list of one message into `sink`.
 void readMarkerPoints(std::string_view bytes, const Message& message, const std::string& name,
-                      Points& points, InputStats& stats) {
-  LineCursor cursor(bytes.substr(message.begin, message.end - message.begin));
+                      PointSink& sink, InputStats& stats) {
+  ByteSource source(bytes.substr(message.begin, message.end - message.begin));
+  LineCursor cursor(source);
   const auto lineNo = [&] { return message.first_line + cursor.lineNumber() - 1; };
   std::string_view line;
   bool in_points = false;
@@ -69,7 +70,7 @@ void readMarkerPoints(std::string_view bytes, const Message& message, const std:
       failAt(name, item_line, "map point without x, y and z");
     }
     ++stats.read;
-    keepOrDrop(Point(xyz[0], xyz[1], xyz[2]), points, stats);
+    keepOrDrop(Point(xyz[0], xyz[1], xyz[2]), sink, stats);
     open_item = false;
   };
   const auto field = [&](std::string_view text) {
@@ -114,10 +115,13 @@ void readMarkerPoints(std::string_view bytes, const Message& message, const std:
 
 }  // namespace
 
-void parseOrbSlamEcho(std::string_view bytes, const std::string& name, Points& points,
-                      InputStats& stats) {
+void parseOrbSlamEcho(ByteSource& input, const std::string& name, PointSink& sink, InputStats& stats) {
+  input.loadAll();
+  const std::string_view bytes = input.view(0, input.end());
   std::vector<Message> messages;
-  LineCursor cursor(bytes);
+  // Over a view of the loaded bytes: the messages are visited twice, nothing is released.
+  ByteSource source(bytes);
+  LineCursor cursor(source);
   std::string_view line;
   Message current;
   current.first_line = 1;
@@ -176,7 +180,7 @@ void parseOrbSlamEcho(std::string_view bytes, const std::string& name, Points& p
     }
   }
   for (const auto& index : latest) {
-    if (index) readMarkerPoints(bytes, messages[*index], name, points, stats);
+    if (index) readMarkerPoints(bytes, messages[*index], name, sink, stats);
   }
 }
 

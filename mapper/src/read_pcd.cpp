@@ -63,9 +63,9 @@ std::vector<std::string_view> tokens(std::string_view line) {
   return out;
 }
 
-Header parseHeader(std::string_view bytes, const std::string& name) {
+Header parseHeader(ByteSource& source, const std::string& name) {
   Header h;
-  LineCursor cursor(bytes);
+  LineCursor cursor(source);
   std::string_view line;
   bool have_width = false;
   bool have_size = false;
@@ -185,15 +185,15 @@ double readFloat(const unsigned char* p, std::size_t size) {
   return v;
 }
 
-void readAscii(std::string_view bytes, const Header& h, const std::string& name, Points& points,
+void readAscii(ByteSource& source, const Header& h, const std::string& name, PointSink& sink,
                InputStats& stats) {
-  LineCursor cursor(bytes.substr(h.data_offset));
+  LineCursor cursor(source, h.data_offset);
   const auto lineNo = [&] { return h.data_line + cursor.lineNumber(); };
   std::string_view line;
   const std::size_t cols[3] = {h.fields[h.xyz[0]].column, h.fields[h.xyz[1]].column,
                                h.fields[h.xyz[2]].column};
   // Each point takes at least two bytes per column: never reserve beyond what the data can hold.
-  points.reserve(points.size() + std::min(*h.points, (bytes.size() - h.data_offset) / (2 * h.columns) + 1));
+  sink.expect(std::min(*h.points, remainingHint(source, h.data_offset) / (2 * h.columns) + 1));
   std::size_t done = 0;
   double xyz[3] = {0, 0, 0};
   while (cursor.next(line)) {
@@ -213,7 +213,7 @@ void readAscii(std::string_view bytes, const Header& h, const std::string& name,
     }
     ++done;
     ++stats.read;
-    keepOrDrop(Point(xyz[0], xyz[1], xyz[2]), points, stats);
+    keepOrDrop(Point(xyz[0], xyz[1], xyz[2]), sink, stats);
   }
   if (done != *h.points) {
     fail(name, "truncated PCD data: POINTS " + std::to_string(*h.points) + " but the data ends after point " +
@@ -221,47 +221,55 @@ void readAscii(std::string_view bytes, const Header& h, const std::string& name,
   }
 }
 
-void readBinary(std::string_view bytes, const Header& h, const std::string& name, Points& points,
+void readBinary(ByteSource& source, const Header& h, const std::string& name, PointSink& sink,
                 InputStats& stats) {
-  const std::size_t available = bytes.size() - h.data_offset;
   const std::size_t need = *h.points * h.point_size;
-  if (need > available) {
+  // Points are checked as they come: a pipe's size is known only at its end. The whole data is
+  // checked first when the size is known, so a truncated file fails before any point is delivered.
+  const auto truncated = [&] {
+    source.loadAll();
+    const std::size_t available = source.end() - h.data_offset;
     const std::size_t complete = h.point_size ? available / h.point_size : 0;
     fail(name, "truncated binary PCD data: " + std::to_string(*h.points) + " points of " +
                    std::to_string(h.point_size) + " bytes need " + std::to_string(need) +
                    " bytes from byte offset " + std::to_string(h.data_offset) + ", only " +
                    std::to_string(available) + " there (point " + std::to_string(complete) + " is incomplete)");
+  };
+  if (source.complete()) {
+    if (!source.ensure(h.data_offset, need)) truncated();
+    sink.expect(*h.points);
   }
-  const auto* base = reinterpret_cast<const unsigned char*>(bytes.data()) + h.data_offset;
   const Field* f[3] = {&h.fields[h.xyz[0]], &h.fields[h.xyz[1]], &h.fields[h.xyz[2]]};
-  points.reserve(points.size() + *h.points);
-  for (std::size_t i = 0; i < *h.points; ++i) {
-    const unsigned char* p = base + i * h.point_size;
+  std::size_t pos = h.data_offset;
+  for (std::size_t i = 0; i < *h.points; ++i, pos += h.point_size) {
+    source.release(pos);
+    if (!source.ensure(pos, h.point_size)) truncated();
+    const auto* p = reinterpret_cast<const unsigned char*>(source.at(pos));
     keepOrDrop(Point(readFloat(p + f[0]->offset, f[0]->size), readFloat(p + f[1]->offset, f[1]->size),
                      readFloat(p + f[2]->offset, f[2]->size)),
-               points, stats);
+               sink, stats);
   }
   stats.read += *h.points;
 }
 
-void readCompressed(std::string_view bytes, const Header& h, const std::string& name, Points& points,
+void readCompressed(ByteSource& source, const Header& h, const std::string& name, PointSink& sink,
                     InputStats& stats) {
-  const std::size_t available = bytes.size() - h.data_offset;
-  if (available < 8) {
+  if (!source.ensure(h.data_offset, 8)) {
     fail(name, "truncated binary_compressed PCD: no size words at byte offset " + std::to_string(h.data_offset));
   }
   std::uint32_t compressed = 0;
   std::uint32_t uncompressed = 0;
-  std::memcpy(&compressed, bytes.data() + h.data_offset, 4);
-  std::memcpy(&uncompressed, bytes.data() + h.data_offset + 4, 4);
+  std::memcpy(&compressed, source.at(h.data_offset), 4);
+  std::memcpy(&uncompressed, source.at(h.data_offset + 4), 4);
   const std::size_t need = *h.points * h.point_size;
   if (uncompressed != need) {
     fail(name, "binary_compressed PCD: uncompressed size " + std::to_string(uncompressed) + " at byte offset " +
                    std::to_string(h.data_offset + 4) + " differs from POINTS * point size = " + std::to_string(need));
   }
-  if (compressed > available - 8) {
+  const std::size_t lzf_offset = h.data_offset + 8;
+  if (!source.ensure(lzf_offset, compressed)) {
     fail(name, "truncated binary_compressed PCD: " + std::to_string(compressed) + " compressed bytes from byte offset " +
-                   std::to_string(h.data_offset + 8) + ", only " + std::to_string(available - 8) + " there");
+                   std::to_string(lzf_offset) + ", only " + std::to_string(source.end() - lzf_offset) + " there");
   }
   // An LZF back reference expands 3 bytes into at most 264: a larger claim is corrupt, and is
   // refused before allocating for it.
@@ -270,11 +278,13 @@ void readCompressed(std::string_view bytes, const Header& h, const std::string& 
                    " is impossible for " + std::to_string(compressed) + " LZF bytes");
   }
   if (need == 0) return;
+  // One LZF block holding all x, then all y, ...: no point is whole before all of it is decompressed.
   std::vector<unsigned char> raw(need);
-  const unsigned int got = lzf_decompress(bytes.data() + h.data_offset + 8, compressed, raw.data(),
+  const unsigned int got = lzf_decompress(source.at(lzf_offset), compressed, raw.data(),
                                           static_cast<unsigned int>(need));
+  source.release(lzf_offset + compressed);
   if (got != need) {
-    fail(name, "binary_compressed PCD: LZF data from byte offset " + std::to_string(h.data_offset + 8) +
+    fail(name, "binary_compressed PCD: LZF data from byte offset " + std::to_string(lzf_offset) +
                    " decompresses to " + std::to_string(got) + " bytes, expected " + std::to_string(need) +
                    " (corrupt or truncated)");
   }
@@ -286,25 +296,25 @@ void readCompressed(std::string_view bytes, const Header& h, const std::string& 
     column[a] = raw.data() + f.offset * n;  // fields are stored one after another
     size[a] = f.size;
   }
-  points.reserve(points.size() + n);
+  sink.expect(n);
   for (std::size_t i = 0; i < n; ++i) {
     keepOrDrop(Point(readFloat(column[0] + i * size[0], size[0]), readFloat(column[1] + i * size[1], size[1]),
                      readFloat(column[2] + i * size[2], size[2])),
-               points, stats);
+               sink, stats);
   }
   stats.read += n;
 }
 
 }  // namespace
 
-void parsePcd(std::string_view bytes, const std::string& name, Points& points, InputStats& stats) {
-  const Header h = parseHeader(bytes, name);
+void parsePcd(ByteSource& source, const std::string& name, PointSink& sink, InputStats& stats) {
+  const Header h = parseHeader(source, name);
   if (h.data == "ascii") {
-    readAscii(bytes, h, name, points, stats);
+    readAscii(source, h, name, sink, stats);
   } else if (h.data == "binary") {
-    readBinary(bytes, h, name, points, stats);
+    readBinary(source, h, name, sink, stats);
   } else {
-    readCompressed(bytes, h, name, points, stats);
+    readCompressed(source, h, name, sink, stats);
   }
 }
 

@@ -76,9 +76,9 @@ std::vector<std::string_view> words(std::string_view line) {
   return out;
 }
 
-Header parseHeader(std::string_view bytes, const std::string& name) {
+Header parseHeader(ByteSource& source, const std::string& name) {
   Header h;
-  LineCursor cursor(bytes);
+  LineCursor cursor(source);
   std::string_view line;
   if (!cursor.next(line) || trim(line) != "ply") fail(name, "not a PLY file (first line is not 'ply')");
   bool have_format = false;
@@ -140,14 +140,14 @@ Header parseHeader(std::string_view bytes, const std::string& name) {
 // Binary data: a bounds-checked reader.
 class BinaryReader {
  public:
-  BinaryReader(std::string_view bytes, std::size_t offset, bool big_endian, const std::string& name)
-      : bytes_(bytes), pos_(offset), swap_(big_endian), name_(name) {}
+  BinaryReader(ByteSource& source, std::size_t offset, bool big_endian, const std::string& name)
+      : source_(source), pos_(offset), swap_(big_endian), name_(name) {}
 
   double read(Scalar t, const char* element, std::size_t index) {
     const std::size_t size = sizeOf(t);
     need(size, element, index);
     unsigned char b[8];
-    std::memcpy(b, bytes_.data() + pos_, size);
+    std::memcpy(b, source_.at(pos_), size);
     pos_ += size;
     if (swap_) std::reverse(b, b + size);
     switch (t) {
@@ -165,12 +165,19 @@ class BinaryReader {
 
   void skip(std::size_t count, std::size_t size, const char* element, std::size_t index) {
     std::size_t total = 0;
-    if (__builtin_mul_overflow(count, size, &total)) total = bytes_.size() + 1;
+    if (__builtin_mul_overflow(count, size, &total)) {
+      source_.loadAll();
+      total = source_.end() - pos_ + 1;
+    }
+    // Skipped bytes are released before they are loaded: a pipe does not buffer them.
+    source_.release(pos_ + total);
     need(total, element, index);
     pos_ += total;
   }
 
-  std::size_t remaining() const { return bytes_.size() - pos_; }
+  /// The bytes before the current position are done with.
+  void release() { source_.release(pos_); }
+  std::size_t remaining() const { return remainingHint(source_, pos_); }
 
  private:
   template <typename T>
@@ -181,14 +188,14 @@ class BinaryReader {
   }
 
   void need(std::size_t size, const char* element, std::size_t index) {
-    if (size > bytes_.size() - pos_) {
+    if (!source_.ensure(pos_, size)) {
       fail(name_, std::string("truncated binary PLY data: ") + element + " " + std::to_string(index) +
                       " needs bytes up to offset " + std::to_string(pos_ + size) + ", the file ends at " +
-                      std::to_string(bytes_.size()));
+                      std::to_string(source_.end()));
     }
   }
 
-  std::string_view bytes_;
+  ByteSource& source_;
   std::size_t pos_;
   bool swap_;
   const std::string& name_;
@@ -197,8 +204,8 @@ class BinaryReader {
 // ASCII data: a token stream that knows its line number.
 class TokenReader {
  public:
-  TokenReader(std::string_view bytes, std::size_t offset, std::size_t line, const std::string& name)
-      : bytes_(bytes), pos_(offset), line_(line), name_(name) {}
+  TokenReader(ByteSource& source, std::size_t offset, std::size_t line, const std::string& name)
+      : source_(source), pos_(offset), line_(line), name_(name) {}
 
   double number(const char* element, std::size_t index) {
     const std::string_view t = token(element, index);
@@ -217,32 +224,43 @@ class TokenReader {
     return static_cast<std::size_t>(v);
   }
 
+  void release() { source_.release(pos_); }
   std::size_t line() const { return line_; }
-  std::size_t remaining() const { return bytes_.size() - pos_; }
+  std::size_t remaining() const { return remainingHint(source_, pos_); }
 
  private:
+  bool available() { return pos_ < source_.end() || source_.more(); }
+
+  // The token stays valid until the next call.
   std::string_view token(const char* element, std::size_t index) {
-    while (pos_ < bytes_.size() && (isSpace(bytes_[pos_]) || bytes_[pos_] == '\n')) {
-      if (bytes_[pos_] == '\n') ++line_;
+    source_.release(pos_);
+    while (true) {
+      if (!available()) {
+        fail(name_, std::string("truncated PLY data: ") + element + " " + std::to_string(index) +
+                        " is incomplete at the end of the file (line " + std::to_string(line_) + ")");
+      }
+      const char c = *source_.at(pos_);
+      if (!isSpace(c) && c != '\n') break;
+      if (c == '\n') ++line_;
       ++pos_;
     }
-    if (pos_ == bytes_.size()) {
-      fail(name_, std::string("truncated PLY data: ") + element + " " + std::to_string(index) +
-                      " is incomplete at the end of the file (line " + std::to_string(line_) + ")");
-    }
     const std::size_t start = pos_;
-    while (pos_ < bytes_.size() && !isSpace(bytes_[pos_]) && bytes_[pos_] != '\n') ++pos_;
-    return bytes_.substr(start, pos_ - start);
+    while (available()) {
+      const char c = *source_.at(pos_);
+      if (isSpace(c) || c == '\n') break;
+      ++pos_;
+    }
+    return source_.view(start, pos_ - start);
   }
 
-  std::string_view bytes_;
+  ByteSource& source_;
   std::size_t pos_;
   std::size_t line_;
   const std::string& name_;
 };
 
 template <typename Reader>
-void readElements(const Header& h, Reader& reader, const std::string& name, Points& points,
+void readElements(const Header& h, Reader& reader, const std::string& name, PointSink& sink,
                   InputStats& stats) {
   constexpr bool kAscii = std::is_same_v<Reader, TokenReader>;
   for (const Element& e : h.elements) {
@@ -264,7 +282,7 @@ void readElements(const Header& h, Reader& reader, const std::string& name, Poin
         failAt(name, e.line, "PLY vertex element has no scalar x y z properties");
       }
       // Never reserve more vertices than the remaining bytes can hold.
-      points.reserve(points.size() + std::min(e.count, reader.remaining() / std::max<std::size_t>(min_bytes, 1) + 1));
+      sink.expect(std::min(e.count, reader.remaining() / std::max<std::size_t>(min_bytes, 1) + 1));
     }
     // An element without properties holds no bytes: walking its (up to 2^40) items would only
     // spin.
@@ -272,6 +290,7 @@ void readElements(const Header& h, Reader& reader, const std::string& name, Poin
     const char* label = e.name.c_str();
     double xyz[3] = {0, 0, 0};
     for (std::size_t k = 0; k < e.count; ++k) {
+      reader.release();
       for (std::size_t i = 0; i < e.properties.size(); ++i) {
         const Property& p = e.properties[i];
         if (p.is_list) {
@@ -295,7 +314,7 @@ void readElements(const Header& h, Reader& reader, const std::string& name, Poin
       }
       if (is_vertex) {
         ++stats.read;
-        keepOrDrop(Point(xyz[0], xyz[1], xyz[2]), points, stats);
+        keepOrDrop(Point(xyz[0], xyz[1], xyz[2]), sink, stats);
       }
     }
   }
@@ -303,14 +322,14 @@ void readElements(const Header& h, Reader& reader, const std::string& name, Poin
 
 }  // namespace
 
-void parsePly(std::string_view bytes, const std::string& name, Points& points, InputStats& stats) {
-  const Header h = parseHeader(bytes, name);
+void parsePly(ByteSource& source, const std::string& name, PointSink& sink, InputStats& stats) {
+  const Header h = parseHeader(source, name);
   if (h.encoding == Encoding::kAscii) {
-    TokenReader reader(bytes, h.data_offset, h.end_line + 1, name);
-    readElements(h, reader, name, points, stats);
+    TokenReader reader(source, h.data_offset, h.end_line + 1, name);
+    readElements(h, reader, name, sink, stats);
   } else {
-    BinaryReader reader(bytes, h.data_offset, h.encoding == Encoding::kBig, name);
-    readElements(h, reader, name, points, stats);
+    BinaryReader reader(source, h.data_offset, h.encoding == Encoding::kBig, name);
+    readElements(h, reader, name, sink, stats);
   }
 }
 

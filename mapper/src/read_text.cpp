@@ -20,8 +20,8 @@ std::string_view stripComment(std::string_view line) {
 
 }  // namespace
 
-void parseText(std::string_view bytes, const std::string& name, Points& points, InputStats& stats) {
-  LineCursor cursor(bytes);
+void parseText(ByteSource& source, const std::string& name, PointSink& sink, InputStats& stats) {
+  LineCursor cursor(source);
   std::string_view line;
   std::size_t columns = 0;  // fixed by the first data line
   bool first_content = true;
@@ -55,15 +55,15 @@ void parseText(std::string_view bytes, const std::string& name, Points& points, 
       }
       columns = index;
       // One line's length estimates the point count; never more than the input justifies.
-      points.reserve(points.size() + std::min<std::size_t>(bytes.size() / (line.size() + 1) + 16,
-                                                           bytes.size() / 6 + 1));
+      const std::size_t size = source.sizeHint();
+      sink.expect(std::min<std::size_t>(size / (line.size() + 1) + 16, size / 6 + 1));
     } else if (index != columns) {
       failAt(name, cursor.lineNumber(),
              "expected " + std::to_string(columns) + " numbers like the first data line, got " +
                  std::to_string(index));
     }
     ++stats.read;
-    keepOrDrop(Point(values[0], values[1], values[2]), points, stats);
+    keepOrDrop(Point(values[0], values[1], values[2]), sink, stats);
   }
 }
 

@@ -2,15 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
-#include <limits>
-#include <cstring>
 #include <filesystem>
-#include <fcntl.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
-#include <unistd.h>
+#include <limits>
 
 #include "read_detail.hpp"
 
@@ -36,59 +30,78 @@ bool startsWith(std::string_view s, std::string_view prefix) {
   return s.size() >= prefix.size() && s.compare(0, prefix.size(), prefix) == 0;
 }
 
-// The bytes of a file: mapped when it is a regular file (no copy, no zero-fill of a buffer: a
-// 300 MB text map parses at the speed of the parser), read into memory otherwise (pipes).
-class FileBytes {
- public:
-  FileBytes(const std::string& path, std::size_t limit) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a point file");
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) throw Error(path + ": cannot open (" + std::strerror(errno) + ")");
-    struct stat st {};
-    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode)) {
-      const auto size = std::min<std::size_t>(static_cast<std::size_t>(st.st_size), limit);
-      if (size > 0) {
-        void* p = ::mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd, 0);
-        if (p != MAP_FAILED) {
-          ::madvise(p, size, MADV_SEQUENTIAL);
-          map_ = p;
-          map_size_ = size;
-          view_ = std::string_view(static_cast<const char*>(p), size);
-          ::close(fd);
-          return;
-        }
-      }
-    }
-    char buffer[65536];
-    while (copy_.size() < limit) {
-      const ssize_t n = ::read(fd, buffer, sizeof buffer);
-      if (n < 0) {
-        const int err = errno;
-        ::close(fd);
-        throw Error(path + ": read error (" + std::strerror(err) + ")");
-      }
-      if (n == 0) break;
-      copy_.append(buffer, static_cast<std::size_t>(n));
-    }
-    ::close(fd);
-    if (copy_.size() > limit) copy_.resize(limit);
-    view_ = copy_;
-  }
-  ~FileBytes() {
-    if (map_) ::munmap(map_, map_size_);
-  }
-  FileBytes(const FileBytes&) = delete;
-  FileBytes& operator=(const FileBytes&) = delete;
+void checkStreamParams(const PointStreamParams& params) {
+  if (params.batch_points == 0) throw Error("PointStreamParams::batch_points must be at least 1");
+  if (params.read_bytes == 0) throw Error("PointStreamParams::read_bytes must be at least 1");
+}
 
-  std::string_view view() const { return view_; }
+// First bytes, after a UTF-8 byte-order mark, that tell the format.
+PointFormat detectFromHead(std::string_view bytes, bool blank, const std::string& name) {
+  if (blank) return formatFromExtension(name);
+  if (startsWith(bytes, "ply\n") || startsWith(bytes, "ply\r\n")) return PointFormat::kPly;
 
- private:
-  void* map_ = nullptr;
-  std::size_t map_size_ = 0;
-  std::string copy_;
-  std::string_view view_;
-};
+  // The first meaningful line tells PCD ("# .PCD" comment, VERSION or FIELDS) and rostopic echo
+  // ("header:" of the first message, or a "---" separator).
+  const std::string_view sniff = bytes.substr(0, kSniffBytes);
+  detail::ByteSource source(sniff);
+  detail::LineCursor cursor(source);
+  std::string_view line;
+  while (cursor.next(line)) {
+    const std::string_view t = detail::trim(line);
+    if (t.empty()) continue;
+    if (startsWith(t, "# .PCD")) return PointFormat::kPcd;
+    if (t.front() == '#') continue;
+    if (startsWith(t, "VERSION") || startsWith(t, "FIELDS")) return PointFormat::kPcd;
+    if (startsWith(line, "header:") || t == "---") return PointFormat::kOrbSlamEcho;
+    break;
+  }
+  for (std::size_t i = 0; i < sniff.size(); ++i) {
+    const auto c = static_cast<unsigned char>(sniff[i]);
+    if ((c < 0x20 && c != '\n' && c != '\t' && c != '\r' && c != '\f' && c != '\v') || c == 0x7f) {
+      throw Error(name + ": not a point file (binary byte 0x" + "0123456789abcdef"[c >> 4] +
+                  "0123456789abcdef"[c & 15] + " at offset " + std::to_string(i) +
+                  "); expected ORB-SLAM text or echo dump, PCD, PLY or x y z text");
+    }
+  }
+  return PointFormat::kText;
+}
+
+InputStats streamSource(detail::ByteSource& source, const std::string& name, const PointStreamParams& params,
+                        const PointBatchConsumer& consume) {
+  InputStats stats;
+  stats.path = name;
+  bool blank = false;
+  const PointFormat format = detail::detectPointFormat(source, name, blank);
+  stats.format = toString(format);
+  if (!blank) {
+    detail::PointSink sink(params.batch_points, consume);
+    switch (format) {
+      case PointFormat::kOrbSlamEcho: detail::parseOrbSlamEcho(source, name, sink, stats); break;
+      case PointFormat::kText: detail::parseText(source, name, sink, stats); break;
+      case PointFormat::kPcd: detail::parsePcd(source, name, sink, stats); break;
+      case PointFormat::kPly: detail::parsePly(source, name, sink, stats); break;
+    }
+    sink.flush();
+  }
+  return stats;
+}
+
+// The whole-input readers: one batch per file, appended to `points`.
+PointStreamParams wholeFile() {
+  PointStreamParams params;
+  params.batch_points = std::numeric_limits<std::size_t>::max();
+  return params;
+}
+
+PointBatchConsumer appendTo(Points& points) {
+  return [&points](Points& batch) {
+    if (points.empty()) {
+      points.swap(batch);
+    } else {
+      points.insert(points.end(), batch.begin(), batch.end());
+    }
+  };
+}
 
 }  // namespace
 
@@ -102,83 +115,81 @@ std::string toString(PointFormat format) {
   return "unknown";
 }
 
-PointFormat detectPointFormat(std::string_view bytes, const std::string& name) {
-  if (startsWith(bytes, "\xEF\xBB\xBF")) bytes.remove_prefix(3);  // UTF-8 byte-order mark
-  if (detail::isBlank(bytes)) {
-    return formatFromExtension(name);
-  }
-  if (startsWith(bytes, "ply\n") || startsWith(bytes, "ply\r\n")) return PointFormat::kPly;
+namespace detail {
 
-  // The first meaningful line tells PCD ("# .PCD" comment, VERSION or FIELDS) and rostopic echo
-  // ("header:" of the first message, or a "---" separator).
-  detail::LineCursor cursor(bytes.substr(0, kSniffBytes));
-  std::string_view line;
-  while (cursor.next(line)) {
-    const std::string_view t = detail::trim(line);
-    if (t.empty()) continue;
-    if (startsWith(t, "# .PCD")) return PointFormat::kPcd;
-    if (t.front() == '#') continue;
-    if (startsWith(t, "VERSION") || startsWith(t, "FIELDS")) return PointFormat::kPcd;
-    if (startsWith(line, "header:") || t == "---") return PointFormat::kOrbSlamEcho;
-    break;
+PointFormat detectPointFormat(ByteSource& source, const std::string& name, bool& blank) {
+  const std::size_t bom = 3;
+  source.ensure(0, bom + kSniffBytes);
+  std::string_view head = source.view(0, std::min(source.end(), bom + kSniffBytes));
+  std::size_t first = 0;
+  if (startsWith(head, "\xEF\xBB\xBF")) first = bom;  // UTF-8 byte-order mark
+  // Blank unless a byte that is not whitespace comes, however far into the input.
+  blank = true;
+  for (std::size_t pos = first; blank && (pos < source.end() || source.more()); ++pos) {
+    const char c = *source.at(pos);
+    blank = isSpace(c) || c == '\n';
   }
-  const std::string_view sniff = bytes.substr(0, kSniffBytes);
-  for (std::size_t i = 0; i < sniff.size(); ++i) {
-    const auto c = static_cast<unsigned char>(sniff[i]);
-    if ((c < 0x20 && c != '\n' && c != '\t' && c != '\r' && c != '\f' && c != '\v') || c == 0x7f) {
-      throw Error(name + ": not a point file (binary byte 0x" + "0123456789abcdef"[c >> 4] +
-                  "0123456789abcdef"[c & 15] + " at offset " + std::to_string(i) +
-                  "); expected ORB-SLAM text or echo dump, PCD, PLY or x y z text");
-    }
-  }
-  return PointFormat::kText;
+  head = source.view(0, std::min(source.end(), bom + kSniffBytes)).substr(first);
+  return detectFromHead(head, blank, name);
+}
+
+}  // namespace detail
+
+PointFormat detectPointFormat(std::string_view bytes, const std::string& name) {
+  detail::ByteSource source(bytes);
+  bool blank = false;
+  return detail::detectPointFormat(source, name, blank);
 }
 
 PointFormat detectPointFormat(const std::string& path) {
-  const FileBytes bytes(path, kSniffBytes);
-  return detectPointFormat(bytes.view(), path);
+  detail::ByteSource source(path, kSniffBytes);
+  source.ensure(0, kSniffBytes);
+  return detectPointFormat(source.view(0, std::min(source.end(), kSniffBytes)), path);
+}
+
+InputStats streamPoints(std::string_view bytes, const std::string& name, const PointStreamParams& params,
+                        const PointBatchConsumer& consume) {
+  checkStreamParams(params);
+  detail::ByteSource source(bytes);
+  return streamSource(source, name, params, consume);
+}
+
+InputStats streamPointFile(const std::string& path, const PointStreamParams& params,
+                           const PointBatchConsumer& consume) {
+  checkStreamParams(params);
+  detail::ByteSource source(path, params.read_bytes);
+  return streamSource(source, path, params, consume);
+}
+
+std::vector<InputStats> streamPointFiles(const std::vector<std::string>& paths, const PointStreamParams& params,
+                                         const PointBatchConsumer& consume) {
+  std::vector<InputStats> inputs;
+  for (const std::string& path : paths) inputs.push_back(streamPointFile(path, params, consume));
+  return inputs;
 }
 
 PointSet parsePoints(std::string_view bytes, const std::string& name) {
   PointSet set;
-  InputStats stats;
-  stats.path = name;
-  const PointFormat format = detectPointFormat(bytes, name);
-  stats.format = toString(format);
-  if (!detail::isBlank(bytes)) {
-    switch (format) {
-      case PointFormat::kOrbSlamEcho: detail::parseOrbSlamEcho(bytes, name, set.points, stats); break;
-      case PointFormat::kText: detail::parseText(bytes, name, set.points, stats); break;
-      case PointFormat::kPcd: detail::parsePcd(bytes, name, set.points, stats); break;
-      case PointFormat::kPly: detail::parsePly(bytes, name, set.points, stats); break;
-    }
-  }
-  set.inputs.push_back(std::move(stats));
+  set.inputs.push_back(streamPoints(bytes, name, wholeFile(), appendTo(set.points)));
   return set;
 }
 
 PointSet readPointFile(const std::string& path) {
-  const FileBytes bytes(path, std::numeric_limits<std::size_t>::max());
-  return parsePoints(bytes.view(), path);
+  PointSet set;
+  set.inputs.push_back(streamPointFile(path, wholeFile(), appendTo(set.points)));
+  return set;
 }
 
 PointSet readPointFiles(const std::vector<std::string>& paths) {
   PointSet all;
-  for (const std::string& path : paths) {
-    PointSet one = readPointFile(path);
-    if (all.points.empty()) {
-      all.points = std::move(one.points);
-    } else {
-      all.points.insert(all.points.end(), one.points.begin(), one.points.end());
-    }
-    all.inputs.push_back(std::move(one.inputs.front()));
-  }
+  all.inputs = streamPointFiles(paths, wholeFile(), appendTo(all.points));
   return all;
 }
 
 std::vector<Keyframe> parseTumTrajectory(std::string_view bytes, const std::string& name) {
   std::vector<Keyframe> keyframes;
-  detail::LineCursor cursor(bytes);
+  detail::ByteSource source(bytes);
+  detail::LineCursor cursor(source);
   std::string_view line;
   while (cursor.next(line)) {
     const std::size_t hash = line.find('#');
@@ -217,8 +228,9 @@ std::vector<Keyframe> parseTumTrajectory(std::string_view bytes, const std::stri
 }
 
 std::vector<Keyframe> readTumTrajectory(const std::string& path) {
-  const FileBytes bytes(path, std::numeric_limits<std::size_t>::max());
-  return parseTumTrajectory(bytes.view(), path);
+  detail::ByteSource source(path, PointStreamParams{}.read_bytes);
+  source.loadAll();
+  return parseTumTrajectory(source.view(0, source.end()), path);
 }
 
 }  // namespace hullmap::mapper

@@ -1,16 +1,11 @@
-// libFuzzer target: the PCD (ascii, binary, binary_compressed LZF) reader, called directly (format detection bypassed).
+// libFuzzer target: the PCD (ascii, binary, binary_compressed LZF) reader, called directly (format
+// detection bypassed), whole and with its bytes arriving in chunks (fuzz_parser.hpp).
 #include <cstddef>
 #include <cstdint>
 
-#include "fuzz_support.hpp"
-#include "read_detail.hpp"
+#include "fuzz_parser.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace hullmap;
-  return fuzz::guarded([&] {
-    mapper::Points points;
-    mapper::InputStats stats;
-    mapper::detail::parsePcd(fuzz::bytesOf(data, size), fuzz::kInputName, points, stats);
-    fuzz::checkStats(points, stats);
-  });
+  return fuzz::guarded([&] { fuzz::checkParser(mapper::detail::parsePcd, fuzz::bytesOf(data, size)); });
 }

@@ -1,5 +1,5 @@
 // libFuzzer target: parsePoints, the public entry point (content-based format detection, then the
-// reader it picks).
+// reader it picks), and streamPoints, which must deliver the same points in batches.
 #include <cstddef>
 #include <cstdint>
 
@@ -13,5 +13,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (set.inputs.size() != 1) fuzz::violated("parsePoints gave other than one InputStats");
     if (set.inputs.front().path != fuzz::kInputName) fuzz::violated("InputStats::path is not the name");
     fuzz::checkStats(set.points, set.inputs.front());
+    mapper::Points streamed;
+    mapper::PointStreamParams params;
+    params.batch_points = 3;
+    const mapper::InputStats stats = mapper::streamPoints(
+        fuzz::bytesOf(data, size), fuzz::kInputName, params,
+        [&](mapper::Points& batch) { streamed.insert(streamed.end(), batch.begin(), batch.end()); });
+    if (streamed != set.points) fuzz::violated("streamPoints gave other points than parsePoints");
+    if (stats.read != set.inputs.front().read || stats.dropped != set.inputs.front().dropped)
+      fuzz::violated("streamPoints gave other counts than parsePoints");
   });
 }

@@ -71,8 +71,39 @@ bool addressable(const octomap::OcTree& tree, const Point& p);
 /// updateNode(point3d(p), true) once per point (float coordinates, so several points in one voxel
 /// are several hit updates, clamped as octomap clamps). Points the tree cannot address (farther than
 /// 2^15 leaves from the origin: ORB-SLAM's gross outliers) are dropped and counted in `stats`
-/// under "out_of_octree". Uses all cores (TBB).
+/// under "out_of_octree". Uses all cores (TBB). The same map as PointMapBuilder given the points in
+/// any batches.
 OccupancyMap buildFromPoints(const Points& points, const OctreeParams& params, InputStats& stats);
+
+/// Builds the points-only map of buildFromPoints from points given in batches, holding per voxel
+/// met, not per point: add() turns a batch's points into voxel keys (16 bytes a point) and merges
+/// them into one (voxel, point count) entry per voxel (16 bytes a voxel, twice that during a merge)
+/// once they are as many as the voxels so far (at least 16384); finish() applies the entries to the
+/// tree in one pass. Every update is a hit, so the order of the points and how they are cut into
+/// batches do not matter: finish() gives the tree and point counts of buildFromPoints on all
+/// batches concatenated, the tree of octomap's updateNode(point3d(p), true) once per point.
+/// Not thread-safe; add() uses all cores (TBB). A moved-from builder may only be destroyed or
+/// assigned to.
+class PointMapBuilder {
+ public:
+  /// Throws hullmap::Error naming the parameter at fault, as OccupancyMap's constructor.
+  explicit PointMapBuilder(const OctreeParams& params);
+  ~PointMapBuilder();
+  PointMapBuilder(PointMapBuilder&&) noexcept;
+  PointMapBuilder& operator=(PointMapBuilder&&) noexcept;
+
+  /// Adds one batch of points (map frame, map units). Points the tree cannot address are dropped
+  /// and counted in `stats` under "out_of_octree", as in buildFromPoints.
+  void add(const Points& points, InputStats& stats);
+
+  /// The map of every point added so far; the builder starts over empty.
+  OccupancyMap finish();
+
+ private:
+  friend OccupancyMap buildFromPoints(const Points& points, const OctreeParams& params, InputStats& stats);
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 /// Builds the map with free space. Keyframes must already be in the map frame.
 ///

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -37,6 +39,18 @@ PointFormat detectPointFormat(const std::string& path);
 /// The same, on bytes already in memory; `name` is used in messages only.
 PointFormat detectPointFormat(std::string_view bytes, const std::string& name);
 
+/// Receives the points of a streaming reader batch by batch, in file order (map units, the input's
+/// own frame). A batch holds 1 to PointStreamParams::batch_points points (never 0); the consumer may
+/// change it or move from it: the reader clears it afterwards. Called on the reader's thread; an
+/// exception it throws ends the read and reaches the reader's caller.
+using PointBatchConsumer = std::function<void(Points& batch)>;
+
+/// How the streaming readers deliver points and read their files.
+struct PointStreamParams {
+  std::size_t batch_points = 65536;    ///< points per batch, >= 1 (SIZE_MAX: one batch per file)
+  std::size_t read_bytes = 1u << 20;   ///< bytes asked of each read(2) on pipes and other non-regular files, >= 1
+};
+
 /// Parses the bytes of one point file of any supported format (detected from the content).
 /// `name` (the path) is used in error messages and stored in InputStats::path. Points with a NaN or
 /// infinite coordinate are dropped and counted under "non_finite". An empty input, or a file of a
@@ -52,6 +66,33 @@ PointSet readPointFile(const std::string& path);
 
 /// Reads and unions several point files, in order; one InputStats per file.
 PointSet readPointFiles(const std::vector<std::string>& paths);
+
+/// Reads one point file as readPointFile does (same points in the same order, same InputStats,
+/// same errors) but hands the points to `consume` in batches as it parses, without holding the
+/// file or its points:
+/// - a regular file is mapped and the pages already parsed are handed back to the kernel as the
+///   parse moves on (madvise MADV_DONTNEED, 8 MiB at a time): about 8 MiB of it stays resident,
+///   whatever its size; pipes and other non-regular files are read params.read_bytes at a time;
+/// - text, PCD ascii and binary and PLY are parsed incrementally; PCD binary_compressed is one LZF
+///   block holding the fields one after another, so it is decompressed whole, then delivered in
+///   batches; an ORB-SLAM echo dump is loaded whole (the map is its last message of id 0 and of
+///   id 6, known only at the end of the dump) and its points are delivered after the whole dump
+///   has been parsed.
+/// Points are in the input's frame, map units.
+/// On an error the batches before it have already been delivered; the Error names the file and
+/// line (or byte offset) as readPointFile's. Throws hullmap::Error when batch_points or read_bytes
+/// is 0. Thread-safe (no shared state) when `consume` is.
+InputStats streamPointFile(const std::string& path, const PointStreamParams& params,
+                           const PointBatchConsumer& consume);
+
+/// streamPointFile on each file in order, one consumer for all (a batch never holds points of two
+/// files); one InputStats per file.
+std::vector<InputStats> streamPointFiles(const std::vector<std::string>& paths, const PointStreamParams& params,
+                                         const PointBatchConsumer& consume);
+
+/// parsePoints in batches (see streamPointFile): the same points, InputStats and errors.
+InputStats streamPoints(std::string_view bytes, const std::string& name, const PointStreamParams& params,
+                        const PointBatchConsumer& consume);
 
 /// One keyframe pose of a TUM trajectory: camera-to-map transform, timestamp in seconds.
 struct Keyframe {
