@@ -2,8 +2,10 @@
 // of the voxels' corners; footprints and volumes against direct computations.
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <random>
 #include <set>
+#include <tuple>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -157,6 +159,71 @@ TEST(Obstacles, RandomBlobsContainEveryVoxelAndNoiseIsNoObstacle) {
   for (std::size_t k = 0; k < obstacles.size(); ++k) {
     EXPECT_EQ(obstacles[k].id, int(k));
     expectWraps(obstacles[k], v, size);
+  }
+}
+
+// The hull is a function of the cluster's voxels: the same vertices, triangles, volume and centroid
+// to the last bit whatever order the voxels come in (CGAL triangulates flat facets differently for
+// another input order, and across runs with memory addresses; buildObstacles makes its output
+// canonical), and with every flat facet fanned from its smallest vertex, no vertex inside a facet
+// or on an edge.
+TEST(Obstacles, HullDependsOnlyOnTheVoxelsNotOnTheirOrder) {
+  std::mt19937 rng(11);
+  Voxels v;
+  const double size = 0.05;
+  for (int label = 0; label < 6; ++label) {
+    // Boxes (many flat facets, many coplanar corners) and random walks.
+    const std::array<int, 3> at{int(rng() % 200) - 100, int(rng() % 200) - 100, int(rng() % 40)};
+    if (label % 2 == 0) {
+      for (int i = 0; i < 4 + label; ++i)
+        for (int j = 0; j < 3 + label; ++j)
+          for (int k = 0; k < 5; ++k) add(v, center(at[0] + i, at[1] + j, at[2] + k, size), label);
+    } else {
+      std::set<std::array<int, 3>> cells;
+      std::array<int, 3> c = at;
+      while (cells.size() < 300) {
+        cells.insert(c);
+        c[rng() % 3] += (rng() % 2) ? 1 : -1;
+      }
+      for (const auto& cell : cells) add(v, center(cell[0], cell[1], cell[2], size), label);
+    }
+  }
+  const auto reference = buildObstacles(v.centers, v.weights, v.labels, size);
+  ASSERT_EQ(reference.size(), 6u);
+  for (int round = 0; round < 5; ++round) {
+    std::vector<std::size_t> order(v.centers.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::shuffle(order.begin(), order.end(), rng);
+    Voxels shuffled;
+    for (const std::size_t i : order) add(shuffled, v.centers[i], v.labels[i], v.weights[i]);
+    const auto again = buildObstacles(shuffled.centers, shuffled.weights, shuffled.labels, size);
+    ASSERT_EQ(again.size(), reference.size());
+    for (std::size_t k = 0; k < again.size(); ++k) {
+      SCOPED_TRACE("round " + std::to_string(round) + ", obstacle " + std::to_string(k));
+      EXPECT_EQ(again[k].hull.vertices, reference[k].hull.vertices);
+      EXPECT_EQ(again[k].hull.triangles, reference[k].hull.triangles);
+      EXPECT_EQ(again[k].volume, reference[k].volume);
+      EXPECT_EQ(again[k].centroid, reference[k].centroid);
+      EXPECT_EQ(again[k].footprint.polygon, reference[k].footprint.polygon);
+    }
+  }
+  for (const auto& o : reference) {
+    SCOPED_TRACE("obstacle " + std::to_string(o.id));
+    expectWraps(o, v, size);
+    // A box of voxels is a box: 8 vertices, 12 triangles.
+    if (o.id % 2 == 0) {
+      EXPECT_EQ(o.hull.vertices.size(), 8u);
+      EXPECT_EQ(o.hull.triangles.size(), 12u);
+    }
+    // Vertices sorted; every triangle starts at its smallest vertex; triangles sorted.
+    EXPECT_TRUE(std::is_sorted(o.hull.vertices.begin(), o.hull.vertices.end(), [](const V3& a, const V3& b) {
+      return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z());
+    }));
+    for (const auto& t : o.hull.triangles) EXPECT_LT(t[0], std::min(t[1], t[2]));
+    EXPECT_TRUE(std::is_sorted(o.hull.triangles.begin(), o.hull.triangles.end()));
+    // Euler: a closed triangulated sphere has V - E + F = 2, E = 3F/2, so F = 2V - 4 exactly when every
+    // facet is fanned from one of its corners without extra vertices (no vertex inside a facet).
+    EXPECT_EQ(o.hull.triangles.size(), 2 * o.hull.vertices.size() - 4);
   }
 }
 

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
+#include <set>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 
@@ -72,14 +75,103 @@ std::vector<std::array<std::int64_t, 3>> candidateCorners(const std::vector<std:
   return out;
 }
 
+/// A hull on the integer lattice of voxel corners.
+struct LatticeHull {
+  std::vector<std::array<std::int64_t, 3>> vertices;
+  std::vector<std::array<int, 3>> triangles;  ///< counter-clockwise seen from outside
+};
+
+/// The hull in a form that depends only on the polytope, not on how CGAL happened to build it:
+/// CGAL triangulates each flat facet (a lattice hull has many: every face of a box) in an order
+/// that varies from run to run with memory addresses, and lists vertices in its own order. Here
+/// each facet (the triangles of one plane, exact on the lattice) is traced as its boundary loop,
+/// vertices lying on a straight part of the loop (on an edge of the polytope) are dropped, and the
+/// loop is fanned from its smallest vertex; vertices are sorted lexicographically, triangles too.
+LatticeHull canonical(const LatticeHull& hull, int id) {
+  using Vec = std::array<std::int64_t, 3>;
+  const auto sub = [](const Vec& a, const Vec& b) { return Vec{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+  const auto cross = [](const Vec& a, const Vec& b) {
+    return Vec{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  };
+  const auto fail = [&](const char* what) -> void {
+    throw Error("buildObstacles: hull of cluster " + std::to_string(id) + ": " + what);
+  };
+  // Facets: triangles grouped by their plane (primitive outward normal and offset).
+  std::map<std::array<std::int64_t, 4>, std::vector<std::array<int, 3>>> facets;
+  for (const auto& t : hull.triangles) {
+    const Vec& a = hull.vertices[std::size_t(t[0])];
+    Vec n = cross(sub(hull.vertices[std::size_t(t[1])], a), sub(hull.vertices[std::size_t(t[2])], a));
+    const std::int64_t g = std::gcd(std::gcd(std::abs(n[0]), std::abs(n[1])), std::abs(n[2]));
+    if (g == 0) fail("a triangle of zero area");
+    for (auto& c : n) c /= g;
+    facets[{n[0], n[1], n[2], n[0] * a[0] + n[1] * a[1] + n[2] * a[2]}].push_back(t);
+  }
+  std::vector<std::vector<int>> loops;
+  for (const auto& [plane, triangles] : facets) {
+    // Boundary edges are those of one triangle whose reverse is in none; they run counter-clockwise.
+    std::set<std::pair<int, int>> edges;
+    for (const auto& t : triangles)
+      for (int k = 0; k < 3; ++k) edges.insert({t[k], t[(k + 1) % 3]});
+    std::map<int, int> next;
+    for (const auto& [u, v] : edges)
+      if (!edges.count({v, u}) && !next.emplace(u, v).second) fail("a facet whose boundary is not one loop");
+    std::vector<int> loop{next.begin()->first};
+    while (loop.size() <= next.size()) {
+      const auto it = next.find(loop.back());
+      if (it == next.end()) fail("a facet whose boundary is not one loop");
+      if (it->second == loop.front()) break;
+      loop.push_back(it->second);
+    }
+    if (loop.size() != next.size()) fail("a facet whose boundary is not one loop");
+    std::vector<int> corners;
+    const Vec normal{plane[0], plane[1], plane[2]};
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      const Vec& prev = hull.vertices[std::size_t(loop[(k + loop.size() - 1) % loop.size()])];
+      const Vec& here = hull.vertices[std::size_t(loop[k])];
+      const Vec& after = hull.vertices[std::size_t(loop[(k + 1) % loop.size()])];
+      const Vec turn = cross(sub(here, prev), sub(after, here));
+      if (turn[0] * normal[0] + turn[1] * normal[1] + turn[2] * normal[2] != 0) corners.push_back(loop[k]);
+    }
+    if (corners.size() < 3) fail("a facet of fewer than three corners");
+    loops.push_back(std::move(corners));
+  }
+  // Vertices in lexicographic order, then each loop fanned from its smallest vertex.
+  std::vector<int> used;
+  for (const auto& loop : loops) used.insert(used.end(), loop.begin(), loop.end());
+  std::sort(used.begin(), used.end(), [&](int a, int b) {
+    return hull.vertices[std::size_t(a)] < hull.vertices[std::size_t(b)] || (hull.vertices[std::size_t(a)] == hull.vertices[std::size_t(b)] && a < b);
+  });
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  LatticeHull out;
+  std::map<int, int> renumber;
+  for (const int v : used) {
+    renumber[v] = int(out.vertices.size());
+    out.vertices.push_back(hull.vertices[std::size_t(v)]);
+  }
+  for (auto& loop : loops) {
+    for (int& v : loop) v = renumber.at(v);
+    std::rotate(loop.begin(), std::min_element(loop.begin(), loop.end()), loop.end());
+    for (std::size_t k = 1; k + 1 < loop.size(); ++k) out.triangles.push_back({loop[0], loop[k], loop[k + 1]});
+  }
+  std::sort(out.triangles.begin(), out.triangles.end());
+  return out;
+}
+
 Obstacle wrapCluster(int id, const std::vector<std::size_t>& members, const std::vector<Eigen::Vector3d>& centers,
                      const std::vector<std::uint32_t>& weights, double voxel_size) {
   Obstacle obstacle;
   obstacle.id = id;
   obstacle.voxel_count = members.size();
   const double half = 0.5 * voxel_size;
-  // Lattice origin: the lower corner of the first voxel; every voxel's index is its offset from it.
-  const Eigen::Vector3d origin = centers[members.front()] - Eigen::Vector3d::Constant(half);
+  // Lattice origin: the lower corner of the lexicographically smallest voxel centre (not the first
+  // member: the corners' last bits must not depend on the order of the voxels); every voxel's index
+  // is its offset from it.
+  const std::size_t anchor = *std::min_element(members.begin(), members.end(), [&](std::size_t a, std::size_t b) {
+    const Eigen::Vector3d& p = centers[a];
+    const Eigen::Vector3d& q = centers[b];
+    return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
+  });
+  const Eigen::Vector3d origin = centers[anchor] - Eigen::Vector3d::Constant(half);
   std::vector<std::array<std::int64_t, 3>> cells;
   cells.reserve(members.size());
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
@@ -105,17 +197,21 @@ Obstacle wrapCluster(int id, const std::vector<std::size_t>& members, const std:
   CGAL::convex_hull_3(points.begin(), points.end(), mesh);
   if (mesh.number_of_faces() == 0) throw Error("buildObstacles: degenerate hull for cluster " + std::to_string(id));
 
+  LatticeHull lattice;
   std::map<Mesh::Vertex_index, int> index;
   for (const auto v : mesh.vertices()) {
     const Point3& p = mesh.point(v);
-    index[v] = int(obstacle.hull.vertices.size());
-    obstacle.hull.vertices.push_back(cornerPoint({std::int64_t(p.x()), std::int64_t(p.y()), std::int64_t(p.z())}));
+    index[v] = int(lattice.vertices.size());
+    lattice.vertices.push_back({std::int64_t(p.x()), std::int64_t(p.y()), std::int64_t(p.z())});
   }
   for (const auto f : mesh.faces()) {
     std::vector<int> ring;
     for (const auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) ring.push_back(index[v]);
-    for (std::size_t k = 1; k + 1 < ring.size(); ++k) obstacle.hull.triangles.push_back({ring[0], ring[k], ring[k + 1]});
+    for (std::size_t k = 1; k + 1 < ring.size(); ++k) lattice.triangles.push_back({ring[0], ring[k], ring[k + 1]});
   }
+  lattice = canonical(lattice, id);
+  for (const auto& v : lattice.vertices) obstacle.hull.vertices.push_back(cornerPoint(v));
+  obstacle.hull.triangles = lattice.triangles;
 
   // Volume and centroid by the divergence theorem on the outward triangles (tetrahedra from a
   // reference point inside the hull, for accuracy away from the origin).
