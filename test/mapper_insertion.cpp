@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <cstdlib>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -73,6 +75,27 @@ TEST(MapperInsertion, PointsInOneVoxelAndOriginInsideTheCloud) {
   for (double resolution : {0.05, 0.1}) {
     expectSameAsOctomap(points, Point(0.01, 0.02, 0.03), resolution, -1.0, 3);
     expectSameAsOctomap(points, Point(0.01, 0.02, 0.03), resolution, 0.8, 2);
+  }
+}
+
+TEST(MapperInsertion, ExactTiesResolvedAsOctomap) {
+  // Binary fractions at power-of-two resolutions: rays along diagonals cross voxel borders on
+  // several axes at exactly the same t, and ends on borders make a t equal the ray's length; both
+  // are decided by octomap's strict comparisons, which insertScan must repeat. The ends lie on a
+  // cube's surface, so the voxels inside are free space, not endpoints.
+  Points points;
+  for (int i = -8; i <= 8; ++i) {
+    for (int j = -8; j <= 8; ++j) {
+      for (int k = -8; k <= 8; ++k) {
+        if (std::max({std::abs(i), std::abs(j), std::abs(k)}) == 8) points.push_back(0.5 * Point(i, j, k));
+      }
+    }
+  }
+  for (const Point& origin : {Point(0.0, 0.0, 0.0), Point(0.125, 0.125, 0.125), Point(0.25, -0.375, 0.5)}) {
+    for (double resolution : {0.25, 0.125}) {
+      expectSameAsOctomap(points, origin, resolution, -1.0, 1);
+      expectSameAsOctomap(points, origin, resolution, 3.0, 1);
+    }
   }
 }
 
