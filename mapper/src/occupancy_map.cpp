@@ -102,7 +102,7 @@ std::vector<detail::VoxelUpdate> countPoints(const octomap::OcTree& tree, const 
   tbb::parallel_for(std::size_t{0}, points.size(), std::size_t{4096}, [&](std::size_t begin) {
     const std::size_t end = std::min(points.size(), begin + 4096);
     for (std::size_t i = begin; i < end; ++i) {
-      int key[3];
+      int key[3] = {0, 0, 0};
       ok[i] = caster.coordToKeyChecked(toPoint3d(points[i]), key);
       codes[i].code = ok[i] ? (detail::mortonCode(detail::pack(key)) << 1 | 1) : ~std::uint64_t{0};
     }

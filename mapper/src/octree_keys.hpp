@@ -2,6 +2,7 @@
 // Internals of insertScan shared with the benchmarks: ray casting into key sets, Morton order,
 // the batched tree update. Not installed.
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -23,20 +24,13 @@ std::uint64_t mortonCode(std::uint64_t packed);
 octomap::OcTreeKey mortonKey(std::uint64_t morton);
 
 /// Free and occupied voxels of one thread's rays: 8x8x8 bricks of bits (Morton order inside a
-/// brick). Bricks inside an optional dense box (brick coordinates) are found by arithmetic, others
-/// through an open-addressing index. Consecutive ray keys mostly stay in one brick, so most marks
-/// are a bit set in a cached line. Not thread-safe.
+/// brick, 8 words of 64 bits), one array of words for free voxels, one for occupied. Bricks inside
+/// an optional dense box (brick coordinates) are found by arithmetic, others through an
+/// open-addressing index. Not thread-safe.
 class BrickSet {
  public:
-  struct Brick {
-    std::uint64_t free[8] = {};
-    std::uint64_t occupied[8] = {};
-    bool empty() const {
-      std::uint64_t any = 0;
-      for (int w = 0; w < 8; ++w) any |= free[w] | occupied[w];
-      return any == 0;
-    }
-  };
+  static constexpr std::size_t kWords = 8;
+
   BrickSet() = default;
   /// Bricks with lo <= coordinate < lo + dims (per axis, brick = key >> 3) are stored densely.
   BrickSet(const int lo[3], const int dims[3]);
@@ -50,13 +44,33 @@ class BrickSet {
       last_coord_ = coord;
     }
     const unsigned bit = kSpread[key[0] & 7] | kSpread[key[1] & 7] << 1 | kSpread[key[2] & 7] << 2;
-    Brick& b = bricks_[last_index_];
-    (occupied ? b.occupied : b.free)[bit >> 6] |= std::uint64_t{1} << (bit & 63);
+    (occupied ? occupied_ : free_)[last_index_ * kWords + (bit >> 6)] |= std::uint64_t{1} << (bit & 63);
   }
+
+  /// The dense box in keys, for casters that address its free bits directly: a key whose
+  /// rel = key - lo (per axis) is below extent on every axis has its bit at
+  /// code = axis_code[0][rel0] + axis_code[1][rel1] + axis_code[2][rel2] (word code >> 6, bit
+  /// code & 63 of free).
+  struct DenseIndex {
+    std::uint64_t* free;
+    const std::uint32_t* axis_code[3];
+    unsigned lo[3];
+    unsigned extent[3];
+  };
+  DenseIndex denseIndex();
+
   std::size_t denseCount() const { return dense_count_; }
-  std::vector<Brick>& bricks() { return bricks_; }
-  const std::vector<Brick>& bricks() const { return bricks_; }
-  /// Brick coordinate (x | y << 13 | z << 26) of bricks()[i].
+  std::size_t brickCount() const { return free_.size() / kWords; }
+  const std::uint64_t* freeWords(std::size_t brick) const { return &free_[brick * kWords]; }
+  const std::uint64_t* occupiedWords(std::size_t brick) const { return &occupied_[brick * kWords]; }
+  std::uint64_t* freeWords(std::size_t brick) { return &free_[brick * kWords]; }
+  std::uint64_t* occupiedWords(std::size_t brick) { return &occupied_[brick * kWords]; }
+  bool empty(std::size_t brick) const {
+    std::uint64_t any = 0;
+    for (std::size_t w = 0; w < kWords; ++w) any |= free_[brick * kWords + w] | occupied_[brick * kWords + w];
+    return any == 0;
+  }
+  /// Brick coordinate (x | y << 13 | z << 26) of brick i.
   std::uint64_t coordOf(std::size_t i) const;
 
  private:
@@ -67,8 +81,10 @@ class BrickSet {
   std::size_t dense_count_ = 0;
   std::vector<std::uint64_t> slots_;      // coord + 1, 0 = empty
   std::vector<std::uint32_t> slot_index_;
-  std::vector<Brick> bricks_;             // dense box first, then the others
+  std::vector<std::uint64_t> free_;       // kWords per brick: dense box first, then the others
+  std::vector<std::uint64_t> occupied_;
   std::vector<std::uint64_t> coords_;     // of the bricks after the dense box
+  std::vector<std::uint32_t> axis_code_[3];
   std::uint64_t last_coord_ = ~std::uint64_t{0};
   std::uint32_t last_index_ = 0;
   unsigned shift_ = 64;
@@ -77,13 +93,49 @@ class BrickSet {
 /// octomap's coordToKeyChecked and computeRayKeys, same arithmetic, writing into a BrickSet.
 class KeyCaster {
  public:
-  explicit KeyCaster(const octomap::OcTree& tree);
-  bool coordToKeyChecked(double coordinate, int& key) const;
-  bool coordToKeyChecked(const octomap::point3d& p, int key[3]) const;
-  /// The free keys of the ray origin -> end (end excluded). False when either end is not addressable.
-  bool castRay(const octomap::point3d& origin, const octomap::point3d& end, BrickSet& out) const;
+  explicit KeyCaster(const octomap::OcTree& tree)
+      : resolution_(tree.getResolution()), resolution_factor_(1.0 / tree.getResolution()), max_val_(32768) {}
+
+  bool coordToKeyChecked(double coordinate, int& key) const {
+    const double scaled = std::floor(resolution_factor_ * coordinate);
+    // octomap casts first; outside int's range (and for NaN) that is undefined, and never a valid key.
+    if (!(scaled > -2147483648.0 && scaled < 2147483647.0)) return false;
+    const int k = static_cast<int>(scaled) + max_val_;
+    if (k < 0 || k >= 2 * max_val_) return false;
+    key = k;
+    return true;
+  }
+  bool coordToKeyChecked(const octomap::point3d& p, int key[3]) const {
+    return coordToKeyChecked(p(0), key[0]) && coordToKeyChecked(p(1), key[1]) && coordToKeyChecked(p(2), key[2]);
+  }
+
+  /// One ray of a scan: where it ends (the point, or cut at the maximum range) and that end's key.
+  struct Ray {
+    octomap::point3d end;
+    int key_end[3] = {0, 0, 0};
+    bool casts = false;     ///< origin and end addressable: the ray clears free space
+    bool occupied = false;  ///< the end is the measured point (within range): occupied
+  };
+  /// Marks free, in `out`, the keys octomap's computeRayKeys(origin, ray.end) returns for each
+  /// ray that `casts` (the end key excluded); `key_origin` is the origin's key.
+  void castRays(const octomap::point3d& origin, const int key_origin[3], const Ray* rays, std::size_t count,
+                BrickSet& out) const;
 
  private:
+  static std::uint64_t packKey(const int key[3]) {
+    return static_cast<std::uint64_t>(key[0]) | static_cast<std::uint64_t>(key[1]) << 16 |
+           static_cast<std::uint64_t>(key[2]) << 32;
+  }
+  struct RayStart {
+    int step[3];
+    double t_max[3];
+    double t_delta[3];
+    double length;
+  };
+  /// computeRayKeys' initialisation; false when the ray has no free key (both ends in one voxel).
+  bool startRay(const octomap::point3d& origin, const int key_origin[3], const octomap::point3d& end,
+                const int key_end[3], RayStart& start) const;
+
   double resolution_;
   double resolution_factor_;
   int max_val_;

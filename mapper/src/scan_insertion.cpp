@@ -11,8 +11,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -62,7 +67,29 @@ BrickSet::BrickSet(const int lo[3], const int dims[3]) {
     dims_[i] = dims[i];
   }
   dense_count_ = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
-  bricks_.resize(dense_count_);
+  free_.resize(dense_count_ * kWords);
+  occupied_.resize(dense_count_ * kWords);
+  // Brick (bx, by, bz) of the box starts at bit ((bz * dims1 + by) * dims0 + bx) * 512; inside it,
+  // key bits interleave (kSpread).
+  const std::uint32_t stride[3] = {512, 512 * static_cast<std::uint32_t>(dims[0]),
+                                   512 * static_cast<std::uint32_t>(dims[0]) * static_cast<std::uint32_t>(dims[1])};
+  for (int a = 0; a < 3; ++a) {
+    axis_code_[a].resize(static_cast<std::size_t>(dims[a]) * 8);
+    for (std::uint32_t r = 0; r < axis_code_[a].size(); ++r) {
+      axis_code_[a][r] = (r >> 3) * stride[a] + (kSpread[r & 7] << a);
+    }
+  }
+}
+
+BrickSet::DenseIndex BrickSet::denseIndex() {
+  DenseIndex index;
+  index.free = free_.data();
+  for (int a = 0; a < 3; ++a) {
+    index.axis_code[a] = axis_code_[a].data();
+    index.lo[a] = static_cast<unsigned>(lo_[a]) * 8;
+    index.extent[a] = static_cast<unsigned>(dims_[a]) * 8;
+  }
+  return index;
 }
 
 std::uint64_t BrickSet::coordOf(std::size_t i) const {
@@ -98,79 +125,248 @@ std::uint32_t BrickSet::find(std::uint64_t coord) {
     s = (s + 1) & (slots_.size() - 1);
   }
   slots_[s] = coord + 1;
-  slot_index_[s] = static_cast<std::uint32_t>(bricks_.size());
-  bricks_.emplace_back();
+  slot_index_[s] = static_cast<std::uint32_t>(brickCount());
+  free_.resize(free_.size() + kWords);
+  occupied_.resize(occupied_.size() + kWords);
   coords_.push_back(coord);
   return slot_index_[s];
 }
 
-KeyCaster::KeyCaster(const octomap::OcTree& tree)
-    : resolution_(tree.getResolution()), resolution_factor_(1.0 / tree.getResolution()),
-      max_val_(32768) {}
-
-bool KeyCaster::coordToKeyChecked(double coordinate, int& key) const {
-  const double scaled = std::floor(resolution_factor_ * coordinate);
-  // octomap casts first; outside int's range (and for NaN) that is undefined, and never a valid key.
-  if (!(scaled > -2147483648.0 && scaled < 2147483647.0)) return false;
-  const int k = static_cast<int>(scaled) + max_val_;
-  if (k < 0 || k >= 2 * max_val_) return false;
-  key = k;
-  return true;
-}
-
-bool KeyCaster::coordToKeyChecked(const octomap::point3d& p, int key[3]) const {
-  return coordToKeyChecked(p(0), key[0]) && coordToKeyChecked(p(1), key[1]) && coordToKeyChecked(p(2), key[2]);
-}
-
-// Same arithmetic, statement for statement, as OcTreeBaseImpl::computeRayKeys (octomap 1.9),
-// without KeyRay's fixed 100000-key buffer.
-bool KeyCaster::castRay(const octomap::point3d& origin, const octomap::point3d& end, BrickSet& out) const {
-  int key_origin[3], key_end[3];
-  if (!coordToKeyChecked(origin, key_origin) || !coordToKeyChecked(end, key_end)) return false;
-  if (key_origin[0] == key_end[0] && key_origin[1] == key_end[1] && key_origin[2] == key_end[2]) return true;
-
-  out.mark(key_origin, false);
+bool KeyCaster::startRay(const octomap::point3d& origin, const int key_origin[3], const octomap::point3d& end,
+                        const int key_end[3], RayStart& start) const {
+  // OcTreeBaseImpl::computeRayKeys (octomap 1.9) up to its loop, statement for statement.
+  if (key_origin[0] == key_end[0] && key_origin[1] == key_end[1] && key_origin[2] == key_end[2]) return false;
 
   octomap::point3d direction = (end - origin);
   const float length = static_cast<float>(direction.norm());
   direction /= length;
 
-  int step[3];
-  double t_max[3];
-  double t_delta[3];
-  int current[3] = {key_origin[0], key_origin[1], key_origin[2]};
   for (int i = 0; i < 3; ++i) {
-    if (direction(i) > 0.0) step[i] = 1;
-    else if (direction(i) < 0.0) step[i] = -1;
-    else step[i] = 0;
+    if (direction(i) > 0.0) start.step[i] = 1;
+    else if (direction(i) < 0.0) start.step[i] = -1;
+    else start.step[i] = 0;
 
-    if (step[i] != 0) {
-      double voxel_border = (static_cast<double>(current[i] - max_val_) + 0.5) * resolution_;
-      voxel_border += static_cast<float>(step[i] * resolution_ * 0.5);
-      t_max[i] = (voxel_border - origin(i)) / direction(i);
-      t_delta[i] = resolution_ / std::fabs(direction(i));
+    if (start.step[i] != 0) {
+      double voxel_border = (static_cast<double>(key_origin[i] - max_val_) + 0.5) * resolution_;
+      voxel_border += static_cast<float>(start.step[i] * resolution_ * 0.5);
+      start.t_max[i] = (voxel_border - origin(i)) / direction(i);
+      start.t_delta[i] = resolution_ / std::fabs(direction(i));
     } else {
-      t_max[i] = std::numeric_limits<double>::max();
-      t_delta[i] = std::numeric_limits<double>::max();
+      start.t_max[i] = std::numeric_limits<double>::max();
+      start.t_delta[i] = std::numeric_limits<double>::max();
     }
   }
-
-  for (;;) {
-    int dim;
-    if (t_max[0] < t_max[1]) dim = t_max[0] < t_max[2] ? 0 : 2;
-    else dim = t_max[1] < t_max[2] ? 1 : 2;
-
-    // octomap's keys are 16-bit: stepping past the edge wraps.
-    current[dim] = (current[dim] + step[dim]) & 0xFFFF;
-    t_max[dim] += t_delta[dim];
-
-    if (current[0] == key_end[0] && current[1] == key_end[1] && current[2] == key_end[2]) break;
-    const double dist_from_origin = std::min(std::min(t_max[0], t_max[1]), t_max[2]);
-    if (dist_from_origin > length) break;
-    out.mark(current, false);
-  }
+  start.length = length;
   return true;
 }
+
+namespace {
+
+// Marks free the keys of a buffer: each key relative to the dense box's corner (index.lo),
+// packed rel0 | rel1 << 16 | rel2 << 32 (16-bit wrap); anything in bits 48-63: no key.
+void markFree(const std::uint64_t* keys, std::size_t count, const BrickSet::DenseIndex& index, BrickSet& out) {
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint64_t packed = keys[i];
+    const unsigned r0 = static_cast<unsigned>(packed & 0xFFFF);
+    const unsigned r1 = static_cast<unsigned>((packed >> 16) & 0xFFFF);
+    const unsigned r2 = static_cast<unsigned>(packed >> 32);
+    if ((r0 < index.extent[0]) & (r1 < index.extent[1]) & (r2 < index.extent[2])) {
+      const std::uint32_t code = index.axis_code[0][r0] + index.axis_code[1][r1] + index.axis_code[2][r2];
+      index.free[code >> 6] |= std::uint64_t{1} << (code & 63);
+    } else if ((packed >> 48) == 0) {
+      const int k[3] = {static_cast<int>((r0 + index.lo[0]) & 0xFFFF), static_cast<int>((r1 + index.lo[1]) & 0xFFFF),
+                        static_cast<int>((r2 + index.lo[2]) & 0xFFFF)};
+      out.mark(k, false);
+    }
+  }
+}
+
+// Steps walked between two passes marking their keys (16 KiB of keys: stays in L1).
+constexpr int kSteps = 512;
+
+#if defined(__SSE2__)
+
+// Two rays per SSE2 register. Keys are packed k0 | k1 << 16 | k2 << 32 in 16-bit lanes, so that
+// stepping past the edge of octomap's 16-bit keys wraps as octomap's does. A lane without a ray
+// never steps or stops and holds a key with bits 48-63 set (no key).
+struct LaneGroup {
+  __m128d t0, t1, t2, d0, d1, d2, limit;
+  __m128i key, key_end, step0, step1, step2;  // step_i: step[i] in key i's 16-bit lane
+};
+
+// One lane's ray, or an idle lane's values.
+struct LaneRay {
+  double t[3] = {0.0, 0.0, 0.0};
+  double delta[3] = {0.0, 0.0, 0.0};
+  double limit = std::numeric_limits<double>::infinity();
+  std::uint64_t key = std::uint64_t{0xFFFF} << 48;
+  std::uint64_t key_end = 0;
+  std::uint64_t step[3] = {0, 0, 0};
+};
+
+inline __m128d withLane(__m128d v, int lane, double x) {
+  return lane == 0 ? _mm_move_sd(v, _mm_set_sd(x)) : _mm_unpacklo_pd(v, _mm_set_sd(x));
+}
+
+inline __m128i withLane(__m128i v, int lane, std::uint64_t x) {
+  const __m128i s = _mm_cvtsi64_si128(static_cast<long long>(x));
+  return lane == 0 ? _mm_castpd_si128(_mm_move_sd(_mm_castsi128_pd(v), _mm_castsi128_pd(s)))
+                   : _mm_unpacklo_epi64(v, s);
+}
+
+inline void setLane(LaneGroup& g, int lane, const LaneRay& r) {
+  g.t0 = withLane(g.t0, lane, r.t[0]);
+  g.t1 = withLane(g.t1, lane, r.t[1]);
+  g.t2 = withLane(g.t2, lane, r.t[2]);
+  g.d0 = withLane(g.d0, lane, r.delta[0]);
+  g.d1 = withLane(g.d1, lane, r.delta[1]);
+  g.d2 = withLane(g.d2, lane, r.delta[2]);
+  g.limit = withLane(g.limit, lane, r.limit);
+  g.key = withLane(g.key, lane, r.key);
+  g.key_end = withLane(g.key_end, lane, r.key_end);
+  g.step0 = withLane(g.step0, lane, r.step[0]);
+  g.step1 = withLane(g.step1, lane, r.step[1]);
+  g.step2 = withLane(g.step2, lane, r.step[2]);
+}
+
+// One step of both lanes: the stepped keys, less `lo`, go to keys[0..1] (all ones where a ray
+// stopped). Returns the lanes whose ray stopped (movemask bits).
+inline int stepLanes(LaneGroup& g, __m128i lo, std::uint64_t* keys) {
+  const __m128d lt01 = _mm_cmplt_pd(g.t0, g.t1);
+  const __m128d x = _mm_and_pd(lt01, _mm_cmplt_pd(g.t0, g.t2));
+  const __m128d y = _mm_andnot_pd(lt01, _mm_cmplt_pd(g.t1, g.t2));
+  const __m128d z = _mm_andnot_pd(_mm_or_pd(x, y), _mm_castsi128_pd(_mm_set1_epi32(-1)));
+  g.t0 = _mm_add_pd(g.t0, _mm_and_pd(g.d0, x));
+  g.t1 = _mm_add_pd(g.t1, _mm_and_pd(g.d1, y));
+  g.t2 = _mm_add_pd(g.t2, _mm_and_pd(g.d2, z));
+  const __m128i steps = _mm_or_si128(_mm_or_si128(_mm_and_si128(g.step0, _mm_castpd_si128(x)),
+                                                  _mm_and_si128(g.step1, _mm_castpd_si128(y))),
+                                     _mm_and_si128(g.step2, _mm_castpd_si128(z)));
+  g.key = _mm_add_epi16(g.key, steps);
+  const __m128i same = _mm_cmpeq_epi32(g.key, g.key_end);
+  const __m128i at_end = _mm_and_si128(same, _mm_shuffle_epi32(same, _MM_SHUFFLE(2, 3, 0, 1)));
+  const __m128d past = _mm_cmpgt_pd(_mm_min_pd(_mm_min_pd(g.t0, g.t1), g.t2), g.limit);
+  const __m128i stop = _mm_or_si128(at_end, _mm_castpd_si128(past));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(keys), _mm_or_si128(_mm_sub_epi16(g.key, lo), stop));
+  return _mm_movemask_pd(_mm_castsi128_pd(stop));
+}
+
+}  // namespace
+
+// The walk of computeRayKeys, four rays at a time and without branches: which axis steps next is
+// as unpredictable as a ray's direction, and one ray's walk is a chain of dependent additions;
+// four independent chains in vector lanes keep the core busy. Each step is octomap's:
+//   dim = t0 < t1 ? (t0 < t2 ? 0 : 2) : (t1 < t2 ? 1 : 2); key[dim] += step[dim]; t[dim] += delta[dim];
+//   stop if key == key_end, or if min(t) > length; else the key is free.
+// An axis that does not step adds +0.0, which leaves its t unchanged. The keys go to a buffer that
+// a scalar pass then marks.
+void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3], const Ray* rays,
+                         std::size_t count, BrickSet& out) const {
+  std::size_t next = 0;
+  bool any_cast = false;
+  int active = 0;
+  const std::uint64_t packed_origin = packKey(key_origin);
+  // The next ray that has free keys, or an idle lane.
+  auto nextRay = [&] {
+    LaneRay lane;
+    RayStart start;
+    while (next < count) {
+      const Ray& ray = rays[next++];
+      if (!ray.casts || !startRay(origin, key_origin, ray.end, ray.key_end, start)) continue;
+      for (int a = 0; a < 3; ++a) {
+        lane.t[a] = start.t_max[a];
+        lane.delta[a] = start.t_delta[a];
+        lane.step[a] = static_cast<std::uint64_t>(start.step[a] & 0xFFFF) << (16 * a);
+      }
+      lane.limit = start.length;
+      lane.key = packed_origin;
+      lane.key_end = packKey(ray.key_end);
+      any_cast = true;
+      ++active;
+      break;
+    }
+    return lane;
+  };
+  LaneGroup g0, g1;
+  const LaneRay r00 = nextRay(), r01 = nextRay(), r10 = nextRay(), r11 = nextRay();
+  g0.t0 = _mm_set_pd(r01.t[0], r00.t[0]);
+  g0.t1 = _mm_set_pd(r01.t[1], r00.t[1]);
+  g0.t2 = _mm_set_pd(r01.t[2], r00.t[2]);
+  g0.d0 = _mm_set_pd(r01.delta[0], r00.delta[0]);
+  g0.d1 = _mm_set_pd(r01.delta[1], r00.delta[1]);
+  g0.d2 = _mm_set_pd(r01.delta[2], r00.delta[2]);
+  g0.limit = _mm_set_pd(r01.limit, r00.limit);
+  g0.key = _mm_set_epi64x(static_cast<long long>(r01.key), static_cast<long long>(r00.key));
+  g0.key_end = _mm_set_epi64x(static_cast<long long>(r01.key_end), static_cast<long long>(r00.key_end));
+  g0.step0 = _mm_set_epi64x(static_cast<long long>(r01.step[0]), static_cast<long long>(r00.step[0]));
+  g0.step1 = _mm_set_epi64x(static_cast<long long>(r01.step[1]), static_cast<long long>(r00.step[1]));
+  g0.step2 = _mm_set_epi64x(static_cast<long long>(r01.step[2]), static_cast<long long>(r00.step[2]));
+  g1 = g0;
+  setLane(g1, 0, r10);
+  setLane(g1, 1, r11);
+
+  const BrickSet::DenseIndex index = out.denseIndex();
+  const __m128i lo = _mm_set1_epi64x(static_cast<long long>(
+      index.lo[0] | static_cast<std::uint64_t>(index.lo[1]) << 16 | static_cast<std::uint64_t>(index.lo[2]) << 32));
+  alignas(16) std::uint64_t keys[kSteps * 4];
+  while (active > 0) {
+    int steps = kSteps;
+    for (int n = 0; n < kSteps; ++n) {
+      const int stop0 = stepLanes(g0, lo, &keys[4 * n]);
+      const int stop1 = stepLanes(g1, lo, &keys[4 * n + 2]);
+      if ((stop0 | stop1) != 0) {
+        active -= __builtin_popcount(static_cast<unsigned>(stop0 | stop1 << 2));
+        if (stop0 & 1) setLane(g0, 0, nextRay());
+        if (stop0 & 2) setLane(g0, 1, nextRay());
+        if (stop1 & 1) setLane(g1, 0, nextRay());
+        if (stop1 & 2) setLane(g1, 1, nextRay());
+        if (active == 0) {
+          steps = n + 1;
+          break;
+        }
+      }
+    }
+    markFree(keys, static_cast<std::size_t>(steps) * 4, index, out);
+  }
+  if (any_cast) out.mark(key_origin, false);
+}
+
+#else
+
+// computeRayKeys' walk, one ray at a time.
+void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3], const Ray* rays,
+                         std::size_t count, BrickSet& out) const {
+  const BrickSet::DenseIndex index = out.denseIndex();
+  const int lo[3] = {static_cast<int>(index.lo[0]), static_cast<int>(index.lo[1]), static_cast<int>(index.lo[2])};
+  std::uint64_t keys[kSteps];
+  int n = 0;
+  bool any_cast = false;
+  for (std::size_t r = 0; r < count; ++r) {
+    RayStart start;
+    if (!rays[r].casts || !startRay(origin, key_origin, rays[r].end, rays[r].key_end, start)) continue;
+    any_cast = true;
+    double t[3] = {start.t_max[0], start.t_max[1], start.t_max[2]};
+    int key[3] = {key_origin[0], key_origin[1], key_origin[2]};
+    const int* key_end = rays[r].key_end;
+    for (;;) {
+      const int dim = t[0] < t[1] ? (t[0] < t[2] ? 0 : 2) : (t[1] < t[2] ? 1 : 2);
+      key[dim] = (key[dim] + start.step[dim]) & 0xFFFF;
+      t[dim] += start.t_delta[dim];
+      if (key[0] == key_end[0] && key[1] == key_end[1] && key[2] == key_end[2]) break;
+      if (std::min(std::min(t[0], t[1]), t[2]) > start.length) break;
+      const int rel[3] = {(key[0] - lo[0]) & 0xFFFF, (key[1] - lo[1]) & 0xFFFF, (key[2] - lo[2]) & 0xFFFF};
+      keys[n++] = packKey(rel);
+      if (n == kSteps) {
+        markFree(keys, kSteps, index, out);
+        n = 0;
+      }
+    }
+  }
+  markFree(keys, static_cast<std::size_t>(n), index, out);
+  if (any_cast) out.mark(key_origin, false);
+}
+
+#endif
 
 namespace {
 
@@ -255,7 +451,8 @@ namespace {
 
 struct OrderedBrick {
   std::uint64_t code;  // brick Morton
-  const BrickSet::Brick* brick;
+  const BrickSet* set;
+  std::size_t brick;
 };
 
 void sortBricks(std::vector<OrderedBrick>& bricks) {
@@ -303,31 +500,34 @@ std::vector<VoxelUpdate> computeScanUpdate(const octomap::OcTree& tree, const Po
     return origin + direction * static_cast<float>(max_range);
   };
 
-  // Box of the ray ends' bricks (rays stay between their ends' keys, give or take a voxel).
+  // Each ray's end and its key, and the box of the ends' bricks (rays stay between their ends'
+  // keys, give or take a voxel).
   struct Box {
     int lo[3] = {1 << 30, 1 << 30, 1 << 30};
     int hi[3] = {-1, -1, -1};
   };
   tbb::enumerable_thread_specific<Box> boxes;
-  int origin_key[3];
+  int origin_key[3] = {0, 0, 0};
   const bool origin_ok = caster.coordToKeyChecked(origin, origin_key);
-  if (origin_ok) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4096),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-      Box& box = boxes.local();
-      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-        bool endpoint;
-        int key[3];
-        if (!caster.coordToKeyChecked(rayEnd(toPoint3d(points[i]), endpoint), key)) continue;
-        for (int a = 0; a < 3; ++a) {
-          box.lo[a] = std::min(box.lo[a], key[a] >> 3);
-          box.hi[a] = std::max(box.hi[a], key[a] >> 3);
-        }
+  std::vector<KeyCaster::Ray> rays(points.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4096),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+    Box& box = boxes.local();
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      bool endpoint;
+      KeyCaster::Ray& ray = rays[i];
+      ray.end = rayEnd(toPoint3d(points[i]), endpoint);
+      // When `endpoint`, the end is the point itself: its key is the occupied one.
+      if (!caster.coordToKeyChecked(ray.end, ray.key_end)) continue;
+      ray.casts = origin_ok;
+      ray.occupied = endpoint;
+      for (int a = 0; a < 3; ++a) {
+        box.lo[a] = std::min(box.lo[a], ray.key_end[a] >> 3);
+        box.hi[a] = std::max(box.hi[a], ray.key_end[a] >> 3);
       }
-    });
-  }
-  int lo[3], dims[3] = {0, 0, 0};
-  std::size_t dense = 0;
+    }
+  });
+  int lo[3] = {0, 0, 0}, dims[3] = {0, 0, 0};
   if (origin_ok) {
     for (int a = 0; a < 3; ++a) {
       lo[a] = origin_key[a] >> 3;
@@ -339,7 +539,7 @@ std::vector<VoxelUpdate> computeScanUpdate(const octomap::OcTree& tree, const Po
       lo[a] = std::max(0, lo[a] - 1);
       dims[a] = std::min(8191, hi + 1) - lo[a] + 1;
     }
-    dense = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
+    const std::size_t dense = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
     if (dense > kMaxDenseBricks || dense > 64 * points.size() + 4096) dims[0] = dims[1] = dims[2] = 0;
   }
 
@@ -348,13 +548,9 @@ std::vector<VoxelUpdate> computeScanUpdate(const octomap::OcTree& tree, const Po
                     [&](const tbb::blocked_range<std::size_t>& range) {
     BrickSet& set = local.local();
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      const octomap::point3d p = toPoint3d(points[i]);
-      bool endpoint;
-      const octomap::point3d end = rayEnd(p, endpoint);
-      caster.castRay(origin, end, set);
-      int key[3];
-      if (endpoint && caster.coordToKeyChecked(p, key)) set.mark(key, true);
+      if (rays[i].occupied) set.mark(rays[i].key_end, true);
     }
+    caster.castRays(origin, origin_key, rays.data() + range.begin(), range.size(), set);
   });
 
   std::vector<BrickSet*> sets;
@@ -368,11 +564,13 @@ std::vector<VoxelUpdate> computeScanUpdate(const octomap::OcTree& tree, const Po
                       [&](const tbb::blocked_range<std::size_t>& range) {
       for (std::size_t t = 1; t < sets.size(); ++t) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
-          BrickSet::Brick& into = first.bricks()[i];
-          const BrickSet::Brick& from = sets[t]->bricks()[i];
-          for (int w = 0; w < 8; ++w) {
-            into.free[w] |= from.free[w];
-            into.occupied[w] |= from.occupied[w];
+          std::uint64_t* free = first.freeWords(i);
+          std::uint64_t* occupied = first.occupiedWords(i);
+          const std::uint64_t* other_free = sets[t]->freeWords(i);
+          const std::uint64_t* other_occupied = sets[t]->occupiedWords(i);
+          for (std::size_t w = 0; w < BrickSet::kWords; ++w) {
+            free[w] |= other_free[w];
+            occupied[w] |= other_occupied[w];
           }
         }
       }
@@ -380,11 +578,11 @@ std::vector<VoxelUpdate> computeScanUpdate(const octomap::OcTree& tree, const Po
   }
   std::vector<OrderedBrick> order;
   for (std::size_t i = 0; i < dense_count; ++i) {
-    if (!first.bricks()[i].empty()) order.push_back({brickMorton(first.coordOf(i)), &first.bricks()[i]});
+    if (!first.empty(i)) order.push_back({brickMorton(first.coordOf(i)), &first, i});
   }
   for (const BrickSet* set : sets) {
-    for (std::size_t i = set->denseCount(); i < set->bricks().size(); ++i) {
-      order.push_back({brickMorton(set->coordOf(i)), &set->bricks()[i]});
+    for (std::size_t i = set->denseCount(); i < set->brickCount(); ++i) {
+      order.push_back({brickMorton(set->coordOf(i)), set, i});
     }
   }
   sortBricks(order);
@@ -392,22 +590,23 @@ std::vector<VoxelUpdate> computeScanUpdate(const octomap::OcTree& tree, const Po
   // Voxels in Morton order; occupied wins over free.
   std::vector<VoxelUpdate> updates;
   for (std::size_t i = 0; i < order.size();) {
-    BrickSet::Brick merged;
+    std::uint64_t free[BrickSet::kWords] = {}, occupied[BrickSet::kWords] = {};
     std::size_t j = i;
     for (; j < order.size() && order[j].code == order[i].code; ++j) {
-      for (int w = 0; w < 8; ++w) {
-        merged.free[w] |= order[j].brick->free[w];
-        merged.occupied[w] |= order[j].brick->occupied[w];
+      const std::uint64_t* other_free = order[j].set->freeWords(order[j].brick);
+      const std::uint64_t* other_occupied = order[j].set->occupiedWords(order[j].brick);
+      for (std::size_t w = 0; w < BrickSet::kWords; ++w) {
+        free[w] |= other_free[w];
+        occupied[w] |= other_occupied[w];
       }
     }
     const std::uint64_t base = order[i].code << 9;
-    for (unsigned w = 0; w < 8; ++w) {
-      const std::uint64_t occupied = merged.occupied[w];
-      std::uint64_t any = merged.free[w] | occupied;
+    for (unsigned w = 0; w < BrickSet::kWords; ++w) {
+      std::uint64_t any = free[w] | occupied[w];
       while (any != 0) {
         const unsigned bit = static_cast<unsigned>(__builtin_ctzll(any));
         any &= any - 1;
-        updates.push_back({(base | (w << 6) | bit) << 1 | ((occupied >> bit) & 1), 1});
+        updates.push_back({(base | (w << 6) | bit) << 1 | ((occupied[w] >> bit) & 1), 1});
       }
     }
     i = j;
