@@ -5,8 +5,9 @@
 #
 # BUILD_DIR is a build configured with -DHULLMAP_BUILD_BENCH=ON and built (target
 # hullmap_bench_insertion). Times octomap's insertPointCloud and hullmap's insertScan on the same
-# scan in one run (OctoMap's FR-079 scan octomap_scan.dat from shared/data/real, and a generated
-# 65,536-point scan), at 0.05, 0.1 and 0.2 m, and checks the two trees are identical.
+# scan in one run (OctoMap's FR-079 scan octomap_scan.dat from shared/data/real, a generated
+# 65,536-point in-room scan and a generated 65,536-beam lidar scan of a large yard), at 0.05, 0.1
+# and 0.2 m, and checks the two trees are identical.
 set -eu
 
 if [ $# -lt 1 ]; then
@@ -38,6 +39,13 @@ echo "hullmap's \`insertScan\` (same tree, checked leaf for leaf in the run), me
 echo "$(nproc) cores. *Ray keys only*: octomap's \`computeRayKeys\` for every point and nothing else"
 echo "(one thread), the arithmetic both must do. *Cast* and *apply* are hullmap's two phases: rays cast"
 echo "in parallel into per-thread bit bricks and merged in octree order; one ordered pass updating the tree."
+echo
+echo "Scans: \`octomap_scan.dat\`, OctoMap's FR-079 corridor scan (sensor at the origin);"
+echo "\`generated_65536\`, the map points of hullmap's generated room scene (10 m room, 8 obstacles) seen"
+echo "from its first keyframe: short rays that overlap near the camera; \`lidar_65536\`, a generated"
+echo "64-beam x 1024-step spinning lidar 1.8 m above a 120 m x 90 m walled yard with buildings, cars and"
+echo "poles: long rays spread over a large volume, few rays through each voxel (the regime of a lidar scan"
+echo "with its keyframe trajectory)."
 echo "Regenerate with \`bench/section_insertion.sh BUILD_DIR\`."
 echo
 echo "| scan | points | resolution (m) | octomap ms | hullmap ms | speed-up | ray-keys-only ms | cast ms | apply ms | voxels updated | identical |"
