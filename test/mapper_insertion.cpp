@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <random>
 
@@ -34,8 +35,10 @@ TEST(MapperInsertion, RealScanSameTreeAsInsertPointCloud) {
   for (double resolution : {0.05, 0.1, 0.2}) {
     expectSameAsOctomap(scan, Point::Zero(), resolution, -1.0, 1);
   }
-  // Repeated insertion drives leaves to the clamping bounds, where octomap aborts early and prunes.
-  expectSameAsOctomap(scan, Point::Zero(), 0.2, -1.0, 4);
+  // Repeated insertion drives leaves to the clamping bounds, where octomap aborts early and prunes:
+  // hits clamp after 3 insertions, misses after 5; by the 7th, clamped free space is pruned into
+  // leaves far above the voxels, under which every free update aborts.
+  expectSameAsOctomap(scan, Point::Zero(), 0.2, -1.0, 7);
   expectSameAsOctomap(scan, Point::Zero(), 0.1, 3.0, 3);
 }
 
@@ -59,6 +62,20 @@ TEST(MapperInsertion, GeneratedScansSameTreeAsInsertPointCloud) {
       }
     }
   }
+}
+
+TEST(MapperInsertion, ClampedFreeSpaceAbortsAsOctomap) {
+  // 20,000 rays to a 4 m sphere cover every 0.1 m voxel of the 1.6 m cube (a node at depth 12)
+  // around the sensor: repeated, its free space clamps and is pruned into one leaf, under which
+  // all later free updates abort, and octomap leaves that leaf alone.
+  const Point origin(0.8, 0.8, 0.8);
+  Points points;
+  const double golden = 3.14159265358979323846 * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < 20000; ++i) {
+    const double z = 1.0 - 2.0 * (i + 0.5) / 20000.0, r = std::sqrt(1.0 - z * z);
+    points.push_back(origin + 4.0 * Point(r * std::cos(golden * i), r * std::sin(golden * i), z));
+  }
+  expectSameAsOctomap(points, origin, 0.1, -1.0, 7);
 }
 
 TEST(MapperInsertion, PointsInOneVoxelAndOriginInsideTheCloud) {
