@@ -162,23 +162,20 @@ void run(const std::string& name, const Points& points, const Point& origin, dou
     }
   }, repeats);
 
-  std::vector<hullmap::mapper::detail::VoxelUpdate> updates;
+  hullmap::mapper::detail::ScanUpdate update;
   const double cast_ms = millis([&] {
-    updates = hullmap::mapper::detail::computeScanUpdate(ours, points, origin, -1.0);
+    update = hullmap::mapper::detail::computeScanUpdate(ours, points, origin, -1.0);
   }, repeats);
   octomap::OcTree phases(resolution);
-  std::vector<hullmap::mapper::detail::VoxelUpdate> copy;
-  const double apply_ms = millis([&] { hullmap::mapper::detail::applyUpdates(phases, copy); }, repeats, [&] {
-    phases.clear();
-    copy = updates;
-  });
+  const double apply_ms = millis([&] { hullmap::mapper::detail::applyScanUpdate(phases, update); }, repeats,
+                                 [&] { phases.clear(); });
 
   std::printf(
       "{\"scan\": \"%s\", \"points\": %zu, \"resolution\": %.3f, \"octomap_ms\": %.2f, \"hullmap_ms\": %.2f, "
       "\"speedup\": %.2f, \"ray_keys_ms\": %.2f, \"cast_ms\": %.2f, \"apply_ms\": %.2f, \"ray_keys\": %zu, "
       "\"voxels_updated\": %zu, \"leaves\": %zu, \"identical\": %s}\n",
       name.c_str(), points.size(), resolution, octomap_ms, hullmap_ms, octomap_ms / hullmap_ms, ray_keys_ms, cast_ms,
-      apply_ms, keys, updates.size(), static_cast<std::size_t>(ours.getNumLeafNodes()),
+      apply_ms, keys, update.voxelCount(), static_cast<std::size_t>(ours.getNumLeafNodes()),
       identical(reference, ours) && identical(reference, phases) ? "true" : "false");
   std::fflush(stdout);
 }

@@ -2,12 +2,15 @@
 //
 // octomap spends its time in two places: inserting every ray key into a shared unordered_set under an
 // OpenMP critical section, and one updateNode per voxel, each a descent from the root (with a search
-// first for its early abort). Here each thread casts its share of the rays with the same DDA
-// arithmetic into its own set of 8x8x8 bit bricks; the bricks are merged in Morton order (occupied
-// wins over free, as in computeUpdate), which yields the voxels already sorted in octree order; they
-// are applied in one depth-first pass that visits each node once and repeats octomap's per-key rules
-// (early abort at clamped leaves, expansion of pruned leaves, child creation, pruning, inner-node
-// maximum). Each voxel is updated once per scan, so the order of updates does not change the tree.
+// first for its early abort). Here each thread walks its share of the rays with computeRayKeys'
+// arithmetic, four rays at a time in SSE2 lanes, and sets the keys' bits in its own 8x8x8 bit
+// bricks (allocated when first marked, found through a grid over the scan's box). All threads'
+// bricks are sorted in Morton order; a brick marked by several threads is OR-ed (occupied wins over
+// free, as in computeUpdate) when the update reaches it. The update is one depth-first pass that
+// visits each node once, split by brick code above a brick's root and by the brick's bits below,
+// and repeats octomap's per-key rules (early abort at clamped leaves, expansion of pruned leaves,
+// child creation, pruning, inner-node maximum). Each voxel is updated once per scan, so the order of
+// updates does not change the tree.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -15,7 +18,7 @@
 #include <limits>
 #include <vector>
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && defined(__x86_64__)
 #include <emmintrin.h>
 #endif
 
@@ -30,6 +33,14 @@ namespace hullmap::mapper {
 namespace detail {
 
 namespace {
+
+// Set bits (SWAR: x86-64's baseline has no popcnt instruction).
+std::size_t bitCount(std::uint64_t v) {
+  v = v - ((v >> 1) & 0x5555555555555555ull);
+  v = (v & 0x3333333333333333ull) + ((v >> 2) & 0x3333333333333333ull);
+  v = (v + (v >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+  return static_cast<std::size_t>((v * 0x0101010101010101ull) >> 56);
+}
 
 std::uint64_t spreadBits(std::uint64_t v) {
   v &= 0xFFFF;
@@ -65,39 +76,36 @@ BrickSet::BrickSet(const int lo[3], const int dims[3]) {
   for (int i = 0; i < 3; ++i) {
     lo_[i] = lo[i];
     dims_[i] = dims[i];
+    grid_lo_[i] = static_cast<unsigned>(lo[i]) * 8;
+    grid_extent_[i] = static_cast<unsigned>(dims[i]) * 8;
   }
-  dense_count_ = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
-  free_.resize(dense_count_ * kWords);
-  occupied_.resize(dense_count_ * kWords);
-  // Brick (bx, by, bz) of the box starts at bit ((bz * dims1 + by) * dims0 + bx) * 512; inside it,
-  // key bits interleave (kSpread).
+  grid_.assign(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2], kNoBrick);
+  // Cell (bx, by, bz) of the grid is (bz * dims1 + by) * dims0 + bx; inside a brick, key bits
+  // interleave (kSpread).
   const std::uint32_t stride[3] = {512, 512 * static_cast<std::uint32_t>(dims[0]),
                                    512 * static_cast<std::uint32_t>(dims[0]) * static_cast<std::uint32_t>(dims[1])};
   for (int a = 0; a < 3; ++a) {
-    axis_code_[a].resize(static_cast<std::size_t>(dims[a]) * 8);
-    for (std::uint32_t r = 0; r < axis_code_[a].size(); ++r) {
-      axis_code_[a][r] = (r >> 3) * stride[a] + (kSpread[r & 7] << a);
-    }
+    axis_code_[a].resize(grid_extent_[a]);
+    for (std::uint32_t r = 0; r < grid_extent_[a]; ++r) axis_code_[a][r] = (r >> 3) * stride[a] + (kSpread[r & 7] << a);
   }
 }
 
-BrickSet::DenseIndex BrickSet::denseIndex() {
-  DenseIndex index;
-  index.free = free_.data();
-  for (int a = 0; a < 3; ++a) {
-    index.axis_code[a] = axis_code_[a].data();
-    index.lo[a] = static_cast<unsigned>(lo_[a]) * 8;
-    index.extent[a] = static_cast<unsigned>(dims_[a]) * 8;
-  }
+std::uint32_t BrickSet::addBrick(std::uint64_t coord) {
+  const std::uint32_t index = static_cast<std::uint32_t>(coords_.size());
+  free_.resize(free_.size() + kWords);
+  occupied_.resize(occupied_.size() + kWords);
+  coords_.push_back(coord);
   return index;
 }
 
-std::uint64_t BrickSet::coordOf(std::size_t i) const {
-  if (i >= dense_count_) return coords_[i - dense_count_];
-  const std::uint64_t x = lo_[0] + i % dims_[0];
-  const std::uint64_t y = lo_[1] + (i / dims_[0]) % dims_[1];
-  const std::uint64_t z = lo_[2] + i / (static_cast<std::size_t>(dims_[0]) * dims_[1]);
-  return x | y << 13 | z << 26;
+std::uint32_t BrickSet::gridBrick(std::size_t cell) {
+  if (grid_[cell] == kNoBrick) {
+    const std::uint64_t x = lo_[0] + cell % dims_[0];
+    const std::uint64_t y = lo_[1] + (cell / dims_[0]) % dims_[1];
+    const std::uint64_t z = lo_[2] + cell / (static_cast<std::size_t>(dims_[0]) * dims_[1]);
+    grid_[cell] = addBrick(x | y << 13 | z << 26) * kWords;
+  }
+  return grid_[cell] / kWords;
 }
 
 std::uint32_t BrickSet::find(std::uint64_t coord) {
@@ -105,18 +113,23 @@ std::uint32_t BrickSet::find(std::uint64_t coord) {
   const unsigned y = static_cast<unsigned>((coord >> 13) & 0x1FFF) - lo_[1];
   const unsigned z = static_cast<unsigned>(coord >> 26) - lo_[2];
   if (x < static_cast<unsigned>(dims_[0]) && y < static_cast<unsigned>(dims_[1]) && z < static_cast<unsigned>(dims_[2])) {
-    return static_cast<std::uint32_t>((static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0] + x);
+    return gridBrick((static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0] + x);
   }
-  if (2 * (coords_.size() + 1) > slots_.size()) {
+  if (2 * (hashed_ + 1) > slots_.size()) {
     const std::size_t capacity = std::max<std::size_t>(4096, 2 * slots_.size());
+    std::vector<std::uint64_t> old_slots;
+    std::vector<std::uint32_t> old_index;
+    old_slots.swap(slots_);
+    old_index.swap(slot_index_);
     slots_.assign(capacity, 0);
     slot_index_.assign(capacity, 0);
     shift_ = 64 - static_cast<unsigned>(std::log2(static_cast<double>(capacity)) + 0.5);
-    for (std::uint32_t i = 0; i < coords_.size(); ++i) {
-      std::size_t s = static_cast<std::size_t>((coords_[i] * 0x9E3779B97F4A7C15ull) >> shift_);
+    for (std::size_t i = 0; i < old_slots.size(); ++i) {
+      if (old_slots[i] == 0) continue;
+      std::size_t s = static_cast<std::size_t>(((old_slots[i] - 1) * 0x9E3779B97F4A7C15ull) >> shift_);
       while (slots_[s] != 0) s = (s + 1) & (capacity - 1);
-      slots_[s] = coords_[i] + 1;
-      slot_index_[s] = static_cast<std::uint32_t>(dense_count_ + i);
+      slots_[s] = old_slots[i];
+      slot_index_[s] = old_index[i];
     }
   }
   std::size_t s = static_cast<std::size_t>((coord * 0x9E3779B97F4A7C15ull) >> shift_);
@@ -125,11 +138,36 @@ std::uint32_t BrickSet::find(std::uint64_t coord) {
     s = (s + 1) & (slots_.size() - 1);
   }
   slots_[s] = coord + 1;
-  slot_index_[s] = static_cast<std::uint32_t>(brickCount());
-  free_.resize(free_.size() + kWords);
-  occupied_.resize(occupied_.size() + kWords);
-  coords_.push_back(coord);
+  slot_index_[s] = addBrick(coord);
+  ++hashed_;
   return slot_index_[s];
+}
+
+void BrickSet::markFree(const std::uint64_t* keys, std::size_t count) {
+  const std::uint32_t* code0 = axis_code_[0].data();
+  const std::uint32_t* code1 = axis_code_[1].data();
+  const std::uint32_t* code2 = axis_code_[2].data();
+  std::uint64_t* free = free_.data();
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint64_t packed = keys[i];
+    const unsigned r0 = static_cast<unsigned>(packed & 0xFFFF);
+    const unsigned r1 = static_cast<unsigned>((packed >> 16) & 0xFFFF);
+    const unsigned r2 = static_cast<unsigned>(packed >> 32);
+    if ((r0 < grid_extent_[0]) & (r1 < grid_extent_[1]) & (r2 < grid_extent_[2])) {
+      const std::uint32_t code = code0[r0] + code1[r1] + code2[r2];
+      std::uint32_t word = grid_[code >> 9];
+      if (word == kNoBrick) {
+        word = gridBrick(code >> 9) * kWords;
+        free = free_.data();
+      }
+      free[word + ((code >> 6) & 7)] |= std::uint64_t{1} << (code & 63);
+    } else if ((packed >> 48) == 0) {
+      const int k[3] = {static_cast<int>((r0 + grid_lo_[0]) & 0xFFFF), static_cast<int>((r1 + grid_lo_[1]) & 0xFFFF),
+                        static_cast<int>((r2 + grid_lo_[2]) & 0xFFFF)};
+      mark(k, false);
+      free = free_.data();
+    }
+  }
 }
 
 bool KeyCaster::startRay(const octomap::point3d& origin, const int key_origin[3], const octomap::point3d& end,
@@ -162,29 +200,10 @@ bool KeyCaster::startRay(const octomap::point3d& origin, const int key_origin[3]
 
 namespace {
 
-// Marks free the keys of a buffer: each key relative to the dense box's corner (index.lo),
-// packed rel0 | rel1 << 16 | rel2 << 32 (16-bit wrap); anything in bits 48-63: no key.
-void markFree(const std::uint64_t* keys, std::size_t count, const BrickSet::DenseIndex& index, BrickSet& out) {
-  for (std::size_t i = 0; i < count; ++i) {
-    const std::uint64_t packed = keys[i];
-    const unsigned r0 = static_cast<unsigned>(packed & 0xFFFF);
-    const unsigned r1 = static_cast<unsigned>((packed >> 16) & 0xFFFF);
-    const unsigned r2 = static_cast<unsigned>(packed >> 32);
-    if ((r0 < index.extent[0]) & (r1 < index.extent[1]) & (r2 < index.extent[2])) {
-      const std::uint32_t code = index.axis_code[0][r0] + index.axis_code[1][r1] + index.axis_code[2][r2];
-      index.free[code >> 6] |= std::uint64_t{1} << (code & 63);
-    } else if ((packed >> 48) == 0) {
-      const int k[3] = {static_cast<int>((r0 + index.lo[0]) & 0xFFFF), static_cast<int>((r1 + index.lo[1]) & 0xFFFF),
-                        static_cast<int>((r2 + index.lo[2]) & 0xFFFF)};
-      out.mark(k, false);
-    }
-  }
-}
-
 // Steps walked between two passes marking their keys (16 KiB of keys: stays in L1).
 constexpr int kSteps = 512;
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && defined(__x86_64__)
 
 // Two rays per SSE2 register. Keys are packed k0 | k1 << 16 | k2 << 32 in 16-bit lanes, so that
 // stepping past the edge of octomap's 16-bit keys wraps as octomap's does. A lane without a ray
@@ -305,9 +324,9 @@ void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3]
   setLane(g1, 0, r10);
   setLane(g1, 1, r11);
 
-  const BrickSet::DenseIndex index = out.denseIndex();
+  const unsigned* grid_lo = out.gridLo();
   const __m128i lo = _mm_set1_epi64x(static_cast<long long>(
-      index.lo[0] | static_cast<std::uint64_t>(index.lo[1]) << 16 | static_cast<std::uint64_t>(index.lo[2]) << 32));
+      grid_lo[0] | static_cast<std::uint64_t>(grid_lo[1]) << 16 | static_cast<std::uint64_t>(grid_lo[2]) << 32));
   alignas(16) std::uint64_t keys[kSteps * 4];
   while (active > 0) {
     int steps = kSteps;
@@ -315,7 +334,7 @@ void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3]
       const int stop0 = stepLanes(g0, lo, &keys[4 * n]);
       const int stop1 = stepLanes(g1, lo, &keys[4 * n + 2]);
       if ((stop0 | stop1) != 0) {
-        active -= __builtin_popcount(static_cast<unsigned>(stop0 | stop1 << 2));
+        active -= static_cast<int>(bitCount(static_cast<unsigned>(stop0 | stop1 << 2)));
         if (stop0 & 1) setLane(g0, 0, nextRay());
         if (stop0 & 2) setLane(g0, 1, nextRay());
         if (stop1 & 1) setLane(g1, 0, nextRay());
@@ -326,7 +345,7 @@ void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3]
         }
       }
     }
-    markFree(keys, static_cast<std::size_t>(steps) * 4, index, out);
+    out.markFree(keys, static_cast<std::size_t>(steps) * 4);
   }
   if (any_cast) out.mark(key_origin, false);
 }
@@ -336,8 +355,8 @@ void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3]
 // computeRayKeys' walk, one ray at a time.
 void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3], const Ray* rays,
                          std::size_t count, BrickSet& out) const {
-  const BrickSet::DenseIndex index = out.denseIndex();
-  const int lo[3] = {static_cast<int>(index.lo[0]), static_cast<int>(index.lo[1]), static_cast<int>(index.lo[2])};
+  const int lo[3] = {static_cast<int>(out.gridLo()[0]), static_cast<int>(out.gridLo()[1]),
+                     static_cast<int>(out.gridLo()[2])};
   std::uint64_t keys[kSteps];
   int n = 0;
   bool any_cast = false;
@@ -357,18 +376,29 @@ void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3]
       const int rel[3] = {(key[0] - lo[0]) & 0xFFFF, (key[1] - lo[1]) & 0xFFFF, (key[2] - lo[2]) & 0xFFFF};
       keys[n++] = packKey(rel);
       if (n == kSteps) {
-        markFree(keys, kSteps, index, out);
+        out.markFree(keys, kSteps);
         n = 0;
       }
     }
   }
-  markFree(keys, static_cast<std::size_t>(n), index, out);
+  out.markFree(keys, static_cast<std::size_t>(n));
   if (any_cast) out.mark(key_origin, false);
 }
 
 #endif
 
 namespace {
+
+// First update in [begin, end) (sorted) with code >= limit. Exponential search: the runs of one
+// child are long near the root and short near the leaves, and a scan would read every update at
+// every level.
+VoxelUpdate* firstAtLeast(VoxelUpdate* begin, VoxelUpdate* end, std::uint64_t limit) {
+  const std::size_t n = static_cast<std::size_t>(end - begin);
+  std::size_t bound = 1;
+  while (bound <= n && begin[bound - 1].code < limit) bound *= 2;
+  return std::lower_bound(begin + bound / 2, begin + std::min(bound, n), limit,
+                          [](const VoxelUpdate& u, std::uint64_t l) { return u.code < l; });
+}
 
 class BatchUpdate {
  public:
@@ -397,8 +427,7 @@ class BatchUpdate {
     bool changed = false;
     for (VoxelUpdate* it = begin; it != end;) {
       const unsigned pos = static_cast<unsigned>((it->code >> shift) & 7);
-      VoxelUpdate* run = it + 1;
-      while (run != end && static_cast<unsigned>((run->code >> shift) & 7) == pos) ++run;
+      VoxelUpdate* run = firstAtLeast(it + 1, end, ((it->code >> shift) + 1) << shift);
       bool created = false;
       if (!tree_.nodeChildExists(node, pos)) {
         if (!tree_.nodeHasChildren(node) && !just_created) {
@@ -449,15 +478,9 @@ void sortUpdates(std::vector<VoxelUpdate>& updates) {
 
 namespace {
 
-struct OrderedBrick {
-  std::uint64_t code;  // brick Morton
-  const BrickSet* set;
-  std::size_t brick;
-};
-
-void sortBricks(std::vector<OrderedBrick>& bricks) {
+void sortBricks(std::vector<ScanUpdate::Entry>& bricks) {
   // 39-bit codes: three passes of 13 bits.
-  std::vector<OrderedBrick> buffer(bricks.size());
+  std::vector<ScanUpdate::Entry> buffer(bricks.size());
   std::vector<std::size_t> count(1 << 13);
   for (unsigned pass = 0; pass < 3; ++pass) {
     const unsigned shift = 13 * pass;
@@ -474,18 +497,38 @@ void sortBricks(std::vector<OrderedBrick>& bricks) {
   }
 }
 
+// The voxels of the entries [begin, end) of one brick: occupied, and free but not occupied.
+void mergeBrick(const ScanUpdate& update, const ScanUpdate::Entry* begin, const ScanUpdate::Entry* end,
+                std::uint64_t occupied[BrickSet::kWords], std::uint64_t free[BrickSet::kWords]) {
+  for (std::size_t w = 0; w < BrickSet::kWords; ++w) occupied[w] = free[w] = 0;
+  for (const ScanUpdate::Entry* e = begin; e != end; ++e) {
+    const BrickSet& set = update.sets[e->set];
+    for (std::size_t w = 0; w < BrickSet::kWords; ++w) {
+      occupied[w] |= set.occupiedWords(e->brick)[w];
+      free[w] |= set.freeWords(e->brick)[w];
+    }
+  }
+  for (std::size_t w = 0; w < BrickSet::kWords; ++w) free[w] &= ~occupied[w];
+}
+
+const ScanUpdate::Entry* brickEnd(const ScanUpdate::Entry* it, const ScanUpdate::Entry* end) {
+  const ScanUpdate::Entry* run = it + 1;
+  while (run != end && run->code == it->code) ++run;
+  return run;
+}
+
 std::uint64_t brickMorton(std::uint64_t c) {
   return mortonCode((c & 0x1FFF) | ((c >> 13) & 0x1FFF) << 16 | ((c >> 26) & 0x1FFF) << 32);
 }
 
-// Per-thread dense bricks cost memory and zeroing: only for boxes that are not much larger
-// than the work.
-constexpr std::size_t kMaxDenseBricks = std::size_t{1} << 18;  // 32 MiB per thread
+// Each thread's grid costs 4 bytes a cell to clear: only for boxes of at most 16 MiB that are
+// not much larger than the work.
+constexpr std::size_t kMaxGridCells = std::size_t{1} << 22;
 
 }  // namespace
 
-std::vector<VoxelUpdate> computeScanUpdate(const octomap::OcTree& tree, const Points& points,
-                                           const Point& origin_d, double max_range) {
+ScanUpdate computeScanUpdate(const octomap::OcTree& tree, const Points& points, const Point& origin_d,
+                             double max_range) {
   const KeyCaster caster(tree);
   const octomap::point3d origin(static_cast<float>(origin_d.x()), static_cast<float>(origin_d.y()),
                                 static_cast<float>(origin_d.z()));
@@ -539,8 +582,8 @@ std::vector<VoxelUpdate> computeScanUpdate(const octomap::OcTree& tree, const Po
       lo[a] = std::max(0, lo[a] - 1);
       dims[a] = std::min(8191, hi + 1) - lo[a] + 1;
     }
-    const std::size_t dense = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
-    if (dense > kMaxDenseBricks || dense > 64 * points.size() + 4096) dims[0] = dims[1] = dims[2] = 0;
+    const std::size_t cells = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
+    if (cells > kMaxGridCells || cells > 1024 * points.size() + 65536) dims[0] = dims[1] = dims[2] = 0;
   }
 
   tbb::enumerable_thread_specific<BrickSet> local([&] { return BrickSet(lo, dims); });
@@ -553,65 +596,217 @@ std::vector<VoxelUpdate> computeScanUpdate(const octomap::OcTree& tree, const Po
     caster.castRays(origin, origin_key, rays.data() + range.begin(), range.size(), set);
   });
 
-  std::vector<BrickSet*> sets;
-  for (BrickSet& set : local) sets.push_back(&set);
-  if (sets.empty()) return {};
-  // Dense boxes: OR into the first set's.
-  BrickSet& first = *sets[0];
-  const std::size_t dense_count = first.denseCount();
-  if (sets.size() > 1 && dense_count > 0) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, dense_count, 4096),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-      for (std::size_t t = 1; t < sets.size(); ++t) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-          std::uint64_t* free = first.freeWords(i);
-          std::uint64_t* occupied = first.occupiedWords(i);
-          const std::uint64_t* other_free = sets[t]->freeWords(i);
-          const std::uint64_t* other_occupied = sets[t]->occupiedWords(i);
-          for (std::size_t w = 0; w < BrickSet::kWords; ++w) {
-            free[w] |= other_free[w];
-            occupied[w] |= other_occupied[w];
-          }
-        }
-      }
-    });
+  ScanUpdate update;
+  for (BrickSet& set : local) update.sets.push_back(std::move(set));
+  for (std::uint32_t t = 0; t < update.sets.size(); ++t) {
+    const BrickSet& set = update.sets[t];
+    for (std::uint32_t i = 0; i < set.brickCount(); ++i) update.bricks.push_back({brickMorton(set.coordOf(i)), t, i});
   }
-  std::vector<OrderedBrick> order;
-  for (std::size_t i = 0; i < dense_count; ++i) {
-    if (!first.empty(i)) order.push_back({brickMorton(first.coordOf(i)), &first, i});
-  }
-  for (const BrickSet* set : sets) {
-    for (std::size_t i = set->denseCount(); i < set->brickCount(); ++i) {
-      order.push_back({brickMorton(set->coordOf(i)), set, i});
-    }
-  }
-  sortBricks(order);
+  sortBricks(update.bricks);
+  return update;
+}
 
-  // Voxels in Morton order; occupied wins over free.
-  std::vector<VoxelUpdate> updates;
-  for (std::size_t i = 0; i < order.size();) {
-    std::uint64_t free[BrickSet::kWords] = {}, occupied[BrickSet::kWords] = {};
-    std::size_t j = i;
-    for (; j < order.size() && order[j].code == order[i].code; ++j) {
-      const std::uint64_t* other_free = order[j].set->freeWords(order[j].brick);
-      const std::uint64_t* other_occupied = order[j].set->occupiedWords(order[j].brick);
-      for (std::size_t w = 0; w < BrickSet::kWords; ++w) {
-        free[w] |= other_free[w];
-        occupied[w] |= other_occupied[w];
-      }
-    }
-    const std::uint64_t base = order[i].code << 9;
-    for (unsigned w = 0; w < BrickSet::kWords; ++w) {
-      std::uint64_t any = free[w] | occupied[w];
-      while (any != 0) {
-        const unsigned bit = static_cast<unsigned>(__builtin_ctzll(any));
-        any &= any - 1;
-        updates.push_back({(base | (w << 6) | bit) << 1 | ((occupied[w] >> bit) & 1), 1});
-      }
-    }
-    i = j;
+std::size_t ScanUpdate::voxelCount() const {
+  std::size_t n = 0;
+  const Entry* end = bricks.data() + bricks.size();
+  for (const Entry* it = bricks.data(); it != end;) {
+    const Entry* run = brickEnd(it, end);
+    std::uint64_t occupied[BrickSet::kWords], free[BrickSet::kWords];
+    mergeBrick(*this, it, run, occupied, free);
+    for (std::size_t w = 0; w < BrickSet::kWords; ++w) n += bitCount(occupied[w] | free[w]);
+    it = run;
   }
-  return updates;
+  return n;
+}
+
+namespace {
+
+// The depth-first pass of applyUpdates over a scan's bricks: above a brick's root (depth 13) the
+// children are split by brick code; below it by the bits of its words (word w: child w at depth
+// 14; in a word, bits 8c..8c+7: child c at depth 15; bit l of those: leaf l). Same rules as
+// BatchUpdate::descend, on masks: at an existing leaf, octomap's early abort drops every
+// occupied (or free) update below it when such an update cannot change the leaf.
+class ScanApply {
+ public:
+  ScanApply(octomap::OcTree& tree, const ScanUpdate& update)
+      : tree_(tree), update_(update), hit_(tree.getProbHitLog()), miss_(tree.getProbMissLog()),
+        clamp_min_(tree.getClampingThresMinLog()), clamp_max_(tree.getClampingThresMaxLog()) {}
+
+  /// Voxel `skip` (Morton code) is left out: the caller applied it already.
+  void run(std::uint64_t skip) {
+    skip_ = skip;
+    const ScanUpdate::Entry* begin = update_.bricks.data();
+    bricks(tree_.getRoot(), false, 0, begin, begin + update_.bricks.size(), false, false);
+  }
+
+ private:
+  bool abortsOccupied(float v) const { return (hit_ >= 0 && v >= clamp_max_) || (hit_ <= 0 && v <= clamp_min_); }
+  bool abortsFree(float v) const { return (miss_ >= 0 && v >= clamp_max_) || (miss_ <= 0 && v <= clamp_min_); }
+
+  // Child `pos` of `node`, created (or `node` expanded) as updateNodeRecurs does.
+  octomap::OcTreeNode* child(octomap::OcTreeNode* node, bool node_created, unsigned pos, bool& created) {
+    created = false;
+    if (!tree_.nodeChildExists(node, pos)) {
+      if (!tree_.nodeHasChildren(node) && !node_created) {
+        tree_.expandNode(node);
+      } else {
+        tree_.createNodeChild(node, pos);
+        created = true;
+      }
+    }
+    return tree_.getNodeChild(node, pos);
+  }
+
+  bool finish(octomap::OcTreeNode* node, bool changed) {
+    if (changed && !tree_.pruneNode(node)) node->updateOccupancyChildren();
+    return changed;
+  }
+
+  void masks(const ScanUpdate::Entry* begin, const ScanUpdate::Entry* end, bool drop_occupied, bool drop_free,
+             std::uint64_t occupied[BrickSet::kWords], std::uint64_t free[BrickSet::kWords]) const {
+    mergeBrick(update_, begin, end, occupied, free);
+    if ((begin->code << 9) == (skip_ & ~std::uint64_t{511})) {
+      occupied[(skip_ >> 6) & 7] &= ~(std::uint64_t{1} << (skip_ & 63));
+      free[(skip_ >> 6) & 7] &= ~(std::uint64_t{1} << (skip_ & 63));
+    }
+    for (std::size_t w = 0; w < BrickSet::kWords; ++w) {
+      if (drop_occupied) occupied[w] = 0;
+      if (drop_free) free[w] = 0;
+    }
+  }
+
+  bool anyLeft(const ScanUpdate::Entry* begin, const ScanUpdate::Entry* end, bool drop_occupied,
+               bool drop_free) const {
+    for (const ScanUpdate::Entry* it = begin; it != end;) {
+      const ScanUpdate::Entry* run = brickEnd(it, end);
+      std::uint64_t occupied[BrickSet::kWords], free[BrickSet::kWords];
+      masks(it, run, drop_occupied, drop_free, occupied, free);
+      for (std::size_t w = 0; w < BrickSet::kWords; ++w) {
+        if ((occupied[w] | free[w]) != 0) return true;
+      }
+      it = run;
+    }
+    return false;
+  }
+
+  // Depth 0..12: children split by brick code.
+  bool bricks(octomap::OcTreeNode* node, bool just_created, unsigned depth, const ScanUpdate::Entry* begin,
+              const ScanUpdate::Entry* end, bool drop_occupied, bool drop_free) {
+    if (!just_created && !tree_.nodeHasChildren(node)) {
+      const float v = node->getLogOdds();
+      drop_occupied |= abortsOccupied(v);
+      drop_free |= abortsFree(v);
+      if ((drop_occupied || drop_free) && !anyLeft(begin, end, drop_occupied, drop_free)) return false;
+    }
+    const unsigned shift = 3 * (12 - depth);
+    bool changed = false;
+    for (const ScanUpdate::Entry* it = begin; it != end;) {
+      const unsigned pos = static_cast<unsigned>((it->code >> shift) & 7);
+      const ScanUpdate::Entry* run = firstEntryAtLeast(it + 1, end, ((it->code >> shift) + 1) << shift);
+      bool created;
+      octomap::OcTreeNode* next = child(node, just_created, pos, created);
+      if (depth + 1 < kBrickDepth) {
+        changed |= bricks(next, created, depth + 1, it, run, drop_occupied, drop_free);
+      } else {
+        std::uint64_t occupied[BrickSet::kWords], free[BrickSet::kWords];
+        masks(it, run, drop_occupied, drop_free, occupied, free);
+        changed |= brick(next, created, occupied, free);
+      }
+      it = run;
+    }
+    return finish(node, changed);
+  }
+
+  // Depth 13: a brick's root; child w has word w.
+  bool brick(octomap::OcTreeNode* node, bool just_created, std::uint64_t occupied[BrickSet::kWords],
+             std::uint64_t free[BrickSet::kWords]) {
+    std::uint64_t any = 0;
+    if (!just_created && !tree_.nodeHasChildren(node)) {
+      const float v = node->getLogOdds();
+      const bool drop_occupied = abortsOccupied(v), drop_free = abortsFree(v);
+      for (std::size_t w = 0; w < BrickSet::kWords; ++w) {
+        if (drop_occupied) occupied[w] = 0;
+        if (drop_free) free[w] = 0;
+      }
+    }
+    for (std::size_t w = 0; w < BrickSet::kWords; ++w) any |= occupied[w] | free[w];
+    if (any == 0) return false;
+    bool changed = false;
+    for (unsigned w = 0; w < BrickSet::kWords; ++w) {
+      if ((occupied[w] | free[w]) == 0) continue;
+      bool created;
+      octomap::OcTreeNode* next = child(node, just_created, w, created);
+      changed |= word(next, created, occupied[w], free[w]);
+    }
+    return finish(node, changed);
+  }
+
+  // Depth 14 (64 voxels, child c: bits 8c..8c+7) and 15 (8 voxels, child c: bit c).
+  bool word(octomap::OcTreeNode* node, bool just_created, std::uint64_t occupied, std::uint64_t free,
+            unsigned depth = 14) {
+    if (!just_created && !tree_.nodeHasChildren(node)) {
+      const float v = node->getLogOdds();
+      if (abortsOccupied(v)) occupied = 0;
+      if (abortsFree(v)) free = 0;
+    }
+    if ((occupied | free) == 0) return false;
+    const unsigned width = depth == 14 ? 8 : 1;
+    const std::uint64_t mask = depth == 14 ? 0xFF : 1;
+    bool changed = false;
+    for (unsigned c = 0; c < 8; ++c) {
+      const std::uint64_t o = (occupied >> (width * c)) & mask, f = (free >> (width * c)) & mask;
+      if ((o | f) == 0) continue;
+      bool created;
+      octomap::OcTreeNode* next = child(node, just_created, c, created);
+      changed |= depth == 14 ? word(next, created, o, f, 15) : leaf(next, created, o != 0);
+    }
+    return finish(node, changed);
+  }
+
+  bool leaf(octomap::OcTreeNode* node, bool just_created, bool occupied) {
+    if (!just_created && (occupied ? abortsOccupied(node->getLogOdds()) : abortsFree(node->getLogOdds()))) {
+      return false;
+    }
+    tree_.updateNodeLogOdds(node, occupied ? hit_ : miss_);
+    return true;
+  }
+
+  static const ScanUpdate::Entry* firstEntryAtLeast(const ScanUpdate::Entry* begin, const ScanUpdate::Entry* end,
+                                                    std::uint64_t limit) {
+    const std::size_t n = static_cast<std::size_t>(end - begin);
+    std::size_t bound = 1;
+    while (bound <= n && begin[bound - 1].code < limit) bound *= 2;
+    return std::lower_bound(begin + bound / 2, begin + std::min(bound, n), limit,
+                            [](const ScanUpdate::Entry& e, std::uint64_t l) { return e.code < l; });
+  }
+
+  static constexpr unsigned kBrickDepth = 13;
+  octomap::OcTree& tree_;
+  const ScanUpdate& update_;
+  float hit_, miss_, clamp_min_, clamp_max_;
+  std::uint64_t skip_ = ~std::uint64_t{0};
+};
+
+}  // namespace
+
+void applyScanUpdate(octomap::OcTree& tree, const ScanUpdate& update) {
+  if (update.bricks.empty()) return;
+  std::uint64_t skip = ~std::uint64_t{0};
+  if (tree.getRoot() == nullptr) {
+    // Only octomap can create the root: the first voxel's update goes through updateNode.
+    const ScanUpdate::Entry* begin = update.bricks.data();
+    const ScanUpdate::Entry* run = brickEnd(begin, begin + update.bricks.size());
+    std::uint64_t occupied[BrickSet::kWords], free[BrickSet::kWords];
+    mergeBrick(update, begin, run, occupied, free);
+    for (unsigned w = 0; w < BrickSet::kWords && skip == ~std::uint64_t{0}; ++w) {
+      const std::uint64_t any = occupied[w] | free[w];
+      if (any == 0) continue;
+      const unsigned bit = static_cast<unsigned>(__builtin_ctzll(any));
+      skip = begin->code << 9 | w << 6 | bit;
+      tree.updateNode(mortonKey(skip), ((occupied[w] >> bit) & 1) != 0);
+    }
+  }
+  ScanApply(tree, update).run(skip);
 }
 
 void applyUpdates(octomap::OcTree& tree, std::vector<VoxelUpdate>& updates) {
@@ -644,8 +839,7 @@ void insertScan(octomap::OcTree& tree, const Points& points, const Point& origin
                           max_range);
     return;
   }
-  std::vector<detail::VoxelUpdate> updates = detail::computeScanUpdate(tree, points, origin, max_range);
-  detail::applyUpdates(tree, updates);
+  detail::applyScanUpdate(tree, detail::computeScanUpdate(tree, points, origin, max_range));
 }
 
 }  // namespace hullmap::mapper
