@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../mapper/src/octree_keys.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 #include "octree_oracle.hpp"
@@ -76,6 +77,59 @@ TEST(MapperInsertion, ClampedFreeSpaceAbortsAsOctomap) {
     points.push_back(origin + 4.0 * Point(r * std::cos(golden * i), r * std::sin(golden * i), z));
   }
   expectSameAsOctomap(points, origin, 0.1, -1.0, 7);
+}
+
+// Voxels of a few bricks marked free and occupied by a pattern, in `threads` BrickSets (a voxel
+// in one or several of them), applied as one scan update `repeats` times against octomap's
+// updateNode for each free-only voxel, then each occupied one (insertPointCloud's order).
+void expectBrickPatternAsUpdateNode(int (*pattern)(int x, int y, int z, std::mt19937_64& rng), int threads,
+                                    int repeats) {
+  std::mt19937_64 rng(11);
+  // Bricks in several octants of the root, and a 2x2x2 group of bricks under one depth-12 node.
+  const int corners[][3] = {{32768, 32768, 32768}, {32760, 32768, 32752}, {32776, 32760, 32768},
+                            {40000, 20000, 32768}, {32784, 32784, 32784}, {32792, 32784, 32784},
+                            {32784, 32792, 32784}, {32784, 32784, 32792}, {32792, 32792, 32792}};
+  std::vector<detail::BrickSet> sets(threads);
+  octomap::KeySet free_keys, occupied_keys;
+  for (const auto& c : corners) {
+    for (int z = 0; z < 8; ++z) {
+      for (int y = 0; y < 8; ++y) {
+        for (int x = 0; x < 8; ++x) {
+          const int kind = pattern(x, y, z, rng);  // 0 none, 1 free, 2 occupied, 3 both
+          if (kind == 0) continue;
+          const int key[3] = {c[0] + x, c[1] + y, c[2] + z};
+          const octomap::OcTreeKey k(static_cast<octomap::key_type>(key[0]), static_cast<octomap::key_type>(key[1]),
+                                     static_cast<octomap::key_type>(key[2]));
+          if (kind & 1) sets[rng() % threads].mark(key, false);
+          if (kind & 2) sets[rng() % threads].mark(key, true);
+          (kind & 2 ? occupied_keys : free_keys).insert(k);
+        }
+      }
+    }
+  }
+  const detail::ScanUpdate update(sets);
+  octomap::OcTree expected(0.1), actual(0.1);
+  for (int r = 0; r < repeats; ++r) {
+    for (const auto& k : free_keys) expected.updateNode(k, false);
+    for (const auto& k : occupied_keys) expected.updateNode(k, true);
+    detail::applyScanUpdate(actual, update);
+    ASSERT_TRUE(sameTree(expected, actual)) << "threads " << threads << ", application " << r + 1;
+  }
+}
+
+TEST(MapperInsertion, BrickUpdateIsUpdateNodePerVoxel) {
+  // Whole bricks, 4x4x4 words and 2x2x2 blocks of one kind (a new node collapses into one leaf),
+  // kinds that vary inside every word alike (x % 4: the same bits occupied in all 8 words), and
+  // random mixes; repeated until the leaves clamp and prune.
+  const auto all_free = [](int, int, int, std::mt19937_64&) { return 1; };
+  const auto all_occupied = [](int, int, int, std::mt19937_64&) { return 2; };
+  const auto planes = [](int x, int, int, std::mt19937_64&) { return x % 4 == 0 ? 2 : 1; };
+  const auto one_word = [](int x, int y, int z, std::mt19937_64&) { return x < 4 && y < 4 && z >= 4 ? 3 : 1; };
+  const auto blocks = [](int x, int y, int z, std::mt19937_64&) { return (x / 2 + y / 2 + z / 2) % 3; };
+  const auto mixed = [](int, int, int, std::mt19937_64& rng) { return static_cast<int>(rng() % 4); };
+  for (auto pattern : {+all_free, +all_occupied, +planes, +one_word, +blocks, +mixed}) {
+    for (int threads : {1, 3}) expectBrickPatternAsUpdateNode(pattern, threads, 6);
+  }
 }
 
 TEST(MapperInsertion, PointsInOneVoxelAndOriginInsideTheCloud) {

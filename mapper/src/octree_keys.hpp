@@ -114,10 +114,6 @@ class KeyCaster {
                 BrickSet& out) const;
 
  private:
-  static std::uint64_t packKey(const int key[3]) {
-    return static_cast<std::uint64_t>(key[0]) | static_cast<std::uint64_t>(key[1]) << 16 |
-           static_cast<std::uint64_t>(key[2]) << 32;
-  }
   struct RayStart {
     int step[3];
     double t_max[3];
@@ -151,6 +147,10 @@ struct ScanUpdate {
     std::uint32_t set;    ///< index in sets
     std::uint32_t brick;  ///< index in that set
   };
+  ScanUpdate() = default;
+  /// The update of the voxels marked in `sets` (bricks sorted here).
+  explicit ScanUpdate(std::vector<BrickSet> sets);
+
   std::vector<BrickSet> sets;
   std::vector<Entry> bricks;
 

@@ -284,7 +284,7 @@ void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3]
   std::size_t next = 0;
   bool any_cast = false;
   int active = 0;
-  const std::uint64_t packed_origin = packKey(key_origin);
+  const std::uint64_t packed_origin = pack(key_origin);
   // The next ray that has free keys, or an idle lane.
   auto nextRay = [&] {
     LaneRay lane;
@@ -299,7 +299,7 @@ void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3]
       }
       lane.limit = start.length;
       lane.key = packed_origin;
-      lane.key_end = packKey(ray.key_end);
+      lane.key_end = pack(ray.key_end);
       any_cast = true;
       ++active;
       break;
@@ -374,7 +374,7 @@ void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3]
       if (key[0] == key_end[0] && key[1] == key_end[1] && key[2] == key_end[2]) break;
       if (std::min(std::min(t[0], t[1]), t[2]) > start.length) break;
       const int rel[3] = {(key[0] - lo[0]) & 0xFFFF, (key[1] - lo[1]) & 0xFFFF, (key[2] - lo[2]) & 0xFFFF};
-      keys[n++] = packKey(rel);
+      keys[n++] = pack(rel);
       if (n == kSteps) {
         out.markFree(keys, kSteps);
         n = 0;
@@ -596,14 +596,16 @@ ScanUpdate computeScanUpdate(const octomap::OcTree& tree, const Points& points, 
     caster.castRays(origin, origin_key, rays.data() + range.begin(), range.size(), set);
   });
 
-  ScanUpdate update;
-  for (BrickSet& set : local) update.sets.push_back(std::move(set));
-  for (std::uint32_t t = 0; t < update.sets.size(); ++t) {
-    const BrickSet& set = update.sets[t];
-    for (std::uint32_t i = 0; i < set.brickCount(); ++i) update.bricks.push_back({brickMorton(set.coordOf(i)), t, i});
+  std::vector<BrickSet> sets;
+  for (BrickSet& set : local) sets.push_back(std::move(set));
+  return ScanUpdate(std::move(sets));
+}
+
+ScanUpdate::ScanUpdate(std::vector<BrickSet> marked) : sets(std::move(marked)) {
+  for (std::uint32_t t = 0; t < sets.size(); ++t) {
+    for (std::uint32_t i = 0; i < sets[t].brickCount(); ++i) bricks.push_back({brickMorton(sets[t].coordOf(i)), t, i});
   }
-  sortBricks(update.bricks);
-  return update;
+  sortBricks(bricks);
 }
 
 std::size_t ScanUpdate::voxelCount() const {
@@ -729,8 +731,16 @@ class ScanApply {
         if (drop_free) free[w] = 0;
       }
     }
-    for (std::size_t w = 0; w < BrickSet::kWords; ++w) any |= occupied[w] | free[w];
+    std::uint64_t all_occupied = ~std::uint64_t{0}, all_free = ~std::uint64_t{0};
+    for (std::size_t w = 0; w < BrickSet::kWords; ++w) {
+      any |= occupied[w] | free[w];
+      all_occupied &= occupied[w];
+      all_free &= free[w];
+    }
     if (any == 0) return false;
+    if (just_created && (all_occupied == ~std::uint64_t{0} || all_free == ~std::uint64_t{0})) {
+      return collapsed(node, all_occupied == ~std::uint64_t{0});
+    }
     bool changed = false;
     for (unsigned w = 0; w < BrickSet::kWords; ++w) {
       if ((occupied[w] | free[w]) == 0) continue;
@@ -750,6 +760,8 @@ class ScanApply {
       if (abortsFree(v)) free = 0;
     }
     if ((occupied | free) == 0) return false;
+    const std::uint64_t all = depth == 14 ? ~std::uint64_t{0} : 0xFF;
+    if (just_created && (occupied == all || free == all)) return collapsed(node, occupied == all);
     const unsigned width = depth == 14 ? 8 : 1;
     const std::uint64_t mask = depth == 14 ? 0xFF : 1;
     bool changed = false;
@@ -761,6 +773,14 @@ class ScanApply {
       changed |= depth == 14 ? word(next, created, o, f, 15) : leaf(next, created, o != 0);
     }
     return finish(node, changed);
+  }
+
+  // A new node whose voxels all get the same update: octomap would create its children, update
+  // each once from 0 (the same value for all) and prune them into it, leaving the node a leaf with
+  // that value, which is the node updated once from its own 0. Saves the children's allocations.
+  bool collapsed(octomap::OcTreeNode* node, bool occupied) {
+    tree_.updateNodeLogOdds(node, occupied ? hit_ : miss_);
+    return true;
   }
 
   bool leaf(octomap::OcTreeNode* node, bool just_created, bool occupied) {
