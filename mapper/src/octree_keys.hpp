@@ -32,8 +32,9 @@ class BrickSet {
   static constexpr std::size_t kWords = 8;
 
   BrickSet() = default;
-  /// Bricks with lo <= coordinate < lo + dims (per axis, brick = key >> 3) are found through the grid.
-  BrickSet(const int lo[3], const int dims[3]);
+  /// Bricks with lo <= coordinate < lo + dims (per axis, brick = key >> 3) are found through the
+  /// grid; `allocate_grid`: all of them allocated up front, in grid order.
+  BrickSet(const int lo[3], const int dims[3], bool allocate_grid);
 
   void mark(const int key[3], bool occupied) {
     const std::uint64_t coord = static_cast<std::uint64_t>(key[0] >> 3) |
@@ -54,6 +55,11 @@ class BrickSet {
   void markFree(const std::uint64_t* keys, std::size_t count);
 
   std::size_t brickCount() const { return coords_.size(); }
+  bool empty(std::size_t brick) const {
+    std::uint64_t any = 0;
+    for (std::size_t w = 0; w < kWords; ++w) any |= free_[brick * kWords + w] | occupied_[brick * kWords + w];
+    return any == 0;
+  }
   const std::uint64_t* freeWords(std::size_t brick) const { return &free_[brick * kWords]; }
   const std::uint64_t* occupiedWords(std::size_t brick) const { return &occupied_[brick * kWords]; }
   /// Brick coordinate (x | y << 13 | z << 26) of brick i.
@@ -70,6 +76,7 @@ class BrickSet {
   unsigned grid_lo_[3] = {0, 0, 0};
   unsigned grid_extent_[3] = {0, 0, 0};     // in keys
   std::vector<std::uint32_t> grid_;         // first word of each box brick, kNoBrick: none yet
+  bool grid_allocated_ = false;             // brick i is grid cell i
   std::vector<std::uint32_t> axis_code_[3];  // per axis and key - grid_lo: cell * 512 + interleaved bits
   std::vector<std::uint64_t> slots_;        // coord + 1, 0 = empty
   std::size_t hashed_ = 0;

@@ -72,7 +72,7 @@ octomap::OcTreeKey mortonKey(std::uint64_t morton) {
                             static_cast<octomap::key_type>(compactBits(morton >> 2)));
 }
 
-BrickSet::BrickSet(const int lo[3], const int dims[3]) {
+BrickSet::BrickSet(const int lo[3], const int dims[3], bool allocate_grid) {
   for (int i = 0; i < 3; ++i) {
     lo_[i] = lo[i];
     dims_[i] = dims[i];
@@ -87,6 +87,19 @@ BrickSet::BrickSet(const int lo[3], const int dims[3]) {
   for (int a = 0; a < 3; ++a) {
     axis_code_[a].resize(grid_extent_[a]);
     for (std::uint32_t r = 0; r < grid_extent_[a]; ++r) axis_code_[a][r] = (r >> 3) * stride[a] + (kSpread[r & 7] << a);
+  }
+  if (allocate_grid) {
+    free_.resize(grid_.size() * kWords);
+    occupied_.resize(grid_.size() * kWords);
+    coords_.reserve(grid_.size());
+    for (std::size_t cell = 0; cell < grid_.size(); ++cell) {
+      const std::uint64_t x = lo_[0] + cell % dims_[0];
+      const std::uint64_t y = lo_[1] + (cell / dims_[0]) % dims_[1];
+      const std::uint64_t z = lo_[2] + cell / (static_cast<std::size_t>(dims_[0]) * dims_[1]);
+      grid_[cell] = static_cast<std::uint32_t>(cell * kWords);
+      coords_.push_back(x | y << 13 | z << 26);
+    }
+    grid_allocated_ = true;
   }
 }
 
@@ -155,6 +168,10 @@ void BrickSet::markFree(const std::uint64_t* keys, std::size_t count) {
     const unsigned r2 = static_cast<unsigned>(packed >> 32);
     if ((r0 < grid_extent_[0]) & (r1 < grid_extent_[1]) & (r2 < grid_extent_[2])) {
       const std::uint32_t code = code0[r0] + code1[r1] + code2[r2];
+      if (grid_allocated_) {
+        free[code >> 6] |= std::uint64_t{1} << (code & 63);
+        continue;
+      }
       std::uint32_t word = grid_[code >> 9];
       if (word == kNoBrick) {
         word = gridBrick(code >> 9) * kWords;
@@ -524,6 +541,8 @@ std::uint64_t brickMorton(std::uint64_t c) {
 // Each thread's grid costs 4 bytes a cell to clear: only for boxes of at most 16 MiB that are
 // not much larger than the work.
 constexpr std::size_t kMaxGridCells = std::size_t{1} << 22;
+// A brick costs 128 bytes: boxes allocated whole up to 8 MiB, and 32 bytes a point.
+constexpr std::size_t kMaxAllocatedCells = std::size_t{1} << 16;
 
 }  // namespace
 
@@ -586,7 +605,10 @@ ScanUpdate computeScanUpdate(const octomap::OcTree& tree, const Points& points, 
     if (cells > kMaxGridCells || cells > 1024 * points.size() + 65536) dims[0] = dims[1] = dims[2] = 0;
   }
 
-  tbb::enumerable_thread_specific<BrickSet> local([&] { return BrickSet(lo, dims); });
+  // Small boxes are allocated whole: no lookup of the grid per key.
+  const bool allocate_grid =
+      static_cast<std::size_t>(dims[0]) * dims[1] * dims[2] <= std::min(kMaxAllocatedCells, points.size() / 4);
+  tbb::enumerable_thread_specific<BrickSet> local([&] { return BrickSet(lo, dims, allocate_grid); });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 1024),
                     [&](const tbb::blocked_range<std::size_t>& range) {
     BrickSet& set = local.local();
@@ -603,7 +625,9 @@ ScanUpdate computeScanUpdate(const octomap::OcTree& tree, const Points& points, 
 
 ScanUpdate::ScanUpdate(std::vector<BrickSet> marked) : sets(std::move(marked)) {
   for (std::uint32_t t = 0; t < sets.size(); ++t) {
-    for (std::uint32_t i = 0; i < sets[t].brickCount(); ++i) bricks.push_back({brickMorton(sets[t].coordOf(i)), t, i});
+    for (std::uint32_t i = 0; i < sets[t].brickCount(); ++i) {
+      if (!sets[t].empty(i)) bricks.push_back({brickMorton(sets[t].coordOf(i)), t, i});
+    }
   }
   sortBricks(bricks);
 }
