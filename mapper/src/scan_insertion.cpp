@@ -220,7 +220,11 @@ namespace {
 // Steps walked between two passes marking their keys (16 KiB of keys: stays in L1).
 constexpr int kSteps = 512;
 
+}  // namespace
+
 #if defined(__SSE2__) && defined(__x86_64__)
+
+namespace {
 
 // Two rays per SSE2 register. Keys are packed k0 | k1 << 16 | k2 << 32 in 16-bit lanes, so that
 // stepping past the edge of octomap's 16-bit keys wraps as octomap's does. A lane without a ray
@@ -374,7 +378,7 @@ void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3]
                          std::size_t count, BrickSet& out) const {
   const int lo[3] = {static_cast<int>(out.gridLo()[0]), static_cast<int>(out.gridLo()[1]),
                      static_cast<int>(out.gridLo()[2])};
-  std::uint64_t keys[kSteps];
+  std::uint64_t keys[kSteps] = {};
   int n = 0;
   bool any_cast = false;
   for (std::size_t r = 0; r < count; ++r) {
