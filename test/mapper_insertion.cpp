@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <random>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -129,6 +130,22 @@ TEST(MapperInsertion, BrickUpdateIsUpdateNodePerVoxel) {
   const auto mixed = [](int, int, int, std::mt19937_64& rng) { return static_cast<int>(rng() % 4); };
   for (auto pattern : {+all_free, +all_occupied, +planes, +one_word, +blocks, +mixed}) {
     for (int threads : {1, 3}) expectBrickPatternAsUpdateNode(pattern, threads, 6);
+  }
+}
+
+TEST(MapperInsertion, RaysBeyondTheBrickGridAsOctomap) {
+  // Few long rays spread over a box too large for a grid of bricks (more than 4 KiB of grid a
+  // point, or 2^22 bricks): the walked keys go through the bricks' hash, which grows as it fills.
+  const double golden = 3.14159265358979323846 * (3.0 - std::sqrt(5.0));
+  for (const auto& [count, radius, resolution] : {std::tuple<int, double, double>{32, 20.0, 0.01},
+                                                  std::tuple<int, double, double>{200, 40.0, 0.05}}) {
+    Points points;
+    for (int i = 0; i < count; ++i) {
+      const double z = 1.0 - 2.0 * (i + 0.5) / count, r = std::sqrt(1.0 - z * z);
+      points.push_back(radius * Point(r * std::cos(golden * i), r * std::sin(golden * i), z));
+    }
+    expectSameAsOctomap(points, Point(0.3, -0.2, 0.1), resolution, -1.0, 2);
+    expectSameAsOctomap(points, Point(0.3, -0.2, 0.1), resolution, 0.5 * radius, 1);
   }
 }
 
