@@ -566,8 +566,8 @@ ScanUpdate computeScanUpdate(const octomap::OcTree& tree, const Points& points, 
     return origin + direction * static_cast<float>(max_range);
   };
 
-  // Each ray's end and its key, and the box of the ends' bricks (rays stay between their ends'
-  // keys, give or take a voxel).
+  // Each ray's end and its key, and the box of the ends' bricks: the grid's box (a walk stays
+  // between its ends' keys, give or take a voxel; a key outside the grid goes to the hash).
   struct Box {
     int lo[3] = {1 << 30, 1 << 30, 1 << 30};
     int hi[3] = {-1, -1, -1};
@@ -605,13 +605,13 @@ ScanUpdate computeScanUpdate(const octomap::OcTree& tree, const Points& points, 
       lo[a] = std::max(0, lo[a] - 1);
       dims[a] = std::min(8191, hi + 1) - lo[a] + 1;
     }
-    const std::size_t cells = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
-    if (cells > kMaxGridCells || cells > 1024 * points.size() + 65536) dims[0] = dims[1] = dims[2] = 0;
+    const std::size_t box_cells = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
+    if (box_cells > kMaxGridCells || box_cells > 1024 * points.size() + 65536) dims[0] = dims[1] = dims[2] = 0;
   }
 
   // Small boxes are allocated whole: no lookup of the grid per key.
-  const bool allocate_grid =
-      static_cast<std::size_t>(dims[0]) * dims[1] * dims[2] <= std::min(kMaxAllocatedCells, points.size() / 4);
+  const std::size_t cells = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
+  const bool allocate_grid = cells > 0 && cells <= std::min(kMaxAllocatedCells, points.size() / 4);
   tbb::enumerable_thread_specific<BrickSet> local([&] { return BrickSet(lo, dims, allocate_grid); });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 1024),
                     [&](const tbb::blocked_range<std::size_t>& range) {
