@@ -3,7 +3,7 @@
 //   {"scan": ..., "points": N, "resolution": r, "octomap_ms": ..., "hullmap_ms": ...,
 //    "ray_keys_ms": ..., "cast_ms": ..., "apply_ms": ..., "leaves": L, "identical": true}
 // octomap_ms: insertPointCloud into an empty tree. hullmap_ms: insertScan into an empty tree
-// (clearing the previous tree is not timed).
+// (clearing the previous tree, and trimming the heap after it, is not timed).
 // ray_keys_ms: octomap's computeRayKeys for every point, nothing else (one thread: the floor of
 // octomap's own approach). cast_ms / apply_ms: hullmap's two phases (parallel ray casting and
 // deduplication; the ordered tree update). Medians of several runs.
@@ -23,6 +23,10 @@
 #include <limits>
 #include <string>
 #include <vector>
+
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include <octomap/OcTree.h>
 
@@ -128,6 +132,17 @@ LidarScan lidarScan() {
   return scan;
 }
 
+// Empties the tree, and glibc's free lists with it: freeing millions of nodes leaves them in
+// fastbins, and the next large allocation, whoever makes it, first consolidates them all (about a
+// second after the 0.05 m lidar tree). Without this, that cost of the previous run's garbage
+// lands in the timed insertion, octomap's and hullmap's alike.
+void clearTree(octomap::OcTree& tree) {
+  tree.clear();
+#ifdef __GLIBC__
+  malloc_trim(0);
+#endif
+}
+
 bool identical(const octomap::OcTree& a, const octomap::OcTree& b) {
   if (a.size() != b.size()) return false;
   auto i = a.begin_leafs();
@@ -147,11 +162,11 @@ void run(const std::string& name, const Points& points, const Point& origin, dou
 
   octomap::OcTree reference(resolution);
   const double octomap_ms = millis([&] { reference.insertPointCloud(cloud, o, -1.0); }, repeats,
-                                   [&] { reference.clear(); });
+                                   [&] { clearTree(reference); });
 
   octomap::OcTree ours(resolution);
   const double hullmap_ms = millis([&] { hullmap::mapper::insertScan(ours, points, origin, -1.0); }, repeats,
-                                   [&] { ours.clear(); });
+                                   [&] { clearTree(ours); });
 
   std::size_t keys = 0;
   const double ray_keys_ms = millis([&] {
@@ -168,7 +183,7 @@ void run(const std::string& name, const Points& points, const Point& origin, dou
   }, repeats);
   octomap::OcTree phases(resolution);
   const double apply_ms = millis([&] { hullmap::mapper::detail::applyScanUpdate(phases, update); }, repeats,
-                                 [&] { phases.clear(); });
+                                 [&] { clearTree(phases); });
 
   std::printf(
       "{\"scan\": \"%s\", \"points\": %zu, \"resolution\": %.3f, \"octomap_ms\": %.2f, \"hullmap_ms\": %.2f, "
