@@ -1,7 +1,12 @@
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <random>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
+#include "../mapper/src/octree_keys.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 #include "octree_oracle.hpp"
@@ -32,8 +37,10 @@ TEST(MapperInsertion, RealScanSameTreeAsInsertPointCloud) {
   for (double resolution : {0.05, 0.1, 0.2}) {
     expectSameAsOctomap(scan, Point::Zero(), resolution, -1.0, 1);
   }
-  // Repeated insertion drives leaves to the clamping bounds, where octomap aborts early and prunes.
-  expectSameAsOctomap(scan, Point::Zero(), 0.2, -1.0, 4);
+  // Repeated insertion drives leaves to the clamping bounds, where octomap aborts early and prunes:
+  // hits clamp after 3 insertions, misses after 5; by the 7th, clamped free space is pruned into
+  // leaves far above the voxels, under which every free update aborts.
+  expectSameAsOctomap(scan, Point::Zero(), 0.2, -1.0, 7);
   expectSameAsOctomap(scan, Point::Zero(), 0.1, 3.0, 3);
 }
 
@@ -59,6 +66,89 @@ TEST(MapperInsertion, GeneratedScansSameTreeAsInsertPointCloud) {
   }
 }
 
+TEST(MapperInsertion, ClampedFreeSpaceAbortsAsOctomap) {
+  // 20,000 rays to a 4 m sphere cover every 0.1 m voxel of the 1.6 m cube (a node at depth 12)
+  // around the sensor: repeated, its free space clamps and is pruned into one leaf, under which
+  // all later free updates abort, and octomap leaves that leaf alone.
+  const Point origin(0.8, 0.8, 0.8);
+  Points points;
+  const double golden = 3.14159265358979323846 * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < 20000; ++i) {
+    const double z = 1.0 - 2.0 * (i + 0.5) / 20000.0, r = std::sqrt(1.0 - z * z);
+    points.push_back(origin + 4.0 * Point(r * std::cos(golden * i), r * std::sin(golden * i), z));
+  }
+  expectSameAsOctomap(points, origin, 0.1, -1.0, 7);
+}
+
+// Voxels of a few bricks marked free and occupied by a pattern, in `threads` BrickSets (a voxel
+// in one or several of them), applied as one scan update `repeats` times against octomap's
+// updateNode for each free-only voxel, then each occupied one (insertPointCloud's order).
+void expectBrickPatternAsUpdateNode(int (*pattern)(int x, int y, int z, std::mt19937_64& rng), int threads,
+                                    int repeats) {
+  std::mt19937_64 rng(11);
+  // Bricks in several octants of the root, and a 2x2x2 group of bricks under one depth-12 node.
+  const int corners[][3] = {{32768, 32768, 32768}, {32760, 32768, 32752}, {32776, 32760, 32768},
+                            {40000, 20000, 32768}, {32784, 32784, 32784}, {32792, 32784, 32784},
+                            {32784, 32792, 32784}, {32784, 32784, 32792}, {32792, 32792, 32792}};
+  std::vector<detail::BrickSet> sets(threads);
+  octomap::KeySet free_keys, occupied_keys;
+  for (const auto& c : corners) {
+    for (int z = 0; z < 8; ++z) {
+      for (int y = 0; y < 8; ++y) {
+        for (int x = 0; x < 8; ++x) {
+          const int kind = pattern(x, y, z, rng);  // 0 none, 1 free, 2 occupied, 3 both
+          if (kind == 0) continue;
+          const int key[3] = {c[0] + x, c[1] + y, c[2] + z};
+          const octomap::OcTreeKey k(static_cast<octomap::key_type>(key[0]), static_cast<octomap::key_type>(key[1]),
+                                     static_cast<octomap::key_type>(key[2]));
+          if (kind & 1) sets[rng() % threads].mark(key, false);
+          if (kind & 2) sets[rng() % threads].mark(key, true);
+          (kind & 2 ? occupied_keys : free_keys).insert(k);
+        }
+      }
+    }
+  }
+  const detail::ScanUpdate update(sets);
+  octomap::OcTree expected(0.1), actual(0.1);
+  for (int r = 0; r < repeats; ++r) {
+    for (const auto& k : free_keys) expected.updateNode(k, false);
+    for (const auto& k : occupied_keys) expected.updateNode(k, true);
+    detail::applyScanUpdate(actual, update);
+    ASSERT_TRUE(sameTree(expected, actual)) << "threads " << threads << ", application " << r + 1;
+  }
+}
+
+TEST(MapperInsertion, BrickUpdateIsUpdateNodePerVoxel) {
+  // Whole bricks, 4x4x4 words and 2x2x2 blocks of one kind (a new node collapses into one leaf),
+  // kinds that vary inside every word alike (x % 4: the same bits occupied in all 8 words), and
+  // random mixes; repeated until the leaves clamp and prune.
+  const auto all_free = [](int, int, int, std::mt19937_64&) { return 1; };
+  const auto all_occupied = [](int, int, int, std::mt19937_64&) { return 2; };
+  const auto planes = [](int x, int, int, std::mt19937_64&) { return x % 4 == 0 ? 2 : 1; };
+  const auto one_word = [](int x, int y, int z, std::mt19937_64&) { return x < 4 && y < 4 && z >= 4 ? 3 : 1; };
+  const auto blocks = [](int x, int y, int z, std::mt19937_64&) { return (x / 2 + y / 2 + z / 2) % 3; };
+  const auto mixed = [](int, int, int, std::mt19937_64& rng) { return static_cast<int>(rng() % 4); };
+  for (auto pattern : {+all_free, +all_occupied, +planes, +one_word, +blocks, +mixed}) {
+    for (int threads : {1, 3}) expectBrickPatternAsUpdateNode(pattern, threads, 6);
+  }
+}
+
+TEST(MapperInsertion, RaysBeyondTheBrickGridAsOctomap) {
+  // Few long rays spread over a box too large for a grid of bricks (more than 4 KiB of grid a
+  // point, or 2^22 bricks): the walked keys go through the bricks' hash, which grows as it fills.
+  const double golden = 3.14159265358979323846 * (3.0 - std::sqrt(5.0));
+  for (const auto& [count, radius, resolution] : {std::tuple<int, double, double>{32, 20.0, 0.01},
+                                                  std::tuple<int, double, double>{200, 40.0, 0.05}}) {
+    Points points;
+    for (int i = 0; i < count; ++i) {
+      const double z = 1.0 - 2.0 * (i + 0.5) / count, r = std::sqrt(1.0 - z * z);
+      points.push_back(radius * Point(r * std::cos(golden * i), r * std::sin(golden * i), z));
+    }
+    expectSameAsOctomap(points, Point(0.3, -0.2, 0.1), resolution, -1.0, 2);
+    expectSameAsOctomap(points, Point(0.3, -0.2, 0.1), resolution, 0.5 * radius, 1);
+  }
+}
+
 TEST(MapperInsertion, PointsInOneVoxelAndOriginInsideTheCloud) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-0.02, 0.02);
@@ -73,6 +163,27 @@ TEST(MapperInsertion, PointsInOneVoxelAndOriginInsideTheCloud) {
   for (double resolution : {0.05, 0.1}) {
     expectSameAsOctomap(points, Point(0.01, 0.02, 0.03), resolution, -1.0, 3);
     expectSameAsOctomap(points, Point(0.01, 0.02, 0.03), resolution, 0.8, 2);
+  }
+}
+
+TEST(MapperInsertion, ExactTiesResolvedAsOctomap) {
+  // Binary fractions at power-of-two resolutions: rays along diagonals cross voxel borders on
+  // several axes at exactly the same t, and ends on borders make a t equal the ray's length; both
+  // are decided by octomap's strict comparisons, which insertScan must repeat. The ends lie on a
+  // cube's surface, so the voxels inside are free space, not endpoints.
+  Points points;
+  for (int i = -8; i <= 8; ++i) {
+    for (int j = -8; j <= 8; ++j) {
+      for (int k = -8; k <= 8; ++k) {
+        if (std::max({std::abs(i), std::abs(j), std::abs(k)}) == 8) points.push_back(0.5 * Point(i, j, k));
+      }
+    }
+  }
+  for (const Point& origin : {Point(0.0, 0.0, 0.0), Point(0.125, 0.125, 0.125), Point(0.25, -0.375, 0.5)}) {
+    for (double resolution : {0.25, 0.125}) {
+      expectSameAsOctomap(points, origin, resolution, -1.0, 1);
+      expectSameAsOctomap(points, origin, resolution, 3.0, 1);
+    }
   }
 }
 

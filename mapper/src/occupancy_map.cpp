@@ -104,7 +104,7 @@ std::size_t appendCodes(const detail::KeyCaster& caster, const Point* points, st
   tbb::parallel_for(std::size_t{0}, n, std::size_t{4096}, [&](std::size_t begin) {
     const std::size_t end = std::min(n, begin + 4096);
     for (std::size_t i = begin; i < end; ++i) {
-      int key[3];
+      int key[3] = {0, 0, 0};
       ok[i] = caster.coordToKeyChecked(toPoint3d(points[i]), key);
       out[i].code = ok[i] ? (detail::mortonCode(detail::pack(key)) << 1 | 1) : ~std::uint64_t{0};
     }

@@ -2,17 +2,25 @@
 //
 // octomap spends its time in two places: inserting every ray key into a shared unordered_set under an
 // OpenMP critical section, and one updateNode per voxel, each a descent from the root (with a search
-// first for its early abort). Here each thread casts its share of the rays with the same DDA
-// arithmetic into its own set of 8x8x8 bit bricks; the bricks are merged in Morton order (occupied
-// wins over free, as in computeUpdate), which yields the voxels already sorted in octree order; they
-// are applied in one depth-first pass that visits each node once and repeats octomap's per-key rules
-// (early abort at clamped leaves, expansion of pruned leaves, child creation, pruning, inner-node
-// maximum). Each voxel is updated once per scan, so the order of updates does not change the tree.
+// first for its early abort). Here each thread walks its share of the rays with computeRayKeys'
+// arithmetic, four rays at a time in SSE2 lanes, and sets the keys' bits in its own 8x8x8 bit
+// bricks (allocated when first marked, found through a grid over the scan's box). All threads'
+// bricks are sorted in Morton order; a brick marked by several threads is OR-ed (occupied wins over
+// free, as in computeUpdate) when the update reaches it. The update is one depth-first pass that
+// visits each node once, split by brick code above a brick's root and by the brick's bits below,
+// and repeats octomap's per-key rules (early abort at clamped leaves, expansion of pruned leaves,
+// child creation, pruning, inner-node maximum). Each voxel is updated once per scan, so the order of
+// updates does not change the tree.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <vector>
+
+#if defined(__SSE2__) && defined(__x86_64__)
+#include <emmintrin.h>
+#endif
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -25,6 +33,14 @@ namespace hullmap::mapper {
 namespace detail {
 
 namespace {
+
+// Set bits (SWAR: x86-64's baseline has no popcnt instruction).
+std::size_t bitCount(std::uint64_t v) {
+  v = v - ((v >> 1) & 0x5555555555555555ull);
+  v = (v & 0x3333333333333333ull) + ((v >> 2) & 0x3333333333333333ull);
+  v = (v + (v >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+  return static_cast<std::size_t>((v * 0x0101010101010101ull) >> 56);
+}
 
 std::uint64_t spreadBits(std::uint64_t v) {
   v &= 0xFFFF;
@@ -56,21 +72,53 @@ octomap::OcTreeKey mortonKey(std::uint64_t morton) {
                             static_cast<octomap::key_type>(compactBits(morton >> 2)));
 }
 
-BrickSet::BrickSet(const int lo[3], const int dims[3]) {
+BrickSet::BrickSet(const int lo[3], const int dims[3], bool allocate_grid) {
   for (int i = 0; i < 3; ++i) {
     lo_[i] = lo[i];
     dims_[i] = dims[i];
+    grid_lo_[i] = static_cast<unsigned>(lo[i]) * 8;
+    grid_extent_[i] = static_cast<unsigned>(dims[i]) * 8;
   }
-  dense_count_ = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
-  bricks_.resize(dense_count_);
+  grid_.assign(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2], kNoBrick);
+  // Cell (bx, by, bz) of the grid is (bz * dims1 + by) * dims0 + bx; inside a brick, key bits
+  // interleave (kSpread).
+  const std::uint32_t stride[3] = {512, 512 * static_cast<std::uint32_t>(dims[0]),
+                                   512 * static_cast<std::uint32_t>(dims[0]) * static_cast<std::uint32_t>(dims[1])};
+  for (int a = 0; a < 3; ++a) {
+    axis_code_[a].resize(grid_extent_[a]);
+    for (std::uint32_t r = 0; r < grid_extent_[a]; ++r) axis_code_[a][r] = (r >> 3) * stride[a] + (kSpread[r & 7] << a);
+  }
+  if (allocate_grid) {
+    free_.resize(grid_.size() * kWords);
+    occupied_.resize(grid_.size() * kWords);
+    coords_.reserve(grid_.size());
+    for (std::size_t cell = 0; cell < grid_.size(); ++cell) {
+      const std::uint64_t x = lo_[0] + cell % dims_[0];
+      const std::uint64_t y = lo_[1] + (cell / dims_[0]) % dims_[1];
+      const std::uint64_t z = lo_[2] + cell / (static_cast<std::size_t>(dims_[0]) * dims_[1]);
+      grid_[cell] = static_cast<std::uint32_t>(cell * kWords);
+      coords_.push_back(x | y << 13 | z << 26);
+    }
+    grid_allocated_ = true;
+  }
 }
 
-std::uint64_t BrickSet::coordOf(std::size_t i) const {
-  if (i >= dense_count_) return coords_[i - dense_count_];
-  const std::uint64_t x = lo_[0] + i % dims_[0];
-  const std::uint64_t y = lo_[1] + (i / dims_[0]) % dims_[1];
-  const std::uint64_t z = lo_[2] + i / (static_cast<std::size_t>(dims_[0]) * dims_[1]);
-  return x | y << 13 | z << 26;
+std::uint32_t BrickSet::addBrick(std::uint64_t coord) {
+  const std::uint32_t index = static_cast<std::uint32_t>(coords_.size());
+  free_.resize(free_.size() + kWords);
+  occupied_.resize(occupied_.size() + kWords);
+  coords_.push_back(coord);
+  return index;
+}
+
+std::uint32_t BrickSet::gridBrick(std::size_t cell) {
+  if (grid_[cell] == kNoBrick) {
+    const std::uint64_t x = lo_[0] + cell % dims_[0];
+    const std::uint64_t y = lo_[1] + (cell / dims_[0]) % dims_[1];
+    const std::uint64_t z = lo_[2] + cell / (static_cast<std::size_t>(dims_[0]) * dims_[1]);
+    grid_[cell] = addBrick(x | y << 13 | z << 26) * kWords;
+  }
+  return grid_[cell] / kWords;
 }
 
 std::uint32_t BrickSet::find(std::uint64_t coord) {
@@ -78,18 +126,23 @@ std::uint32_t BrickSet::find(std::uint64_t coord) {
   const unsigned y = static_cast<unsigned>((coord >> 13) & 0x1FFF) - lo_[1];
   const unsigned z = static_cast<unsigned>(coord >> 26) - lo_[2];
   if (x < static_cast<unsigned>(dims_[0]) && y < static_cast<unsigned>(dims_[1]) && z < static_cast<unsigned>(dims_[2])) {
-    return static_cast<std::uint32_t>((static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0] + x);
+    return gridBrick((static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0] + x);
   }
-  if (2 * (coords_.size() + 1) > slots_.size()) {
+  if (2 * (hashed_ + 1) > slots_.size()) {
     const std::size_t capacity = std::max<std::size_t>(4096, 2 * slots_.size());
+    std::vector<std::uint64_t> old_slots;
+    std::vector<std::uint32_t> old_index;
+    old_slots.swap(slots_);
+    old_index.swap(slot_index_);
     slots_.assign(capacity, 0);
     slot_index_.assign(capacity, 0);
     shift_ = 64 - static_cast<unsigned>(std::log2(static_cast<double>(capacity)) + 0.5);
-    for (std::uint32_t i = 0; i < coords_.size(); ++i) {
-      std::size_t s = static_cast<std::size_t>((coords_[i] * 0x9E3779B97F4A7C15ull) >> shift_);
+    for (std::size_t i = 0; i < old_slots.size(); ++i) {
+      if (old_slots[i] == 0) continue;
+      std::size_t s = static_cast<std::size_t>(((old_slots[i] - 1) * 0x9E3779B97F4A7C15ull) >> shift_);
       while (slots_[s] != 0) s = (s + 1) & (capacity - 1);
-      slots_[s] = coords_[i] + 1;
-      slot_index_[s] = static_cast<std::uint32_t>(dense_count_ + i);
+      slots_[s] = old_slots[i];
+      slot_index_[s] = old_index[i];
     }
   }
   std::size_t s = static_cast<std::size_t>((coord * 0x9E3779B97F4A7C15ull) >> shift_);
@@ -98,81 +151,275 @@ std::uint32_t BrickSet::find(std::uint64_t coord) {
     s = (s + 1) & (slots_.size() - 1);
   }
   slots_[s] = coord + 1;
-  slot_index_[s] = static_cast<std::uint32_t>(bricks_.size());
-  bricks_.emplace_back();
-  coords_.push_back(coord);
+  slot_index_[s] = addBrick(coord);
+  ++hashed_;
   return slot_index_[s];
 }
 
-KeyCaster::KeyCaster(const octomap::OcTree& tree)
-    : resolution_(tree.getResolution()), resolution_factor_(1.0 / tree.getResolution()),
-      max_val_(32768) {}
-
-bool KeyCaster::coordToKeyChecked(double coordinate, int& key) const {
-  const double scaled = std::floor(resolution_factor_ * coordinate);
-  // octomap casts first; outside int's range (and for NaN) that is undefined, and never a valid key.
-  if (!(scaled > -2147483648.0 && scaled < 2147483647.0)) return false;
-  const int k = static_cast<int>(scaled) + max_val_;
-  if (k < 0 || k >= 2 * max_val_) return false;
-  key = k;
-  return true;
+void BrickSet::markFree(const std::uint64_t* keys, std::size_t count) {
+  const std::uint32_t* code0 = axis_code_[0].data();
+  const std::uint32_t* code1 = axis_code_[1].data();
+  const std::uint32_t* code2 = axis_code_[2].data();
+  std::uint64_t* free = free_.data();
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint64_t packed = keys[i];
+    const unsigned r0 = static_cast<unsigned>(packed & 0xFFFF);
+    const unsigned r1 = static_cast<unsigned>((packed >> 16) & 0xFFFF);
+    const unsigned r2 = static_cast<unsigned>(packed >> 32);
+    if ((r0 < grid_extent_[0]) & (r1 < grid_extent_[1]) & (r2 < grid_extent_[2])) {
+      const std::uint32_t code = code0[r0] + code1[r1] + code2[r2];
+      if (grid_allocated_) {
+        free[code >> 6] |= std::uint64_t{1} << (code & 63);
+        continue;
+      }
+      std::uint32_t word = grid_[code >> 9];
+      if (word == kNoBrick) {
+        word = gridBrick(code >> 9) * kWords;
+        free = free_.data();
+      }
+      free[word + ((code >> 6) & 7)] |= std::uint64_t{1} << (code & 63);
+    } else if ((packed >> 48) == 0) {
+      const int k[3] = {static_cast<int>((r0 + grid_lo_[0]) & 0xFFFF), static_cast<int>((r1 + grid_lo_[1]) & 0xFFFF),
+                        static_cast<int>((r2 + grid_lo_[2]) & 0xFFFF)};
+      mark(k, false);
+      free = free_.data();
+    }
+  }
 }
 
-bool KeyCaster::coordToKeyChecked(const octomap::point3d& p, int key[3]) const {
-  return coordToKeyChecked(p(0), key[0]) && coordToKeyChecked(p(1), key[1]) && coordToKeyChecked(p(2), key[2]);
-}
-
-// Same arithmetic, statement for statement, as OcTreeBaseImpl::computeRayKeys (octomap 1.9),
-// without KeyRay's fixed 100000-key buffer.
-bool KeyCaster::castRay(const octomap::point3d& origin, const octomap::point3d& end, BrickSet& out) const {
-  int key_origin[3], key_end[3];
-  if (!coordToKeyChecked(origin, key_origin) || !coordToKeyChecked(end, key_end)) return false;
-  if (key_origin[0] == key_end[0] && key_origin[1] == key_end[1] && key_origin[2] == key_end[2]) return true;
-
-  out.mark(key_origin, false);
+bool KeyCaster::startRay(const octomap::point3d& origin, const int key_origin[3], const octomap::point3d& end,
+                        const int key_end[3], RayStart& start) const {
+  // OcTreeBaseImpl::computeRayKeys (octomap 1.9) up to its loop, statement for statement.
+  if (key_origin[0] == key_end[0] && key_origin[1] == key_end[1] && key_origin[2] == key_end[2]) return false;
 
   octomap::point3d direction = (end - origin);
   const float length = static_cast<float>(direction.norm());
   direction /= length;
 
-  int step[3];
-  double t_max[3];
-  double t_delta[3];
-  int current[3] = {key_origin[0], key_origin[1], key_origin[2]};
   for (int i = 0; i < 3; ++i) {
-    if (direction(i) > 0.0) step[i] = 1;
-    else if (direction(i) < 0.0) step[i] = -1;
-    else step[i] = 0;
+    if (direction(i) > 0.0) start.step[i] = 1;
+    else if (direction(i) < 0.0) start.step[i] = -1;
+    else start.step[i] = 0;
 
-    if (step[i] != 0) {
-      double voxel_border = (static_cast<double>(current[i] - max_val_) + 0.5) * resolution_;
-      voxel_border += static_cast<float>(step[i] * resolution_ * 0.5);
-      t_max[i] = (voxel_border - origin(i)) / direction(i);
-      t_delta[i] = resolution_ / std::fabs(direction(i));
+    if (start.step[i] != 0) {
+      double voxel_border = (static_cast<double>(key_origin[i] - max_val_) + 0.5) * resolution_;
+      voxel_border += static_cast<float>(start.step[i] * resolution_ * 0.5);
+      start.t_max[i] = (voxel_border - origin(i)) / direction(i);
+      start.t_delta[i] = resolution_ / std::fabs(direction(i));
     } else {
-      t_max[i] = std::numeric_limits<double>::max();
-      t_delta[i] = std::numeric_limits<double>::max();
+      start.t_max[i] = std::numeric_limits<double>::max();
+      start.t_delta[i] = std::numeric_limits<double>::max();
     }
   }
-
-  for (;;) {
-    int dim;
-    if (t_max[0] < t_max[1]) dim = t_max[0] < t_max[2] ? 0 : 2;
-    else dim = t_max[1] < t_max[2] ? 1 : 2;
-
-    // octomap's keys are 16-bit: stepping past the edge wraps.
-    current[dim] = (current[dim] + step[dim]) & 0xFFFF;
-    t_max[dim] += t_delta[dim];
-
-    if (current[0] == key_end[0] && current[1] == key_end[1] && current[2] == key_end[2]) break;
-    const double dist_from_origin = std::min(std::min(t_max[0], t_max[1]), t_max[2]);
-    if (dist_from_origin > length) break;
-    out.mark(current, false);
-  }
+  start.length = length;
   return true;
 }
 
 namespace {
+
+// Steps walked between two passes marking their keys (16 KiB of keys: stays in L1).
+constexpr int kSteps = 512;
+
+}  // namespace
+
+#if defined(__SSE2__) && defined(__x86_64__)
+
+namespace {
+
+// Two rays per SSE2 register. Keys are packed k0 | k1 << 16 | k2 << 32 in 16-bit lanes, so that
+// stepping past the edge of octomap's 16-bit keys wraps as octomap's does. A lane without a ray
+// never steps or stops and holds a key with bits 48-63 set (no key).
+struct LaneGroup {
+  __m128d t0, t1, t2, d0, d1, d2, limit;
+  __m128i key, key_end, step0, step1, step2;  // step_i: step[i] in key i's 16-bit lane
+};
+
+// One lane's ray, or an idle lane's values.
+struct LaneRay {
+  double t[3] = {0.0, 0.0, 0.0};
+  double delta[3] = {0.0, 0.0, 0.0};
+  double limit = std::numeric_limits<double>::infinity();
+  std::uint64_t key = std::uint64_t{0xFFFF} << 48;
+  std::uint64_t key_end = 0;
+  std::uint64_t step[3] = {0, 0, 0};
+};
+
+inline __m128d withLane(__m128d v, int lane, double x) {
+  return lane == 0 ? _mm_move_sd(v, _mm_set_sd(x)) : _mm_unpacklo_pd(v, _mm_set_sd(x));
+}
+
+inline __m128i withLane(__m128i v, int lane, std::uint64_t x) {
+  const __m128i s = _mm_cvtsi64_si128(static_cast<long long>(x));
+  return lane == 0 ? _mm_castpd_si128(_mm_move_sd(_mm_castsi128_pd(v), _mm_castsi128_pd(s)))
+                   : _mm_unpacklo_epi64(v, s);
+}
+
+inline void setLane(LaneGroup& g, int lane, const LaneRay& r) {
+  g.t0 = withLane(g.t0, lane, r.t[0]);
+  g.t1 = withLane(g.t1, lane, r.t[1]);
+  g.t2 = withLane(g.t2, lane, r.t[2]);
+  g.d0 = withLane(g.d0, lane, r.delta[0]);
+  g.d1 = withLane(g.d1, lane, r.delta[1]);
+  g.d2 = withLane(g.d2, lane, r.delta[2]);
+  g.limit = withLane(g.limit, lane, r.limit);
+  g.key = withLane(g.key, lane, r.key);
+  g.key_end = withLane(g.key_end, lane, r.key_end);
+  g.step0 = withLane(g.step0, lane, r.step[0]);
+  g.step1 = withLane(g.step1, lane, r.step[1]);
+  g.step2 = withLane(g.step2, lane, r.step[2]);
+}
+
+// One step of both lanes: the stepped keys, less `lo`, go to keys[0..1] (all ones where a ray
+// stopped). Returns the lanes whose ray stopped (movemask bits).
+inline int stepLanes(LaneGroup& g, __m128i lo, std::uint64_t* keys) {
+  const __m128d lt01 = _mm_cmplt_pd(g.t0, g.t1);
+  const __m128d x = _mm_and_pd(lt01, _mm_cmplt_pd(g.t0, g.t2));
+  const __m128d y = _mm_andnot_pd(lt01, _mm_cmplt_pd(g.t1, g.t2));
+  const __m128d z = _mm_andnot_pd(_mm_or_pd(x, y), _mm_castsi128_pd(_mm_set1_epi32(-1)));
+  g.t0 = _mm_add_pd(g.t0, _mm_and_pd(g.d0, x));
+  g.t1 = _mm_add_pd(g.t1, _mm_and_pd(g.d1, y));
+  g.t2 = _mm_add_pd(g.t2, _mm_and_pd(g.d2, z));
+  const __m128i steps = _mm_or_si128(_mm_or_si128(_mm_and_si128(g.step0, _mm_castpd_si128(x)),
+                                                  _mm_and_si128(g.step1, _mm_castpd_si128(y))),
+                                     _mm_and_si128(g.step2, _mm_castpd_si128(z)));
+  g.key = _mm_add_epi16(g.key, steps);
+  const __m128i same = _mm_cmpeq_epi32(g.key, g.key_end);
+  const __m128i at_end = _mm_and_si128(same, _mm_shuffle_epi32(same, _MM_SHUFFLE(2, 3, 0, 1)));
+  const __m128d past = _mm_cmpgt_pd(_mm_min_pd(_mm_min_pd(g.t0, g.t1), g.t2), g.limit);
+  const __m128i stop = _mm_or_si128(at_end, _mm_castpd_si128(past));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(keys), _mm_or_si128(_mm_sub_epi16(g.key, lo), stop));
+  return _mm_movemask_pd(_mm_castsi128_pd(stop));
+}
+
+}  // namespace
+
+// The walk of computeRayKeys, four rays at a time and without branches: which axis steps next is
+// as unpredictable as a ray's direction, and one ray's walk is a chain of dependent additions;
+// four independent chains in vector lanes keep the core busy. Each step is octomap's:
+//   dim = t0 < t1 ? (t0 < t2 ? 0 : 2) : (t1 < t2 ? 1 : 2); key[dim] += step[dim]; t[dim] += delta[dim];
+//   stop if key == key_end, or if min(t) > length; else the key is free.
+// An axis that does not step adds +0.0, which leaves its t unchanged. The keys go to a buffer that
+// a scalar pass then marks.
+void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3], const Ray* rays,
+                         std::size_t count, BrickSet& out) const {
+  std::size_t next = 0;
+  bool any_cast = false;
+  int active = 0;
+  const std::uint64_t packed_origin = pack(key_origin);
+  // The next ray that has free keys, or an idle lane.
+  auto nextRay = [&] {
+    LaneRay lane;
+    RayStart start;
+    while (next < count) {
+      const Ray& ray = rays[next++];
+      if (!ray.casts || !startRay(origin, key_origin, ray.end, ray.key_end, start)) continue;
+      for (int a = 0; a < 3; ++a) {
+        lane.t[a] = start.t_max[a];
+        lane.delta[a] = start.t_delta[a];
+        lane.step[a] = static_cast<std::uint64_t>(start.step[a] & 0xFFFF) << (16 * a);
+      }
+      lane.limit = start.length;
+      lane.key = packed_origin;
+      lane.key_end = pack(ray.key_end);
+      any_cast = true;
+      ++active;
+      break;
+    }
+    return lane;
+  };
+  LaneGroup g0, g1;
+  const LaneRay r00 = nextRay(), r01 = nextRay(), r10 = nextRay(), r11 = nextRay();
+  g0.t0 = _mm_set_pd(r01.t[0], r00.t[0]);
+  g0.t1 = _mm_set_pd(r01.t[1], r00.t[1]);
+  g0.t2 = _mm_set_pd(r01.t[2], r00.t[2]);
+  g0.d0 = _mm_set_pd(r01.delta[0], r00.delta[0]);
+  g0.d1 = _mm_set_pd(r01.delta[1], r00.delta[1]);
+  g0.d2 = _mm_set_pd(r01.delta[2], r00.delta[2]);
+  g0.limit = _mm_set_pd(r01.limit, r00.limit);
+  g0.key = _mm_set_epi64x(static_cast<long long>(r01.key), static_cast<long long>(r00.key));
+  g0.key_end = _mm_set_epi64x(static_cast<long long>(r01.key_end), static_cast<long long>(r00.key_end));
+  g0.step0 = _mm_set_epi64x(static_cast<long long>(r01.step[0]), static_cast<long long>(r00.step[0]));
+  g0.step1 = _mm_set_epi64x(static_cast<long long>(r01.step[1]), static_cast<long long>(r00.step[1]));
+  g0.step2 = _mm_set_epi64x(static_cast<long long>(r01.step[2]), static_cast<long long>(r00.step[2]));
+  g1 = g0;
+  setLane(g1, 0, r10);
+  setLane(g1, 1, r11);
+
+  const unsigned* grid_lo = out.gridLo();
+  const __m128i lo = _mm_set1_epi64x(static_cast<long long>(
+      grid_lo[0] | static_cast<std::uint64_t>(grid_lo[1]) << 16 | static_cast<std::uint64_t>(grid_lo[2]) << 32));
+  alignas(16) std::uint64_t keys[kSteps * 4];
+  while (active > 0) {
+    int steps = kSteps;
+    for (int n = 0; n < kSteps; ++n) {
+      const int stop0 = stepLanes(g0, lo, &keys[4 * n]);
+      const int stop1 = stepLanes(g1, lo, &keys[4 * n + 2]);
+      if ((stop0 | stop1) != 0) {
+        active -= static_cast<int>(bitCount(static_cast<unsigned>(stop0 | stop1 << 2)));
+        if (stop0 & 1) setLane(g0, 0, nextRay());
+        if (stop0 & 2) setLane(g0, 1, nextRay());
+        if (stop1 & 1) setLane(g1, 0, nextRay());
+        if (stop1 & 2) setLane(g1, 1, nextRay());
+        if (active == 0) {
+          steps = n + 1;
+          break;
+        }
+      }
+    }
+    out.markFree(keys, static_cast<std::size_t>(steps) * 4);
+  }
+  if (any_cast) out.mark(key_origin, false);
+}
+
+#else
+
+// computeRayKeys' walk, one ray at a time.
+void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3], const Ray* rays,
+                         std::size_t count, BrickSet& out) const {
+  const int lo[3] = {static_cast<int>(out.gridLo()[0]), static_cast<int>(out.gridLo()[1]),
+                     static_cast<int>(out.gridLo()[2])};
+  std::uint64_t keys[kSteps] = {};
+  int n = 0;
+  bool any_cast = false;
+  for (std::size_t r = 0; r < count; ++r) {
+    RayStart start;
+    if (!rays[r].casts || !startRay(origin, key_origin, rays[r].end, rays[r].key_end, start)) continue;
+    any_cast = true;
+    double t[3] = {start.t_max[0], start.t_max[1], start.t_max[2]};
+    int key[3] = {key_origin[0], key_origin[1], key_origin[2]};
+    const int* key_end = rays[r].key_end;
+    for (;;) {
+      const int dim = t[0] < t[1] ? (t[0] < t[2] ? 0 : 2) : (t[1] < t[2] ? 1 : 2);
+      key[dim] = (key[dim] + start.step[dim]) & 0xFFFF;
+      t[dim] += start.t_delta[dim];
+      if (key[0] == key_end[0] && key[1] == key_end[1] && key[2] == key_end[2]) break;
+      if (std::min(std::min(t[0], t[1]), t[2]) > start.length) break;
+      const int rel[3] = {(key[0] - lo[0]) & 0xFFFF, (key[1] - lo[1]) & 0xFFFF, (key[2] - lo[2]) & 0xFFFF};
+      keys[n++] = pack(rel);
+      if (n == kSteps) {
+        out.markFree(keys, kSteps);
+        n = 0;
+      }
+    }
+  }
+  out.markFree(keys, static_cast<std::size_t>(n));
+  if (any_cast) out.mark(key_origin, false);
+}
+
+#endif
+
+namespace {
+
+// First update in [begin, end) (sorted) with code >= limit. Exponential search: the runs of one
+// child are long near the root and short near the leaves, and a scan would read every update at
+// every level.
+VoxelUpdate* firstAtLeast(VoxelUpdate* begin, VoxelUpdate* end, std::uint64_t limit) {
+  const std::size_t n = static_cast<std::size_t>(end - begin);
+  std::size_t bound = 1;
+  while (bound <= n && begin[bound - 1].code < limit) bound *= 2;
+  return std::lower_bound(begin + bound / 2, begin + std::min(bound, n), limit,
+                          [](const VoxelUpdate& u, std::uint64_t l) { return u.code < l; });
+}
 
 class BatchUpdate {
  public:
@@ -201,8 +448,7 @@ class BatchUpdate {
     bool changed = false;
     for (VoxelUpdate* it = begin; it != end;) {
       const unsigned pos = static_cast<unsigned>((it->code >> shift) & 7);
-      VoxelUpdate* run = it + 1;
-      while (run != end && static_cast<unsigned>((run->code >> shift) & 7) == pos) ++run;
+      VoxelUpdate* run = firstAtLeast(it + 1, end, ((it->code >> shift) + 1) << shift);
       bool created = false;
       if (!tree_.nodeChildExists(node, pos)) {
         if (!tree_.nodeHasChildren(node) && !just_created) {
@@ -253,14 +499,9 @@ void sortUpdates(std::vector<VoxelUpdate>& updates) {
 
 namespace {
 
-struct OrderedBrick {
-  std::uint64_t code;  // brick Morton
-  const BrickSet::Brick* brick;
-};
-
-void sortBricks(std::vector<OrderedBrick>& bricks) {
+void sortBricks(std::vector<ScanUpdate::Entry>& bricks) {
   // 39-bit codes: three passes of 13 bits.
-  std::vector<OrderedBrick> buffer(bricks.size());
+  std::vector<ScanUpdate::Entry> buffer(bricks.size());
   std::vector<std::size_t> count(1 << 13);
   for (unsigned pass = 0; pass < 3; ++pass) {
     const unsigned shift = 13 * pass;
@@ -277,18 +518,40 @@ void sortBricks(std::vector<OrderedBrick>& bricks) {
   }
 }
 
+// The voxels of the entries [begin, end) of one brick: occupied, and free but not occupied.
+void mergeBrick(const ScanUpdate& update, const ScanUpdate::Entry* begin, const ScanUpdate::Entry* end,
+                std::uint64_t occupied[BrickSet::kWords], std::uint64_t free[BrickSet::kWords]) {
+  for (std::size_t w = 0; w < BrickSet::kWords; ++w) occupied[w] = free[w] = 0;
+  for (const ScanUpdate::Entry* e = begin; e != end; ++e) {
+    const BrickSet& set = update.sets[e->set];
+    for (std::size_t w = 0; w < BrickSet::kWords; ++w) {
+      occupied[w] |= set.occupiedWords(e->brick)[w];
+      free[w] |= set.freeWords(e->brick)[w];
+    }
+  }
+  for (std::size_t w = 0; w < BrickSet::kWords; ++w) free[w] &= ~occupied[w];
+}
+
+const ScanUpdate::Entry* brickEnd(const ScanUpdate::Entry* it, const ScanUpdate::Entry* end) {
+  const ScanUpdate::Entry* run = it + 1;
+  while (run != end && run->code == it->code) ++run;
+  return run;
+}
+
 std::uint64_t brickMorton(std::uint64_t c) {
   return mortonCode((c & 0x1FFF) | ((c >> 13) & 0x1FFF) << 16 | ((c >> 26) & 0x1FFF) << 32);
 }
 
-// Per-thread dense bricks cost memory and zeroing: only for boxes that are not much larger
-// than the work.
-constexpr std::size_t kMaxDenseBricks = std::size_t{1} << 18;  // 32 MiB per thread
+// Each thread's grid costs 4 bytes a cell to clear: only for boxes of at most 16 MiB that are
+// not much larger than the work.
+constexpr std::size_t kMaxGridCells = std::size_t{1} << 22;
+// A brick costs 128 bytes: boxes allocated whole up to 8 MiB, and 32 bytes a point.
+constexpr std::size_t kMaxAllocatedCells = std::size_t{1} << 16;
 
 }  // namespace
 
-std::vector<VoxelUpdate> computeScanUpdate(const octomap::OcTree& tree, const Points& points,
-                                           const Point& origin_d, double max_range) {
+ScanUpdate computeScanUpdate(const octomap::OcTree& tree, const Points& points, const Point& origin_d,
+                             double max_range) {
   const KeyCaster caster(tree);
   const octomap::point3d origin(static_cast<float>(origin_d.x()), static_cast<float>(origin_d.y()),
                                 static_cast<float>(origin_d.z()));
@@ -303,31 +566,34 @@ std::vector<VoxelUpdate> computeScanUpdate(const octomap::OcTree& tree, const Po
     return origin + direction * static_cast<float>(max_range);
   };
 
-  // Box of the ray ends' bricks (rays stay between their ends' keys, give or take a voxel).
+  // Each ray's end and its key, and the box of the ends' bricks: the grid's box (a walk stays
+  // between its ends' keys, give or take a voxel; a key outside the grid goes to the hash).
   struct Box {
     int lo[3] = {1 << 30, 1 << 30, 1 << 30};
     int hi[3] = {-1, -1, -1};
   };
   tbb::enumerable_thread_specific<Box> boxes;
-  int origin_key[3];
+  int origin_key[3] = {0, 0, 0};
   const bool origin_ok = caster.coordToKeyChecked(origin, origin_key);
-  if (origin_ok) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4096),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-      Box& box = boxes.local();
-      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-        bool endpoint;
-        int key[3];
-        if (!caster.coordToKeyChecked(rayEnd(toPoint3d(points[i]), endpoint), key)) continue;
-        for (int a = 0; a < 3; ++a) {
-          box.lo[a] = std::min(box.lo[a], key[a] >> 3);
-          box.hi[a] = std::max(box.hi[a], key[a] >> 3);
-        }
+  std::vector<KeyCaster::Ray> rays(points.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4096),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+    Box& box = boxes.local();
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      bool endpoint;
+      KeyCaster::Ray& ray = rays[i];
+      ray.end = rayEnd(toPoint3d(points[i]), endpoint);
+      // When `endpoint`, the end is the point itself: its key is the occupied one.
+      if (!caster.coordToKeyChecked(ray.end, ray.key_end)) continue;
+      ray.casts = origin_ok;
+      ray.occupied = endpoint;
+      for (int a = 0; a < 3; ++a) {
+        box.lo[a] = std::min(box.lo[a], ray.key_end[a] >> 3);
+        box.hi[a] = std::max(box.hi[a], ray.key_end[a] >> 3);
       }
-    });
-  }
-  int lo[3], dims[3] = {0, 0, 0};
-  std::size_t dense = 0;
+    }
+  });
+  int lo[3] = {0, 0, 0}, dims[3] = {0, 0, 0};
   if (origin_ok) {
     for (int a = 0; a < 3; ++a) {
       lo[a] = origin_key[a] >> 3;
@@ -339,80 +605,256 @@ std::vector<VoxelUpdate> computeScanUpdate(const octomap::OcTree& tree, const Po
       lo[a] = std::max(0, lo[a] - 1);
       dims[a] = std::min(8191, hi + 1) - lo[a] + 1;
     }
-    dense = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
-    if (dense > kMaxDenseBricks || dense > 64 * points.size() + 4096) dims[0] = dims[1] = dims[2] = 0;
+    const std::size_t box_cells = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
+    if (box_cells > kMaxGridCells || box_cells > 1024 * points.size() + 65536) dims[0] = dims[1] = dims[2] = 0;
   }
 
-  tbb::enumerable_thread_specific<BrickSet> local([&] { return BrickSet(lo, dims); });
+  // Small boxes are allocated whole: no lookup of the grid per key.
+  const std::size_t cells = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
+  const bool allocate_grid = cells > 0 && cells <= std::min(kMaxAllocatedCells, points.size() / 4);
+  tbb::enumerable_thread_specific<BrickSet> local([&] { return BrickSet(lo, dims, allocate_grid); });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 1024),
                     [&](const tbb::blocked_range<std::size_t>& range) {
     BrickSet& set = local.local();
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      const octomap::point3d p = toPoint3d(points[i]);
-      bool endpoint;
-      const octomap::point3d end = rayEnd(p, endpoint);
-      caster.castRay(origin, end, set);
-      int key[3];
-      if (endpoint && caster.coordToKeyChecked(p, key)) set.mark(key, true);
+      if (rays[i].occupied) set.mark(rays[i].key_end, true);
     }
+    caster.castRays(origin, origin_key, rays.data() + range.begin(), range.size(), set);
   });
 
-  std::vector<BrickSet*> sets;
-  for (BrickSet& set : local) sets.push_back(&set);
-  if (sets.empty()) return {};
-  // Dense boxes: OR into the first set's.
-  BrickSet& first = *sets[0];
-  const std::size_t dense_count = first.denseCount();
-  if (sets.size() > 1 && dense_count > 0) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, dense_count, 4096),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-      for (std::size_t t = 1; t < sets.size(); ++t) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-          BrickSet::Brick& into = first.bricks()[i];
-          const BrickSet::Brick& from = sets[t]->bricks()[i];
-          for (int w = 0; w < 8; ++w) {
-            into.free[w] |= from.free[w];
-            into.occupied[w] |= from.occupied[w];
-          }
-        }
-      }
-    });
-  }
-  std::vector<OrderedBrick> order;
-  for (std::size_t i = 0; i < dense_count; ++i) {
-    if (!first.bricks()[i].empty()) order.push_back({brickMorton(first.coordOf(i)), &first.bricks()[i]});
-  }
-  for (const BrickSet* set : sets) {
-    for (std::size_t i = set->denseCount(); i < set->bricks().size(); ++i) {
-      order.push_back({brickMorton(set->coordOf(i)), &set->bricks()[i]});
-    }
-  }
-  sortBricks(order);
+  std::vector<BrickSet> sets;
+  for (BrickSet& set : local) sets.push_back(std::move(set));
+  return ScanUpdate(std::move(sets));
+}
 
-  // Voxels in Morton order; occupied wins over free.
-  std::vector<VoxelUpdate> updates;
-  for (std::size_t i = 0; i < order.size();) {
-    BrickSet::Brick merged;
-    std::size_t j = i;
-    for (; j < order.size() && order[j].code == order[i].code; ++j) {
-      for (int w = 0; w < 8; ++w) {
-        merged.free[w] |= order[j].brick->free[w];
-        merged.occupied[w] |= order[j].brick->occupied[w];
-      }
+ScanUpdate::ScanUpdate(std::vector<BrickSet> marked) : sets(std::move(marked)) {
+  for (std::uint32_t t = 0; t < sets.size(); ++t) {
+    for (std::uint32_t i = 0; i < sets[t].brickCount(); ++i) {
+      if (!sets[t].empty(i)) bricks.push_back({brickMorton(sets[t].coordOf(i)), t, i});
     }
-    const std::uint64_t base = order[i].code << 9;
-    for (unsigned w = 0; w < 8; ++w) {
-      const std::uint64_t occupied = merged.occupied[w];
-      std::uint64_t any = merged.free[w] | occupied;
-      while (any != 0) {
-        const unsigned bit = static_cast<unsigned>(__builtin_ctzll(any));
-        any &= any - 1;
-        updates.push_back({(base | (w << 6) | bit) << 1 | ((occupied >> bit) & 1), 1});
-      }
-    }
-    i = j;
   }
-  return updates;
+  sortBricks(bricks);
+}
+
+std::size_t ScanUpdate::voxelCount() const {
+  std::size_t n = 0;
+  const Entry* end = bricks.data() + bricks.size();
+  for (const Entry* it = bricks.data(); it != end;) {
+    const Entry* run = brickEnd(it, end);
+    std::uint64_t occupied[BrickSet::kWords], free[BrickSet::kWords];
+    mergeBrick(*this, it, run, occupied, free);
+    for (std::size_t w = 0; w < BrickSet::kWords; ++w) n += bitCount(occupied[w] | free[w]);
+    it = run;
+  }
+  return n;
+}
+
+namespace {
+
+// The depth-first pass of applyUpdates over a scan's bricks: above a brick's root (depth 13) the
+// children are split by brick code; below it by the bits of its words (word w: child w at depth
+// 14; in a word, bits 8c..8c+7: child c at depth 15; bit l of those: leaf l). Same rules as
+// BatchUpdate::descend, on masks: at an existing leaf, octomap's early abort drops every
+// occupied (or free) update below it when such an update cannot change the leaf.
+class ScanApply {
+ public:
+  ScanApply(octomap::OcTree& tree, const ScanUpdate& update)
+      : tree_(tree), update_(update), hit_(tree.getProbHitLog()), miss_(tree.getProbMissLog()),
+        clamp_min_(tree.getClampingThresMinLog()), clamp_max_(tree.getClampingThresMaxLog()) {}
+
+  /// Voxel `skip` (Morton code) is left out: the caller applied it already.
+  void run(std::uint64_t skip) {
+    skip_ = skip;
+    const ScanUpdate::Entry* begin = update_.bricks.data();
+    bricks(tree_.getRoot(), false, 0, begin, begin + update_.bricks.size(), false, false);
+  }
+
+ private:
+  bool abortsOccupied(float v) const { return (hit_ >= 0 && v >= clamp_max_) || (hit_ <= 0 && v <= clamp_min_); }
+  bool abortsFree(float v) const { return (miss_ >= 0 && v >= clamp_max_) || (miss_ <= 0 && v <= clamp_min_); }
+
+  // Child `pos` of `node`, created (or `node` expanded) as updateNodeRecurs does.
+  octomap::OcTreeNode* child(octomap::OcTreeNode* node, bool node_created, unsigned pos, bool& created) {
+    created = false;
+    if (!tree_.nodeChildExists(node, pos)) {
+      if (!tree_.nodeHasChildren(node) && !node_created) {
+        tree_.expandNode(node);
+      } else {
+        tree_.createNodeChild(node, pos);
+        created = true;
+      }
+    }
+    return tree_.getNodeChild(node, pos);
+  }
+
+  bool finish(octomap::OcTreeNode* node, bool changed) {
+    if (changed && !tree_.pruneNode(node)) node->updateOccupancyChildren();
+    return changed;
+  }
+
+  void masks(const ScanUpdate::Entry* begin, const ScanUpdate::Entry* end, bool drop_occupied, bool drop_free,
+             std::uint64_t occupied[BrickSet::kWords], std::uint64_t free[BrickSet::kWords]) const {
+    mergeBrick(update_, begin, end, occupied, free);
+    if ((begin->code << 9) == (skip_ & ~std::uint64_t{511})) {
+      occupied[(skip_ >> 6) & 7] &= ~(std::uint64_t{1} << (skip_ & 63));
+      free[(skip_ >> 6) & 7] &= ~(std::uint64_t{1} << (skip_ & 63));
+    }
+    for (std::size_t w = 0; w < BrickSet::kWords; ++w) {
+      if (drop_occupied) occupied[w] = 0;
+      if (drop_free) free[w] = 0;
+    }
+  }
+
+  bool anyLeft(const ScanUpdate::Entry* begin, const ScanUpdate::Entry* end, bool drop_occupied,
+               bool drop_free) const {
+    for (const ScanUpdate::Entry* it = begin; it != end;) {
+      const ScanUpdate::Entry* run = brickEnd(it, end);
+      std::uint64_t occupied[BrickSet::kWords], free[BrickSet::kWords];
+      masks(it, run, drop_occupied, drop_free, occupied, free);
+      for (std::size_t w = 0; w < BrickSet::kWords; ++w) {
+        if ((occupied[w] | free[w]) != 0) return true;
+      }
+      it = run;
+    }
+    return false;
+  }
+
+  // Depth 0..12: children split by brick code.
+  bool bricks(octomap::OcTreeNode* node, bool just_created, unsigned depth, const ScanUpdate::Entry* begin,
+              const ScanUpdate::Entry* end, bool drop_occupied, bool drop_free) {
+    if (!just_created && !tree_.nodeHasChildren(node)) {
+      const float v = node->getLogOdds();
+      drop_occupied |= abortsOccupied(v);
+      drop_free |= abortsFree(v);
+      if ((drop_occupied || drop_free) && !anyLeft(begin, end, drop_occupied, drop_free)) return false;
+    }
+    const unsigned shift = 3 * (12 - depth);
+    bool changed = false;
+    for (const ScanUpdate::Entry* it = begin; it != end;) {
+      const unsigned pos = static_cast<unsigned>((it->code >> shift) & 7);
+      const ScanUpdate::Entry* run = firstEntryAtLeast(it + 1, end, ((it->code >> shift) + 1) << shift);
+      bool created;
+      octomap::OcTreeNode* next = child(node, just_created, pos, created);
+      if (depth + 1 < kBrickDepth) {
+        changed |= bricks(next, created, depth + 1, it, run, drop_occupied, drop_free);
+      } else {
+        std::uint64_t occupied[BrickSet::kWords], free[BrickSet::kWords];
+        masks(it, run, drop_occupied, drop_free, occupied, free);
+        changed |= brick(next, created, occupied, free);
+      }
+      it = run;
+    }
+    return finish(node, changed);
+  }
+
+  // Depth 13: a brick's root; child w has word w.
+  bool brick(octomap::OcTreeNode* node, bool just_created, std::uint64_t occupied[BrickSet::kWords],
+             std::uint64_t free[BrickSet::kWords]) {
+    std::uint64_t any = 0;
+    if (!just_created && !tree_.nodeHasChildren(node)) {
+      const float v = node->getLogOdds();
+      const bool drop_occupied = abortsOccupied(v), drop_free = abortsFree(v);
+      for (std::size_t w = 0; w < BrickSet::kWords; ++w) {
+        if (drop_occupied) occupied[w] = 0;
+        if (drop_free) free[w] = 0;
+      }
+    }
+    std::uint64_t all_occupied = ~std::uint64_t{0}, all_free = ~std::uint64_t{0};
+    for (std::size_t w = 0; w < BrickSet::kWords; ++w) {
+      any |= occupied[w] | free[w];
+      all_occupied &= occupied[w];
+      all_free &= free[w];
+    }
+    if (any == 0) return false;
+    if (just_created && (all_occupied == ~std::uint64_t{0} || all_free == ~std::uint64_t{0})) {
+      return collapsed(node, all_occupied == ~std::uint64_t{0});
+    }
+    bool changed = false;
+    for (unsigned w = 0; w < BrickSet::kWords; ++w) {
+      if ((occupied[w] | free[w]) == 0) continue;
+      bool created;
+      octomap::OcTreeNode* next = child(node, just_created, w, created);
+      changed |= word(next, created, occupied[w], free[w]);
+    }
+    return finish(node, changed);
+  }
+
+  // Depth 14 (64 voxels, child c: bits 8c..8c+7) and 15 (8 voxels, child c: bit c).
+  bool word(octomap::OcTreeNode* node, bool just_created, std::uint64_t occupied, std::uint64_t free,
+            unsigned depth = 14) {
+    if (!just_created && !tree_.nodeHasChildren(node)) {
+      const float v = node->getLogOdds();
+      if (abortsOccupied(v)) occupied = 0;
+      if (abortsFree(v)) free = 0;
+    }
+    if ((occupied | free) == 0) return false;
+    const std::uint64_t all = depth == 14 ? ~std::uint64_t{0} : 0xFF;
+    if (just_created && (occupied == all || free == all)) return collapsed(node, occupied == all);
+    const unsigned width = depth == 14 ? 8 : 1;
+    const std::uint64_t mask = depth == 14 ? 0xFF : 1;
+    bool changed = false;
+    for (unsigned c = 0; c < 8; ++c) {
+      const std::uint64_t o = (occupied >> (width * c)) & mask, f = (free >> (width * c)) & mask;
+      if ((o | f) == 0) continue;
+      bool created;
+      octomap::OcTreeNode* next = child(node, just_created, c, created);
+      changed |= depth == 14 ? word(next, created, o, f, 15) : leaf(next, created, o != 0);
+    }
+    return finish(node, changed);
+  }
+
+  // A new node whose voxels all get the same update: octomap would create its children, update
+  // each once from 0 (the same value for all) and prune them into it, leaving the node a leaf with
+  // that value, which is the node updated once from its own 0. Saves the children's allocations.
+  bool collapsed(octomap::OcTreeNode* node, bool occupied) {
+    tree_.updateNodeLogOdds(node, occupied ? hit_ : miss_);
+    return true;
+  }
+
+  bool leaf(octomap::OcTreeNode* node, bool just_created, bool occupied) {
+    if (!just_created && (occupied ? abortsOccupied(node->getLogOdds()) : abortsFree(node->getLogOdds()))) {
+      return false;
+    }
+    tree_.updateNodeLogOdds(node, occupied ? hit_ : miss_);
+    return true;
+  }
+
+  static const ScanUpdate::Entry* firstEntryAtLeast(const ScanUpdate::Entry* begin, const ScanUpdate::Entry* end,
+                                                    std::uint64_t limit) {
+    const std::size_t n = static_cast<std::size_t>(end - begin);
+    std::size_t bound = 1;
+    while (bound <= n && begin[bound - 1].code < limit) bound *= 2;
+    return std::lower_bound(begin + bound / 2, begin + std::min(bound, n), limit,
+                            [](const ScanUpdate::Entry& e, std::uint64_t l) { return e.code < l; });
+  }
+
+  static constexpr unsigned kBrickDepth = 13;
+  octomap::OcTree& tree_;
+  const ScanUpdate& update_;
+  float hit_, miss_, clamp_min_, clamp_max_;
+  std::uint64_t skip_ = ~std::uint64_t{0};
+};
+
+}  // namespace
+
+void applyScanUpdate(octomap::OcTree& tree, const ScanUpdate& update) {
+  if (update.bricks.empty()) return;
+  std::uint64_t skip = ~std::uint64_t{0};
+  if (tree.getRoot() == nullptr) {
+    // Only octomap can create the root: the first voxel's update goes through updateNode.
+    const ScanUpdate::Entry* begin = update.bricks.data();
+    const ScanUpdate::Entry* run = brickEnd(begin, begin + update.bricks.size());
+    std::uint64_t occupied[BrickSet::kWords], free[BrickSet::kWords];
+    mergeBrick(update, begin, run, occupied, free);
+    for (unsigned w = 0; w < BrickSet::kWords && skip == ~std::uint64_t{0}; ++w) {
+      const std::uint64_t any = occupied[w] | free[w];
+      if (any == 0) continue;
+      const unsigned bit = static_cast<unsigned>(__builtin_ctzll(any));
+      skip = begin->code << 9 | w << 6 | bit;
+      tree.updateNode(mortonKey(skip), ((occupied[w] >> bit) & 1) != 0);
+    }
+  }
+  ScanApply(tree, update).run(skip);
 }
 
 void applyUpdates(octomap::OcTree& tree, std::vector<VoxelUpdate>& updates) {
@@ -445,8 +887,7 @@ void insertScan(octomap::OcTree& tree, const Points& points, const Point& origin
                           max_range);
     return;
   }
-  std::vector<detail::VoxelUpdate> updates = detail::computeScanUpdate(tree, points, origin, max_range);
-  detail::applyUpdates(tree, updates);
+  detail::applyScanUpdate(tree, detail::computeScanUpdate(tree, points, origin, max_range));
 }
 
 }  // namespace hullmap::mapper
