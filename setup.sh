@@ -2,12 +2,13 @@
 # hullmap set-up: installs what is missing (Debian 12 packages), builds, then
 #   ./setup.sh demo   runs `hullmap build` on the sample in maps/ and shows the result
 #   ./setup.sh test   runs the whole test suite (ctest)
+#   ./setup.sh bench  installs the peers (Open3D, scikit-learn) too and regenerates docs/BENCHMARKS.md
 # Environment: BUILD_DIR (default build), JOBS (default: number of cores).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")"
 
 mode=${1:-demo}
-case "$mode" in demo|test) ;; *) echo "usage: $0 demo|test" >&2; exit 2 ;; esac
+case "$mode" in demo|test|bench) ;; *) echo "usage: $0 demo|test|bench" >&2; exit 2 ;; esac
 build_dir=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc)}
 
@@ -18,6 +19,10 @@ if [ "$mode" = test ]; then
   # python3-sklearn: DBSCAN oracle on real maps; librsvg2-bin: PNG rendering test;
   # clang + libclang-rt-14-dev: the libFuzzer targets that .ci/run runs briefly.
   packages+=(python3 python3-sklearn python3-numpy librsvg2-bin xz-utils clang libclang-rt-14-dev)
+fi
+if [ "$mode" = bench ]; then
+  # The peers a user would pick instead (Open3D's and scikit-learn's DBSCAN), and /usr/bin/time.
+  packages+=(python3 python3-numpy python3-sklearn python3-open3d time)
 fi
 
 missing=()
@@ -30,6 +35,10 @@ if [ ${#missing[@]} -gt 0 ]; then
   [ "$(id -u)" -eq 0 ] || sudo=sudo
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+if [ "$mode" = bench ]; then
+  exec bench/run_benchmarks.sh  # builds its own Release tree with the benchmarks
 fi
 
 echo "== building in $build_dir"

@@ -3,8 +3,9 @@
 # section one after the other on this machine and writes them into one file.
 #
 #   bench/run_benchmarks.sh [BUILD_DIR]        (default: build-bench)
+#   ./setup.sh bench                           installs what it needs first, then runs it
 #
-# Needs Debian's python3-open3d, python3-sklearn, python3-numpy (the DBSCAN peers) and
+# Needs Debian's python3-open3d, python3-sklearn, python3-numpy (the DBSCAN peers), time, and
 # shared/data/real/octomap_scan.dat (the insertion scan; set HULLMAP_REAL_DATA_DIR to move it).
 # Takes about 15 minutes on 2 cores, most of it Open3D and scikit-learn at 1M points.
 set -eu
@@ -26,8 +27,11 @@ trap 'rm -f "$tmp"' EXIT
   echo "and its peers side by side in that run (ratios are within the run). Regenerate the whole file with:"
   echo
   echo '```'
-  echo "bench/run_benchmarks.sh"
+  echo "./setup.sh bench"
   echo '```'
+  echo
+  echo "(it installs the peers, Debian's \`python3-open3d\` and \`python3-sklearn\`, and \`time\` when they are missing,"
+  echo "then runs \`bench/run_benchmarks.sh\`, which builds a Release tree in \`build-bench/\` and runs every section)."
   echo
   echo "Run on $(date -u +%Y-%m-%d), hullmap $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown),"
   echo "$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n 1), $(nproc) cores,"
