@@ -410,6 +410,40 @@ TEST(MapperFuzzRegressions, CorruptBtMessagesNameTheFile) {
   EXPECT_EQ(errorOf([&] { readMap(text); }), text + ": not an OctoMap file (no '# Octomap OcTree' header)");
 }
 
+// fuzz_bt (4 min run, 2026-12-01): octomap's header parser reads tokens, so "res 0.1data" ends its
+// header there, one line before the 'data' line hullmap's line-based walk found. The walk passed
+// bytes octomap never read, and octomap's recursive node reader, given the bytes after "0.1data",
+// overflowed the stack. readMap now parses the header strictly (nothing after a key's value) and
+// hands octomap the walked node bytes alone.
+TEST(MapperFuzzRegressions, HeaderOctomapParsesOtherwiseIsRefusedNotRecursedInto) {
+  const fs::path dir = hullmap::test::freshDir("fuzz_regressions_bt_header");
+  // The fuzzer's 167-byte input: a full (.ot) header, an empty line, a second 'data' line, then
+  // nodes of one float and a child mask each, every child present down to depth 16 and past it.
+  const std::string hex =
+      "0300030003000302030000000003206c00ffffffffffffffff00000000000000000000000000000000000000000000000000"
+      "0000000000000000000000000000000000000000000000000000000000000000000000000010000000000000000000000000"
+      "00000000202800";
+  std::string nodes;
+  for (std::size_t i = 0; i + 1 < hex.size(); i += 2) nodes += char(std::stoi(hex.substr(i, 2), nullptr, 16));
+  const std::string fuzzed = writeFile(dir / "fuzzed.ot", "# Octomap OcTree fileS)\nid OcTree\nsize 20\nres 0.1data\n\ndata\n" + nodes);
+  EXPECT_EQ(errorOf([&] { readMap(fuzzed); }), fuzzed + ": malformed OctoMap header line 'res 0.1data'");
+  // The same for each header key, and for trailing words on the 'data' line, .bt and .ot alike.
+  for (const std::string kind : {"binary file", "file"}) {
+    for (const std::string line : {"id OcTree x", "size 0 0", "res 0.1 0.2", "data now"}) {
+      std::string header = "# Octomap OcTree " + kind + "\nid OcTree\nsize 0\nres 0.1\ndata\n";
+      const std::string key = line.substr(0, line.find(' '));
+      const std::size_t at = header.find("\n" + key) + 1;
+      header.replace(at, header.find('\n', at) - at, line);
+      const std::string path = writeFile(dir / ("bad_" + key + (kind == "file" ? ".ot" : ".bt")), header);
+      SCOPED_TRACE(path);
+      EXPECT_EQ(errorOf([&] { readMap(path); }), path + ": malformed OctoMap header line '" + line + "'");
+    }
+  }
+  // A well-formed empty tree still reads.
+  const std::string empty = writeFile(dir / "empty.bt", "# Octomap OcTree binary file\nid OcTree\nsize 0\nres 0.1\ndata\n");
+  EXPECT_EQ(readMap(empty).tree().size(), 0u);
+}
+
 // The CLI prints the reader's message as one line `hullmap: error: <message>` and exits 2.
 TEST(MapperFuzzRegressions, CliPrintsReaderErrorsOnOneLineAndExits2) {
   const fs::path dir = hullmap::test::freshDir("fuzz_regressions_cli");

@@ -246,7 +246,18 @@ std::string extensionOf(const std::string& path) {
 // Parses octomap's text header ("id", "size", "res" lines up to "data") and walks the node
 // stream: 2 bytes per node in .bt (2 bits per child: 01 occupied, 10 free, 11 inner), a float
 // and a child mask per node in .ot. Throws naming the file when anything does not add up.
-void validateOctreeFile(const std::string& path, const std::string& bytes, bool binary) {
+/// What the header of a .bt / .ot file says, and where its node stream starts.
+struct OctreeFileHeader {
+  double resolution = 0.0;
+  std::size_t size = 0;         ///< nodes
+  std::size_t data_offset = 0;  ///< first byte after the 'data' line
+};
+
+/// Parses the header line by line, strictly (one `key value` a line, nothing after it), and walks the
+/// node stream. readMap then gives octomap only those node bytes: octomap's own header parser reads
+/// tokens, not lines ("res 0.1data" ends its header), so a file it parsed differently could pass this
+/// walk and still send octomap's recursive reader into garbage.
+OctreeFileHeader validateOctreeFile(const std::string& path, const std::string& bytes, bool binary) {
   std::size_t pos = bytes.find('\n');
   std::string id;
   long long size = -1;
@@ -261,6 +272,8 @@ void validateOctreeFile(const std::string& path, const std::string& bytes, bool 
     std::string token;
     words >> token;
     if (token == "data") {
+      std::string extra;
+      if (words >> extra) throw Error(path + ": malformed OctoMap header line '" + line + "'");
       data = true;
       break;
     }
@@ -268,7 +281,8 @@ void validateOctreeFile(const std::string& path, const std::string& bytes, bool 
     else if (token == "size") words >> size;
     else if (token == "res") words >> res;
     else throw Error(path + ": unknown OctoMap header line '" + line + "'");
-    if (!words) throw Error(path + ": malformed OctoMap header line '" + line + "'");
+    std::string extra;
+    if (!words || words >> extra) throw Error(path + ": malformed OctoMap header line '" + line + "'");
   }
   if (!data || pos == std::string::npos) throw Error(path + ": OctoMap header without a 'data' line");
   if (size < 0 || !(res > 0.0) || !std::isfinite(res)) throw Error(path + ": OctoMap header lacks a valid size and res");
@@ -313,6 +327,7 @@ void validateOctreeFile(const std::string& path, const std::string& bytes, bool 
   if (nodes != size) {
     throw Error(path + ": OctoMap data holds " + std::to_string(nodes) + " nodes, its header says " + std::to_string(size));
   }
+  return {res, static_cast<std::size_t>(size), pos + 1};
 }
 
 }  // namespace
@@ -508,39 +523,24 @@ OccupancyMap readMap(const std::string& path) {
   const bool binary = bytes.rfind("# Octomap OcTree binary file", 0) == 0;
   if (!full && !binary) throw Error(path + ": not an OctoMap file (no '# Octomap OcTree' header)");
   // octomap trusts the node stream: a truncated or corrupt one reads uninitialised bytes and can
-  // recurse without end. Walk it first.
-  validateOctreeFile(path, bytes, binary);
-
-  std::istringstream stream(bytes);
+  // recurse without end. Walk it first, then give octomap those node bytes alone (its readData and
+  // readBinaryData are what AbstractOcTree::read and readBinary call after their own header parse).
+  const OctreeFileHeader header = validateOctreeFile(path, bytes, binary);  // id is OcTree
   OctreeParams params;
-  if (full) {
-    std::unique_ptr<octomap::AbstractOcTree> tree;
-    {
-      const MuteOctomapStderr mute;
-      tree.reset(octomap::AbstractOcTree::read(stream));
-    }
-    auto* octree = dynamic_cast<octomap::OcTree*>(tree.get());
-    if (!octree) throw Error(path + ": not an OctoMap OcTree (.ot) of occupancy nodes");
-    params.resolution = octree->getResolution();
-    OccupancyMap map(params);
-    map.tree().swapContent(*octree);
-    map.tree().setProbHit(octree->getProbHit());
-    map.tree().setProbMiss(octree->getProbMiss());
-    map.tree().setClampingThresMin(octree->getClampingThresMin());
-    map.tree().setClampingThresMax(octree->getClampingThresMax());
-    map.tree().setOccupancyThres(octree->getOccupancyThres());
-    return map;
-  }
-  octomap::OcTree read(0.1);
-  bool read_ok;
-  {
-    const MuteOctomapStderr mute;
-    read_ok = read.readBinary(stream);
-  }
-  if (!read_ok) throw Error(path + ": octomap could not read this binary (.bt) file");
-  params.resolution = read.getResolution();
+  params.resolution = header.resolution;
   OccupancyMap map(params);
-  map.tree().swapContent(read);
+  if (header.size > 0) {
+    std::istringstream nodes(bytes.substr(header.data_offset));
+    const MuteOctomapStderr mute;
+    if (binary) {
+      map.tree().readBinaryData(nodes);
+    } else {
+      map.tree().readData(nodes);
+    }
+  }
+  if (map.tree().size() != header.size)
+    throw Error(path + ": octomap read " + std::to_string(map.tree().size()) + " nodes, the header says " +
+                std::to_string(header.size));
   return map;
 }
 
