@@ -1,5 +1,7 @@
 #include <iostream>
 #include <memory>
+#include <sstream>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -7,6 +9,16 @@
 #include "hullmap/mapper/occupancy_map.hpp"
 
 namespace hullmap::cli {
+namespace {
+
+// "x y z" with single spaces: Eigen's stream operator pads each column to the widest of the three.
+std::string spaced(const Eigen::Vector3d& v) {
+  std::ostringstream out;
+  out << v.x() << ' ' << v.y() << ' ' << v.z();
+  return out.str();
+}
+
+}  // namespace
 
 void addInfoCommand(CLI::App& app, int& status) {
   auto path = std::make_shared<std::string>();
@@ -29,7 +41,7 @@ void addInfoCommand(CLI::App& app, int& status) {
       std::cout << j.dump() << '\n';
     } else {
       std::cout << *path << "\n  resolution:      " << info.resolution << "\n  bounds min:      "
-                << info.min.transpose() << "\n  bounds max:      " << info.max.transpose()
+                << spaced(info.min) << "\n  bounds max:      " << spaced(info.max)
                 << "\n  occupied leaves: " << info.occupied_leaves
                 << "\n  free leaves:     " << info.free_leaves << "\n  nodes:           " << info.nodes
                 << "\n  memory:          " << info.memory_bytes << " bytes\n";

@@ -1,8 +1,9 @@
 // End-to-end tests of `hullmap build` and `hullmap info`, and of every bad input in the brief's list:
 // one line on stderr naming the file and line (or the option), exit status 2, no partial output.
-#include <filesystem>
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <sys/stat.h>
 
@@ -94,6 +95,32 @@ TEST(CliBuild, SampleSceneEndToEndAccountsForEveryPoint) {
   EXPECT_DOUBLE_EQ(j["resolution"].get<double>(), 0.05);
   EXPECT_GT(j["occupied_leaves"].get<std::size_t>(), 0u);
   EXPECT_GT(j["free_leaves"].get<std::size_t>(), 0u) << "the trajectory carves free space";
+  // The text form says the same, one "key: value" a line, bounds as "x y z".
+  const auto text = runHullmap("info " + (out / "map.bt").string());
+  ASSERT_EQ(text.status, 0) << text.err;
+  std::istringstream lines(text.out);
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(line, (out / "map.bt").string());
+  std::map<std::string, std::string> fields;
+  while (std::getline(lines, line)) {
+    const auto colon = line.find(':');
+    ASSERT_NE(colon, std::string::npos) << line;
+    const auto value = line.find_first_not_of(' ', colon + 1);
+    fields[line.substr(line.find_first_not_of(' '), colon - line.find_first_not_of(' '))] = line.substr(value);
+  }
+  EXPECT_EQ(fields["occupied leaves"], std::to_string(j["occupied_leaves"].get<std::size_t>()));
+  EXPECT_EQ(fields["free leaves"], std::to_string(j["free_leaves"].get<std::size_t>()));
+  for (const char* key : {"bounds min", "bounds max"}) {
+    std::istringstream xyz(fields[key]);
+    const auto& expected = j[std::string(key) == "bounds min" ? "min" : "max"];
+    double v = 0;
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      ASSERT_TRUE(xyz >> v) << key << ": " << fields[key];
+      EXPECT_NEAR(v, expected[axis].get<double>(), 1e-5) << key;
+    }
+    EXPECT_EQ(fields[key].find("  "), std::string::npos) << key << " is padded: " << fields[key];
+  }
   const auto again = runHullmap("build " + (out / "map.bt").string() + " -o " + (dir / "again").string());
   ASSERT_EQ(again.status, 0) << again.err;
   EXPECT_EQ(readJson(dir / "again" / "report.json")["octree"]["occupied_voxels"],
