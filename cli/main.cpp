@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <cctype>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -7,6 +9,35 @@
 
 #include "commands.hpp"
 #include "hullmap/mapper/error.hpp"
+
+namespace {
+
+// The first option on the command line that `cmd` does not have ("--radus" in "--radus 0.3"), or
+// "" when every option is known. CLI11 checks required options and positional files before it
+// reports unknown ones, so a misspelt option would otherwise surface as "--radius is required" or
+// "File does not exist: 0.3", naming something the user did type right. Values of known options
+// ("--up -y", "--crop -1,-1,0,1,1,2") and negative numbers are not options.
+std::string firstUnknownOption(const CLI::App& cmd, int first, int argc, char** argv) {
+  for (int i = first; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--") break;
+    if (arg.size() < 2 || arg[0] != '-' || std::isdigit(static_cast<unsigned char>(arg[1])) || arg[1] == '.') {
+      continue;
+    }
+    const bool is_long = arg[1] == '-';
+    const std::string name = is_long ? arg.substr(0, arg.find('=')) : arg.substr(0, 2);
+    const CLI::Option* option = cmd.get_option_no_throw(name);
+    if (option == nullptr) {
+      if (name == "-h" || name == "--help") continue;
+      return name;
+    }
+    const bool value_attached = is_long ? arg.find('=') != std::string::npos : arg.size() > 2;
+    if (!value_attached) i += std::max(0, option->get_items_expected_min());
+  }
+  return "";
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"hullmap: SLAM map points -> OctoMap -> DBSCAN clusters -> convex obstacles -> path checks"};
@@ -41,6 +72,18 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
+    const CLI::App* cmd = &app;
+    int first = 1;
+    if (argc > 1 && argv[1][0] != '-') {
+      cmd = app.get_subcommand(argv[1]);
+      first = 2;
+    }
+    const std::string unknown = firstUnknownOption(*cmd, first, argc, argv);
+    if (!unknown.empty()) {
+      const std::string where = cmd == &app ? "hullmap" : "hullmap " + cmd->get_name();
+      std::cerr << "hullmap: error: unknown option " << unknown << " (see " << where << " --help)\n";
+      return 2;
+    }
     std::cerr << "hullmap: error: " << e.what() << " (see hullmap --help)\n";
     return 2;
   } catch (const hullmap::Error& e) {

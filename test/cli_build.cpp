@@ -179,6 +179,11 @@ TEST(CliBadInput, UnknownOptionAndBadValues) {
   expectOneLineError(runHullmap("build " + in + " --crop 1,2,3"), "--crop");
   expectOneLineError(runHullmap("build " + in + " --metric manhattan"), "--metric");
   expectOneLineError(runHullmap("frobnicate"), "frobnicate");
+  // A misspelt option is what the error names, not the required option or the file it left out.
+  expectOneLineError(runHullmap("build --resolutoin 0.1 " + in), "unknown option --resolutoin");
+  expectOneLineError(runHullmap("check " + dir.string() + " --radus 0.3"), "unknown option --radus");
+  expectOneLineError(runHullmap("build " + in + " --up -y --crop -1,-1,-1,1,1,1 -q"), "unknown option -q");
+  expectOneLineError(runHullmap("--frobnicate"), "unknown option --frobnicate");
   expectOneLineError(runHullmap("build " + (dir / "missing.txt").string()), "missing.txt");
 }
 

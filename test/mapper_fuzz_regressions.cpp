@@ -465,7 +465,7 @@ TEST(MapperFuzzRegressions, CliPrintsReaderErrorsOnOneLineAndExits2) {
                                    "bytes, expected 24 (corrupt or truncated)"},
       {"build " + cut + out, cut + ": truncated OctoMap data (file ends inside node 8)"},
       {"build " + good + " --frobnicate" + out,
-       "The following argument was not expected: --frobnicate (see hullmap --help)"},
+       "unknown option --frobnicate (see hullmap build --help)"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.args);
