@@ -221,6 +221,15 @@ BuildResult runBuild(const BuildOptions& options) {
     }
     result.account.used = result.account.read;
     for (const auto& [reason, count] : result.account.dropped) result.account.used -= count;
+    if (result.account.used == 0) {
+      // Non-finite and cropped points were refused above; the rest fell outside the octree.
+      std::ostringstream message;
+      message << "no point the octree can address: " << result.account.read << " read, "
+              << result.account.dropped["out_of_octree"] << " out of its reach at resolution " << options.octree.resolution << " (about +-"
+              << options.octree.resolution * 32768 << " map units around the origin; a coarser --resolution "
+              << "or a smaller --scale reaches further)";
+      throw Error(message.str());
+    }
   }
 
   result.voxels = result.map->occupiedVoxels();

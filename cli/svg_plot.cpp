@@ -752,6 +752,11 @@ void writePng(const std::string& svg, const std::string& target, const std::stri
 void checkPictureOutput(const PictureOutput& output, const std::optional<std::string>& converter) {
   if (output.path.empty()) throw Error(output.option + ": no output file given");
   const bool png_only = endsWithPng(output.path);
+  std::string ext = std::filesystem::path(output.path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (!png_only && ext != ".svg") {
+    throw Error(output.option + " " + output.path + ": expected a .svg or .png file name");
+  }
   const auto dir = std::filesystem::path(output.path).parent_path();
   std::error_code ec;
   if (!dir.empty() && !std::filesystem::is_directory(dir, ec)) {

@@ -168,6 +168,23 @@ TEST(CliBadInput, EmptyCloud) {
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
+TEST(CliBadInput, NoPointWithinTheOctreesReachIsAnEmptyCloud) {
+  // 16-bit keys reach +-1638.4 m at 0.05 m: a map of gross outliers alone has nothing to build.
+  const auto dir = freshDir("cli_bad_unreachable");
+  writeText(dir / "far.txt", "5000 0 1\n0 -9000 1\nnan 0 0\n");
+  const std::string cmd = "build " + (dir / "far.txt").string() + " -o " + (dir / "out").string();
+  expectOneLineError(runHullmap(cmd),
+                     "no point the octree can address: 3 read, 2 out of its reach at resolution 0.05 (about "
+                     "+-1638.4 map units around the origin");
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  // With --origin (a scan) the same.
+  expectOneLineError(runHullmap(cmd + " --origin 0,0,0"), "2 out of its reach");
+  // One reachable point is a map.
+  writeText(dir / "far.txt", "5000 0 1\n1 1 1\n");
+  const auto one = runHullmap(cmd);
+  EXPECT_EQ(one.status, 0) << one.err;
+}
+
 TEST(CliBadInput, UnknownOptionAndBadValues) {
   const auto dir = freshDir("cli_bad_options");
   writeText(dir / "p.txt", "0 0 0\n");

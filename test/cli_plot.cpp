@@ -645,6 +645,13 @@ TEST(PlotCommand, ErrorsNameTheFileOrOption) {
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("-o"), std::string::npos) << r.err;
 
+  // An SVG under another picture format's name would be a lie the next program trips on.
+  r = hullmap::test::runHullmap("plot '" + dir.string() + "' -o '" + (dir / "map.gif").string() + "'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("-o " + (dir / "map.gif").string() + ": expected a .svg or .png file name"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir / "map.gif"));
+
   std::ofstream(dir / "voxels.csv", std::ios::app) << "1,2,oops\n";
   r = hullmap::test::runHullmap("plot '" + dir.string() + "' -o '" + (dir / "m.svg").string() + "'");
   EXPECT_EQ(r.status, 2);
