@@ -371,7 +371,7 @@ void writeBuild(const BuildOptions& options, const BuildResult& result) {
   const fs::path parent = out.parent_path();
   std::error_code ec;
   fs::create_directories(parent, ec);
-  if (ec) throw Error(parent.string() + ": cannot create directory: " + ec.message());
+  if (ec) throw Error("-o " + options.output_dir + ": cannot create " + parent.string() + ": " + ec.message());
   if (fs::exists(out) && !fs::is_directory(out))
     throw Error(options.output_dir + ": exists and is not a directory");
   removeStaleStaging(parent, out.filename().string());
@@ -379,7 +379,10 @@ void writeBuild(const BuildOptions& options, const BuildResult& result) {
   const fs::path staging = parent / ("." + out.filename().string() + ".new" + std::to_string(::getpid()));
   fs::remove_all(staging, ec);
   fs::create_directories(staging, ec);
-  if (ec) throw Error(staging.string() + ": cannot create directory: " + ec.message());
+  if (ec) {
+    throw Error("-o " + options.output_dir + ": cannot create its staging directory " + staging.string() + ": " +
+                ec.message());
+  }
   try {
     const StagingLock lock(staging);
     mapper::writeMap(*result.map, (staging / "map.bt").string());

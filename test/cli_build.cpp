@@ -183,6 +183,9 @@ TEST(CliBadInput, NoPointWithinTheOctreesReachIsAnEmptyCloud) {
   writeText(dir / "far.txt", "5000 0 1\n1 1 1\n");
   const auto one = runHullmap(cmd);
   EXPECT_EQ(one.status, 0) << one.err;
+  // An output that cannot be made is named as the -o the user gave.
+  expectOneLineError(runHullmap("build " + (dir / "far.txt").string() + " -o " + (dir / "far.txt" / "out").string()),
+                     "-o " + (dir / "far.txt" / "out").string() + ": cannot create");
 }
 
 TEST(CliBadInput, UnknownOptionAndBadValues) {
