@@ -54,6 +54,7 @@ void addBuildCommand(CLI::App& app, int& status) {
   cmd->add_flag("--ot", options->write_ot, "Also write map.ot (full probabilities)");
 
   cmd->callback([options, &status] {
+    checkOutputDir(options->output_dir);
     const BuildResult result = runBuild(*options);
     writeBuild(*options, result);
     const auto& a = result.account;

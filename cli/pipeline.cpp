@@ -366,6 +366,22 @@ void removeStaleStaging(const fs::path& parent, const std::string& name) {
 
 }  // namespace
 
+void checkOutputDir(const std::string& output_dir) {
+  const fs::path out = fs::absolute(output_dir).lexically_normal();
+  std::error_code ec;
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) throw Error("-o " + output_dir + ": exists and is not a directory");
+  fs::path ancestor = out.parent_path();
+  while (!fs::exists(ancestor, ec) && ancestor.has_parent_path() && ancestor != ancestor.parent_path()) {
+    ancestor = ancestor.parent_path();
+  }
+  if (!fs::is_directory(ancestor, ec)) {
+    throw Error("-o " + output_dir + ": cannot create it: " + ancestor.string() + " is not a directory");
+  }
+  if (::access(ancestor.c_str(), W_OK | X_OK) != 0) {
+    throw Error("-o " + output_dir + ": cannot create it in " + ancestor.string() + ": " + std::strerror(errno));
+  }
+}
+
 void writeBuild(const BuildOptions& options, const BuildResult& result) {
   const fs::path out = fs::absolute(options.output_dir).lexically_normal();
   const fs::path parent = out.parent_path();
@@ -373,7 +389,7 @@ void writeBuild(const BuildOptions& options, const BuildResult& result) {
   fs::create_directories(parent, ec);
   if (ec) throw Error("-o " + options.output_dir + ": cannot create " + parent.string() + ": " + ec.message());
   if (fs::exists(out) && !fs::is_directory(out))
-    throw Error(options.output_dir + ": exists and is not a directory");
+    throw Error("-o " + options.output_dir + ": exists and is not a directory");
   removeStaleStaging(parent, out.filename().string());
 
   const fs::path staging = parent / ("." + out.filename().string() + ".new" + std::to_string(::getpid()));

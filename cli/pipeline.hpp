@@ -63,6 +63,11 @@ mapper::PointSet readInputPoints(const std::vector<std::string>& inputs);
 /// every point is needed at once and the inputs are read whole. Both give the same outputs.
 BuildResult runBuild(const BuildOptions& options);
 
+/// Throws hullmap::Error naming `-o output_dir` when it plainly cannot be written: it exists and is
+/// not a directory, or its nearest existing ancestor is not a writable directory. Called before
+/// the work so that a 10M-point build does not fail at its end; writeBuild's own errors still hold.
+void checkOutputDir(const std::string& output_dir);
+
 /// Writes map.bt (+ map.ot), voxels.csv, obstacles.json, obstacles.obj, report.json into
 /// options.output_dir whole or not at all: everything goes to a sibling temporary directory which
 /// then replaces the output directory; a failed run leaves the previous directory as it was.

@@ -183,9 +183,23 @@ TEST(CliBadInput, NoPointWithinTheOctreesReachIsAnEmptyCloud) {
   writeText(dir / "far.txt", "5000 0 1\n1 1 1\n");
   const auto one = runHullmap(cmd);
   EXPECT_EQ(one.status, 0) << one.err;
-  // An output that cannot be made is named as the -o the user gave.
-  expectOneLineError(runHullmap("build " + (dir / "far.txt").string() + " -o " + (dir / "far.txt" / "out").string()),
-                     "-o " + (dir / "far.txt" / "out").string() + ": cannot create");
+}
+
+TEST(CliBadInput, OutputThatCannotBeMadeIsNamedBeforeTheWork) {
+  // The error names the -o the user gave, and comes before the input is read: the input here is
+  // malformed too, and the -o is what the error names.
+  const auto dir = freshDir("cli_bad_output");
+  writeText(dir / "good.txt", "1 1 1\n");
+  writeText(dir / "bad.txt", "1 2 3\n4 five 6\n");
+  const std::string file = (dir / "good.txt").string();
+  expectOneLineError(runHullmap("build " + (dir / "bad.txt").string() + " -o " + file),
+                     "-o " + file + ": exists and is not a directory");
+  expectOneLineError(runHullmap("build " + (dir / "bad.txt").string() + " -o " + file + "/a/out"),
+                     "-o " + file + "/a/out: cannot create it: " + file + " is not a directory");
+  EXPECT_EQ(hullmap::test::slurp(dir / "good.txt"), "1 1 1\n");
+  const auto ok = runHullmap("build " + file + " -o " + (dir / "new" / "a" / "out").string());
+  EXPECT_EQ(ok.status, 0) << ok.err;
+  EXPECT_TRUE(fs::exists(dir / "new" / "a" / "out" / "map.bt"));
 }
 
 TEST(CliBadInput, UnknownOptionAndBadValues) {
