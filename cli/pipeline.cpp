@@ -223,11 +223,13 @@ BuildResult runBuild(const BuildOptions& options) {
     for (const auto& [reason, count] : result.account.dropped) result.account.used -= count;
     if (result.account.used == 0) {
       // Non-finite and cropped points were refused above; the rest fell outside the octree.
+      // Keys are 16 bits a coordinate: 2^15 voxels either side of the origin.
+      const double reach = options.octree.resolution * 32768;
       std::ostringstream message;
       message << "no point the octree can address: " << result.account.read << " read, "
-              << result.account.dropped["out_of_octree"] << " out of its reach at resolution " << options.octree.resolution << " (about +-"
-              << options.octree.resolution * 32768 << " map units around the origin; a coarser --resolution "
-              << "or a smaller --scale reaches further)";
+              << result.account.dropped["out_of_octree"] << " out of its reach at resolution "
+              << options.octree.resolution << " (about +-" << reach << " map units around the origin; "
+              << "a coarser --resolution or a smaller --scale reaches further)";
       throw Error(message.str());
     }
   }
@@ -369,7 +371,9 @@ void removeStaleStaging(const fs::path& parent, const std::string& name) {
 void checkOutputDir(const std::string& output_dir) {
   const fs::path out = fs::absolute(output_dir).lexically_normal();
   std::error_code ec;
-  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) throw Error("-o " + output_dir + ": exists and is not a directory");
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) {
+    throw Error("-o " + output_dir + ": exists and is not a directory");
+  }
   fs::path ancestor = out.parent_path();
   while (!fs::exists(ancestor, ec) && ancestor.has_parent_path() && ancestor != ancestor.parent_path()) {
     ancestor = ancestor.parent_path();
@@ -383,13 +387,12 @@ void checkOutputDir(const std::string& output_dir) {
 }
 
 void writeBuild(const BuildOptions& options, const BuildResult& result) {
+  checkOutputDir(options.output_dir);  // again: the build may have run for a while
   const fs::path out = fs::absolute(options.output_dir).lexically_normal();
   const fs::path parent = out.parent_path();
   std::error_code ec;
   fs::create_directories(parent, ec);
   if (ec) throw Error("-o " + options.output_dir + ": cannot create " + parent.string() + ": " + ec.message());
-  if (fs::exists(out) && !fs::is_directory(out))
-    throw Error("-o " + options.output_dir + ": exists and is not a directory");
   removeStaleStaging(parent, out.filename().string());
 
   const fs::path staging = parent / ("." + out.filename().string() + ".new" + std::to_string(::getpid()));

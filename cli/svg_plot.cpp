@@ -695,11 +695,14 @@ std::optional<std::string> findPngConverter() {
 
 namespace {
 
-bool endsWithPng(const std::string& path) {
+// ".svg" for "Map.SVG".
+std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".png";
+  return ext;
 }
+
+bool endsWithPng(const std::string& path) { return lowerExtension(path) == ".png"; }
 
 std::string tempBeside(const std::filesystem::path& target, const std::string& suffix) {
   return (target.parent_path() / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()) + suffix))
@@ -752,9 +755,7 @@ void writePng(const std::string& svg, const std::string& target, const std::stri
 void checkPictureOutput(const PictureOutput& output, const std::optional<std::string>& converter) {
   if (output.path.empty()) throw Error(output.option + ": no output file given");
   const bool png_only = endsWithPng(output.path);
-  std::string ext = std::filesystem::path(output.path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (!png_only && ext != ".svg") {
+  if (!png_only && lowerExtension(output.path) != ".svg") {
     throw Error(output.option + " " + output.path + ": expected a .svg or .png file name");
   }
   const auto dir = std::filesystem::path(output.path).parent_path();
