@@ -47,8 +47,8 @@ cmake --build "$build_dir" -j"$jobs"
 
 if [ "$mode" = demo ]; then
   hullmap="$build_dir/cli/hullmap"
-  echo "== $hullmap build maps/room/map_points.txt --trajectory maps/room/KeyFrameTrajectory.txt --up -y -o out/room"
-  "$hullmap" build maps/room/map_points.txt --trajectory maps/room/KeyFrameTrajectory.txt --up -y -o out/room
+  echo "== $hullmap build maps/room/map_points.txt --trajectory maps/room/KeyFrameTrajectory.txt --up -y -p -o out/room"
+  "$hullmap" build maps/room/map_points.txt --trajectory maps/room/KeyFrameTrajectory.txt --up -y -p -o out/room
   echo "== $hullmap info out/room/map.bt"
   "$hullmap" info out/room/map.bt
   echo "== $hullmap check out/room --radius 0.3 --segments maps/room/segments.txt"

@@ -2,9 +2,31 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "hullmap/mapper/error.hpp"
+#include "hullmap/mapper/level_check.hpp"
+#include "option_checks.hpp"
 #include "pipeline.hpp"
 
 namespace hullmap::cli {
+namespace {
+
+/// A finished octree is read as it is: options that make or place one cannot apply to it, and
+/// recording them as applied would misstate the outputs. Refused, all named in one line.
+void refuseOctreeOnlyMisfits(const CLI::App& cmd, const BuildOptions& options) {
+  if (!readsOctree(options)) return;
+  std::string given;
+  for (const char* name : {"--trajectory", "--origin", "--up", "--scale", "--crop", "--z-min", "--z-max",
+                           "--resolution", "--max-range", "--hit", "--miss", "--clamp-min", "--clamp-max",
+                           "--occupancy-threshold"}) {
+    if (cmd.count(name) > 0) given += (given.empty() ? "" : ", ") + std::string(name);
+  }
+  if (given.empty()) return;
+  throw Error(given + ": cannot apply to " + options.inputs.front() +
+              ", a finished octree read as it is (its own frame, resolution and sensor model); leave " +
+              (given.find(',') == std::string::npos ? "it" : "them") + " out, or build from the map points");
+}
+
+}  // namespace
 
 void addBuildCommand(CLI::App& app, int& status) {
   auto options = std::make_shared<BuildOptions>();
@@ -13,9 +35,12 @@ void addBuildCommand(CLI::App& app, int& status) {
   cmd->add_option("inputs", options->inputs,
                   "Map-point files (ORB-SLAM echo dump, text/CSV, XYZ, PCD, PLY) unioned, or one .bt/.ot")
       ->required()
-      ->check(CLI::ExistingFile);
-  cmd->add_option("-o,--output", options->output_dir, "Output directory (replaced whole on success)")
+      ->check(existingFileOrStdin());
+  cmd->add_option("-o,--output", options->output_dir,
+                  "Output directory: new, empty, or a previous hullmap output (replaced whole on success); "
+                  "any other directory is refused")
       ->capture_default_str();
+  cmd->add_flag("-p,--parents", options->make_parents, "Create missing parent directories of -o (as mkdir -p)");
   cmd->add_option("--trajectory", options->trajectory,
                   "TUM keyframe trajectory: ray-cast free space from the keyframes")
       ->check(CLI::ExistingFile);
@@ -24,38 +49,44 @@ void addBuildCommand(CLI::App& app, int& status) {
   cmd->add_option("--up", options->up, "Input axis that points up: x, -x, y, -y, z, -z (ORB-SLAM: -y)")
       ->capture_default_str();
   cmd->add_option("--scale", options->scale, "Scale applied to input coordinates (monocular maps)")
-      ->capture_default_str();
+      ->check(numberAbove(0))->capture_default_str();
   cmd->add_option("--crop", options->crop, "x0,y0,z0,x1,y1,z1: keep points inside this box (map frame)");
-  cmd->add_option("--z-min", options->z_min, "Keep points with z >= this (map frame)");
-  cmd->add_option("--z-max", options->z_max, "Keep points with z <= this (map frame)");
+  cmd->add_option("--z-min", options->z_min, "Keep points with z >= this (map frame)")->check(finiteNumber());
+  cmd->add_option("--z-max", options->z_max, "Keep points with z <= this (map frame)")->check(finiteNumber());
   auto& octree = options->octree;
   cmd->add_option("--resolution", octree.resolution, "Octree leaf size, map units")
-      ->check(CLI::PositiveNumber)
+      ->check(numberAbove(0))
       ->capture_default_str();
   cmd->add_option("--max-range", octree.max_range, "Bound on ray length for free space (< 0: none)")
+      ->check(finiteNumber())->capture_default_str();
+  cmd->add_option("--hit", octree.sensor.hit, "Sensor model: P(hit)")->check(numberIn(0.5, 1.0))
       ->capture_default_str();
-  cmd->add_option("--hit", octree.sensor.hit, "Sensor model: P(hit)")->check(CLI::Range(0.5, 1.0))
-      ->capture_default_str();
-  cmd->add_option("--miss", octree.sensor.miss, "Sensor model: P(miss)")->check(CLI::Range(0.0, 0.5))
+  cmd->add_option("--miss", octree.sensor.miss, "Sensor model: P(miss)")->check(numberIn(0.0, 0.5))
       ->capture_default_str();
   cmd->add_option("--clamp-min", octree.sensor.clamp_min, "Lower clamping probability")
-      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+      ->check(numberIn(0.0, 1.0))->capture_default_str();
   cmd->add_option("--clamp-max", octree.sensor.clamp_max, "Upper clamping probability")
-      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+      ->check(numberIn(0.0, 1.0))->capture_default_str();
   cmd->add_option("--occupancy-threshold", octree.sensor.occupancy_threshold,
                   "Occupied when probability > this")
-      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
-  cmd->add_option("--eps", options->dbscan.eps, "DBSCAN radius, map units")
-      ->check(CLI::PositiveNumber)->capture_default_str();
-  cmd->add_option("--min-pts", options->dbscan.min_pts, "DBSCAN core threshold, in map points")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(numberIn(0.0, 1.0))->capture_default_str();
+  cmd->add_option("--eps", options->dbscan.eps, "DBSCAN radius, map units (>= --resolution, or voxels stand alone)")
+      ->check(numberAbove(0))->capture_default_str();
+  cmd->add_option("--min-pts", options->dbscan.min_pts,
+                  "DBSCAN core threshold, counted in map points (voxels weigh the points in them)")
+      ->check(wholeNumberFrom(1))->capture_default_str();
   cmd->add_option("--metric", options->metric, "DBSCAN distance: xyz or xy (top view)")
       ->check(CLI::IsMember({"xyz", "xy"}))->capture_default_str();
   cmd->add_flag("--ot", options->write_ot, "Also write map.ot (full probabilities)");
 
-  cmd->callback([options, &status] {
-    checkOutputDir(options->output_dir);
-    const BuildResult result = runBuild(*options);
+  cmd->callback([options, cmd, &status] {
+    options->inputs = inputPaths(options->inputs);
+    refuseOctreeOnlyMisfits(*cmd, *options);
+    checkOutputDir(*options);
+    BuildResult result = runBuild(*options);
+    if (auto hint = mapper::orbSlamUpHint(result.inputs, cmd->count("--up") > 0))
+      result.warnings.insert(result.warnings.begin(), *hint);
+    for (const auto& warning : result.warnings) std::cerr << "hullmap: warning: " << warning << "\n";
     writeBuild(*options, result);
     const auto& a = result.account;
     std::cout << "points: " << a.read << " read, " << a.used << " used";

@@ -14,7 +14,10 @@
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/mapper/error.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
+#include "check_warnings.hpp"
 #include "obstacle_io.hpp"
+#include "option_checks.hpp"
+#include "path_file.hpp"
 
 namespace hullmap::cli {
 namespace {
@@ -62,22 +65,6 @@ std::vector<double> parseNumbers(const std::string& text, std::size_t count, con
   return values;
 }
 
-/// Lines of numbers, `count` a line; blank lines and `#` comments skipped.
-std::vector<std::vector<double>> readNumberLines(const std::string& path, std::size_t count) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open");
-  std::vector<std::vector<double>> rows;
-  std::string line;
-  for (std::size_t number = 1; std::getline(in, line); ++number) {
-    const auto hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    rows.push_back(parseNumbers(line, count, path + ":" + std::to_string(number), ' '));
-  }
-  if (rows.empty()) throw Error(path + ": no coordinates");
-  return rows;
-}
-
 /// obstacles.json and map.bt of a build directory, or the file itself.
 std::string artefact(const std::string& input, const std::string& name) {
   namespace fs = std::filesystem;
@@ -108,7 +95,7 @@ std::string describe(std::size_t index, const collision::Segment& s, const colli
 }
 
 void runCheck(const CheckOptions& o, int& status) {
-  if (!(o.radius >= 0) || !std::isfinite(o.radius)) throw Error("--radius: must be >= 0, got " + numberText(o.radius));
+  checkRadius(o.radius);
   const int sources = !o.path_file.empty() + !o.segments_file.empty() + !o.segment.empty();
   if (sources != 1) throw Error("give exactly one of --path, --segments, --segment");
   if (o.against != "hulls" && o.against != "octree")
@@ -118,30 +105,35 @@ void runCheck(const CheckOptions& o, int& status) {
   bool is_path = false;
   if (!o.path_file.empty()) {
     is_path = true;
-    const auto rows = readNumberLines(o.path_file, 3);
-    std::vector<Eigen::Vector3d> points;
-    for (const auto& r : rows) points.emplace_back(r[0], r[1], r[2]);
-    if (points.size() == 1) segments.push_back({points[0], points[0]});
+    const auto points = readPathFile(o.path_file);
     for (std::size_t i = 0; i + 1 < points.size(); ++i) segments.push_back({points[i], points[i + 1]});
   } else if (!o.segments_file.empty()) {
-    for (const auto& r : readNumberLines(o.segments_file, 6))
-      segments.push_back({{r[0], r[1], r[2]}, {r[3], r[4], r[5]}});
+    segments = readSegmentsFile(o.segments_file);
   } else {
     const auto r = parseNumbers(o.segment, 6, "--segment", ',');
     segments.push_back({{r[0], r[1], r[2]}, {r[3], r[4], r[5]}});
   }
 
   std::vector<collision::SegmentCheck> results;
+  std::vector<std::string> warnings;
   if (o.against == "octree") {
     const mapper::OccupancyMap map = mapper::readMap(artefact(o.input, "map.bt"));
     const collision::OctreeChecker checker(map.tree());
     for (const auto& s : segments) results.push_back(checker.check(s, o.radius));
   } else {
-    const collision::HullChecker checker(readObstaclesJson(artefact(o.input, "obstacles.json")));
+    const std::string obstacles_json = artefact(o.input, "obstacles.json");
+    refuseOctreeAsHulls(obstacles_json);
+    const auto obstacles = readObstaclesJson(obstacles_json);
+    warnings = hullCheckWarnings(obstacles_json, obstacles.size());
+    const collision::HullChecker checker(obstacles);
     results = checker.checkBatch(segments, o.radius);
   }
+  for (const auto& warning : warnings) std::cerr << "hullmap: warning: " << warning << "\n";
 
   std::string out;
+  if (o.json) {
+    for (const auto& warning : warnings) out += nlohmann::json{{"warning", warning}}.dump() + "\n";
+  }
   std::optional<std::size_t> first;
   for (std::size_t i = 0; i < results.size(); ++i) {
     out += describe(i, segments[i], results[i], o.json) + "\n";
@@ -170,9 +162,10 @@ void addCheckCommand(CLI::App& app, int& status) {
                "anything collides). Coordinates in the build's z-up map frame.");
   cmd->add_option("input", options->input, "a `hullmap build` directory, or an obstacles.json (or map.bt for --against octree)")
       ->required();
-  cmd->add_option("--radius,-r", options->radius, "drone radius, map units")->required();
-  cmd->add_option("--path", options->path_file, "waypoints file: x y z a line, # comments");
-  cmd->add_option("--segments", options->segments_file, "segments file: x0 y0 z0 x1 y1 z1 a line");
+  cmd->add_option("--radius,-r", options->radius, "drone radius, map units")->required()->check(numberAbove(0, true));
+  cmd->add_option("--path", options->path_file,
+                  "waypoints file: x y z a line (spaces or commas, # comments, a header line), at least two");
+  cmd->add_option("--segments", options->segments_file, "segments file: x0 y0 z0 x1 y1 z1 a line (same rules)");
   cmd->add_option("--segment", options->segment, "one segment: x0,y0,z0,x1,y1,z1");
   cmd->add_option("--against", options->against, "hulls (convex obstacles) or octree (every occupied voxel)")
       ->capture_default_str();

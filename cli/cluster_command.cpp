@@ -3,16 +3,20 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <ostream>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
+#include "hullmap/mapper/output_dir.hpp"
+#include "option_checks.hpp"
 #include "pipeline.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/mapper/atomic_file.hpp"
 #include "hullmap/mapper/error.hpp"
 #include "hullmap/mapper/frame.hpp"
+#include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/mapper/readers.hpp"
 
 namespace hullmap::cli {
@@ -26,12 +30,13 @@ struct ClusterOptions {
   std::string up = "z";
   double scale = 1.0;
   std::string output;
+  double resolution = mapper::OctreeParams{}.resolution;  ///< the build resolution the eps suggestion is judged against
 };
 
 // The inputs' points, unioned in order, in the z-up map frame.
 mapper::Points loadMapPoints(const ClusterOptions& o) {
   const mapper::FrameParams frame{mapper::parseUpAxis(o.up), o.scale};
-  mapper::PointSet set = readInputPoints(o.inputs);
+  mapper::PointSet set = readInputPoints(inputPaths(o.inputs));
   mapper::toMapFrame(frame, set.points);
   return std::move(set.points);
 }
@@ -43,21 +48,23 @@ void appendNumber(std::string& line, double value) {
   line.append(buffer, end);
 }
 
-void writeLabels(const std::string& path, const mapper::Points& points, const clustering::DbscanResult& result) {
-  mapper::writeFileAtomically(path, [&](std::ostream& out) {
-    out << "x,y,z,label,core\n";
-    std::string line;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      line.clear();
-      for (int k = 0; k < 3; ++k) {
-        appendNumber(line, points[i][k]);
-        line += ',';
-      }
-      line += std::to_string(result.labels[i]);
-      line += result.core[i] ? ",1\n" : ",0\n";
-      out << line;
+void writeLabelsTo(std::ostream& out, const mapper::Points& points, const clustering::DbscanResult& result) {
+  out << "x,y,z,label,core\n";
+  std::string line;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    line.clear();
+    for (int k = 0; k < 3; ++k) {
+      appendNumber(line, points[i][k]);
+      line += ',';
     }
-  });
+    line += std::to_string(result.labels[i]);
+    line += result.core[i] ? ",1\n" : ",0\n";
+    out << line;
+  }
+}
+
+void writeLabels(const std::string& path, const mapper::Points& points, const clustering::DbscanResult& result) {
+  mapper::writeFileAtomically(path, [&](std::ostream& out) { writeLabelsTo(out, points, result); });
 }
 
 std::string numberText(double value) {
@@ -70,35 +77,55 @@ void runCluster(const ClusterOptions& o) {
   if (!(o.eps > 0.0) || !std::isfinite(o.eps)) throw Error("--eps: must be > 0, got " + numberText(o.eps));
   if (o.min_pts < 1) throw Error("--min-pts: must be >= 1, got " + std::to_string(o.min_pts));
   const clustering::DbscanParams params{o.eps, o.min_pts, clustering::parseMetric(o.metric)};
+  if (!o.output.empty()) {
+    try {
+      mapper::checkOutputFile(o.output);
+    } catch (const Error& e) {
+      throw Error("-o " + std::string(e.what()));
+    }
+  }
+  // With -o - the labels are standard output: the summary goes to standard error.
+  std::FILE* const say = o.output == "-" ? stderr : stdout;
   const mapper::Points points = loadMapPoints(o);
   const clustering::DbscanResult result = clustering::dbscan(points, {}, params);
 
   std::vector<std::size_t> sizes = result.cluster_sizes;
   std::sort(sizes.rbegin(), sizes.rend());
   const std::size_t core = std::count(result.core.begin(), result.core.end(), std::uint8_t{1});
-  std::printf("points: %zu\n", points.size());
-  std::printf("DBSCAN: eps %g, min-pts %d, metric %s\n", o.eps, o.min_pts, clustering::toString(params.metric).c_str());
-  std::printf("clusters: %zu\n", sizes.size());
-  std::printf("core points: %zu\n", core);
-  std::printf("noise points: %zu (%.1f%%)\n", result.noise, 100.0 * double(result.noise) / double(points.size()));
+  std::fprintf(say, "points: %zu\n", points.size());
+  std::fprintf(say, "DBSCAN: eps %g, min-pts %d, metric %s\n", o.eps, o.min_pts, clustering::toString(params.metric).c_str());
+  std::fprintf(say, "clusters: %zu\n", sizes.size());
+  std::fprintf(say, "core points: %zu\n", core);
+  std::fprintf(say, "noise points: %zu (%.1f%%)\n", result.noise, 100.0 * double(result.noise) / double(points.size()));
   std::string largest;
   for (std::size_t i = 0; i < std::min<std::size_t>(sizes.size(), 10); ++i) {
     largest += (i ? ", " : "") + std::to_string(sizes[i]);
   }
-  std::printf("largest clusters: %s\n", largest.empty() ? "none" : largest.c_str());
+  std::fprintf(say, "largest clusters: %s\n", largest.empty() ? "none" : largest.c_str());
   const std::vector<double> curve = clustering::kDistanceCurve(points, o.min_pts, params.metric);
   if (curve.empty()) {
-    std::printf("eps suggestion: none (fewer than min-pts points)\n");
+    std::fprintf(say, "eps suggestion: none (fewer than min-pts points)\n");
   } else {
-    std::printf("eps suggestion: %g (knee of the %d-distance curve, min-pts %d)\n",
-                clustering::suggestEps(curve), o.min_pts - 1, o.min_pts);
+    const double suggestion = clustering::suggestEps(curve);
+    std::fprintf(say, "eps suggestion: %g (knee of the %d-distance curve, min-pts %d)\n", suggestion, o.min_pts - 1,
+                 o.min_pts);
+    if (suggestion < o.resolution) {
+      std::fprintf(say,
+                   "  not usable for build at --resolution %g: build clusters voxels, whose centres are %g apart, "
+                   "so an eps below it leaves every voxel alone; use --eps >= %g, or build at --resolution <= %g\n",
+                   o.resolution, o.resolution, o.resolution, suggestion);
+    }
   }
-  if (!o.output.empty()) {
+  if (o.output == "-") {
+    writeLabelsTo(std::cout, points, result);
+    std::cout.flush();
+    std::fprintf(say, "wrote standard output: one row per input point, in input order, in the map frame (after --up, --scale)\n");
+  } else if (!o.output.empty()) {
     writeLabels(o.output, points, result);
-    std::printf("wrote %s: one row per input point, in input order, in the map frame (after --up, --scale)\n",
+    std::fprintf(say, "wrote %s: one row per input point, in input order, in the map frame (after --up, --scale)\n",
                 o.output.c_str());
   }
-  std::fflush(stdout);
+  std::fflush(say);
 }
 
 }  // namespace
@@ -109,17 +136,21 @@ void addClusterCommand(CLI::App& app, int& status) {
   cmd->add_option("inputs", options->inputs, "Point files (ORB-SLAM dumps, text/xyz, PCD, PLY), unioned in order")
       ->required();
   cmd->add_option("--eps", options->eps, "Neighbourhood radius, map units (points at exactly eps are neighbours)")
-      ->capture_default_str();
+      ->check(numberAbove(0))->capture_default_str();
   cmd->add_option("--min-pts", options->min_pts, "Core when the eps-neighbourhood, the point included, has this many points")
-      ->capture_default_str();
+      ->check(wholeNumberFrom(1))->capture_default_str();
   cmd->add_option("--metric", options->metric, "xyz (3D distance) or xy (distance in the ground plane)")
       ->capture_default_str();
   cmd->add_option("--up", options->up, "Input axis that points up: x, -x, y, -y, z, -z (ORB-SLAM: -y)")
       ->capture_default_str();
   cmd->add_option("--scale", options->scale, "Scale applied to the input before the frame change")
-      ->capture_default_str();
+      ->check(numberAbove(0))->capture_default_str();
+  cmd->add_option("--resolution", options->resolution,
+                  "Octree resolution of the build you plan: the eps suggestion says when it is below it")
+      ->check(numberAbove(0))->capture_default_str();
   cmd->add_option("-o,--output", options->output,
-                  "labels.csv: x,y,z,label,core per input point in input order, in the map frame (after --up)");
+                  "labels.csv: x,y,z,label,core per input point in input order, in the map frame (after --up); "
+                  "- for standard output");
   cmd->callback([options, &status] {
     runCluster(*options);
     status = 0;

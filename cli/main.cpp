@@ -84,7 +84,9 @@ int main(int argc, char** argv) {
       std::cerr << "hullmap: error: unknown option " << unknown << " (see " << where << " --help)\n";
       return 2;
     }
-    std::cerr << "hullmap: error: " << e.what() << " (see hullmap --help)\n";
+    // A bad value names its option and what is wrong with it; --help would not say more.
+    const bool bad_value = dynamic_cast<const CLI::ValidationError*>(&e) != nullptr;
+    std::cerr << "hullmap: error: " << e.what() << (bad_value ? "\n" : " (see hullmap --help)\n");
     return 2;
   } catch (const hullmap::Error& e) {
     std::cerr << "hullmap: error: " << e.what() << "\n";

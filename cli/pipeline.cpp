@@ -17,7 +17,10 @@
 #include <unistd.h>
 
 #include "hullmap/mapper/atomic_file.hpp"
+#include "hullmap/clustering/build_warnings.hpp"
 #include "hullmap/mapper/error.hpp"
+#include "hullmap/mapper/level_check.hpp"
+#include "hullmap/mapper/output_dir.hpp"
 #include "obstacle_io.hpp"
 
 namespace hullmap::cli {
@@ -58,6 +61,13 @@ class StageTimer {
 bool isOctomapFile(const std::string& path) {
   const std::string ext = fs::path(path).extension().string();
   return ext == ".bt" || ext == ".ot";
+}
+
+/// The frame the outputs are in: an octree input is read as it is.
+std::string outputFrame(const BuildOptions& options) {
+  if (readsOctree(options))
+    return "the octree's own frame (" + options.inputs.front() + " read as it is: no --up or --scale applied)";
+  return frameDescription(options.up, options.scale);
 }
 
 void addDropped(PointAccount& account, const mapper::InputStats& stats) {
@@ -179,6 +189,10 @@ std::string frameDescription(const std::string& up, double scale) {
   return s.str();
 }
 
+bool readsOctree(const BuildOptions& options) {
+  return options.inputs.size() == 1 && isOctomapFile(options.inputs.front());
+}
+
 mapper::PointSet readInputPoints(const std::vector<std::string>& inputs) {
   mapper::PointSet set = mapper::readPointFiles(inputs);
   if (set.points.empty()) throw noPoints(inputs);
@@ -202,7 +216,7 @@ BuildResult runBuild(const BuildOptions& options) {
   clustering::DbscanParams dbscan = options.dbscan;
   dbscan.metric = clustering::parseMetric(options.metric);
 
-  if (options.inputs.size() == 1 && isOctomapFile(options.inputs.front())) {
+  if (readsOctree(options)) {
     // A finished map: no points to account for, voxels weigh 1 each.
     result.map.emplace(mapper::readMap(options.inputs.front()));
     mapper::InputStats stats;
@@ -248,6 +262,13 @@ BuildResult runBuild(const BuildOptions& options) {
   result.obstacles =
       clustering::buildObstacles(centers, weights, result.clusters.labels, result.map->resolution());
   timer.stage("obstacles");
+  result.warnings = clustering::buildWarnings(
+      {result.voxels.size(), result.clusters.noise, result.obstacles.size(), dbscan.eps, dbscan.min_pts,
+       dbscan.metric, result.map->resolution()});
+  if (!readsOctree(options)) {
+    if (auto tilted = mapper::levelWarning(centers, result.map->resolution(), options.up))
+      result.warnings.push_back(*tilted);
+  }
   return result;
 }
 
@@ -295,10 +316,23 @@ nlohmann::json buildReport(const BuildOptions& options, const BuildResult& resul
       {"metric", options.metric},
       {"ot", options.write_ot},
   };
+  if (readsOctree(options)) {
+    // A finished octree is read as it is: record what it holds, not options that were not applied.
+    const auto& tree = result.map->tree();
+    for (const char* key : {"trajectory", "origin", "up", "scale", "crop", "z_min", "z_max", "max_range"})
+      parameters[key] = nullptr;
+    parameters["resolution"] = info.resolution;
+    parameters["hit"] = tree.getProbHit();
+    parameters["miss"] = tree.getProbMiss();
+    parameters["clamp_min"] = tree.getClampingThresMin();
+    parameters["clamp_max"] = tree.getClampingThresMax();
+    parameters["occupancy_threshold"] = tree.getOccupancyThres();
+  }
   return {
       {"hullmap_version", HULLMAP_VERSION},
-      {"frame", frameDescription(options.up, options.scale)},
+      {"frame", outputFrame(options)},
       {"parameters", parameters},
+      {"warnings", result.warnings},
       {"inputs", inputs},
       {"points", {{"read", result.account.read},
                   {"dropped", result.account.dropped},
@@ -368,27 +402,21 @@ void removeStaleStaging(const fs::path& parent, const std::string& name) {
 
 }  // namespace
 
-void checkOutputDir(const std::string& output_dir) {
-  const fs::path out = fs::absolute(output_dir).lexically_normal();
-  std::error_code ec;
-  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) {
-    throw Error("-o " + output_dir + ": exists and is not a directory");
-  }
-  fs::path ancestor = out.parent_path();
-  while (!fs::exists(ancestor, ec) && ancestor.has_parent_path() && ancestor != ancestor.parent_path()) {
-    ancestor = ancestor.parent_path();
-  }
-  if (!fs::is_directory(ancestor, ec)) {
-    throw Error("-o " + output_dir + ": cannot create it: " + ancestor.string() + " is not a directory");
-  }
-  if (::access(ancestor.c_str(), W_OK | X_OK) != 0) {
-    throw Error("-o " + output_dir + ": cannot create it in " + ancestor.string() + ": " + std::strerror(errno));
+void checkOutputDir(const BuildOptions& options) {
+  mapper::OutputDirPolicy policy;
+  policy.inputs = options.inputs;
+  if (options.trajectory) policy.inputs.push_back(*options.trajectory);
+  policy.make_parents = options.make_parents;
+  if (const auto refused = mapper::outputDirRefusal(options.output_dir, policy)) {
+    const bool parent = refused->reason == mapper::OutputDirRefusal::Reason::kMissingParent;
+    throw Error("-o " + refused->message + (parent ? " (give -p to create missing parents)" : ""));
   }
 }
 
 void writeBuild(const BuildOptions& options, const BuildResult& result) {
-  checkOutputDir(options.output_dir);  // again: the build may have run for a while
-  const fs::path out = fs::absolute(options.output_dir).lexically_normal();
+  checkOutputDir(options);  // again: the build may have run for a while
+  fs::path out = fs::absolute(options.output_dir).lexically_normal();
+  if (out.filename().empty()) out = out.parent_path();  // "out/" is "out"
   const fs::path parent = out.parent_path();
   std::error_code ec;
   fs::create_directories(parent, ec);
@@ -417,14 +445,18 @@ void writeBuild(const BuildOptions& options, const BuildResult& result) {
     });
     nlohmann::json report = buildReport(options, result);
     writeObstaclesJson((staging / "obstacles.json").string(), result.obstacles,
-                       ObstaclesMeta{frameDescription(options.up, options.scale), report["parameters"]});
+                       ObstaclesMeta{outputFrame(options), report["parameters"]});
     writeObstaclesObj((staging / "obstacles.obj").string(), result.obstacles);
     mapper::writeFileAtomically((staging / "report.json").string(),
                                 [&](std::ostream& os) { os << report.dump(2) << '\n'; });
+    std::vector<std::string> written{"map.bt", "voxels.csv", "obstacles.json", "obstacles.obj", "report.json"};
+    if (options.write_ot) written.push_back("map.ot");
+    mapper::writeOutputMarker(staging.string(), written);
 
     // One atomic step puts the finished directory in place: a rename when there is no previous
     // output, else an exchange of the two directories (Linux renameat2), after which the staging
     // name holds the previous output. At no instant is there no OUT/ or a half-written one.
+    checkOutputDir(options);  // a file added meanwhile is still never removed
     if (!fs::exists(out)) {
       fs::rename(staging, out, ec);
       if (ec) throw Error(options.output_dir + ": cannot move into place: " + ec.message());

@@ -19,6 +19,7 @@ namespace hullmap::cli {
 struct BuildOptions {
   std::vector<std::string> inputs;
   std::string output_dir = "out";
+  bool make_parents = false;              ///< -p: create missing parents of output_dir (mkdir -p)
   std::optional<std::string> trajectory;
   std::optional<std::string> origin;      ///< "x,y,z": insert the points as one scan from there
   std::string up = "z";
@@ -50,7 +51,11 @@ struct BuildResult {
   std::vector<std::pair<std::string, double>> timings_ms;  ///< stage -> ms, in order
   std::vector<std::pair<std::string, double>> peak_rss_mb; ///< stage -> process peak RSS at its end
   std::size_t keyframes = 0;
+  std::vector<std::string> warnings;  ///< one line each: printed by build, recorded in report.json
 };
+
+/// True when the run reads one finished octree (.bt/.ot) rather than points.
+bool readsOctree(const BuildOptions& options);
 
 /// Reads and unions the map-point files (any format the mapper reads); throws hullmap::Error
 /// naming them when none holds a point.
@@ -63,10 +68,12 @@ mapper::PointSet readInputPoints(const std::vector<std::string>& inputs);
 /// every point is needed at once and the inputs are read whole. Both give the same outputs.
 BuildResult runBuild(const BuildOptions& options);
 
-/// Throws hullmap::Error naming `-o output_dir` when it plainly cannot be written: it exists and is
-/// not a directory, or its nearest existing ancestor is not a writable directory. Called before
-/// the work so that a 10M-point build does not fail at its end; writeBuild's own errors still hold.
-void checkOutputDir(const std::string& output_dir);
+/// Throws hullmap::Error "-o <dir>: <why>" when the run may not replace options.output_dir
+/// (mapper::outputDirRefusal: only an absent or empty directory, or a previous hullmap output holding
+/// nothing else, is replaced; never one holding an input or the working directory; a missing parent
+/// only with make_parents). Called before the work so that a 10M-point build does not fail at its
+/// end, and again by writeBuild just before it replaces the directory.
+void checkOutputDir(const BuildOptions& options);
 
 /// Writes map.bt (+ map.ot), voxels.csv, obstacles.json, obstacles.obj, report.json into
 /// options.output_dir whole or not at all: everything goes to a sibling temporary directory which

@@ -11,6 +11,8 @@
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/mapper/error.hpp"
 #include "obstacle_io.hpp"
+#include "option_checks.hpp"
+#include "path_file.hpp"
 #include "svg_plot.hpp"
 
 namespace hullmap::cli {
@@ -89,29 +91,6 @@ void readReport(const std::string& path, MapPlot& plot) {
   if (frame != report.end() && !frame->is_null()) plot.caption.push_back("frame: " + scalarText(*frame));
 }
 
-// A path file: one waypoint "x y z" per line; blank lines and lines starting with # are skipped.
-std::vector<Eigen::Vector3d> readWaypoints(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("--path " + path + ": cannot open");
-  std::vector<Eigen::Vector3d> waypoints;
-  std::string line;
-  std::size_t number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    const auto first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream fields(line);
-    Eigen::Vector3d p;
-    std::string rest;
-    if (!(fields >> p.x() >> p.y() >> p.z()) || (fields >> rest) || !p.allFinite()) {
-      throw Error(path + ":" + std::to_string(number) + ": expected three numbers x y z");
-    }
-    waypoints.push_back(p);
-  }
-  if (waypoints.size() < 2) throw Error("--path " + path + ": needs at least two waypoints");
-  return waypoints;
-}
-
 void runPlot(const PlotOptions& o) {
   if (!fs::is_directory(o.dir)) throw Error("plot: " + o.dir + " is not a directory");
   const auto converter = findPngConverter();
@@ -123,9 +102,9 @@ void runPlot(const PlotOptions& o) {
   readVoxelsCsv((fs::path(o.dir) / "voxels.csv").string(), plot);
   plot.obstacles = readObstaclesJson((fs::path(o.dir) / "obstacles.json").string());
   if (!o.path_file.empty()) {
-    if (!(o.radius >= 0.0) || !std::isfinite(o.radius)) throw Error("--radius must be >= 0");
+    checkRadius(o.radius);
     PlotPath path;
-    path.waypoints = readWaypoints(o.path_file);
+    path.waypoints = readPathFile(o.path_file);
     path.radius = o.radius;
     path.check = collision::HullChecker(plot.obstacles).checkPath(path.waypoints, o.radius);
     plot.path = std::move(path);
@@ -161,8 +140,9 @@ void addPlotCommand(CLI::App& app, int& status) {
       ->required();
   cmd->add_flag("--side", options->side, "Side view (x-z, seen from -y) instead of the top view (x-y)");
   auto* path = cmd->add_option("--path", options->path_file,
-                               "Path to check and draw: one waypoint \"x y z\" per line (map frame)");
-  cmd->add_option("--radius", options->radius, "Drone radius for --path, map units")->needs(path);
+                               "Path to check and draw: one waypoint \"x y z\" per line (map frame), at least two");
+  cmd->add_option("--radius,-r", options->radius, "Drone radius for --path, map units")
+      ->check(numberAbove(0, true))->needs(path);
   path->needs(cmd->get_option("--radius"));
   cmd->add_flag("--png", options->png, "Also write a PNG beside the SVG (needs rsvg-convert, librsvg2-bin)");
   cmd->callback([options, &status] {

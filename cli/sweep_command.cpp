@@ -2,12 +2,15 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <iostream>
 #include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
+#include "hullmap/mapper/output_dir.hpp"
+#include "option_checks.hpp"
 #include "pipeline.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/mapper/atomic_file.hpp"
@@ -37,8 +40,9 @@ void addSweepOptions(CLI::App& cmd, SweepOptions& o) {
   cmd.add_option("--min-pts", o.min_pts_list, "Comma-separated min-pts values")->capture_default_str();
   cmd.add_option("--metric", o.metric, "xyz (3D distance) or xy (distance in the ground plane)")->capture_default_str();
   cmd.add_option("--up", o.up, "Input axis that points up: x, -x, y, -y, z, -z (ORB-SLAM: -y)")->capture_default_str();
-  cmd.add_option("--scale", o.scale, "Scale applied to the input before the frame change")->capture_default_str();
-  cmd.add_option("-o,--output", o.output, "CSV: eps,min_pts,clusters,noise,largest, one row per pair");
+  cmd.add_option("--scale", o.scale, "Scale applied to the input before the frame change")
+      ->check(numberAbove(0))->capture_default_str();
+  cmd.add_option("-o,--output", o.output, "CSV: eps,min_pts,clusters,noise,largest, one row per pair; - for standard output");
   cmd.add_option("--plot", o.plot, "Picture, one top view per pair (clusters in colours, noise black): .svg, "
                                    "or .png rendered by rsvg-convert (librsvg2-bin)");
 }
@@ -104,46 +108,60 @@ void runSweep(const SweepOptions& o) {
   const std::vector<int> min_pts_values = parseMinPtsList(o.min_pts_list);
   const clustering::Metric metric = clustering::parseMetric(o.metric);
   const mapper::FrameParams frame{mapper::parseUpAxis(o.up), o.scale};
-  mapper::PointSet set = readInputPoints(o.inputs);
-  mapper::toMapFrame(frame, set.points);
+  if (!o.output.empty()) {
+    try {
+      mapper::checkOutputFile(o.output);
+    } catch (const Error& e) {
+      throw Error("-o " + std::string(e.what()));
+    }
+  }
   // Looked up before the runs, so a PNG without a converter fails before the work.
   const auto converter = findPngConverter();
   if (!o.plot.empty()) checkPictureOutput(PictureOutput{o.plot, false, "--plot"}, converter);
+  mapper::PointSet set = readInputPoints(inputPaths(o.inputs));
+  mapper::toMapFrame(frame, set.points);
+  // With -o - the CSV is standard output: the table goes to standard error.
+  std::FILE* const say = o.output == "-" ? stderr : stdout;
 
   std::vector<SweepRow> rows;
   std::vector<SweepPanel> panels;
-  std::printf("points: %zu, metric %s\n", set.points.size(), clustering::toString(metric).c_str());
-  std::printf("%10s %8s %9s %9s %9s\n", "eps", "min_pts", "clusters", "noise", "largest");
+  std::fprintf(say, "points: %zu, metric %s\n", set.points.size(), clustering::toString(metric).c_str());
+  std::fprintf(say, "%10s %8s %9s %9s %9s\n", "eps", "min_pts", "clusters", "noise", "largest");
   for (double eps : eps_values) {
     for (int min_pts : min_pts_values) {
       const clustering::DbscanResult r = clustering::dbscan(set.points, {}, clustering::DbscanParams{eps, min_pts, metric});
       SweepRow row{eps, min_pts, r.cluster_sizes.size(), r.noise, 0};
       if (!r.cluster_sizes.empty()) row.largest = *std::max_element(r.cluster_sizes.begin(), r.cluster_sizes.end());
-      std::printf("%10g %8d %9zu %9zu %9zu\n", row.eps, row.min_pts, row.clusters, row.noise, row.largest);
+      std::fprintf(say, "%10g %8d %9zu %9zu %9zu\n", row.eps, row.min_pts, row.clusters, row.noise, row.largest);
       rows.push_back(row);
       if (!o.plot.empty()) panels.push_back(SweepPanel{eps, min_pts, r.labels});
     }
   }
-  if (!o.output.empty()) {
-    mapper::writeFileAtomically(o.output, [&](std::ostream& out) {
-      out << "eps,min_pts,clusters,noise,largest\n";
-      for (const SweepRow& row : rows) {
-        char eps[32];
-        const auto end = std::to_chars(eps, eps + sizeof eps, row.eps).ptr;  // shortest exact text
-        out << std::string(eps, end) << ',' << row.min_pts << ',' << row.clusters << ',' << row.noise << ',' << row.largest << '\n';
-      }
-    });
-    std::printf("wrote %s\n", o.output.c_str());
+  const auto writeCsv = [&](std::ostream& out) {
+    out << "eps,min_pts,clusters,noise,largest\n";
+    for (const SweepRow& row : rows) {
+      char eps[32];
+      const auto end = std::to_chars(eps, eps + sizeof eps, row.eps).ptr;  // shortest exact text
+      out << std::string(eps, end) << ',' << row.min_pts << ',' << row.clusters << ',' << row.noise << ',' << row.largest << '\n';
+    }
+  };
+  if (o.output == "-") {
+    std::fflush(say);
+    writeCsv(std::cout);
+    std::cout.flush();
+  } else if (!o.output.empty()) {
+    mapper::writeFileAtomically(o.output, writeCsv);
+    std::fprintf(say, "wrote %s\n", o.output.c_str());
   }
   if (!o.plot.empty()) {
     const std::string svg = renderSweepSvg(set.points, panels, 0.0,
                                            "hullmap sweep: " + std::to_string(set.points.size()) + " points, metric " +
                                                clustering::toString(metric));
     for (const auto& file : writePicture(svg, PictureOutput{o.plot, false, "--plot"}, converter)) {
-      std::printf("wrote %s\n", file.c_str());
+      std::fprintf(say, "wrote %s\n", file.c_str());
     }
   }
-  std::fflush(stdout);
+  std::fflush(say);
 }
 
 }  // namespace

@@ -169,11 +169,11 @@ TEST(CheckCommand, ErrorsExitTwoNamingTheFault) {
   writeText(dir / "path.txt", "0 0 0\n1 2\n");
   auto bad = test::runHullmap("check " + dir.string() + " --radius 0.3 --path " + (dir / "path.txt").string());
   EXPECT_EQ(bad.status, 2);
-  EXPECT_NE(bad.err.find((dir / "path.txt").string() + ":2: expected 3 numbers, got 2"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find((dir / "path.txt").string() + ":2: expected 3 numbers (x y z), got 2"), std::string::npos) << bad.err;
   writeText(dir / "path.txt", "0 0 0\n1 2 x3\n");
   bad = test::runHullmap("check " + dir.string() + " --radius 0.3 --path " + (dir / "path.txt").string());
   EXPECT_EQ(bad.status, 2);
-  EXPECT_NE(bad.err.find("path.txt:2: not a number: \"x3\""), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("path.txt:2: 'x3' is not a number"), std::string::npos) << bad.err;
   bad = test::runHullmap("check " + dir.string() + " --radius 0.3 --segment 1,2,3");
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.err.find("--segment: expected 6 numbers, got 3"), std::string::npos) << bad.err;

@@ -80,6 +80,23 @@ inline CommandResult runHullmap(const std::string& args) {
   return r;
 }
 
+/// Runs the hullmap binary with `args` from the working directory `cwd`, standard input from `input`.
+inline CommandResult runHullmapIn(const std::filesystem::path& cwd, const std::string& args,
+                                  const std::string& input = "/dev/null") {
+  static int counter = 0;
+  const auto dir = std::filesystem::path(HULLMAP_TEST_TMP) / "cmd";
+  std::filesystem::create_directories(dir);
+  const std::string stem = (dir / ("in" + std::to_string(::getpid()) + "_" + std::to_string(counter++))).string();
+  const std::string command = "cd '" + cwd.string() + "' && '" + std::string(HULLMAP_BINARY) + "' " + args + " >" +
+                              stem + ".out 2>" + stem + ".err <'" + input + "'";
+  const int raw = std::system(command.c_str());
+  CommandResult r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  r.out = slurp(stem + ".out");
+  r.err = slurp(stem + ".err");
+  return r;
+}
+
 /// Runs `body` and returns the hullmap::Error message it throws (fails the test if none).
 template <typename F>
 std::string errorOf(F&& body) {

@@ -1,6 +1,8 @@
 #include "hullmap/mapper/atomic_file.hpp"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -20,7 +22,7 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
   try {
     {
       std::ofstream out(tmp, binary ? std::ios::binary : std::ios::out);
-      if (!out) throw Error(path + ": cannot open for writing");
+      if (!out) throw Error(path + ": cannot open for writing: " + std::strerror(errno));
       write(out);
       out.flush();
       if (!out) throw Error(path + ": write failed");

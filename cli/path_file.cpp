@@ -1,0 +1,35 @@
+#include "path_file.hpp"
+
+#include <charconv>
+#include <cmath>
+
+#include "hullmap/mapper/error.hpp"
+#include "hullmap/mapper/number_table.hpp"
+
+namespace hullmap::cli {
+
+std::vector<Eigen::Vector3d> readPathFile(const std::string& path) {
+  std::vector<Eigen::Vector3d> waypoints;
+  for (const auto& r : mapper::readNumberTable(path, 3, "x y z")) waypoints.emplace_back(r[0], r[1], r[2]);
+  if (waypoints.size() < 2) {
+    throw Error("--path " + path + ": a path needs at least two waypoints, got " + std::to_string(waypoints.size()) +
+                " (one position is the segment x,y,z,x,y,z)");
+  }
+  return waypoints;
+}
+
+std::vector<collision::Segment> readSegmentsFile(const std::string& path) {
+  std::vector<collision::Segment> segments;
+  for (const auto& r : mapper::readNumberTable(path, 6, "x0 y0 z0 x1 y1 z1"))
+    segments.push_back({{r[0], r[1], r[2]}, {r[3], r[4], r[5]}});
+  return segments;
+}
+
+void checkRadius(double radius) {
+  if (radius >= 0 && std::isfinite(radius)) return;
+  char buffer[32];
+  throw Error("--radius: must be >= 0, got " +
+              std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, radius).ptr));
+}
+
+}  // namespace hullmap::cli
