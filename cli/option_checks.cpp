@@ -44,7 +44,8 @@ CLI::Validator numberAbove(double low, bool inclusive) {
         if (inclusive ? v >= low : v > low) return "";
         return std::string("must be ") + (inclusive ? ">= " : "> ") + shortest(low) + ", got " + text;
       },
-      inclusive ? "NUMBER >= " + shortest(low) : "NUMBER > " + shortest(low));
+      low == 0.0 ? std::string(inclusive ? "NONNEGATIVE" : "POSITIVE")
+                 : (inclusive ? ">= " : "> ") + shortest(low));
 }
 
 CLI::Validator numberIn(double low, double high) {
@@ -56,7 +57,7 @@ CLI::Validator numberIn(double low, double high) {
         if (v >= low && v <= high) return "";
         return "must be in [" + shortest(low) + ", " + shortest(high) + "], got " + text;
       },
-      "NUMBER in [" + shortest(low) + ", " + shortest(high) + "]");
+      "[" + shortest(low) + ", " + shortest(high) + "]");
 }
 
 CLI::Validator finiteNumber() {
@@ -65,7 +66,7 @@ CLI::Validator finiteNumber() {
         double v = 0;
         return parseFinite(text, v);
       },
-      "NUMBER");
+      "FINITE");
 }
 
 CLI::Validator wholeNumberFrom(long low) {
@@ -80,7 +81,7 @@ CLI::Validator wholeNumberFrom(long low) {
         if (v < low) return "must be >= " + std::to_string(low) + ", got " + text;
         return "";
       },
-      "INTEGER >= " + std::to_string(low));
+      ">= " + std::to_string(low));
 }
 
 CLI::Validator existingFileOrStdin() {
