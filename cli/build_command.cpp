@@ -10,10 +10,21 @@
 namespace hullmap::cli {
 namespace {
 
-/// A finished octree is read as it is: options that make or place one cannot apply to it, and
-/// recording them as applied would misstate the outputs. Refused, all named in one line.
-void refuseOctreeOnlyMisfits(const CLI::App& cmd, const BuildOptions& options) {
-  if (!readsOctree(options)) return;
+/// Options that cannot apply to the run are refused, all named in one line: recording them as
+/// applied would misstate the outputs. A finished octree is read as it is (no option that makes or
+/// places one applies); a points-only build casts no rays (--max-range and --miss act on none).
+void refuseMisfits(const CLI::App& cmd, const BuildOptions& options) {
+  if (!readsOctree(options)) {
+    // Points alone are occupied updates only: nothing for a ray bound or P(miss) to act on.
+    if (options.trajectory || options.origin) return;
+    std::string given;
+    for (const char* name : {"--max-range", "--miss"})
+      if (cmd.count(name) > 0) given += (given.empty() ? "" : ", ") + std::string(name);
+    if (given.empty()) return;
+    throw Error(given + ": " + (given.find(',') == std::string::npos ? "applies" : "apply") +
+                " only to free space cast along rays (with --trajectory or --origin); a points-only build casts "
+                "none: leave " + (given.find(',') == std::string::npos ? "it" : "them") + " out");
+  }
   std::string given;
   for (const char* name : {"--trajectory", "--origin", "--up", "--scale", "--crop", "--z-min", "--z-max",
                            "--resolution", "--max-range", "--hit", "--miss", "--clamp-min", "--clamp-max",
@@ -81,7 +92,7 @@ void addBuildCommand(CLI::App& app, int& status) {
 
   cmd->callback([options, cmd, &status] {
     options->inputs = inputPaths(options->inputs);
-    refuseOctreeOnlyMisfits(*cmd, *options);
+    refuseMisfits(*cmd, *options);
     checkOutputDir(*options);
     BuildResult result = runBuild(*options);
     if (auto hint = mapper::orbSlamUpHint(result.inputs, cmd->count("--up") > 0))

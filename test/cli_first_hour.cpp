@@ -184,6 +184,16 @@ TEST(FirstHour, OptionsThatCannotApplyToAnOctreeAreRefused) {
     expectErrorHas(r, "cannot apply to " + bt);
   }
   EXPECT_FALSE(fs::exists(dir / "again"));
+  // Points alone cast no rays: a ray bound and P(miss) act on nothing.
+  expectError(runHullmap("build " + q(dir / "p.txt") + " --max-range 3 --miss 0.3 -o " + q(dir / "again")),
+              "--max-range, --miss: apply only to free space cast along rays (with --trajectory or --origin); a "
+              "points-only build casts none: leave them out");
+  expectError(runHullmap("build " + q(dir / "p.txt") + " --max-range 3 -o " + q(dir / "again")),
+              "--max-range: applies only to free space cast along rays (with --trajectory or --origin); a "
+              "points-only build casts none: leave it out");
+  EXPECT_EQ(runHullmap("build " + q(dir / "p.txt") + " --origin 0,0,0 --max-range 3 --miss 0.3 -o " +
+                       q(dir / "again")).status, 0);
+  fs::remove_all(dir / "again");
   // Without them: the outputs state what was done, the tree's resolution and its own frame.
   const auto ok = runHullmap("build " + bt + " -o " + q(dir / "again"));
   ASSERT_EQ(ok.status, 0) << ok.err;
