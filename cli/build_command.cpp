@@ -95,7 +95,13 @@ void addBuildCommand(CLI::App& app, int& status) {
     refuseMisfits(*cmd, *options);
     checkOutputDir(*options);
     BuildResult result = runBuild(*options);
-    if (auto hint = mapper::orbSlamUpHint(result.inputs, cmd->count("--up") > 0))
+    std::vector<mapper::InputStats> named = result.inputs;
+    if (options->trajectory) {
+      named.emplace_back();
+      named.back().path = *options->trajectory;  // KeyFrameTrajectory.txt names an ORB-SLAM run too
+      named.back().format = "tum";
+    }
+    if (auto hint = mapper::orbSlamUpHint(named, cmd->count("--up") > 0))
       result.warnings.insert(result.warnings.begin(), *hint);
     for (const auto& warning : result.warnings) std::cerr << "hullmap: warning: " << warning << "\n";
     writeBuild(*options, result);

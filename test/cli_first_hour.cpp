@@ -346,8 +346,16 @@ TEST(FirstHour, TiltedFloorAndOrbSlamFrameAreWarned) {
   const auto hint = runHullmap("build " + q(dir / "MapPoints.txt") + " -o " + q(dir / "orb"));
   ASSERT_EQ(hint.status, 0) << hint.err;
   EXPECT_EQ(hint.err, "hullmap: warning: " + (dir / "MapPoints.txt").string() +
-                          " looks like an ORB-SLAM map, whose frame is the first camera's (x right, y down, z "
+                          " looks like ORB-SLAM output, whose frame is the first camera's (x right, y down, z "
                           "forward): it likely needs --up -y (--up was left at z)\n");
+  // ORB-SLAM3's pointcloud.txt says nothing by its name; its KeyFrameTrajectory.txt does.
+  writeText(dir / "pointcloud.txt", floorPoints(0));
+  writeText(dir / "KeyFrameTrajectory.txt", "0 1 1 1 0 0 0 1\n");
+  const auto by_trajectory = runHullmap("build " + q(dir / "pointcloud.txt") + " --trajectory " +
+                                        q(dir / "KeyFrameTrajectory.txt") + " -o " + q(dir / "orb"));
+  ASSERT_EQ(by_trajectory.status, 0) << by_trajectory.err;
+  EXPECT_NE(by_trajectory.err.find("KeyFrameTrajectory.txt looks like ORB-SLAM output"), std::string::npos)
+      << by_trajectory.err;
   const auto given = runHullmap("build " + q(dir / "MapPoints.txt") + " --up z -o " + q(dir / "orb"));
   EXPECT_EQ(given.status, 0) << given.err;
   EXPECT_EQ(given.err, "");
@@ -361,5 +369,5 @@ TEST(FirstHour, RealV1_01IsWarnedAsTilted) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("degrees from level after --up -y"), std::string::npos) << r.err;
   const auto no_up = runHullmap("build " + points + " -o " + q(dir / "out"));
-  EXPECT_NE(no_up.err.find("looks like an ORB-SLAM map"), std::string::npos) << no_up.err;
+  EXPECT_NE(no_up.err.find("looks like ORB-SLAM output"), std::string::npos) << no_up.err;
 }

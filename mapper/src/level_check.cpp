@@ -109,7 +109,7 @@ std::optional<std::string> orbSlamUpHint(const std::vector<InputStats>& inputs, 
   if (up_given) return std::nullopt;
   for (const auto& input : inputs) {
     if (looksLikeOrbSlam(input)) {
-      return input.path + " looks like an ORB-SLAM map, whose frame is the first camera's (x right, y down, "
+      return input.path + " looks like ORB-SLAM output, whose frame is the first camera's (x right, y down, "
                           "z forward): it likely needs --up -y (--up was left at z)";
     }
   }
