@@ -456,7 +456,7 @@ void writeBuild(const BuildOptions& options, const BuildResult& result) {
     // One atomic step puts the finished directory in place: a rename when there is no previous
     // output, else an exchange of the two directories (Linux renameat2), after which the staging
     // name holds the previous output. At no instant is there no OUT/ or a half-written one.
-    checkOutputDir(options);  // a file added meanwhile is still never removed
+    checkOutputDir(options);  // a file put there during the build is not removed with the old output
     if (!fs::exists(out)) {
       fs::rename(staging, out, ec);
       if (ec) throw Error(options.output_dir + ": cannot move into place: " + ec.message());
