@@ -2,6 +2,7 @@
 // scenes (surface voxels cluster, separate obstacles stay apart) and the real V1_01 map.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <random>
 #include <set>
@@ -12,6 +13,7 @@
 
 #include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/clustering/dbscan.hpp"
+#include "hullmap/mapper/align.hpp"
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/readers.hpp"
@@ -253,6 +255,54 @@ TEST(ClusteringAutoParams, RealEurocV101FewVoxelsAreNoise) {
   EXPECT_LT(noise_share, 0.10);
   EXPECT_GE(a.eps, 0.09);
   EXPECT_LE(a.eps, 0.4);
+}
+
+}  // namespace
+
+namespace {
+
+// The pieces together on maps/office (a realistic room in the first camera's frame, monocular
+// scale): align the keyframes to the reference (metres, z up), find the floor (level), leave its
+// voxels out, choose eps/minPts from the rest, cluster: the walls and each piece of furniture.
+TEST(ClusteringAutoParams, MapsOfficeAlignedLevelledAndClustered) {
+  namespace m = hullmap::mapper;
+  const std::filesystem::path dir = std::filesystem::path(HULLMAP_SOURCE_DIR) / "maps" / "office";
+  auto points = m::readPointFile((dir / "map_points.txt").string()).points;
+  const auto keyframes = m::readTumTrajectory((dir / "KeyFrameTrajectory.txt").string());
+  const auto reference = m::readReferenceTrajectory((dir / "reference_trajectory.txt").string(), m::ReferenceFormat::kTum);
+  const m::Alignment alignment = m::alignTrajectory(keyframes, reference);
+  EXPECT_NEAR(alignment.transform.scale, 1.0 / 0.37, 1e-6);
+  m::applySimilarity(alignment.transform, points);
+
+  m::PlaneSearchParams floor_params;
+  floor_params.fit_tilt = false;  // aligned: the reference defines up
+  const m::PlaneFit floor = m::findBoundingPlane(points, m::PlaneSide::kFloor, floor_params);
+  ASSERT_TRUE(floor.found) << floor.reason;
+  EXPECT_NEAR(floor.plane.offset, 0.0, 0.01);
+
+  const Voxels all = voxelize(points, 0.05);
+  const auto classes = m::classifySurfaces(all.centres, floor.plane, std::nullopt, 0.05);
+  Voxels v;
+  for (std::size_t i = 0; i < all.centres.size(); ++i) {
+    if (classes[i] != m::SurfaceClass::kObstacle) continue;
+    v.centres.push_back(all.centres[i]);
+    v.weights.push_back(all.weights[i]);
+  }
+  const AutoParams a = chooseDbscanParams(v.centres, v.weights, 0.05);
+  DbscanParams params;
+  params.eps = a.eps;
+  params.min_pts = a.min_pts;
+  const DbscanResult r = dbscan(v.centres, v.weights, params);
+  std::size_t big = 0;
+  for (std::size_t size : r.cluster_sizes) big += size >= 10;
+  std::cout << "maps/office: scale " << alignment.transform.scale << ", floor at " << floor.plane.offset << ", "
+            << all.centres.size() - v.centres.size() << " floor voxels of " << all.centres.size() << "; eps " << a.eps
+            << " minPts " << a.min_pts << ": " << r.cluster_sizes.size() << " clusters (" << big
+            << " of 10+ voxels), noise " << r.noise << "\n";
+  // Walls (one ring, or parted at a corner) + 8 pieces of furniture, each maybe in two.
+  EXPECT_GE(big, 9u);
+  EXPECT_LE(big, 12u);
+  EXPECT_LT(static_cast<double>(r.noise) / static_cast<double>(v.centres.size()), 0.08);
 }
 
 }  // namespace

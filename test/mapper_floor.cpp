@@ -197,4 +197,21 @@ TEST(MapperFloor, RealEurocV101FloorIsTiltedInOrbSlamsFrame) {
   EXPECT_LT(fit.beyond_share, 0.05);
 }
 
+TEST(MapperFloor, RealEurocMh01FloorIsTiltedInOrbSlamsFrame) {
+  HULLMAP_REQUIRE_REAL_DATA(a, "orbslam3_euroc_MH_01_mono_pointcloud.txt");
+  HULLMAP_REQUIRE_REAL_DATA(b, "orbslam3_euroc_MH_01_mono_ref_pointcloud.txt");
+  PointSet set = readPointFiles({a, b});
+  toMapFrame(FrameParams{UpAxis::kNegY, 1.0}, set.points);
+  PlaneSearchParams params;
+  params.band = 0.05;  // map units (monocular: not metres)
+  const PlaneFit fit = findBoundingPlane(set.points, PlaneSide::kFloor, params);
+  std::cout << "MH_01 floor: found " << fit.found << " (" << fit.reason << ") tilt " << fit.tilt_deg
+            << " deg, normal " << fit.plane.normal.transpose() << ", offset " << fit.plane.offset << ", inliers "
+            << fit.inliers << " (" << fit.inlier_share << "), beyond " << fit.beyond_share << ", coverage "
+            << fit.coverage << "\n";
+  ASSERT_TRUE(fit.found) << fit.reason;
+  EXPECT_GT(fit.tilt_deg, 5.0);
+  EXPECT_LT(fit.tilt_deg, 30.0);
+}
+
 }  // namespace

@@ -2,7 +2,9 @@
 // visible surfaces only, the first camera's frame at a monocular scale, a metric reference.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -10,6 +12,7 @@
 #include "hullmap/mapper/align.hpp"
 #include "hullmap/mapper/error.hpp"
 #include "hullmap/mapper/floor.hpp"
+#include "hullmap/mapper/readers.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 #include "test_support.hpp"
 
@@ -225,6 +228,72 @@ TEST(MapperRoomScene, SameSeedSameRoomAndBadParameters) {
     bad(q);
     EXPECT_THROW(generateScene(q), Error);
   }
+}
+
+}  // namespace
+}  // namespace hullmap::mapper
+
+namespace hullmap::mapper {
+namespace {
+
+// maps/office is `hullmap generate --layout room -o maps/office` (seed 42, the room defaults).
+TEST(MapperRoomScene, MapsOfficeIsTheDefaultRoom) {
+  const std::filesystem::path dir = std::filesystem::path(HULLMAP_SOURCE_DIR) / "maps" / "office";
+  SceneParams p;
+  p.layout = SceneLayout::kRoom;
+  const Scene s = generateScene(p);
+  const auto points = readPointFile((dir / "map_points.txt").string()).points;
+  ASSERT_EQ(points.size(), s.points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) ASSERT_LT((points[i] - s.points[i]).norm(), 2e-6) << i;
+  const auto kf = readTumTrajectory((dir / "KeyFrameTrajectory.txt").string());
+  const auto ref = readReferenceTrajectory((dir / "reference_trajectory.txt").string(), ReferenceFormat::kTum);
+  ASSERT_EQ(kf.size(), s.keyframes.size());
+  ASSERT_EQ(ref.size(), s.reference.size());
+  for (std::size_t i = 0; i < kf.size(); ++i) {
+    EXPECT_LT((kf[i].position - s.keyframes[i].position).norm(), 1e-8);
+    EXPECT_LT((ref[i].position - s.reference[i].position).norm(), 1e-8);
+  }
+  std::ifstream in(dir / "ground_truth.json");
+  const auto j = nlohmann::json::parse(in);
+  ASSERT_EQ(j.at("obstacles").size(), s.objects.size());
+}
+
+// Distance from p to a primitive's solid (0 inside).
+double solidDistance(const SceneObstacle& o, const Eigen::Vector3d& p) {
+  return std::max(0.0, signedDistance(o, p));
+}
+
+// Each segment of maps/office/segments.txt says whether it hits (closer than 0.3 m to) a true
+// object, and which: checked against the truth by sampling every millimetre.
+TEST(MapperRoomScene, MapsOfficeSegmentLabelsMatchTheTruth) {
+  const std::filesystem::path dir = std::filesystem::path(HULLMAP_SOURCE_DIR) / "maps" / "office";
+  SceneParams p;
+  p.layout = SceneLayout::kRoom;
+  const Scene s = generateScene(p);
+  std::ifstream in(dir / "segments.txt");
+  std::string line;
+  std::size_t hits = 0, clear = 0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream text(line);
+    Eigen::Vector3d a, b;
+    ASSERT_TRUE(text >> a.x() >> a.y() >> a.z() >> b.x() >> b.y() >> b.z()) << line;
+    const std::string label = line.substr(line.find('#'));
+    const auto steps = static_cast<int>(std::ceil((b - a).norm() / 0.001));
+    for (std::size_t o = 0; o < s.objects.size(); ++o) {
+      double d = 1e300;
+      for (int k = 0; k <= steps; ++k) {
+        const Eigen::Vector3d q = a + (b - a) * (static_cast<double>(k) / steps);
+        for (const auto& part : s.objects[o].parts) d = std::min(d, solidDistance(part, q));
+      }
+      const std::string name = toString(s.objects[o].kind) + " " + std::to_string(o) + " (";
+      EXPECT_EQ(d < 0.3, label.find(name) != std::string::npos && label.find("hits") != std::string::npos)
+          << line << ": object " << o << " at " << d;
+    }
+    (label.find("hits") != std::string::npos ? hits : clear) += 1;
+  }
+  EXPECT_GE(hits, 5u);
+  EXPECT_GE(clear, 3u);
 }
 
 }  // namespace
