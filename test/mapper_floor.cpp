@@ -137,6 +137,8 @@ TEST(MapperFloor, RejectsBadParameters) {
   p = {};
   p.max_tilt_deg = 90.0;
   EXPECT_NE(errorOf([&] { findBoundingPlane({}, PlaneSide::kFloor, p); }).find("tilt"), std::string::npos);
+  const Points bad = {{0, 0, 0}, {1, 0, 0}, {0, 1, std::nan("")}};
+  EXPECT_NE(errorOf([&] { findBoundingPlane(bad, PlaneSide::kFloor); }).find("non-finite"), std::string::npos);
 }
 
 TEST(MapperFloor, ParsesTheFloorSetting) {

@@ -14,6 +14,7 @@ namespace hullmap::mapper {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+constexpr std::size_t kEvaluationPoints = 200000;
 
 // Portable draws: the same bits on every standard library.
 class Draw {
@@ -118,14 +119,12 @@ void checkParams(const PlaneSearchParams& p) {
 
 }  // namespace
 
-PlaneFit findBoundingPlane(const Points& input, PlaneSide side, const PlaneSearchParams& params) {
+PlaneFit findBoundingPlane(const Points& points, PlaneSide side, const PlaneSearchParams& params) {
   checkParams(params);
-  PlaneFit fit;
-  Points points;
-  points.reserve(input.size());
-  for (const Point& p : input) {
-    if (detail::isFinite(p)) points.push_back(p);
+  for (const Point& p : points) {
+    if (!detail::isFinite(p)) throw Error("--floor: non-finite point");
   }
+  PlaneFit fit;
   if (points.size() < 3) {
     fit.reason = "fewer than 3 points";
     return fit;
@@ -177,7 +176,16 @@ PlaneFit findBoundingPlane(const Points& input, PlaneSide side, const PlaneSearc
     fit.reason = "no candidate plane within the tilt limit with few points beyond it";
     return fit;
   }
-  fit.plane = refine(points, best, band, params.fit_tilt);
+  // Refinement and coverage on at most kEvaluationPoints of the points (a fixed draw): on a map of
+  // millions they would otherwise cost more than the search; the counts below use every point.
+  const Points* evaluation = &points;
+  Points drawn;
+  if (points.size() > kEvaluationPoints) {
+    drawn.reserve(kEvaluationPoints);
+    for (std::size_t i = 0; i < kEvaluationPoints; ++i) drawn.push_back(points[draw.index(points.size())]);
+    evaluation = &drawn;
+  }
+  fit.plane = refine(*evaluation, best, band, params.fit_tilt);
   const Counts all = count(points, fit.plane, band);
   const double n = static_cast<double>(points.size());
   fit.inliers = all.inliers;
@@ -185,7 +193,7 @@ PlaneFit findBoundingPlane(const Points& input, PlaneSide side, const PlaneSearc
   fit.beyond_share = static_cast<double>(all.beyond) / n;
   fit.tilt_deg = std::acos(std::clamp(fit.plane.normal.dot(inward), -1.0, 1.0)) * 180.0 / kPi;
   const double cell = params.coverage_cell > 0.0 ? params.coverage_cell : 10.0 * band;
-  fit.coverage = coverage(points, fit.plane, band, cell);
+  fit.coverage = coverage(*evaluation, fit.plane, band, cell);
 
   if (fit.inlier_share < params.min_inlier_share) {
     fit.reason = "inlier share " + std::to_string(fit.inlier_share) + " < " + std::to_string(params.min_inlier_share);

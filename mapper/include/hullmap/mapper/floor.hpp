@@ -28,7 +28,8 @@ enum class PlaneSide { kFloor, kCeiling };
 /// How findBoundingPlane searches and when it accepts a plane.
 ///
 /// The search is RANSAC (a fixed seed: same points, same plane, on every machine), scored on at
-/// most `sample_points` points drawn from the input, over planes whose normal is within
+/// most `sample_points` points drawn from the input (the refinement and the coverage use at most
+/// 200,000 drawn points, the inlier and beyond counts every point), over planes whose normal is within
 /// `max_tilt_deg` of the up hint and which have at most `max_beyond_share` of the points on their
 /// far side (more than `band` below a floor, above a ceiling): of those, the one with the most
 /// points within `band` wins. So a table top (walls go on below it) or a wall loses to the floor,
@@ -41,8 +42,9 @@ enum class PlaneSide { kFloor, kCeiling };
 /// - coverage >= `min_coverage`: project the points onto the plane, on a grid of cells of
 ///   `coverage_cell` map units (0: 10 * band), over the box holding the central 98% of the points
 ///   along each plane axis; coverage = cells holding an inlier / cells holding any point. A floor
-///   spreads under the whole map; the bottom edges of boxes standing on an unseen floor are lines
-///   and cover little.
+///   spreads under the whole map; a table top or a wall's foot alone covers little. (Boxes
+///   standing on a floor that has no map points of its own still show it by their bottom edges
+///   when enough of them stand around the map: that plane is then taken, and it is the floor.)
 /// - tilt <= `max_tilt_deg`.
 struct PlaneSearchParams {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  ///< up hint (the map frame's z after --up)
@@ -71,7 +73,9 @@ struct PlaneFit {
 };
 
 /// Finds the floor (or ceiling) of a map: see PlaneSearchParams. Points in the map frame, map
-/// units. Throws hullmap::Error naming --floor on a band <= 0, non-finite parameters, or a zero up
+/// units: map points, a sample of them, or occupied voxel centres (then band >= the voxel size).
+/// Cost: iterations x sample_points distance tests, plus two passes over the points. Throws
+/// hullmap::Error naming --floor on a band <= 0, non-finite parameters or points, or a zero up
 /// hint. Fewer than 3 points give found = false. Thread-safe (no shared state).
 PlaneFit findBoundingPlane(const Points& points, PlaneSide side, const PlaneSearchParams& params = {});
 
