@@ -306,3 +306,40 @@ TEST(ClusteringAutoParams, MapsOfficeAlignedLevelledAndClustered) {
 }
 
 }  // namespace
+
+namespace {
+
+// However sparse the map, eps stays at most 8 voxels (0.4 m at 5 cm): two very sparse walls 0.5 m
+// apart, with 1 cm noise, stay two clusters.
+TEST(ClusteringAutoParams, SparseWallsHalfAMetreApartStaySeparate) {
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> u(0.0, 3.0);
+  std::normal_distribution<double> n(0.0, 0.01);
+  for (const double density : {5.0, 15.0, 60.0}) {  // points per m^2
+    SCOPED_TRACE(density);
+    Points pts;
+    for (int i = 0; i < static_cast<int>(density * 9.0); ++i) {
+      pts.emplace_back(n(rng), u(rng), u(rng));
+      pts.emplace_back(0.5 + n(rng), u(rng), u(rng));
+    }
+    const Voxels v = voxelize(pts, 0.05);
+    const AutoParams a = chooseDbscanParams(v.centres, v.weights, 0.05);
+    EXPECT_LE(a.eps, 0.4 + 1e-12);
+    DbscanParams params;
+    params.eps = a.eps;
+    params.min_pts = a.min_pts;
+    const DbscanResult r = dbscan(v.centres, v.weights, params);
+    std::set<std::int32_t> left, right;
+    for (std::size_t i = 0; i < v.centres.size(); ++i) {
+      if (r.labels[i] == kNoise) continue;
+      (v.centres[i].x() < 0.25 ? left : right).insert(r.labels[i]);
+    }
+    for (std::int32_t label : left) EXPECT_EQ(right.count(label), 0u) << "a cluster spans both walls";
+    EXPECT_FALSE(left.empty());
+    EXPECT_FALSE(right.empty());
+    std::cout << density << " points/m^2: eps " << a.eps << " minPts " << a.min_pts << ", clusters "
+              << r.cluster_sizes.size() << ", noise " << r.noise << " of " << v.centres.size() << "\n";
+  }
+}
+
+}  // namespace
