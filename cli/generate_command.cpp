@@ -15,23 +15,51 @@ void addGenerateCommand(CLI::App& app, int& status) {
   auto* cmd = app.add_subcommand(
       "generate", "Write a synthetic ORB-SLAM-like scene: map points, keyframes, ground truth");
   cmd->add_option("-o,--output", *dir, "Directory to write into")->required();
+  auto layout = std::make_shared<std::string>("obstacles");
+  cmd->add_option("--layout", *layout,
+                  "obstacles: boxes and cylinders on an unseen floor; room: walls, floor, furniture (L-shelves, "
+                  "tables), sparse, first camera's frame at a monocular scale, with a reference trajectory")
+      ->capture_default_str();
   cmd->add_option("--seed", params->seed, "Random seed (same seed, same scene)")->capture_default_str();
-  cmd->add_option("--points", params->points, "Map points, outliers included")->capture_default_str();
-  cmd->add_option("--obstacles", params->obstacles, "Boxes and cylinders")->capture_default_str();
+  cmd->add_option("--points", params->points, "Map points, outliers included (obstacles layout)")
+      ->capture_default_str();
+  cmd->add_option("--obstacles", params->obstacles, "Boxes and cylinders (room layout: pieces of furniture, 0 allowed)")
+      ->capture_default_str();
   cmd->add_option("--room", params->room_size, "Room side, metres")->capture_default_str();
   cmd->add_option("--noise", params->noise_sigma, "Point noise sigma, metres")->capture_default_str();
   cmd->add_option("--outliers", params->outlier_fraction, "Fraction of uniform outliers")
       ->check(CLI::Range(0.0, 1.0))->capture_default_str();
   cmd->add_option("--gross-outliers", params->gross_outliers, "Points far away")->capture_default_str();
   cmd->add_option("--keyframes", params->keyframes, "Keyframes on the trajectory")->capture_default_str();
-  cmd->add_flag("--z-up", *zup, "Write in the z-up map frame instead of ORB-SLAM's (y down)");
-  cmd->callback([params, dir, zup, &status] {
+  cmd->add_option("--density", params->density, "Room layout: map points per m^2 of visible surface")
+      ->capture_default_str();
+  cmd->add_option("--edge-fraction", params->edge_fraction, "Room layout: share of points on face edges")
+      ->capture_default_str();
+  cmd->add_option("--scale", params->monocular_scale, "Room layout: monocular scale, map units per metre")
+      ->capture_default_str();
+  cmd->add_option("--pitch", params->camera_pitch_deg, "Room layout: cameras look down by this, degrees")
+      ->capture_default_str();
+  cmd->add_flag("--z-up", *zup, "Write in the z-up map frame (metres) instead of ORB-SLAM's (y down)");
+  cmd->callback([params, dir, zup, layout, &status] {
+    if (*layout == "obstacles") {
+      params->layout = mapper::SceneLayout::kObstacles;
+    } else if (*layout == "room") {
+      params->layout = mapper::SceneLayout::kRoom;
+    } else {
+      throw Error("--layout: expected 'obstacles' or 'room', got '" + *layout + "'");
+    }
     params->orbslam_frame = !*zup;
-    std::filesystem::create_directories(*dir);
     const mapper::Scene scene = mapper::generateScene(*params);
+    std::filesystem::create_directories(*dir);
     mapper::writeScene(scene, *params, *dir);
-    std::cout << "wrote " << scene.points.size() << " points, " << scene.keyframes.size()
-              << " keyframes, " << scene.obstacles.size() << " obstacles to " << *dir << "\n";
+    if (params->layout == mapper::SceneLayout::kRoom) {
+      std::cout << "wrote " << scene.points.size() << " points, " << scene.keyframes.size() << " keyframes, "
+                << scene.objects.size() << " objects (floor, 4 walls, " << params->obstacles
+                << " pieces of furniture) and reference_trajectory.txt to " << *dir << "\n";
+    } else {
+      std::cout << "wrote " << scene.points.size() << " points, " << scene.keyframes.size() << " keyframes, "
+                << scene.obstacles.size() << " obstacles to " << *dir << "\n";
+    }
     status = 0;
   });
 }

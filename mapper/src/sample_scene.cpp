@@ -14,56 +14,16 @@
 
 #include "hullmap/mapper/atomic_file.hpp"
 #include "hullmap/mapper/error.hpp"
+#include "scene_random.hpp"
 
 namespace hullmap::mapper {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kCameraHeight = 1.2;
-constexpr std::size_t kChunk = 65536;  // points per independently seeded generator
-
-std::uint64_t splitMix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-
-// Portable random numbers: the same bits give the same values with any standard library.
-class SceneRandom {
- public:
-  explicit SceneRandom(std::uint64_t seed) : engine_(seed) {}
-
-  double uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
-  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-  std::size_t index(std::size_t n) {
-    return static_cast<std::size_t>((static_cast<unsigned __int128>(engine_()) * n) >> 64);
-  }
-  // Box-Muller, both values used.
-  double normal() {
-    if (has_spare_) {
-      has_spare_ = false;
-      return spare_;
-    }
-    double u = 0.0;
-    do u = uniform(); while (u <= 0.0);
-    const double r = std::sqrt(-2.0 * std::log(u));
-    const double a = 2.0 * kPi * uniform();
-    spare_ = r * std::sin(a);
-    has_spare_ = true;
-    return r * std::cos(a);
-  }
-  Eigen::Vector3d unitVector() {
-    Eigen::Vector3d v;
-    do v = Eigen::Vector3d(normal(), normal(), normal()); while (v.norm() < 1e-9);
-    return v.normalized();
-  }
-
- private:
-  std::mt19937_64 engine_;
-  bool has_spare_ = false;
-  double spare_ = 0.0;
-};
+using detail::kCameraHeight;
+using detail::kChunk;
+using detail::kPi;
+using detail::SceneRandom;
+using detail::splitMix64;
 
 // Samples the surface of one obstacle: half the points near edges, half on visible faces.
 class SurfaceSampler {
@@ -150,7 +110,19 @@ void checkParams(const SceneParams& p) {
           "outlier_fraction must be in [0, 1]");
   require(p.gross_outliers <= p.points, "gross_outliers must not exceed points");
   require(p.keyframes >= 1, "keyframes must be at least 1");
-  require(p.obstacles >= 1, "obstacles must be at least 1");
+  if (p.layout == SceneLayout::kObstacles) {
+    require(p.obstacles >= 1, "obstacles must be at least 1");
+  } else {
+    require(p.keyframes >= 3, "keyframes (--keyframes) must be at least 3 in a room (to align the trajectory)");
+    require(std::isfinite(p.density) && p.density > 0.0, "density (--density) must be > 0 points per m^2");
+    require(p.density * p.room_size * p.room_size <= 1e9, "density (--density) x room area must be at most 1e9 points");
+    require(std::isfinite(p.edge_fraction) && p.edge_fraction >= 0.0 && p.edge_fraction <= 1.0,
+            "edge_fraction (--edge-fraction) must be in [0, 1]");
+    require(std::isfinite(p.monocular_scale) && p.monocular_scale > 0.0, "monocular_scale (--scale) must be > 0");
+    require(std::isfinite(p.camera_pitch_deg) && p.camera_pitch_deg >= 0.0 && p.camera_pitch_deg <= 80.0,
+            "camera_pitch_deg (--pitch) must be in [0, 80] degrees");
+    require(p.outlier_fraction < 1.0, "outlier_fraction (--outliers) must be < 1 in a room");
+  }
 }
 
 std::vector<SceneObstacle> placeObstacles(const SceneParams& p, double loop_radius, SceneRandom& rng) {
@@ -228,8 +200,21 @@ Eigen::Matrix3d mapToOrbSlamRotation() {
   return m;
 }
 
+std::string toString(SceneObject::Kind kind) {
+  switch (kind) {
+    case SceneObject::Kind::kBox: return "box";
+    case SceneObject::Kind::kCylinder: return "cylinder";
+    case SceneObject::Kind::kLShelf: return "l_shelf";
+    case SceneObject::Kind::kTable: return "table";
+    case SceneObject::Kind::kWall: return "wall";
+    case SceneObject::Kind::kFloor: return "floor";
+  }
+  return "box";
+}
+
 Scene generateScene(const SceneParams& p) {
   checkParams(p);
+  if (p.layout == SceneLayout::kRoom) return detail::generateRoomScene(p);
   SceneRandom rng(p.seed);
   const double loop_radius = 0.4 * p.room_size;
 
@@ -329,25 +314,81 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
     }
   });
 
-  writeFileAtomically((base / "ground_truth.json").string(), [&scene, &params](std::ostream& out) {
+  auto primitive = [](const SceneObstacle& o) {
+    return nlohmann::json{{"shape", o.shape == SceneObstacle::Shape::kBox ? "box" : "cylinder"},
+                          {"center", {o.center.x(), o.center.y(), o.center.z()}},
+                          {"size", {o.size.x(), o.size.y(), o.size.z()}}};
+  };
+  if (params.layout == SceneLayout::kRoom) {
+    writeFileAtomically((base / "reference_trajectory.txt").string(), [&scene](std::ostream& out) {
+      char line[512];
+      for (const Keyframe& k : scene.reference) {
+        const Eigen::Quaterniond& q = k.orientation;
+        std::snprintf(line, sizeof(line), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", k.stamp, k.position.x(),
+                      k.position.y(), k.position.z(), q.x(), q.y(), q.z(), q.w());
+        out << line;
+      }
+    });
+  }
+
+  writeFileAtomically((base / "ground_truth.json").string(), [&scene, &params, &primitive](std::ostream& out) {
     nlohmann::json j;
     j["frame"] = "z-up map";
     j["units"] = "metres";
-    j["points_frame"] = params.orbslam_frame ? "orbslam (y down): read with --up -y" : "z-up map";
+    if (params.layout == SceneLayout::kObstacles) {
+      j["points_frame"] = params.orbslam_frame ? "orbslam (y down): read with --up -y" : "z-up map";
+      j["params"] = {{"seed", params.seed},
+                     {"points", params.points},
+                     {"obstacles", params.obstacles},
+                     {"room_size", params.room_size},
+                     {"room_height", params.room_height},
+                     {"noise_sigma", params.noise_sigma},
+                     {"outlier_fraction", params.outlier_fraction},
+                     {"gross_outliers", params.gross_outliers},
+                     {"keyframes", params.keyframes}};
+      nlohmann::json list = nlohmann::json::array();
+      for (const SceneObstacle& o : scene.obstacles) list.push_back(primitive(o));
+      j["obstacles"] = list;
+      out << j.dump(2) << '\n';
+      return;
+    }
+    j["layout"] = "room";
+    j["points_frame"] = params.orbslam_frame
+                            ? "orbslam: the first keyframe's camera frame (x right, y down, z forward), "
+                              "monocular scale; align with reference_trajectory.txt"
+                            : "z-up map";
+    const Eigen::Matrix3d& r = scene.output_rotation;
+    j["output_from_map"] = {{"scale", scene.output_scale},
+                            {"rotation", {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}}},
+                            {"translation",
+                             {scene.output_translation.x(), scene.output_translation.y(), scene.output_translation.z()}}};
     j["params"] = {{"seed", params.seed},
-                   {"points", params.points},
-                   {"obstacles", params.obstacles},
+                   {"layout", "room"},
+                   {"points", scene.points.size()},
+                   {"furniture", params.obstacles},
                    {"room_size", params.room_size},
                    {"room_height", params.room_height},
+                   {"density", params.density},
+                   {"edge_fraction", params.edge_fraction},
                    {"noise_sigma", params.noise_sigma},
                    {"outlier_fraction", params.outlier_fraction},
                    {"gross_outliers", params.gross_outliers},
-                   {"keyframes", params.keyframes}};
+                   {"keyframes", params.keyframes},
+                   {"monocular_scale", params.orbslam_frame ? params.monocular_scale : 1.0},
+                   {"camera_pitch_deg", params.camera_pitch_deg}};
     nlohmann::json list = nlohmann::json::array();
-    for (const SceneObstacle& o : scene.obstacles) {
-      list.push_back({{"shape", o.shape == SceneObstacle::Shape::kBox ? "box" : "cylinder"},
-                      {"center", {o.center.x(), o.center.y(), o.center.z()}},
-                      {"size", {o.size.x(), o.size.y(), o.size.z()}}});
+    for (const SceneObject& object : scene.objects) {
+      nlohmann::json entry;
+      if (object.parts.size() == 1) {
+        entry = primitive(object.parts.front());
+      } else {
+        entry["shape"] = "union";
+        nlohmann::json parts = nlohmann::json::array();
+        for (const SceneObstacle& o : object.parts) parts.push_back(primitive(o));
+        entry["parts"] = parts;
+      }
+      entry["kind"] = toString(object.kind);
+      list.push_back(entry);
     }
     j["obstacles"] = list;
     out << j.dump(2) << '\n';

@@ -17,6 +17,24 @@ struct SceneObstacle {
   Eigen::Vector3d size = Eigen::Vector3d::Ones();     ///< box extents; cylinder (2r, 2r, height)
 };
 
+/// What a generated scene holds.
+/// - kObstacles: boxes and cylinders standing on an unseen floor, no walls (the original scene; the
+///   tests, benchmarks and maps/room use it).
+/// - kRoom: a realistic room as ORB-SLAM maps it: walls and floor, furniture that is not convex
+///   (L-shaped shelves, tables on legs) beside boxes and cylinders, sparse points (`density` per
+///   square metre of visible surface), written in the first camera's frame at a monocular scale,
+///   with a metric reference trajectory to align it.
+enum class SceneLayout { kObstacles, kRoom };
+
+/// One true object of a kRoom scene: a union of axis-aligned primitives (z-up map frame, metres).
+struct SceneObject {
+  enum class Kind { kBox, kCylinder, kLShelf, kTable, kWall, kFloor } kind = Kind::kBox;
+  std::vector<SceneObstacle> parts;  ///< non-overlapping boxes/cylinders; their union is the object
+};
+
+/// "box", "cylinder", "l_shelf", "table", "wall", "floor" (ground_truth.json's "kind").
+std::string toString(SceneObject::Kind kind);
+
 /// Parameters of the synthetic ORB-SLAM-like scene. Same seed, same scene, on every machine
 /// (hullmap draws from std::mt19937_64 with its own uniform and normal transforms, since the
 /// std distributions differ between standard libraries).
@@ -39,6 +57,20 @@ struct SceneParams {
   std::size_t gross_outliers = 5;     ///< points far away (1e5 to 1e6 m from the origin)
   std::size_t keyframes = 60;
   bool orbslam_frame = true;          ///< write in ORB-SLAM's frame (y down): read back with --up -y
+
+  /// kRoom only (see SceneLayout). The room is room_size x room_size x room_height, floor at z = 0,
+  /// walls' inner faces at x, y = +-room_size / 2; `obstacles` pieces of furniture (0 allowed),
+  /// kSceneObstacleGap apart from each other, the walls and the camera loop. `points` is ignored:
+  /// visible surfaces get `density` points per m^2 (ORB-SLAM maps of EuRoC hold about 50 to 500,
+  /// see maps/README.md), `edge_fraction` of them on face edges; outlier_fraction is of all points.
+  /// With orbslam_frame the output frame is the first keyframe's camera frame (x right, y down,
+  /// z forward; that camera looks toward the room's axis, pitched down by camera_pitch_deg),
+  /// scaled by monocular_scale (map units per metre); otherwise the z-up map frame in metres.
+  SceneLayout layout = SceneLayout::kObstacles;
+  double density = 80.0;              ///< map points per m^2 of visible surface (> 0)
+  double edge_fraction = 0.3;         ///< share of surface points on face edges, [0, 1]
+  double monocular_scale = 0.37;      ///< map units per metre in the ORB-SLAM frame (> 0)
+  double camera_pitch_deg = 20.0;     ///< cameras look down by this, [0, 80]
 };
 
 /// Smallest distance between two obstacles' axis-aligned footprints, and between an obstacle and
@@ -48,7 +80,14 @@ inline constexpr double kSceneObstacleGap = 0.5;
 struct Scene {
   Points points;                       ///< in the output frame (ORB-SLAM's if orbslam_frame)
   std::vector<Keyframe> keyframes;     ///< camera-to-frame poses, in the output frame
-  std::vector<SceneObstacle> obstacles;  ///< always z-up map frame
+  std::vector<SceneObstacle> obstacles;  ///< always z-up map frame; kRoom: every part of every object
+  std::vector<SceneObject> objects;    ///< kRoom: the true objects (walls and floor included); else empty
+  std::vector<Keyframe> reference;     ///< kRoom: the same keyframes in the z-up map frame, metres
+  /// kRoom: output frame from the z-up map frame, p_out = scale * rotation * p + translation
+  /// (identity when not orbslam_frame).
+  double output_scale = 1.0;
+  Eigen::Matrix3d output_rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d output_translation = Eigen::Vector3d::Zero();
 };
 
 /// The rotation taking the z-up map frame to ORB-SLAM's camera frame (y down, z forward):
@@ -60,7 +99,9 @@ Eigen::Matrix3d mapToOrbSlamRotation();
 Scene generateScene(const SceneParams& params);
 
 /// Writes points as ORB-SLAM2 map-point text, the trajectory as TUM, the ground truth as JSON,
-/// into `dir` (map_points.txt, KeyFrameTrajectory.txt, ground_truth.json), each atomically.
+/// into `dir` (map_points.txt, KeyFrameTrajectory.txt, ground_truth.json), each atomically; a kRoom
+/// scene also gets reference_trajectory.txt (TUM `t x y z qx qy qz qw`, z-up metres, the
+/// keyframes' stamps: `--align` input). The JSON is described in maps/README.md.
 /// `dir` is created when missing.
 void writeScene(const Scene& scene, const SceneParams& params, const std::string& dir);
 

@@ -1,0 +1,178 @@
+#include "hullmap/clustering/auto_params.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "hullmap/mapper/error.hpp"
+
+namespace hullmap::clustering {
+namespace {
+
+struct CellHash {
+  std::size_t operator()(const Eigen::Vector3i& c) const {
+    std::uint64_t h = static_cast<std::uint32_t>(c.x());
+    h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(c.y());
+    h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(c.z());
+    return static_cast<std::size_t>(h ^ (h >> 29));
+  }
+};
+
+struct CellEqual {
+  bool operator()(const Eigen::Vector3i& a, const Eigen::Vector3i& b) const { return a == b; }
+};
+
+void checkRule(const AutoParamsRule& r, double resolution) {
+  auto require = [](bool ok, const std::string& what) {
+    if (!ok) throw Error("--eps auto: " + what);
+  };
+  require(std::isfinite(resolution) && resolution > 0.0, "the resolution must be finite and > 0");
+  require(r.k >= 1, "k must be >= 1");
+  require(std::isfinite(r.knn_quantile) && r.knn_quantile >= 0.0 && r.knn_quantile <= 1.0,
+          "knn_quantile must be in [0, 1]");
+  require(std::isfinite(r.eps_factor) && r.eps_factor > 0.0, "eps_factor must be finite and > 0");
+  require(std::isfinite(r.min_eps_voxels) && r.min_eps_voxels > 0.0 && std::isfinite(r.max_eps_voxels) &&
+              r.max_eps_voxels >= r.min_eps_voxels,
+          "the eps clamp must satisfy 0 < min_eps_voxels <= max_eps_voxels");
+  require(std::isfinite(r.min_pts_quantile) && r.min_pts_quantile >= 0.0 && r.min_pts_quantile <= 1.0,
+          "min_pts_quantile must be in [0, 1]");
+  require(r.min_min_pts >= 1, "min_min_pts must be >= 1");
+  require(r.sample >= 1, "the sample must hold at least one voxel");
+}
+
+}  // namespace
+
+AutoParams chooseDbscanParams(const std::vector<Eigen::Vector3d>& centres, const std::vector<std::uint32_t>& weights,
+                              double resolution, Metric metric, const AutoParamsRule& rule) {
+  checkRule(rule, resolution);
+  if (!weights.empty() && weights.size() != centres.size()) {
+    throw Error("--eps auto: " + std::to_string(weights.size()) + " weights for " + std::to_string(centres.size()) +
+                " voxels");
+  }
+  for (const auto& c : centres) {
+    if (!c.allFinite()) throw Error("--eps auto: non-finite voxel centre");
+  }
+  AutoParams out;
+  const double max_eps = rule.max_eps_voxels * resolution;
+  const double min_eps = rule.min_eps_voxels * resolution;
+  out.eps = min_eps;
+  out.min_pts = rule.min_min_pts;
+  if (centres.empty()) {
+    out.knn = std::numeric_limits<double>::infinity();
+    out.eps_unclamped = out.knn;
+    return out;
+  }
+  const bool xy = metric == Metric::kXy;
+  auto position = [&](std::size_t i) {
+    Eigen::Vector3d p = centres[i];
+    if (xy) p.z() = 0.0;
+    return p;
+  };
+  // Cells of side max_eps: every neighbour within max_eps is in the 27 cells around a voxel's cell.
+  // Cells far out of int range (gross outliers) are clamped: they only ever hold far-away voxels.
+  auto cellOf = [&](const Eigen::Vector3d& p) {
+    Eigen::Vector3i c;
+    for (int a = 0; a < 3; ++a) {
+      const double f = std::floor(p[a] / max_eps);
+      c[a] = static_cast<int>(std::clamp(f, -1e9, 1e9));
+    }
+    return c;
+  };
+
+  // The sample: all voxels, or `sample` drawn with a fixed seed (portable: 128-bit multiply).
+  std::vector<std::size_t> sample;
+  if (centres.size() <= rule.sample) {
+    sample.resize(centres.size());
+    for (std::size_t i = 0; i < sample.size(); ++i) sample[i] = i;
+  } else {
+    std::mt19937_64 engine(rule.seed);
+    sample.reserve(rule.sample);
+    for (std::size_t i = 0; i < rule.sample; ++i) {
+      sample.push_back(static_cast<std::size_t>((static_cast<unsigned __int128>(engine()) * centres.size()) >> 64));
+    }
+  }
+  out.sampled = sample.size();
+
+  // Gather the voxels in the cells around the sample.
+  std::unordered_map<Eigen::Vector3i, std::vector<std::uint32_t>, CellHash, CellEqual> grid;
+  for (std::size_t s : sample) {
+    const Eigen::Vector3i c = cellOf(position(s));
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = xy ? 0 : -1; dz <= (xy ? 0 : 1); ++dz) grid.try_emplace(c + Eigen::Vector3i(dx, dy, dz));
+  }
+  for (std::size_t i = 0; i < centres.size(); ++i) {
+    const auto it = grid.find(cellOf(position(i)));
+    if (it != grid.end()) it->second.push_back(static_cast<std::uint32_t>(i));
+  }
+
+  // Calls f(squared distance, index) for every voxel within max_eps of sampled voxel j (itself
+  // included, at 0; under kXy so are voxels stacked above it: DBSCAN counts them too).
+  const double max_eps2 = max_eps * max_eps;
+  auto forEachNear = [&](std::size_t j, auto&& f) {
+    const Eigen::Vector3d p = position(sample[j]);
+    const Eigen::Vector3i c = cellOf(p);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = xy ? 0 : -1; dz <= (xy ? 0 : 1); ++dz) {
+          for (std::uint32_t i : grid.at(c + Eigen::Vector3i(dx, dy, dz))) {
+            const double d2 = (position(i) - p).squaredNorm();
+            if (d2 <= max_eps2) f(d2, i);
+          }
+        }
+  };
+
+  // Pass 1: the k-th nearest other voxel (the (k+1)-th smallest distance, a max-heap of k + 1).
+  const auto k1 = static_cast<std::size_t>(rule.k) + 1;
+  std::vector<double> knn(sample.size(), std::numeric_limits<double>::infinity());
+  std::vector<double> heap;
+  for (std::size_t j = 0; j < sample.size(); ++j) {
+    heap.clear();
+    forEachNear(j, [&](double d2, std::uint32_t) {
+      if (heap.size() < k1) {
+        heap.push_back(d2);
+        std::push_heap(heap.begin(), heap.end());
+      } else if (d2 < heap.front()) {
+        std::pop_heap(heap.begin(), heap.end());
+        heap.back() = d2;
+        std::push_heap(heap.begin(), heap.end());
+      }
+    });
+    if (heap.size() == k1) knn[j] = std::sqrt(heap.front());
+  }
+  const auto at = static_cast<std::size_t>(std::floor(rule.knn_quantile * static_cast<double>(knn.size() - 1)));
+  std::nth_element(knn.begin(), knn.begin() + static_cast<std::ptrdiff_t>(at), knn.end());
+  out.knn = knn[at];
+  out.eps_unclamped = rule.eps_factor * out.knn;
+  out.eps = std::clamp(out.eps_unclamped, min_eps, max_eps);
+
+  // Pass 2: neighbourhood weights at eps, with DBSCAN's test (squared distance <= eps^2), over the sampled
+  // voxels that lie on a structure: k other voxels within eps (isolated outliers would otherwise
+  // drag the quantile down to 1 on maps with many of them).
+  const double eps2 = out.eps * out.eps;
+  std::vector<double> weight;
+  for (std::size_t j = 0; j < sample.size(); ++j) {
+    std::size_t count = 0;
+    double sum = 0.0;
+    forEachNear(j, [&](double d2, std::uint32_t i) {
+      if (d2 <= eps2) {
+        ++count;
+        sum += weights.empty() ? 1.0 : static_cast<double>(weights[i]);
+      }
+    });
+    if (count > static_cast<std::size_t>(rule.k)) weight.push_back(sum);
+  }
+  out.structured = weight.size();
+  if (weight.empty()) return out;
+  const auto q = static_cast<std::size_t>(
+      std::floor(rule.min_pts_quantile * static_cast<double>(weight.size() - 1)));
+  std::nth_element(weight.begin(), weight.begin() + static_cast<std::ptrdiff_t>(q), weight.end());
+  const double chosen = std::min(weight[q], static_cast<double>(std::numeric_limits<int>::max()));
+  out.min_pts = std::max(rule.min_min_pts, static_cast<int>(chosen));
+  return out;
+}
+
+}  // namespace hullmap::clustering

@@ -1,0 +1,258 @@
+#include "hullmap/mapper/floor.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <unordered_set>
+
+#include <Eigen/Eigenvalues>
+
+#include "hullmap/mapper/error.hpp"
+#include "read_detail.hpp"
+
+namespace hullmap::mapper {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr std::size_t kEvaluationPoints = 200000;
+
+// Portable draws: the same bits on every standard library.
+class Draw {
+ public:
+  explicit Draw(std::uint64_t seed) : engine_(seed) {}
+  std::size_t index(std::size_t n) {
+    return static_cast<std::size_t>((static_cast<unsigned __int128>(engine_()) * n) >> 64);
+  }
+
+ private:
+  std::mt19937_64 engine_;
+};
+
+struct Counts {
+  std::size_t inliers = 0;
+  std::size_t beyond = 0;
+};
+
+Counts count(const Points& points, const Plane& plane, double band) {
+  Counts c;
+  for (const Point& p : points) {
+    const double d = plane.signedDistance(p);
+    if (std::abs(d) <= band) ++c.inliers;
+    else if (d < -band) ++c.beyond;
+  }
+  return c;
+}
+
+// Least-squares plane through the inliers of `plane`: the smallest principal axis, oriented like
+// `plane`'s normal (or kept equal to it when the tilt is fixed: then only the offset moves).
+Plane refine(const Points& points, Plane plane, double band, bool fit_tilt) {
+  for (int round = 0; round < 2; ++round) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    std::size_t n = 0;
+    for (const Point& p : points) {
+      if (std::abs(plane.signedDistance(p)) <= band) {
+        mean += p;
+        ++n;
+      }
+    }
+    if (n < 3) return plane;
+    mean /= static_cast<double>(n);
+    if (fit_tilt) {
+      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      for (const Point& p : points) {
+        if (std::abs(plane.signedDistance(p)) <= band) cov += (p - mean) * (p - mean).transpose();
+      }
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(cov);
+      Eigen::Vector3d normal = solver.eigenvectors().col(0);  // smallest eigenvalue first
+      if (normal.dot(plane.normal) < 0.0) normal = -normal;
+      plane.normal = normal.normalized();
+    }
+    plane.offset = plane.normal.dot(mean);
+  }
+  return plane;
+}
+
+double coverage(const Points& points, const Plane& plane, double band, double cell) {
+  // In-plane axes.
+  const Eigen::Vector3d a = plane.normal.unitOrthogonal();
+  const Eigen::Vector3d b = plane.normal.cross(a);
+  std::vector<double> us, vs;
+  us.reserve(points.size());
+  vs.reserve(points.size());
+  for (const Point& p : points) {
+    us.push_back(a.dot(p));
+    vs.push_back(b.dot(p));
+  }
+  auto quantile = [](std::vector<double> v, double q) {
+    const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())));
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+    return v[k];
+  };
+  const double u0 = quantile(us, 0.01), u1 = quantile(us, 0.99);
+  const double v0 = quantile(vs, 0.01), v1 = quantile(vs, 0.99);
+  std::unordered_set<std::uint64_t> all, covered;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (us[i] < u0 || us[i] > u1 || vs[i] < v0 || vs[i] > v1) continue;
+    const auto cu = static_cast<std::uint64_t>((us[i] - u0) / cell);
+    const auto cv = static_cast<std::uint64_t>((vs[i] - v0) / cell);
+    const std::uint64_t key = (cu << 32) | cv;
+    all.insert(key);
+    if (std::abs(plane.signedDistance(points[i])) <= band) covered.insert(key);
+  }
+  return all.empty() ? 0.0 : static_cast<double>(covered.size()) / static_cast<double>(all.size());
+}
+
+void checkParams(const PlaneSearchParams& p) {
+  auto require = [](bool ok, const std::string& what) {
+    if (!ok) throw Error("--floor: " + what);
+  };
+  require(std::isfinite(p.band) && p.band > 0.0, "the plane band must be finite and > 0");
+  require(p.up.allFinite() && p.up.norm() > 0.0, "the up hint must be a finite non-zero vector");
+  require(std::isfinite(p.max_tilt_deg) && p.max_tilt_deg >= 0.0 && p.max_tilt_deg < 90.0,
+          "the largest tilt must be in [0, 90) degrees");
+  require(std::isfinite(p.min_inlier_share) && std::isfinite(p.max_beyond_share) && std::isfinite(p.min_coverage),
+          "acceptance shares must be finite");
+  require(std::isfinite(p.coverage_cell) && p.coverage_cell >= 0.0, "the coverage cell must be finite and >= 0");
+  require(p.iterations >= 1, "RANSAC needs at least one iteration");
+  require(p.sample_points >= 3, "RANSAC needs a sample of at least 3 points");
+}
+
+}  // namespace
+
+PlaneFit findBoundingPlane(const Points& points, PlaneSide side, const PlaneSearchParams& params) {
+  checkParams(params);
+  for (const Point& p : points) {
+    if (!detail::isFinite(p)) throw Error("--floor: non-finite point");
+  }
+  PlaneFit fit;
+  if (points.size() < 3) {
+    fit.reason = "fewer than 3 points";
+    return fit;
+  }
+  // Into the map: up for a floor, down for a ceiling.
+  const Eigen::Vector3d inward = (side == PlaneSide::kFloor ? 1.0 : -1.0) * params.up.normalized();
+  const double min_cos = std::cos(params.max_tilt_deg * kPi / 180.0);
+
+  Draw draw(params.seed);
+  Points sample;
+  if (points.size() <= params.sample_points) {
+    sample = points;
+  } else {
+    sample.reserve(params.sample_points);
+    for (std::size_t i = 0; i < params.sample_points; ++i) sample.push_back(points[draw.index(points.size())]);
+  }
+  const double band = params.band;
+  const auto max_beyond = static_cast<std::size_t>(params.max_beyond_share * static_cast<double>(sample.size()));
+
+  bool have = false;
+  Plane best;
+  std::size_t best_inliers = 0;
+  for (int it = 0; it < params.iterations; ++it) {
+    Plane candidate;
+    const Point& p0 = sample[draw.index(sample.size())];
+    if (params.fit_tilt) {
+      const Point& p1 = sample[draw.index(sample.size())];
+      const Point& p2 = sample[draw.index(sample.size())];
+      Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);
+      const double len = n.norm();
+      if (!(len > 0.0) || !std::isfinite(len)) continue;
+      n /= len;
+      if (n.dot(inward) < 0.0) n = -n;
+      if (n.dot(inward) < min_cos) continue;
+      candidate.normal = n;
+    } else {
+      candidate.normal = inward;
+    }
+    candidate.offset = candidate.normal.dot(p0);
+    const Counts c = count(sample, candidate, band);
+    if (c.beyond > max_beyond) continue;
+    if (!have || c.inliers > best_inliers) {
+      have = true;
+      best = candidate;
+      best_inliers = c.inliers;
+    }
+  }
+  if (!have) {
+    fit.reason = "no candidate plane within the tilt limit with few points beyond it";
+    return fit;
+  }
+  // Refinement and coverage on at most kEvaluationPoints of the points (a fixed draw): on a map of
+  // millions they would otherwise cost more than the search; the counts below use every point.
+  const Points* evaluation = &points;
+  Points drawn;
+  if (points.size() > kEvaluationPoints) {
+    drawn.reserve(kEvaluationPoints);
+    for (std::size_t i = 0; i < kEvaluationPoints; ++i) drawn.push_back(points[draw.index(points.size())]);
+    evaluation = &drawn;
+  }
+  fit.plane = refine(*evaluation, best, band, params.fit_tilt);
+  const Counts all = count(points, fit.plane, band);
+  const double n = static_cast<double>(points.size());
+  fit.inliers = all.inliers;
+  fit.inlier_share = static_cast<double>(all.inliers) / n;
+  fit.beyond_share = static_cast<double>(all.beyond) / n;
+  fit.tilt_deg = std::acos(std::clamp(fit.plane.normal.dot(inward), -1.0, 1.0)) * 180.0 / kPi;
+  const double cell = params.coverage_cell > 0.0 ? params.coverage_cell : 10.0 * band;
+  fit.coverage = coverage(*evaluation, fit.plane, band, cell);
+
+  if (fit.inlier_share < params.min_inlier_share) {
+    fit.reason = "inlier share " + std::to_string(fit.inlier_share) + " < " + std::to_string(params.min_inlier_share);
+  } else if (fit.beyond_share > params.max_beyond_share) {
+    fit.reason = "share beyond the plane " + std::to_string(fit.beyond_share) + " > " +
+                 std::to_string(params.max_beyond_share);
+  } else if (fit.coverage < params.min_coverage) {
+    fit.reason = "coverage " + std::to_string(fit.coverage) + " < " + std::to_string(params.min_coverage);
+  } else if (fit.tilt_deg > params.max_tilt_deg) {
+    fit.reason = "tilt " + std::to_string(fit.tilt_deg) + " deg > " + std::to_string(params.max_tilt_deg);
+  } else {
+    fit.found = true;
+  }
+  return fit;
+}
+
+Eigen::Isometry3d levelingTransform(const Plane& floor) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::Quaterniond::FromTwoVectors(floor.normal, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  t.translation() = Eigen::Vector3d(0.0, 0.0, -floor.offset);
+  return t;
+}
+
+Plane horizontalPlane(double height, PlaneSide side) {
+  Plane p;
+  p.normal = Eigen::Vector3d(0.0, 0.0, side == PlaneSide::kFloor ? 1.0 : -1.0);
+  p.offset = side == PlaneSide::kFloor ? height : -height;
+  return p;
+}
+
+PlaneSetting parsePlaneSetting(const std::string& option, const std::string& text) {
+  PlaneSetting s;
+  if (text == "auto") return s;
+  if (text == "none") {
+    s.mode = PlaneSetting::Mode::kNone;
+    return s;
+  }
+  double value = 0.0;
+  if (!detail::parseDouble(text, value) || !std::isfinite(value)) {
+    throw Error(option + ": expected auto, none or a height (a finite number), got '" + text + "'");
+  }
+  s.mode = PlaneSetting::Mode::kHeight;
+  s.height = value;
+  return s;
+}
+
+std::vector<SurfaceClass> classifySurfaces(const std::vector<Eigen::Vector3d>& centres,
+                                           const std::optional<Plane>& floor, const std::optional<Plane>& ceiling,
+                                           double band) {
+  if (!(band >= 0.0) || !std::isfinite(band)) throw Error("--floor: the surface band must be finite and >= 0");
+  std::vector<SurfaceClass> classes(centres.size(), SurfaceClass::kObstacle);
+  for (std::size_t i = 0; i < centres.size(); ++i) {
+    if (floor && floor->signedDistance(centres[i]) <= band) {
+      classes[i] = SurfaceClass::kFloor;
+    } else if (ceiling && ceiling->signedDistance(centres[i]) <= band) {
+      classes[i] = SurfaceClass::kCeiling;
+    }
+  }
+  return classes;
+}
+
+}  // namespace hullmap::mapper

@@ -1,0 +1,349 @@
+// The realistic room of generateScene (SceneLayout::kRoom): walls, floor, furniture that is not
+// convex, sparse ORB-SLAM-like points, the first camera's frame at a monocular scale.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <tbb/parallel_for.h>
+
+#include "hullmap/mapper/error.hpp"
+#include "hullmap/mapper/sample_scene.hpp"
+#include "scene_random.hpp"
+
+namespace hullmap::mapper::detail {
+namespace {
+
+constexpr double kWallThickness = 0.1;  // the truth's walls and floor are 10 cm thick, outside the room
+
+SceneObstacle box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  SceneObstacle o;
+  o.shape = SceneObstacle::Shape::kBox;
+  o.center = 0.5 * (lo + hi);
+  o.size = hi - lo;
+  return o;
+}
+
+// A visible surface patch: a rectangle c + u a + v b (u, v in [-1, 1]), a cylinder's side or its
+// top disc. Points on it that fall on or inside another piece of furniture's part are drawn again:
+// faces where parts touch, the floor under furniture, a leg's top under the table top.
+struct Patch {
+  enum class Type { kRect, kCylinderSide, kDisc } type = Type::kRect;
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  Eigen::Vector3d a = Eigen::Vector3d::Zero();  // rect half-axis; cylinder: (radius, half height, 0)
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  double area = 0.0;
+  std::size_t part = 0;  // index into the flat parts list (itself is never a rejecter)
+};
+
+void addBoxFaces(const SceneObstacle& o, std::size_t part, bool top, std::vector<Patch>& patches) {
+  const Eigen::Vector3d h = 0.5 * o.size;
+  auto rect = [&](const Eigen::Vector3d& c, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    Patch p;
+    p.c = c;
+    p.a = a;
+    p.b = b;
+    p.area = 4.0 * a.norm() * b.norm();
+    p.part = part;
+    if (p.area > 0.0) patches.push_back(p);
+  };
+  const Eigen::Vector3d x(h.x(), 0, 0), y(0, h.y(), 0), z(0, 0, h.z());
+  if (top) rect(o.center + z, x, y);
+  rect(o.center + x, y, z);
+  rect(o.center - x, y, z);
+  rect(o.center + y, x, z);
+  rect(o.center - y, x, z);
+}
+
+void addCylinder(const SceneObstacle& o, std::size_t part, std::vector<Patch>& patches) {
+  const double r = 0.5 * o.size.x(), hz = 0.5 * o.size.z();
+  Patch side;
+  side.type = Patch::Type::kCylinderSide;
+  side.c = o.center;
+  side.a = Eigen::Vector3d(r, hz, 0);
+  side.area = 2.0 * kPi * r * 2.0 * hz;
+  side.part = part;
+  patches.push_back(side);
+  Patch disc = side;
+  disc.type = Patch::Type::kDisc;
+  disc.c = o.center + Eigen::Vector3d(0, 0, hz);
+  disc.area = kPi * r * r;
+  patches.push_back(disc);
+}
+
+Eigen::Vector3d samplePatch(const Patch& p, bool on_edge, SceneRandom& rng) {
+  switch (p.type) {
+    case Patch::Type::kRect: {
+      double u = rng.uniform(-1.0, 1.0), v = rng.uniform(-1.0, 1.0);
+      if (on_edge) {
+        // One of the four edges, by length.
+        const double la = p.a.norm(), lb = p.b.norm();
+        if (rng.uniform() * (la + lb) < la) v = rng.uniform() < 0.5 ? -1.0 : 1.0;
+        else u = rng.uniform() < 0.5 ? -1.0 : 1.0;
+      }
+      return p.c + u * p.a + v * p.b;
+    }
+    case Patch::Type::kCylinderSide: {
+      const double angle = 2.0 * kPi * rng.uniform();
+      const double z = on_edge ? p.a.y() : rng.uniform(-p.a.y(), p.a.y());
+      return p.c + Eigen::Vector3d(p.a.x() * std::cos(angle), p.a.x() * std::sin(angle), z);
+    }
+    case Patch::Type::kDisc:
+    default: {
+      const double angle = 2.0 * kPi * rng.uniform();
+      const double r = on_edge ? p.a.x() : p.a.x() * std::sqrt(rng.uniform());
+      return p.c + Eigen::Vector3d(r * std::cos(angle), r * std::sin(angle), 0.0);
+    }
+  }
+}
+
+// On or inside the part (1e-9 m slack).
+bool covers(const SceneObstacle& o, const Eigen::Vector3d& q) {
+  const Eigen::Vector3d d = q - o.center;
+  const Eigen::Vector3d h = 0.5 * o.size;
+  if (o.shape == SceneObstacle::Shape::kBox) return (d.cwiseAbs() - h).maxCoeff() <= 1e-9;
+  return std::hypot(d.x(), d.y()) <= h.x() + 1e-9 && std::abs(d.z()) <= h.z() + 1e-9;
+}
+
+// Footprint (x, y) bounds of an object, for the placement gaps.
+struct Footprint {
+  Eigen::Vector2d lo, hi;
+};
+
+Footprint footprint(const SceneObject& object) {
+  Footprint f{Eigen::Vector2d::Constant(1e300), Eigen::Vector2d::Constant(-1e300)};
+  for (const auto& p : object.parts) {
+    f.lo = f.lo.cwiseMin((p.center - 0.5 * p.size).head<2>());
+    f.hi = f.hi.cwiseMax((p.center + 0.5 * p.size).head<2>());
+  }
+  return f;
+}
+
+double gap(const Footprint& a, const Footprint& b) {
+  const Eigen::Vector2d d = (a.lo - b.hi).cwiseMax(b.lo - a.hi);
+  return d.maxCoeff();
+}
+
+// A piece of furniture with its footprint's lower corner at the origin, standing on z = 0.
+SceneObject furniture(const SceneParams& p, SceneRandom& rng) {
+  SceneObject f;
+  const double max_height = std::min(2.2, p.room_height - 0.3);
+  const double pick = rng.uniform();
+  if (pick < 0.3) {
+    f.kind = SceneObject::Kind::kLShelf;
+    const double la = rng.uniform(1.0, 1.8), lb = rng.uniform(0.8, 1.5), d = rng.uniform(0.3, 0.45);
+    const double h = rng.uniform(1.2, max_height);
+    // Arm A along x, arm B along y starting where A ends: the two boxes touch, never overlap.
+    f.parts.push_back(box({0, 0, 0}, {la, d, h}));
+    f.parts.push_back(box({0, d, 0}, {d, d + lb, h}));
+  } else if (pick < 0.6) {
+    f.kind = SceneObject::Kind::kTable;
+    const double w = rng.uniform(0.8, 1.6), l = rng.uniform(0.6, 1.0), top = rng.uniform(0.72, 0.78);
+    const double leg = 0.05, inset = 0.05, thick = 0.04;
+    f.parts.push_back(box({0, 0, top - thick}, {w, l, top}));
+    for (int i = 0; i < 4; ++i) {
+      const double x = (i & 1) ? w - inset - leg : inset;
+      const double y = (i & 2) ? l - inset - leg : inset;
+      f.parts.push_back(box({x, y, 0}, {x + leg, y + leg, top - thick}));
+    }
+  } else if (pick < 0.8) {
+    f.kind = SceneObject::Kind::kBox;
+    f.parts.push_back(box({0, 0, 0}, {rng.uniform(0.4, 1.2), rng.uniform(0.4, 1.2), rng.uniform(0.6, max_height)}));
+  } else {
+    f.kind = SceneObject::Kind::kCylinder;
+    SceneObstacle c;
+    c.shape = SceneObstacle::Shape::kCylinder;
+    const double d = rng.uniform(0.3, 0.8), h = rng.uniform(0.6, max_height);
+    c.size = Eigen::Vector3d(d, d, h);
+    c.center = Eigen::Vector3d(0.5 * d, 0.5 * d, 0.5 * h);
+    f.parts.push_back(c);
+  }
+  // A quarter turn half of the time (about the footprint's corner, then back into x, y >= 0).
+  if (rng.uniform() < 0.5) {
+    for (auto& part : f.parts) {
+      part.center = Eigen::Vector3d(-part.center.y(), part.center.x(), part.center.z());
+      std::swap(part.size.x(), part.size.y());
+    }
+    const Footprint fp = footprint(f);
+    for (auto& part : f.parts) part.center.head<2>() -= fp.lo;
+  }
+  return f;
+}
+
+}  // namespace
+
+Scene generateRoomScene(const SceneParams& p) {
+  SceneRandom rng(p.seed);
+  const double half = 0.5 * p.room_size;
+  const double loop_radius = 0.4 * p.room_size;
+  Scene scene;
+
+  // Floor and walls (their inner faces are the room's boundary).
+  const double t = kWallThickness;
+  SceneObject floor{SceneObject::Kind::kFloor, {box({-half - t, -half - t, -t}, {half + t, half + t, 0})}};
+  scene.objects.push_back(floor);
+  const double zh = p.room_height;
+  scene.objects.push_back({SceneObject::Kind::kWall, {box({-half - t, -half - t, 0}, {-half, half + t, zh})}});
+  scene.objects.push_back({SceneObject::Kind::kWall, {box({half, -half - t, 0}, {half + t, half + t, zh})}});
+  scene.objects.push_back({SceneObject::Kind::kWall, {box({-half, -half - t, 0}, {half, -half, zh})}});
+  scene.objects.push_back({SceneObject::Kind::kWall, {box({-half, half, 0}, {half, half + t, zh})}});
+
+  // Furniture inside the camera loop, kSceneObstacleGap apart from each other and from the loop.
+  std::vector<Footprint> placed;
+  for (std::size_t n = 0; n < p.obstacles; ++n) {
+    bool done = false;
+    for (int attempt = 0; attempt < 10000 && !done; ++attempt) {
+      SceneObject f = furniture(p, rng);
+      const Footprint local = footprint(f);
+      const Eigen::Vector2d extent = local.hi - local.lo;
+      const double reach = loop_radius - kSceneObstacleGap - 0.5 * extent.norm();
+      if (reach <= 0.0) continue;
+      const Eigen::Vector2d centre(rng.uniform(-reach, reach), rng.uniform(-reach, reach));
+      if (centre.norm() > reach) continue;
+      const Eigen::Vector2d shift = centre - 0.5 * extent;
+      for (auto& part : f.parts) part.center.head<2>() += shift;
+      const Footprint fp = footprint(f);
+      done = std::all_of(placed.begin(), placed.end(),
+                         [&fp](const Footprint& other) { return gap(fp, other) >= kSceneObstacleGap; });
+      if (done) {
+        placed.push_back(fp);
+        scene.objects.push_back(f);
+      }
+    }
+    if (!done) {
+      throw Error("scene parameters: cannot place " + std::to_string(p.obstacles) + " pieces of furniture " +
+                  std::to_string(kSceneObstacleGap) + " m apart in a room of " + std::to_string(p.room_size) +
+                  " m (obstacles too many for room_size)");
+    }
+  }
+  // Only furniture hides surfaces (a wall's foot on the floor is a visible edge, as is a box's).
+  std::vector<bool> hides;
+  for (const auto& object : scene.objects) {
+    for (const auto& part : object.parts) {
+      scene.obstacles.push_back(part);
+      hides.push_back(object.kind != SceneObject::Kind::kFloor && object.kind != SceneObject::Kind::kWall);
+    }
+  }
+
+  // Visible patches: the floor's top, the walls' inner faces, furniture's tops and sides.
+  std::vector<Patch> patches;
+  {
+    std::size_t part = 0;
+    for (const auto& object : scene.objects) {
+      for (const auto& o : object.parts) {
+        if (object.kind == SceneObject::Kind::kFloor) {
+          Patch top;
+          top.c = Eigen::Vector3d(0, 0, 0);
+          top.a = Eigen::Vector3d(half, 0, 0);
+          top.b = Eigen::Vector3d(0, half, 0);
+          top.area = p.room_size * p.room_size;
+          top.part = part;
+          patches.push_back(top);
+        } else if (object.kind == SceneObject::Kind::kWall) {
+          // The face toward the room's centre.
+          const Eigen::Vector3d h = 0.5 * o.size;
+          Patch face;
+          face.part = part;
+          if (o.size.x() < o.size.y()) {
+            const double x = o.center.x() > 0 ? half : -half;
+            face.c = Eigen::Vector3d(x, 0, 0.5 * zh);
+            face.a = Eigen::Vector3d(0, half, 0);
+          } else {
+            const double y = o.center.y() > 0 ? half : -half;
+            face.c = Eigen::Vector3d(0, y, 0.5 * zh);
+            face.a = Eigen::Vector3d(half, 0, 0);
+          }
+          face.b = Eigen::Vector3d(0, 0, h.z());
+          face.area = 4.0 * face.a.norm() * face.b.norm();
+          patches.push_back(face);
+        } else if (o.shape == SceneObstacle::Shape::kBox) {
+          addBoxFaces(o, part, true, patches);
+        } else {
+          addCylinder(o, part, patches);
+        }
+        ++part;
+      }
+    }
+  }
+  std::vector<double> cumulative;
+  double area = 0.0;
+  for (const auto& patch : patches) cumulative.push_back(area += patch.area);
+
+  const auto surface = static_cast<std::size_t>(std::llround(p.density * area));
+  const auto outliers = static_cast<std::size_t>(
+      std::llround(p.outlier_fraction / std::max(1e-12, 1.0 - p.outlier_fraction) * static_cast<double>(surface)));
+  const std::size_t gross = p.gross_outliers;
+  const std::size_t n = surface + outliers + gross;
+  scene.points.resize(n);
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
+    SceneRandom local(splitMix64(p.seed ^ splitMix64(chunk + 1)));
+    const std::size_t end = std::min(n, (chunk + 1) * kChunk);
+    for (std::size_t i = chunk * kChunk; i < end; ++i) {
+      Eigen::Vector3d& q = scene.points[i];
+      if (i < surface) {
+        while (true) {
+          const double x = local.uniform() * area;
+          const auto k = static_cast<std::size_t>(
+              std::upper_bound(cumulative.begin(), cumulative.end() - 1, x) - cumulative.begin());
+          const Patch& patch = patches[k];
+          q = samplePatch(patch, local.uniform() < p.edge_fraction, local);
+          bool hidden = false;
+          for (std::size_t j = 0; j < scene.obstacles.size() && !hidden; ++j) {
+            hidden = hides[j] && j != patch.part && covers(scene.obstacles[j], q);
+          }
+          if (!hidden) break;
+        }
+        q += p.noise_sigma * Eigen::Vector3d(local.normal(), local.normal(), local.normal());
+      } else if (i < surface + outliers) {
+        q = Eigen::Vector3d(local.uniform(-half, half), local.uniform(-half, half), local.uniform(0.0, zh));
+      } else {
+        q = local.uniform(1e5, 1e6) * local.unitVector();
+      }
+    }
+  });
+  for (std::size_t i = n; i > 1; --i) std::swap(scene.points[i - 1], scene.points[rng.index(i)]);
+
+  // Keyframes: a loop at about kCameraHeight, each camera looking at the room's axis, pitched down.
+  const double pitch = p.camera_pitch_deg * kPi / 180.0;
+  scene.reference.resize(p.keyframes);
+  for (std::size_t i = 0; i < p.keyframes; ++i) {
+    const double a = 2.0 * kPi * static_cast<double>(i) / static_cast<double>(p.keyframes);
+    Keyframe& k = scene.reference[i];
+    k.stamp = 1.0 + 0.5 * static_cast<double>(i);
+    k.position = Eigen::Vector3d(loop_radius * std::cos(a), loop_radius * std::sin(a),
+                                 kCameraHeight + 0.05 * std::sin(3.0 * a));
+    const Eigen::Vector3d inward(-std::cos(a), -std::sin(a), 0.0);
+    const Eigen::Vector3d forward = std::cos(pitch) * inward - std::sin(pitch) * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
+    const Eigen::Vector3d down = forward.cross(right);
+    Eigen::Matrix3d r;
+    r.col(0) = right;
+    r.col(1) = down;
+    r.col(2) = forward;
+    k.orientation = Eigen::Quaterniond(r).normalized();
+  }
+
+  // Output frame: the first camera's, scaled: p_out = s R0^T (p - t0).
+  if (p.orbslam_frame) {
+    const Keyframe& first = scene.reference.front();
+    scene.output_scale = p.monocular_scale;
+    scene.output_rotation = first.orientation.toRotationMatrix().transpose();
+    scene.output_translation = -p.monocular_scale * (scene.output_rotation * first.position);
+  }
+  const double s = scene.output_scale;
+  const Eigen::Matrix3d& r = scene.output_rotation;
+  const Eigen::Vector3d& tr = scene.output_translation;
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
+    const std::size_t end = std::min(n, (chunk + 1) * kChunk);
+    for (std::size_t i = chunk * kChunk; i < end; ++i) scene.points[i] = s * (r * scene.points[i]) + tr;
+  });
+  const Eigen::Quaterniond rq(r);
+  scene.keyframes = scene.reference;
+  for (Keyframe& k : scene.keyframes) {
+    k.position = s * (r * k.position) + tr;
+    k.orientation = (rq * k.orientation).normalized();
+  }
+  return scene;
+}
+
+}  // namespace hullmap::mapper::detail

@@ -1,0 +1,65 @@
+#pragma once
+
+// Portable random numbers for the scene generators (sample_scene.cpp, sample_room.cpp). Not installed.
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+
+#include <Eigen/Core>
+
+#include "hullmap/mapper/sample_scene.hpp"
+
+namespace hullmap::mapper::detail {
+
+inline constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kCameraHeight = 1.2;
+inline constexpr std::size_t kChunk = 65536;  // points per independently seeded generator
+
+inline std::uint64_t splitMix64(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+// Portable random numbers: the same bits give the same values with any standard library.
+class SceneRandom {
+ public:
+  explicit SceneRandom(std::uint64_t seed) : engine_(seed) {}
+
+  double uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
+  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+  std::size_t index(std::size_t n) {
+    return static_cast<std::size_t>((static_cast<unsigned __int128>(engine_()) * n) >> 64);
+  }
+  // Box-Muller, both values used.
+  double normal() {
+    if (has_spare_) {
+      has_spare_ = false;
+      return spare_;
+    }
+    double u = 0.0;
+    do u = uniform(); while (u <= 0.0);
+    const double r = std::sqrt(-2.0 * std::log(u));
+    const double a = 2.0 * kPi * uniform();
+    spare_ = r * std::sin(a);
+    has_spare_ = true;
+    return r * std::cos(a);
+  }
+  Eigen::Vector3d unitVector() {
+    Eigen::Vector3d v;
+    do v = Eigen::Vector3d(normal(), normal(), normal()); while (v.norm() < 1e-9);
+    return v.normalized();
+  }
+
+ private:
+  std::mt19937_64 engine_;
+  bool has_spare_ = false;
+  double spare_ = 0.0;
+};
+
+/// The kRoom layout of generateScene (sample_room.cpp); parameters already checked.
+Scene generateRoomScene(const SceneParams& params);
+
+}  // namespace hullmap::mapper::detail

@@ -1,0 +1,240 @@
+// Metric frame from a reference trajectory: reference readers, WGS84 -> ENU, Umeyama alignment.
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "hullmap/mapper/align.hpp"
+#include "hullmap/mapper/error.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using hullmap::Error;
+using hullmap::test::errorOf;
+using namespace hullmap::mapper;
+
+constexpr double kPi = 3.14159265358979323846;
+
+Eigen::Matrix3d randomRotation(std::mt19937_64& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  Eigen::Quaterniond q(n(rng), n(rng), n(rng), n(rng));
+  return q.normalized().toRotationMatrix();
+}
+
+// A wiggly 3D trajectory (not planar, not collinear), reference poses at the same stamps.
+std::vector<ReferencePose> referencePath(std::size_t n) {
+  std::vector<ReferencePose> ref(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = 0.1 * static_cast<double>(i);
+    ref[i].stamp = 100.0 + 0.5 * static_cast<double>(i);
+    ref[i].position = Eigen::Vector3d(3.0 * std::cos(a), 2.0 * std::sin(1.3 * a), 1.0 + 0.3 * std::sin(2.1 * a));
+  }
+  return ref;
+}
+
+// Keyframes = inverse similarity of the reference (what a monocular SLAM run would have written).
+std::vector<Keyframe> keyframesFrom(const std::vector<ReferencePose>& ref, const Similarity& truth) {
+  std::vector<Keyframe> kf(ref.size());
+  for (std::size_t i = 0; i < ref.size(); ++i) {
+    kf[i].stamp = ref[i].stamp;
+    kf[i].position = truth.rotation.transpose() * (ref[i].position - truth.translation) / truth.scale;
+  }
+  return kf;
+}
+
+TEST(MapperAlign, RecoversARandomSimilarityExactlyFromNoiselessPoses) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-5.0, 5.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    Similarity truth;
+    truth.scale = std::exp(std::uniform_real_distribution<double>(-3.0, 3.0)(rng));
+    truth.rotation = randomRotation(rng);
+    truth.translation = Eigen::Vector3d(u(rng), u(rng), u(rng));
+    const auto ref = referencePath(40);
+    const auto kf = keyframesFrom(ref, truth);
+    const Alignment a = alignTrajectory(kf, ref);
+    EXPECT_EQ(a.matched, 40u);
+    EXPECT_EQ(a.unmatched, 0u);
+    EXPECT_NEAR(a.transform.scale, truth.scale, 1e-9 * truth.scale);
+    EXPECT_TRUE(a.transform.rotation.isApprox(truth.rotation, 1e-9));
+    EXPECT_NEAR(a.transform.rotation.determinant(), 1.0, 1e-12);
+    EXPECT_TRUE(a.transform.translation.isApprox(truth.translation, 1e-8));
+    EXPECT_LT(a.rmse, 1e-8);
+
+    // Applying it takes keyframes (and points) onto the reference.
+    auto moved = kf;
+    applySimilarity(a.transform, moved);
+    Points pts;
+    for (const auto& k : kf) pts.push_back(k.position);
+    applySimilarity(a.transform, pts);
+    for (std::size_t i = 0; i < ref.size(); ++i) {
+      EXPECT_LT((moved[i].position - ref[i].position).norm(), 1e-8);
+      EXPECT_LT((pts[i] - ref[i].position).norm(), 1e-8);
+    }
+  }
+}
+
+TEST(MapperAlign, OrientationsAreRotatedWithThePositions) {
+  Similarity s;
+  s.scale = 2.0;
+  s.rotation = Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  std::vector<Keyframe> kf(1);
+  kf[0].position = Eigen::Vector3d(1, 0, 0);
+  applySimilarity(s, kf);
+  EXPECT_TRUE(kf[0].position.isApprox(Eigen::Vector3d(0, 2, 0), 1e-12));
+  // Camera x axis (was map x) now points along map y.
+  EXPECT_TRUE((kf[0].orientation * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY(), 1e-12));
+}
+
+TEST(MapperAlign, NoisyPosesGiveTheNoiseAsRmse) {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  Similarity truth;
+  truth.scale = 0.37;
+  truth.rotation = randomRotation(rng);
+  truth.translation = Eigen::Vector3d(1, -2, 0.5);
+  auto ref = referencePath(400);
+  const auto kf = keyframesFrom(ref, truth);
+  for (auto& r : ref) r.position += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+  const Alignment a = alignTrajectory(kf, ref);
+  // 3D Gaussian of 1 cm per axis: RMS distance sqrt(3) cm, minus the 7 fitted degrees of freedom.
+  EXPECT_NEAR(a.rmse, 0.01 * std::sqrt(3.0), 0.002);
+  EXPECT_GE(a.max_error, a.rmse);
+  EXPECT_NEAR(a.transform.scale, truth.scale, 0.01 * truth.scale);
+  EXPECT_TRUE(a.transform.rotation.isApprox(truth.rotation, 0.01));
+}
+
+TEST(MapperAlign, MatchesStampsWithinTheToleranceAndCountsTheRest) {
+  Similarity truth;
+  truth.scale = 3.0;
+  const auto ref = referencePath(30);
+  auto kf = keyframesFrom(ref, truth);
+  // Shift stamps: 10 keyframes off by 5 ms (match), 5 off by 1 s (no match), one in nanoseconds.
+  for (std::size_t i = 0; i < 10; ++i) kf[i].stamp += 0.005;
+  for (std::size_t i = 10; i < 15; ++i) kf[i].stamp += 0.2;
+  const Alignment a = alignTrajectory(kf, ref, AlignParams{0.01});
+  EXPECT_EQ(a.matched, 25u);
+  EXPECT_EQ(a.unmatched, 5u);
+  EXPECT_NEAR(a.transform.scale, 3.0, 1e-9);
+  const Alignment wide = alignTrajectory(kf, ref, AlignParams{0.3});
+  EXPECT_EQ(wide.matched, 30u);
+  EXPECT_GT(wide.rmse, 0.0);  // the five moved ones now match their neighbours' positions
+}
+
+TEST(MapperAlign, RefusesTooFewMatchesAndDegenerateFits) {
+  const auto ref = referencePath(10);
+  Similarity truth;
+  auto kf = keyframesFrom(ref, truth);
+  for (std::size_t i = 2; i < kf.size(); ++i) kf[i].stamp += 100.0;
+  std::string msg = errorOf([&] { alignTrajectory(kf, ref); });
+  EXPECT_NE(msg.find("align"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("2 of 10"), std::string::npos) << msg;
+  EXPECT_NE(errorOf([&] { alignTrajectory({}, ref); }).find("align"), std::string::npos);
+
+  // Collinear keyframes: a straight flight determines no rotation about its line.
+  std::vector<ReferencePose> line(10);
+  std::vector<Keyframe> kline(10);
+  for (int i = 0; i < 10; ++i) {
+    line[i].stamp = kline[i].stamp = i;
+    line[i].position = Eigen::Vector3d(i, 2 * i, 0.5 * i);
+    kline[i].position = Eigen::Vector3d(0, 0, 3 * i);
+  }
+  msg = errorOf([&] { alignTrajectory(kline, line); });
+  EXPECT_NE(msg.find("align"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("collinear"), std::string::npos) << msg;
+  // Coincident: a hovering camera.
+  for (auto& k : kline) k.position = Eigen::Vector3d(1, 1, 1);
+  for (int i = 0; i < 10; ++i) line[i].position = ref[i].position;
+  msg = errorOf([&] { alignTrajectory(kline, line); });
+  EXPECT_NE(msg.find("degenerate"), std::string::npos) << msg;
+  // A good keyframe set against a collinear reference.
+  for (int i = 0; i < 10; ++i) line[i].position = Eigen::Vector3d(i, 2 * i, 0.5 * i);
+  auto good = keyframesFrom(ref, truth);
+  for (int i = 0; i < 10; ++i) good[i].stamp = line[i].stamp;
+  msg = errorOf([&] { alignTrajectory(good, line); });
+  EXPECT_NE(msg.find("reference positions"), std::string::npos) << msg;
+  EXPECT_NE(errorOf([&] { alignTrajectory(kf, ref, AlignParams{-1.0}); }).find("align"), std::string::npos);
+}
+
+TEST(MapperAlign, GeodeticToEcefKnownValues) {
+  // WGS84: equatorial radius a = 6378137 m, polar radius b = 6356752.314245 m.
+  EXPECT_TRUE(geodeticToEcef(0, 0, 0).isApprox(Eigen::Vector3d(6378137.0, 0, 0), 1e-12));
+  EXPECT_LT((geodeticToEcef(0, 90, 0) - Eigen::Vector3d(0, 6378137.0, 0)).norm(), 1e-6);
+  EXPECT_LT((geodeticToEcef(90, 0, 0) - Eigen::Vector3d(0, 0, 6356752.314245)).norm(), 1e-5);
+  EXPECT_LT((geodeticToEcef(-90, 0, 100) - Eigen::Vector3d(0, 0, -6356852.314245)).norm(), 1e-5);
+  EXPECT_LT((geodeticToEcef(0, 180, 10) - Eigen::Vector3d(-6378147.0, 0, 0)).norm(), 1e-6);
+}
+
+TEST(MapperAlign, GeodeticToEnuMatchesTheRadiiOfCurvature) {
+  // Small steps from an origin: north = (M + h) dlat, east = (N + h) cos(lat) dlon, up = dh, with
+  // M = a(1-e2)/(1-e2 sin^2)^1.5 and N = a/sqrt(1-e2 sin^2) (independent of the ECEF route).
+  const double a = 6378137.0, f = 1.0 / 298.257223563, e2 = f * (2 - f);
+  for (const double lat : {0.0, 47.3769, -33.8688, 80.0}) {
+    const Eigen::Vector3d origin(lat, 8.5417, 400.0);
+    const double s = std::sin(lat * kPi / 180);
+    const double m = a * (1 - e2) / std::pow(1 - e2 * s * s, 1.5);
+    const double n = a / std::sqrt(1 - e2 * s * s);
+    const double d = 1e-5;  // degrees, about a metre
+    const Eigen::Vector3d north = geodeticToEnu(origin + Eigen::Vector3d(d, 0, 0), origin);
+    EXPECT_NEAR(north.y(), (m + 400.0) * d * kPi / 180, 1e-4) << lat;
+    EXPECT_NEAR(north.x(), 0.0, 1e-6);
+    const Eigen::Vector3d east = geodeticToEnu(origin + Eigen::Vector3d(0, d, 0), origin);
+    EXPECT_NEAR(east.x(), (n + 400.0) * std::cos(lat * kPi / 180) * d * kPi / 180, 1e-4) << lat;
+    EXPECT_NEAR(east.y(), 0.0, 1e-6);
+    const Eigen::Vector3d up = geodeticToEnu(origin + Eigen::Vector3d(0, 0, 12.5), origin);
+    EXPECT_LT((up - Eigen::Vector3d(0, 0, 12.5)).norm(), 1e-6) << lat;
+  }
+}
+
+TEST(MapperAlign, ParsesTumAndGpsReferences) {
+  const auto tum = parseReferenceTrajectory("# t x y z\n1.0 1 2 3\n1403636579763555840 4 5 6 0 0 0 1\n", "ref.txt",
+                                            ReferenceFormat::kTum);
+  ASSERT_EQ(tum.size(), 2u);
+  EXPECT_EQ(tum[0].position, Eigen::Vector3d(1, 2, 3));
+  EXPECT_NEAR(tum[1].stamp, 1403636579.763555840, 1e-6);
+
+  const auto gps = parseReferenceTrajectory("0 47.0 8.0 500\n1, 47.0, 8.0, 510\n", "gps.txt", ReferenceFormat::kGps);
+  ASSERT_EQ(gps.size(), 2u);
+  EXPECT_LT(gps[0].position.norm(), 1e-9);  // the first fix is the origin
+  EXPECT_LT((gps[1].position - Eigen::Vector3d(0, 0, 10)).norm(), 1e-6);
+
+  std::string msg = errorOf([] { parseReferenceTrajectory("1 2 3\n", "r.txt", ReferenceFormat::kTum); });
+  EXPECT_NE(msg.find("r.txt:1"), std::string::npos) << msg;
+  msg = errorOf([] { parseReferenceTrajectory("0 1 2 3\n1 95 2 3\n", "g.txt", ReferenceFormat::kGps); });
+  EXPECT_NE(msg.find("g.txt:2"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("latitude"), std::string::npos) << msg;
+  msg = errorOf([] { parseReferenceTrajectory("0 1 2 3 0 0 0 1\n", "g.txt", ReferenceFormat::kGps); });
+  EXPECT_NE(msg.find("g.txt:1"), std::string::npos) << msg;
+  msg = errorOf([] { parseReferenceTrajectory("0 1 x 3\n", "r.txt", ReferenceFormat::kTum); });
+  EXPECT_NE(msg.find("'x'"), std::string::npos) << msg;
+  msg = errorOf([] { parseReferenceTrajectory("0 1 nan 3\n", "r.txt", ReferenceFormat::kTum); });
+  EXPECT_NE(msg.find("non-finite"), std::string::npos) << msg;
+
+  EXPECT_EQ(parseReferenceFormat("GPS"), ReferenceFormat::kGps);
+  EXPECT_EQ(parseReferenceFormat(toString(ReferenceFormat::kTum)), ReferenceFormat::kTum);
+  EXPECT_NE(errorOf([] { parseReferenceFormat("kml"); }).find("--align-format"), std::string::npos);
+}
+
+TEST(MapperAlign, GpsReferenceAlignsAMonocularTrajectoryToMetres) {
+  // Fixes along a curved climbing path near Zurich; keyframes are a scaled, rotated copy.
+  std::string text;
+  std::vector<Eigen::Vector3d> geo;
+  for (int i = 0; i < 30; ++i) {
+    const double a = 0.2 * i;
+    geo.emplace_back(47.3769 + 2e-5 * std::sin(a), 8.5417 + 3e-5 * a, 408.0 + 0.5 * i);
+    text += std::to_string(10.0 + i) + " " + std::to_string(geo.back()[0]) + " " + std::to_string(geo.back()[1]) +
+            " " + std::to_string(geo.back()[2]) + "\n";
+  }
+  const auto ref = parseReferenceTrajectory(text, "gps.txt", ReferenceFormat::kGps);
+  Similarity truth;
+  truth.scale = 0.25;
+  truth.rotation = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const Alignment a = alignTrajectory(keyframesFrom(ref, truth), ref);
+  EXPECT_NEAR(a.transform.scale, 0.25, 1e-9);
+  EXPECT_LT(a.rmse, 1e-6);
+}
+
+}  // namespace
