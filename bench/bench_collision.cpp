@@ -55,7 +55,7 @@
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
-#include "../cli/pipeline.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/mapper/error.hpp"
 #include "hullmap/mapper/sample_scene.hpp"

@@ -2,7 +2,7 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "pipeline.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 
 namespace hullmap::cli {
 

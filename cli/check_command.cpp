@@ -14,7 +14,7 @@
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/mapper/error.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "obstacle_io.hpp"
+#include "hullmap/pipeline/obstacle_io.hpp"
 
 namespace hullmap::cli {
 namespace {

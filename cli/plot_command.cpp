@@ -10,7 +10,7 @@
 #include "commands.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/mapper/error.hpp"
-#include "obstacle_io.hpp"
+#include "hullmap/pipeline/obstacle_io.hpp"
 #include "svg_plot.hpp"
 
 namespace hullmap::cli {

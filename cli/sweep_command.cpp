@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "pipeline.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/mapper/atomic_file.hpp"
 #include "hullmap/mapper/error.hpp"

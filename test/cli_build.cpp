@@ -16,7 +16,7 @@
 
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
-#include "pipeline.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;

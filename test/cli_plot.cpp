@@ -18,7 +18,7 @@
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/clustering/obstacles.hpp"
 #include "hullmap/mapper/error.hpp"
-#include "obstacle_io.hpp"
+#include "hullmap/pipeline/obstacle_io.hpp"
 #include "svg_plot.hpp"
 #include "test_support.hpp"
 

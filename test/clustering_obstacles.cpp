@@ -14,7 +14,7 @@
 #include "hullmap/clustering/obstacles.hpp"
 #include "hullmap/mapper/error.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
-#include "pipeline.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::clustering {

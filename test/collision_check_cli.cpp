@@ -10,7 +10,7 @@
 #include "hullmap/clustering/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/mapper/error.hpp"
-#include "obstacle_io.hpp"
+#include "hullmap/pipeline/obstacle_io.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::cli {

@@ -11,7 +11,7 @@
 
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
-#include "pipeline.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::collision {

@@ -1,4 +1,4 @@
-#include "pipeline.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 
 #include <cerrno>
 #include <chrono>
@@ -16,9 +16,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "hullmap/mapper/atomic_file.hpp"
-#include "hullmap/mapper/error.hpp"
-#include "obstacle_io.hpp"
+#include "hullmap/core/atomic_file.hpp"
+#include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/obstacle_io.hpp"
 
 namespace hullmap::cli {
 namespace {
@@ -407,7 +407,7 @@ void writeBuild(const BuildOptions& options, const BuildResult& result) {
     mapper::writeMap(*result.map, (staging / "map.bt").string());
     if (options.write_ot) mapper::writeMap(*result.map, (staging / "map.ot").string());
 
-    mapper::writeFileAtomically((staging / "voxels.csv").string(), [&](std::ostream& os) {
+    core::writeFileAtomically((staging / "voxels.csv").string(), [&](std::ostream& os) {
       os << "x,y,z,weight,label,core\n" << std::setprecision(9);
       for (std::size_t i = 0; i < result.voxels.size(); ++i) {
         const auto& v = result.voxels[i];
@@ -419,7 +419,7 @@ void writeBuild(const BuildOptions& options, const BuildResult& result) {
     writeObstaclesJson((staging / "obstacles.json").string(), result.obstacles,
                        ObstaclesMeta{frameDescription(options.up, options.scale), report["parameters"]});
     writeObstaclesObj((staging / "obstacles.obj").string(), result.obstacles);
-    mapper::writeFileAtomically((staging / "report.json").string(),
+    core::writeFileAtomically((staging / "report.json").string(),
                                 [&](std::ostream& os) { os << report.dump(2) << '\n'; });
 
     // One atomic step puts the finished directory in place: a rename when there is no previous
