@@ -12,9 +12,9 @@
 
 #include "commands.hpp"
 #include "hullmap/collision/path_check.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "hullmap/pipeline/obstacle_io.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 
 namespace hullmap::cli {
 namespace {
@@ -137,7 +137,7 @@ void runCheck(const CheckOptions& o, int& status) {
     const collision::OctreeChecker checker(map.tree());
     for (const auto& s : segments) results.push_back(checker.check(s, o.radius));
   } else {
-    const collision::HullChecker checker(readObstaclesJson(artefact(o.input, "obstacles.json")));
+    const collision::HullChecker checker(pipeline::readObstacles(artefact(o.input, "obstacles.json")));
     results = checker.checkBatch(segments, o.radius);
   }
 

@@ -10,8 +10,8 @@
 #include "commands.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/mapper/atomic_file.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/atomic_file.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/readers.hpp"
 
@@ -31,7 +31,7 @@ struct ClusterOptions {
 // The inputs' points, unioned in order, in the z-up map frame.
 mapper::Points loadMapPoints(const ClusterOptions& o) {
   const mapper::FrameParams frame{mapper::parseUpAxis(o.up), o.scale};
-  mapper::PointSet set = readInputPoints(o.inputs);
+  mapper::PointSet set = pipeline::readInputPoints(o.inputs);
   mapper::toMapFrame(frame, set.points);
   return std::move(set.points);
 }
@@ -44,7 +44,7 @@ void appendNumber(std::string& line, double value) {
 }
 
 void writeLabels(const std::string& path, const mapper::Points& points, const clustering::DbscanResult& result) {
-  mapper::writeFileAtomically(path, [&](std::ostream& out) {
+  core::writeFileAtomically(path, [&](std::ostream& out) {
     out << "x,y,z,label,core\n";
     std::string line;
     for (std::size_t i = 0; i < points.size(); ++i) {

@@ -8,7 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 
 namespace {
 
@@ -35,6 +35,28 @@ std::string firstUnknownOption(const CLI::App& cmd, int first, int argc, char** 
     if (!value_attached) i += std::max(0, option->get_items_expected_min());
   }
   return "";
+}
+
+// The message of a library error with the parameters it names spelt as this CLI's flags
+// ("min_pts: must be >= 1" -> "--min-pts: must be >= 1").
+std::string cliMessage(const hullmap::Error& e) {
+  if (e.parameter().empty()) return e.what();
+  std::string flags;
+  std::size_t start = 0;
+  while (start <= e.parameter().size()) {
+    std::size_t end = e.parameter().find('/', start);
+    if (end == std::string::npos) end = e.parameter().size();
+    std::string name = e.parameter().substr(start, end - start);
+    if (name == "keyframes") {
+      name = "--trajectory";
+    } else if (name != "inputs") {
+      std::replace(name.begin(), name.end(), '_', '-');
+      name = "--" + name;
+    }
+    flags += (flags.empty() ? "" : "/") + name;
+    start = end + 1;
+  }
+  return flags + ": " + e.detail();
 }
 
 }  // namespace
@@ -87,7 +109,7 @@ int main(int argc, char** argv) {
     std::cerr << "hullmap: error: " << e.what() << " (see hullmap --help)\n";
     return 2;
   } catch (const hullmap::Error& e) {
-    std::cerr << "hullmap: error: " << e.what() << "\n";
+    std::cerr << "hullmap: error: " << cliMessage(e) << "\n";
     return 2;
   } catch (const std::bad_alloc&) {
     std::cerr << "hullmap: error: out of memory\n";

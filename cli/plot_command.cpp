@@ -9,8 +9,8 @@
 
 #include "commands.hpp"
 #include "hullmap/collision/path_check.hpp"
-#include "hullmap/mapper/error.hpp"
-#include "hullmap/pipeline/obstacle_io.hpp"
+#include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 #include "svg_plot.hpp"
 
 namespace hullmap::cli {
@@ -27,31 +27,6 @@ struct PlotOptions {
   bool png = false;
 };
 
-// voxels.csv as `hullmap build` writes it: header x,y,z,weight,label,core, one voxel a line.
-void readVoxelsCsv(const std::string& path, MapPlot& plot) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open (is this a hullmap build directory?)");
-  std::string line;
-  if (!std::getline(in, line) || line.rfind("x,y,z,weight,label", 0) != 0) {
-    throw Error(path + ":1: expected header x,y,z,weight,label,core");
-  }
-  std::size_t number = 1;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.empty() || line == "\r") continue;
-    std::istringstream fields(line);
-    double v[5];
-    char comma = 0;
-    bool ok = static_cast<bool>(fields >> v[0]);
-    for (int i = 1; ok && i < 5; ++i) ok = (fields >> comma) && comma == ',' && (fields >> v[i]);
-    if (!ok || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
-      throw Error(path + ":" + std::to_string(number) + ": expected x,y,z,weight,label,core numbers");
-    }
-    plot.centers.emplace_back(v[0], v[1], v[2]);
-    plot.labels.push_back(static_cast<std::int32_t>(v[4]));
-  }
-}
-
 std::string scalarText(const nlohmann::json& value) {
   if (value.is_string()) return value.get<std::string>();
   return value.dump();
@@ -59,20 +34,9 @@ std::string scalarText(const nlohmann::json& value) {
 
 // The build's parameters for the caption, and the voxel size.
 void readReport(const std::string& path, MapPlot& plot) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open (is this a hullmap build directory?)");
-  nlohmann::json report;
-  try {
-    in >> report;
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(path + ": not valid JSON: " + e.what());
-  }
+  const nlohmann::json report = pipeline::readReport(path);
   const auto params = report.find("parameters");
-  if (params == report.end() || !params->is_object()) throw Error(path + ": no \"parameters\" object");
   const auto resolution = params->find("resolution");
-  if (resolution == params->end() || !resolution->is_number() || !(resolution->get<double>() > 0.0)) {
-    throw Error(path + ": parameters.resolution missing or not a positive number");
-  }
   plot.voxel_size = resolution->get<double>();
   std::string line;
   const auto add = [&](const char* key, const char* name) {
@@ -120,8 +84,11 @@ void runPlot(const PlotOptions& o) {
   MapPlot plot;
   plot.view = o.side ? PlotView::kSide : PlotView::kTop;
   readReport((fs::path(o.dir) / "report.json").string(), plot);
-  readVoxelsCsv((fs::path(o.dir) / "voxels.csv").string(), plot);
-  plot.obstacles = readObstaclesJson((fs::path(o.dir) / "obstacles.json").string());
+  for (const auto& row : pipeline::readVoxelsCsv(fs::path(o.dir) / "voxels.csv")) {
+    plot.centers.push_back(row.center);
+    plot.labels.push_back(row.label);
+  }
+  plot.obstacles = pipeline::readObstacles(fs::path(o.dir) / "obstacles.json");
   if (!o.path_file.empty()) {
     if (!(o.radius >= 0.0) || !std::isfinite(o.radius)) throw Error("--radius must be >= 0");
     PlotPath path;

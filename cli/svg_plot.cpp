@@ -17,8 +17,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "hullmap/mapper/atomic_file.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/atomic_file.hpp"
+#include "hullmap/core/error.hpp"
 
 extern char** environ;
 
@@ -738,7 +738,7 @@ void writePng(const std::string& svg, const std::string& target, const std::stri
     std::filesystem::remove(png_tmp, ignored);
   };
   try {
-    mapper::writeFileAtomically(svg_tmp, [&](std::ostream& out) { out << svg; });
+    core::writeFileAtomically(svg_tmp, [&](std::ostream& out) { out << svg; });
     runConverter(converter, svg_tmp, png_tmp, target);
     std::error_code ec;
     std::filesystem::rename(png_tmp, t, ec);
@@ -780,7 +780,7 @@ std::vector<std::string> writePicture(const std::string& svg, const PictureOutpu
     written.push_back(output.path);
     return written;
   }
-  mapper::writeFileAtomically(output.path, [&](std::ostream& out) { out << svg; });
+  core::writeFileAtomically(output.path, [&](std::ostream& out) { out << svg; });
   written.push_back(output.path);
   if (output.also_png) {
     const std::string png = std::filesystem::path(output.path).replace_extension(".png").string();

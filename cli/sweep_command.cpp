@@ -10,8 +10,8 @@
 #include "commands.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/mapper/atomic_file.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/atomic_file.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/readers.hpp"
 #include "svg_plot.hpp"
@@ -104,7 +104,7 @@ void runSweep(const SweepOptions& o) {
   const std::vector<int> min_pts_values = parseMinPtsList(o.min_pts_list);
   const clustering::Metric metric = clustering::parseMetric(o.metric);
   const mapper::FrameParams frame{mapper::parseUpAxis(o.up), o.scale};
-  mapper::PointSet set = readInputPoints(o.inputs);
+  mapper::PointSet set = pipeline::readInputPoints(o.inputs);
   mapper::toMapFrame(frame, set.points);
   // Looked up before the runs, so a PNG without a converter fails before the work.
   const auto converter = findPngConverter();
@@ -125,7 +125,7 @@ void runSweep(const SweepOptions& o) {
     }
   }
   if (!o.output.empty()) {
-    mapper::writeFileAtomically(o.output, [&](std::ostream& out) {
+    core::writeFileAtomically(o.output, [&](std::ostream& out) {
       out << "eps,min_pts,clusters,noise,largest\n";
       for (const SweepRow& row : rows) {
         char eps[32];

@@ -325,42 +325,40 @@ namespace {
 /// `build` of points alone the way it was done before it streamed: every input read whole
 /// (readPointFiles), then the frame change, the filters and buildFromPoints on all points, then
 /// DBSCAN and the obstacles, written by writeBuild.
-void buildWholeFile(const hullmap::cli::BuildOptions& options) {
+void buildWholeFile(const hullmap::pipeline::BuildParams& params, const fs::path& output_dir) {
   using namespace hullmap;
-  cli::BuildResult result;
-  mapper::PointSet set = cli::readInputPoints(options.inputs);
-  result.inputs = set.inputs;
+  pipeline::BuildResult result;
+  result.params = params;
+  std::vector<std::string> inputs;
+  for (const auto& p : params.inputs) inputs.push_back(p.string());
+  mapper::PointSet set = pipeline::readInputPoints(inputs);
+  result.report.inputs = set.inputs;
+  auto& account = result.report.points;
   for (const auto& in : set.inputs) {
-    result.account.read += in.read;
-    for (const auto& [reason, n] : in.dropped) result.account.dropped[reason] += n;
+    account.read += in.read;
+    for (const auto& [reason, n] : in.dropped) account.dropped[reason] += n;
   }
-  mapper::toMapFrame({mapper::parseUpAxis(options.up), options.scale}, set.points);
-  mapper::FilterParams filters;
-  if (options.crop) filters.crop = mapper::parseBox("--crop", *options.crop);
-  filters.z_min = options.z_min;
-  filters.z_max = options.z_max;
+  mapper::toMapFrame(params.frame, set.points);
   mapper::InputStats dropped;
-  mapper::applyFilters(filters, set.points, dropped);
-  result.map.emplace(mapper::buildFromPoints(set.points, options.octree, dropped));
-  for (const auto& [reason, n] : dropped.dropped) result.account.dropped[reason] += n;
-  result.account.used = result.account.read;
-  for (const auto& [reason, n] : result.account.dropped) result.account.used -= n;
-  result.voxels = result.map->occupiedVoxels();
+  mapper::applyFilters(params.filters, set.points, dropped);
+  result.map = mapper::buildFromPoints(set.points, params.octree, dropped);
+  for (const auto& [reason, n] : dropped.dropped) account.dropped[reason] += n;
+  account.used = account.read;
+  for (const auto& [reason, n] : account.dropped) account.used -= n;
+  result.voxels = result.map.occupiedVoxels();
   std::vector<Eigen::Vector3d> centers;
   std::vector<std::uint32_t> weights;
   for (const auto& v : result.voxels) {
     centers.push_back(v.center);
     weights.push_back(v.weight);
   }
-  clustering::DbscanParams dbscan = options.dbscan;
-  dbscan.metric = clustering::parseMetric(options.metric);
-  result.clusters = clustering::dbscan(centers, weights, dbscan);
-  result.obstacles = clustering::buildObstacles(centers, weights, result.clusters.labels, result.map->resolution());
+  result.clusters = clustering::dbscan(centers, weights, params.dbscan);
+  result.obstacles = clustering::buildObstacles(centers, weights, result.clusters.labels, result.map.resolution());
   for (const char* stage : {"read", "frame_and_filters", "octree", "dbscan", "obstacles"}) {
-    result.timings_ms.emplace_back(stage, 0.0);
-    result.peak_rss_mb.emplace_back(stage, 0.0);
+    result.report.timings_ms.emplace_back(stage, 0.0);
+    result.report.peak_rss_mb.emplace_back(stage, 0.0);
   }
-  cli::writeBuild(options, result);
+  pipeline::write(result, output_dir);
 }
 
 }  // namespace
@@ -381,17 +379,16 @@ TEST(CliBuild, PointsOnlyStreamsTheOutputsOfReadingWhole) {
   }
   a.close();
   b.close();
-  hullmap::cli::BuildOptions options;
-  options.inputs = {(dir / "a.txt").string(), (dir / "b.txt").string()};
-  options.up = "-y";
-  options.crop = "-4,-4,-1,4,4,2.5";
-  options.z_min = 0.02;
+  hullmap::pipeline::BuildParams options;
+  options.inputs = {dir / "a.txt", dir / "b.txt"};
+  options.frame.up = hullmap::mapper::UpAxis::kNegY;
+  options.filters.crop = hullmap::mapper::Box{{-4, -4, -1}, {4, 4, 2.5}};
+  options.filters.z_min = 0.02;
   options.dbscan.min_pts = 5;
-  options.output_dir = (dir / "whole").string();
-  buildWholeFile(options);
+  buildWholeFile(options, dir / "whole");
 
   const auto out = dir / "out";
-  const auto r = runHullmap("build " + options.inputs[0] + " " + options.inputs[1] +
+  const auto r = runHullmap("build " + options.inputs[0].string() + " " + options.inputs[1].string() +
                             " --up -y --crop -4,-4,-1,4,4,2.5 --z-min 0.02 --min-pts 5 -o " + out.string());
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(slurp(out / "map.bt"), slurp(dir / "whole" / "map.bt"));
@@ -457,7 +454,7 @@ TEST(CliBadInput, StreamedBuildFailsAsTheWholeFileBuild) {
        (dir / "nan1.txt").string() + ", " + (dir / "nan2.txt").string() + ": no points"},
       {(dir / "good.txt").string() + outside + bad_params, "--crop/--z-min/--z-max: no points left inside the bounds"},
       {(dir / "good.txt").string() + " --z-min 3", "--crop/--z-min/--z-max: no points left inside the bounds"},
-      {(dir / "good.txt").string() + bad_params, "--clamp-min must be below --clamp-max"},
+      {(dir / "good.txt").string() + bad_params, "--clamp-min/--clamp-max: the lower clamp must be below the upper one"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.args);

@@ -17,7 +17,7 @@
 
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/clustering/obstacles.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "svg_plot.hpp"
 #include "test_support.hpp"
@@ -492,7 +492,7 @@ fs::path writeBuildDir(const Scene& s, const std::string& name) {
   std::ofstream(dir / "report.json")
       << R"({"parameters": {"eps": 0.1, "min_pts": 10, "metric": "xyz", "resolution": )" << s.plot.voxel_size
       << R"(}, "frame": "z-up map, up=-y of input"})";
-  hullmap::cli::writeObstaclesJson((dir / "obstacles.json").string(), s.plot.obstacles, {});
+  hullmap::pipeline::writeObstaclesJson((dir / "obstacles.json").string(), s.plot.obstacles, {});
   return dir;
 }
 
@@ -573,7 +573,7 @@ TEST(PlotCommand, GenerateBuildPlotEndToEnd) {
   ASSERT_EQ(r.status, 0) << r.err;
   r = hullmap::test::runHullmap("plot '" + out.string() + "' -o '" + (dir / "top.svg").string() + "'");
   ASSERT_EQ(r.status, 0) << r.err;
-  const auto obstacles = hullmap::cli::readObstaclesJson((out / "obstacles.json").string());
+  const auto obstacles = hullmap::pipeline::readObstaclesJson((out / "obstacles.json").string());
   ASSERT_FALSE(obstacles.empty());
   const std::string svg = hullmap::test::slurp(dir / "top.svg");
   for (const auto& o : obstacles) {

@@ -14,7 +14,7 @@
 #include <tbb/global_control.h>
 
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::clustering {

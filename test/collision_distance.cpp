@@ -12,7 +12,7 @@
 
 #include "collision_oracle.hpp"
 #include "hullmap/collision/convex_distance.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 
 namespace hullmap::collision {
 namespace {

@@ -24,7 +24,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 
 // Grid DBSCAN after Gunawan (2013), Wang, Gu and Shun (SIGMOD 2020) and ArborX's FDBSCAN-DenseBox:
 //  1. points are binned into cells of side slightly below eps/sqrt(d), so any two points of a cell are
@@ -42,7 +42,7 @@ namespace hullmap::clustering {
 Metric parseMetric(const std::string& text) {
   if (text == "xyz") return Metric::kXyz;
   if (text == "xy") return Metric::kXy;
-  throw Error("--metric: expected xyz or xy, got '" + text + "'");
+  throw Error::inParameter("metric", "expected xyz or xy, got '" + text + "'");
 }
 
 std::string toString(Metric metric) { return metric == Metric::kXy ? "xy" : "xyz"; }
@@ -747,9 +747,9 @@ class GridDbscan {
 DbscanResult dbscan(const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& weights,
                     const DbscanParams& params) {
   if (!(params.eps > 0.0) || !std::isfinite(params.eps)) {
-    throw Error("dbscan: eps must be a positive finite number, got " + std::to_string(params.eps));
+    throw Error::inParameter("eps", "must be a positive finite number, got " + std::to_string(params.eps));
   }
-  if (params.min_pts < 1) throw Error("dbscan: min_pts must be >= 1, got " + std::to_string(params.min_pts));
+  if (params.min_pts < 1) throw Error::inParameter("min_pts", "must be >= 1, got " + std::to_string(params.min_pts));
   if (!weights.empty() && weights.size() != points.size()) {
     throw Error("dbscan: " + std::to_string(weights.size()) + " weights for " + std::to_string(points.size()) +
                 " points");

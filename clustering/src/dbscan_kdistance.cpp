@@ -8,7 +8,7 @@
 #include <tbb/parallel_sort.h>
 
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 
 // The k-distance curve needs k nearest neighbours without knowing a radius, so a grid does not fit
 // (its cell size would have to be guessed, and gross outliers would need unbounded ring searches).
@@ -118,7 +118,7 @@ class KdTree {
 }  // namespace detail
 
 std::vector<double> kDistanceCurve(const std::vector<Eigen::Vector3d>& points, int min_pts, Metric metric) {
-  if (min_pts < 1) throw Error("k-distance: min_pts must be >= 1, got " + std::to_string(min_pts));
+  if (min_pts < 1) throw Error::inParameter("min_pts", "must be >= 1, got " + std::to_string(min_pts));
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (!points[i].allFinite()) throw Error("k-distance: point " + std::to_string(i) + " is not finite");
   }

@@ -8,7 +8,7 @@
 #include <map>
 #include <utility>
 
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 
 namespace hullmap::collision {
 namespace {

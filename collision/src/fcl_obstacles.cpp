@@ -4,7 +4,7 @@
 #include <string>
 
 #include "hullmap/collision/convex_distance.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 
 namespace hullmap::collision {
 

@@ -20,7 +20,7 @@
 
 #include "hullmap/collision/convex_distance.hpp"
 #include "hullmap/collision/fcl_obstacles.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 
 namespace hullmap::collision {
 namespace {
@@ -33,7 +33,7 @@ double contactTolerance(const Segment& segment) {
 
 void checkRadius(double radius) {
   if (!(radius >= 0) || !std::isfinite(radius))
-    throw Error("radius must be a finite number >= 0, got " + std::to_string(radius));
+    throw Error::inParameter("radius", "must be a finite number >= 0, got " + std::to_string(radius));
 }
 
 void checkSegment(const Segment& segment) {

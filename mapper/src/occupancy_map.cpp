@@ -19,8 +19,8 @@
 #include <octomap/AbstractOcTree.h>
 #include <tbb/parallel_for.h>
 
-#include "hullmap/mapper/atomic_file.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/atomic_file.hpp"
+#include "hullmap/core/error.hpp"
 #include "octree_keys.hpp"
 
 namespace hullmap::mapper {
@@ -67,19 +67,19 @@ class MuteOctomapStderr {
 constexpr std::uint64_t kMaxOccupiedVoxels = std::uint64_t(1) << 25;
 
 void checkParams(const OctreeParams& p) {
-  auto require = [](bool ok, const std::string& what) {
-    if (!ok) throw Error(what);
+  auto require = [](bool ok, const std::string& parameter, const std::string& what) {
+    if (!ok) throw Error::inParameter(parameter, what);
   };
-  require(std::isfinite(p.resolution) && p.resolution > 0.0, "--resolution must be a positive number of map units");
+  require(std::isfinite(p.resolution) && p.resolution > 0.0, "resolution", "must be a positive number of map units");
   const SensorModel& s = p.sensor;
-  require(s.hit > 0.0 && s.hit < 1.0, "--hit must be a probability in (0, 1)");
-  require(s.miss > 0.0 && s.miss < 1.0, "--miss must be a probability in (0, 1)");
-  require(s.clamp_min > 0.0 && s.clamp_min < 1.0, "--clamp-min must be a probability in (0, 1)");
-  require(s.clamp_max > 0.0 && s.clamp_max < 1.0, "--clamp-max must be a probability in (0, 1)");
-  require(s.clamp_min < s.clamp_max, "--clamp-min must be below --clamp-max");
-  require(s.occupancy_threshold > 0.0 && s.occupancy_threshold < 1.0,
-          "--occupancy-threshold must be a probability in (0, 1)");
-  require(!std::isnan(p.max_range), "--max-range must be a number");
+  const std::string probability = "must be a probability in (0, 1)";
+  require(s.hit > 0.0 && s.hit < 1.0, "hit", probability);
+  require(s.miss > 0.0 && s.miss < 1.0, "miss", probability);
+  require(s.clamp_min > 0.0 && s.clamp_min < 1.0, "clamp_min", probability);
+  require(s.clamp_max > 0.0 && s.clamp_max < 1.0, "clamp_max", probability);
+  require(s.clamp_min < s.clamp_max, "clamp_min/clamp_max", "the lower clamp must be below the upper one");
+  require(s.occupancy_threshold > 0.0 && s.occupancy_threshold < 1.0, "occupancy_threshold", probability);
+  require(!std::isnan(p.max_range), "max_range", "must be a number");
 }
 
 octomap::point3d toPoint3d(const Point& p) {
@@ -481,7 +481,7 @@ OccupancyMap buildFromPoints(const Points& points, const OctreeParams& params, I
 
 OccupancyMap buildWithTrajectory(const Points& points, const std::vector<Keyframe>& keyframes,
                                  const OctreeParams& params, InputStats& stats) {
-  if (keyframes.empty()) throw Error("--trajectory: no keyframes to cast free space from");
+  if (keyframes.empty()) throw Error::inParameter("keyframes", "none to cast free space from");
   OccupancyMap map(params);
   std::size_t dropped = 0;
   std::vector<char> ok;
@@ -511,6 +511,22 @@ OccupancyMap buildWithTrajectory(const Points& points, const std::vector<Keyfram
                       grouped.begin() + static_cast<std::ptrdiff_t>(start[k + 1]));
     insertScan(map.tree(), scan, keyframes[k].position, params.max_range);
   }
+  return map;
+}
+
+OccupancyMap buildFromScan(const Points& points, const Point& origin, const OctreeParams& params,
+                           InputStats& stats) {
+  OccupancyMap map(params);
+  std::size_t dropped = 0;
+  std::vector<char> ok;
+  recordCounts(map, countPoints(map.tree(), points, ok, dropped));
+  addDropped(stats, dropped);
+  Points addressable;
+  addressable.reserve(points.size() - dropped);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (ok[i]) addressable.push_back(points[i]);
+  }
+  insertScan(map.tree(), addressable, origin, params.max_range);
   return map;
 }
 
@@ -547,7 +563,7 @@ OccupancyMap readMap(const std::string& path) {
 void writeMap(const OccupancyMap& map, const std::string& path) {
   const std::string ext = extensionOf(path);
   if (ext != "bt" && ext != "ot") throw Error(path + ": octree file must end in .bt or .ot");
-  writeFileAtomically(
+  core::writeFileAtomically(
       path,
       [&map, &ext, &path](std::ostream& out) {
         bool ok;

@@ -12,8 +12,8 @@
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
 
-#include "hullmap/mapper/atomic_file.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/atomic_file.hpp"
+#include "hullmap/core/error.hpp"
 
 namespace hullmap::mapper {
 namespace {
@@ -301,7 +301,7 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
   if (ec) throw Error(dir + ": cannot create directory: " + ec.message());
   const fs::path base(dir);
 
-  writeFileAtomically((base / "map_points.txt").string(), [&scene](std::ostream& out) {
+  core::writeFileAtomically((base / "map_points.txt").string(), [&scene](std::ostream& out) {
     constexpr std::size_t kBlock = 1 << 20;
     constexpr std::size_t kPart = 1 << 15;
     const std::size_t n = scene.points.size();
@@ -319,7 +319,7 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
     }
   });
 
-  writeFileAtomically((base / "KeyFrameTrajectory.txt").string(), [&scene](std::ostream& out) {
+  core::writeFileAtomically((base / "KeyFrameTrajectory.txt").string(), [&scene](std::ostream& out) {
     char line[512];
     for (const Keyframe& k : scene.keyframes) {
       const Eigen::Quaterniond& q = k.orientation;
@@ -329,7 +329,7 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
     }
   });
 
-  writeFileAtomically((base / "ground_truth.json").string(), [&scene, &params](std::ostream& out) {
+  core::writeFileAtomically((base / "ground_truth.json").string(), [&scene, &params](std::ostream& out) {
     nlohmann::json j;
     j["frame"] = "z-up map";
     j["units"] = "metres";

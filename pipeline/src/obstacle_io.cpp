@@ -7,7 +7,7 @@
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
 
-namespace hullmap::cli {
+namespace hullmap::pipeline {
 namespace {
 
 using nlohmann::json;
@@ -159,4 +159,4 @@ void writeObstaclesObj(const std::string& path, const std::vector<clustering::Ob
   });
 }
 
-}  // namespace hullmap::cli
+}  // namespace hullmap::pipeline

@@ -120,6 +120,13 @@ class PointMapBuilder {
 OccupancyMap buildWithTrajectory(const Points& points, const std::vector<Keyframe>& keyframes,
                                  const OctreeParams& params, InputStats& stats);
 
+/// Builds the map of one scan: `points` (map frame) inserted with insertScan from `origin`, rays
+/// bounded by params.max_range, and each point counted in its voxel. Points the tree cannot
+/// address are dropped first and counted under "out_of_octree" (they cast no ray). Keys are
+/// computed as insertScan computes them (float coordinates, octomap's coordToKey).
+OccupancyMap buildFromScan(const Points& points, const Point& origin, const OctreeParams& params,
+                           InputStats& stats);
+
 /// Inserts one scan from `origin` exactly as octomap's insertPointCloud(points, origin, max_range)
 /// would with its defaults (lazy_eval and discretize off): same leaves, same log-odds, same pruning.
 /// Faster: ray keys cast in parallel (TBB) into per-thread sets, merged without a lock (occupied
