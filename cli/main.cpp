@@ -1,5 +1,8 @@
 #include <algorithm>
 #include <cctype>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -9,6 +12,7 @@
 
 #include "commands.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 
 namespace {
 
@@ -59,9 +63,19 @@ std::string cliMessage(const hullmap::Error& e) {
   return flags + ": " + e.detail();
 }
 
+// Test-only (test/cli_build.cpp): HULLMAP_TEST_KILL_AT=<stage> makes the run SIGKILL itself when
+// the pipeline reaches that stage, so that "a run killed there" is a fact, not a race with a timer.
+const char* kill_at = nullptr;
+
+void killAtStage(const char* stage) {
+  if (std::strcmp(stage, kill_at) == 0) std::raise(SIGKILL);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  kill_at = std::getenv("HULLMAP_TEST_KILL_AT");
+  if (kill_at != nullptr) hullmap::pipeline::detail::stage_hook = killAtStage;
   CLI::App app{"hullmap: SLAM map points -> OctoMap -> DBSCAN clusters -> convex obstacles -> path checks"};
   app.set_version_flag("--version", HULLMAP_VERSION);
   app.require_subcommand(1);

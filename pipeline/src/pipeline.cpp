@@ -565,11 +565,14 @@ void write(const BuildResult& result, const fs::path& dir) {
     runStage("write");
     mapper::writeMap(result.map, (staging / "map.bt").string());
     if (result.params.write_ot) mapper::writeMap(result.map, (staging / "map.ot").string());
+    runStage("wrote_map");
     writeVoxelsCsv(staging / "voxels.csv", result.voxels, result.clusters);
+    runStage("wrote_voxels");
     const nlohmann::json report = reportJson(result);
     writeObstaclesJson((staging / "obstacles.json").string(), result.obstacles,
                        ObstaclesMeta{frameDescription(result.params.frame), report["parameters"]});
     writeObstaclesObj((staging / "obstacles.obj").string(), result.obstacles);
+    runStage("wrote_obstacles");
     core::writeFileAtomically((staging / "report.json").string(),
                               [&](std::ostream& os) { os << report.dump(2) << '\n'; });
 

@@ -147,9 +147,10 @@ std::vector<VoxelRow> readVoxelsCsv(const std::filesystem::path& path);
 mapper::PointSet readInputPoints(const std::vector<std::string>& inputs);
 
 namespace detail {
-/// Test-only: when set, build() and write() call it at the start of each stage ("read",
-/// "frame_and_filters", "octree", "dbscan", "obstacles", "write", "move_into_place") with the stage's
-/// name; a test stops the run there (throw, or kill the process) to see what a run interrupted at
+/// Test-only: when set, build() and write() call it at the start of each stage with the stage's
+/// name: "read", "frame_and_filters", "octree", "dbscan", "obstacles", then write()'s "write" (staging
+/// directory made and locked), "wrote_map", "wrote_voxels", "wrote_obstacles" and "move_into_place"
+/// (every file written, the directory not yet in place); a test stops the run there (throw, or kill the process) to see what a run interrupted at
 /// that stage leaves behind. Not thread-safe; nullptr (the default) does nothing.
 extern void (*stage_hook)(const char* stage);
 }  // namespace detail
