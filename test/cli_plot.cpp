@@ -271,7 +271,11 @@ TEST(PlotPalette, NoiseIsBlackAndFiftyClustersStayApart) {
           << "labels " << i << " and " << j << ": " << toHex(c) << " " << toHex(clusterColour(j));
     }
   }
-  EXPECT_EQ(toHex(clusterColour(123)), toHex(clusterColour(123)));  // deterministic
+  // From label 18 on, lightness cycles through 55, 72, 45 (CIE L*, measured by the test's own
+  // sRGB -> Lab; sRGB rounding moves it by well under 1).
+  const double lightness[3] = {55.0, 72.0, 45.0};
+  for (int label = 18; label < 200; ++label)
+    EXPECT_NEAR(toLab(clusterColour(label))[0], lightness[(label - 18) % 3], 1.0) << "label " << label;
 }
 
 // ---------------------------------------------------------------- map rendering
