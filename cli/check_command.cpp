@@ -115,14 +115,12 @@ void runCheck(const CheckOptions& o, int& status) {
     throw Error("--against: expected \"hulls\" or \"octree\", got \"" + o.against + "\"");
 
   std::vector<collision::Segment> segments;
-  bool is_path = false;
-  if (!o.path_file.empty()) {
-    is_path = true;
-    const auto rows = readNumberLines(o.path_file, 3);
-    std::vector<Eigen::Vector3d> points;
-    for (const auto& r : rows) points.emplace_back(r[0], r[1], r[2]);
-    if (points.size() == 1) segments.push_back({points[0], points[0]});
-    for (std::size_t i = 0; i + 1 < points.size(); ++i) segments.push_back({points[i], points[i + 1]});
+  std::vector<Eigen::Vector3d> waypoints;
+  const bool is_path = !o.path_file.empty();
+  if (is_path) {
+    for (const auto& r : readNumberLines(o.path_file, 3)) waypoints.emplace_back(r[0], r[1], r[2]);
+    if (waypoints.size() == 1) segments.push_back({waypoints[0], waypoints[0]});
+    for (std::size_t i = 0; i + 1 < waypoints.size(); ++i) segments.push_back({waypoints[i], waypoints[i + 1]});
   } else if (!o.segments_file.empty()) {
     for (const auto& r : readNumberLines(o.segments_file, 6))
       segments.push_back({{r[0], r[1], r[2]}, {r[3], r[4], r[5]}});
@@ -131,34 +129,44 @@ void runCheck(const CheckOptions& o, int& status) {
     segments.push_back({{r[0], r[1], r[2]}, {r[3], r[4], r[5]}});
   }
 
-  std::vector<collision::SegmentCheck> results;
+  // A path is checked as one (checkPath: the first collision along it); segments one by one.
+  const collision::CheckRequest request{o.radius};
+  collision::PathCheck path;
   if (o.against == "octree") {
     const mapper::OccupancyMap map = mapper::readMap(artefact(o.input, "map.bt"));
     const collision::OctreeChecker checker(map.tree());
-    for (const auto& s : segments) results.push_back(checker.check(s, o.radius));
+    if (is_path) {
+      path = checker.checkPath(waypoints, request);
+    } else {
+      for (const auto& s : segments) path.segments.push_back(checker.check(s, request));
+    }
   } else {
     const collision::HullChecker checker(pipeline::readObstacles(artefact(o.input, "obstacles.json")));
-    results = checker.checkBatch(segments, o.radius);
+    if (is_path) {
+      path = checker.checkPath(waypoints, request);
+    } else {
+      path.segments = checker.checkBatch(segments, request);
+    }
   }
+  const std::vector<collision::SegmentCheck>& results = path.segments;
 
   std::string out;
-  std::optional<std::size_t> first;
+  bool any = false;
   for (std::size_t i = 0; i < results.size(); ++i) {
     out += describe(i, segments[i], results[i], o.json) + "\n";
-    if (results[i].collides && !first) first = i;
+    any = any || results[i].collides;
   }
   if (is_path && !o.json) {
-    if (first) {
-      const auto& s = segments[*first];
-      const Eigen::Vector3d p = s.a + results[*first].t * (s.b - s.a);
-      out += "path: first collision in segment " + std::to_string(*first) + " at (" + numberText(p.x()) + " " +
-             numberText(p.y()) + " " + numberText(p.z()) + ")\n";
+    if (path.first_colliding_segment) {
+      const Eigen::Vector3d& p = *path.first_contact;
+      out += "path: first collision in segment " + std::to_string(*path.first_colliding_segment) + " at (" +
+             numberText(p.x()) + " " + numberText(p.y()) + " " + numberText(p.z()) + ")\n";
     } else {
       out += "path: clear\n";
     }
   }
   std::cout << out << std::flush;
-  status = first ? 1 : 0;
+  status = any ? 1 : 0;
 }
 
 }  // namespace

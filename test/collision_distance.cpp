@@ -88,11 +88,13 @@ TEST(ConvexDistance, FirstContactBracketsTheTrueContact) {
       const V3 a = randomPoint(rng, 1.5), b = randomPoint(rng, 1.5);
       const double r = 0.05 * (i % 4);
       const double tol = std::max(1e-3, 1e-3 / (b - a).norm());
-      const double t = firstContact(a, b, p, r, tol);
+      const std::optional<double> contact = firstContact(a, b, p, r, tol);
       if (test::segmentHull(a, b, hull) > r + 1e-9) {
-        EXPECT_EQ(t, -1.0);
+        EXPECT_FALSE(contact) << *contact;
         continue;
       }
+      ASSERT_TRUE(contact);
+      const double t = *contact;
       ASSERT_GE(t, 0.0);
       ++checked;
       EXPECT_LE(test::segmentHull(a, a + t * (b - a), hull), r + 1e-9);
@@ -130,8 +132,10 @@ TEST(ConvexDistance, FirstContactOnGrazingSweeps) {
       const double tol = std::max(1e-3, 1e-3 / length);
       const double whole = test::segmentHull(a, b, hull);
       if (std::abs(whole - r) < 1e-8) continue;  // grazing within the oracle's own precision
-      const double t = firstContact(a, b, p, r, tol);
+      const std::optional<double> contact = firstContact(a, b, p, r, tol);
       ASSERT_LE(whole, r) << "the sweep passes within r(1 - eps) of the hull";
+      ASSERT_TRUE(contact);
+      const double t = *contact;
       ASSERT_GE(t, 0.0);
       ++checked;
       EXPECT_LE(test::segmentHull(a, a + t * (b - a), hull), r + 1e-9) << "sweep " << i;
