@@ -11,7 +11,7 @@
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
-#include "svg_plot.hpp"
+#include "hullmap/plot/svg_plot.hpp"
 
 namespace hullmap::cli {
 namespace {
@@ -33,7 +33,7 @@ std::string scalarText(const nlohmann::json& value) {
 }
 
 // The build's parameters for the caption, and the voxel size.
-void readReport(const std::string& path, MapPlot& plot) {
+void readReport(const std::string& path, plot::MapPlot& plot) {
   const nlohmann::json report = pipeline::readReport(path);
   const auto params = report.find("parameters");
   const auto resolution = params->find("resolution");
@@ -78,11 +78,11 @@ std::vector<Eigen::Vector3d> readWaypoints(const std::string& path) {
 
 void runPlot(const PlotOptions& o) {
   if (!fs::is_directory(o.dir)) throw Error("plot: " + o.dir + " is not a directory");
-  const auto converter = findPngConverter();
-  const PictureOutput output{o.output, o.png, "-o"};
-  checkPictureOutput(output, converter);
-  MapPlot plot;
-  plot.view = o.side ? PlotView::kSide : PlotView::kTop;
+  const auto converter = plot::findPngConverter();
+  const plot::PictureOutput output{o.output, o.png, "-o"};
+  plot::checkPictureOutput(output, converter);
+  plot::MapPlot plot;
+  plot.view = o.side ? plot::PlotView::kSide : plot::PlotView::kTop;
   readReport((fs::path(o.dir) / "report.json").string(), plot);
   for (const auto& row : pipeline::readVoxelsCsv(fs::path(o.dir) / "voxels.csv")) {
     plot.centers.push_back(row.center);
@@ -91,14 +91,14 @@ void runPlot(const PlotOptions& o) {
   plot.obstacles = pipeline::readObstacles(fs::path(o.dir) / "obstacles.json");
   if (!o.path_file.empty()) {
     if (!(o.radius >= 0.0) || !std::isfinite(o.radius)) throw Error("--radius must be >= 0");
-    PlotPath path;
+    plot::PlotPath path;
     path.waypoints = readWaypoints(o.path_file);
     path.radius = o.radius;
     path.check = collision::HullChecker(plot.obstacles).checkPath(path.waypoints, o.radius);
     plot.path = std::move(path);
   }
-  const SvgPicture picture = renderMapSvg(plot);
-  const auto written = writePicture(picture.svg, output, converter);
+  const plot::SvgPicture picture = plot::renderMapSvg(plot);
+  const auto written = plot::writePicture(picture.svg, output, converter);
   std::cout << "plot: " << (o.side ? "side view (x-z)" : "top view (x-y)") << ", " << plot.centers.size()
             << " voxels drawn as " << picture.cells << " cells, " << plot.obstacles.size() << " obstacles";
   if (picture.hidden_voxels > 0) std::cout << ", " << picture.hidden_voxels << " far noise voxels not drawn";
@@ -106,7 +106,7 @@ void runPlot(const PlotOptions& o) {
   for (const auto& file : written) {
     std::cout << "wrote " << file;
     if (fs::path(file).extension() == ".png" || fs::path(file).extension() == ".PNG") {
-      std::cout << " (rendered by " << *converter << ", Debian package " << kPngConverterPackage << ")";
+      std::cout << " (rendered by " << *converter << ", Debian package " << plot::kPngConverterPackage << ")";
     }
     std::cout << "\n";
   }

@@ -14,7 +14,7 @@
 #include "hullmap/core/error.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/readers.hpp"
-#include "svg_plot.hpp"
+#include "hullmap/plot/svg_plot.hpp"
 
 namespace hullmap::cli {
 namespace {
@@ -107,11 +107,11 @@ void runSweep(const SweepOptions& o) {
   mapper::PointSet set = pipeline::readInputPoints(o.inputs);
   mapper::toMapFrame(frame, set.points);
   // Looked up before the runs, so a PNG without a converter fails before the work.
-  const auto converter = findPngConverter();
-  if (!o.plot.empty()) checkPictureOutput(PictureOutput{o.plot, false, "--plot"}, converter);
+  const auto converter = plot::findPngConverter();
+  if (!o.plot.empty()) plot::checkPictureOutput(plot::PictureOutput{o.plot, false, "--plot"}, converter);
 
   std::vector<SweepRow> rows;
-  std::vector<SweepPanel> panels;
+  std::vector<plot::SweepPanel> panels;
   std::printf("points: %zu, metric %s\n", set.points.size(), clustering::toString(metric).c_str());
   std::printf("%10s %8s %9s %9s %9s\n", "eps", "min_pts", "clusters", "noise", "largest");
   for (double eps : eps_values) {
@@ -121,7 +121,7 @@ void runSweep(const SweepOptions& o) {
       if (!r.cluster_sizes.empty()) row.largest = *std::max_element(r.cluster_sizes.begin(), r.cluster_sizes.end());
       std::printf("%10g %8d %9zu %9zu %9zu\n", row.eps, row.min_pts, row.clusters, row.noise, row.largest);
       rows.push_back(row);
-      if (!o.plot.empty()) panels.push_back(SweepPanel{eps, min_pts, r.labels});
+      if (!o.plot.empty()) panels.push_back(plot::SweepPanel{eps, min_pts, r.labels});
     }
   }
   if (!o.output.empty()) {
@@ -136,10 +136,10 @@ void runSweep(const SweepOptions& o) {
     std::printf("wrote %s\n", o.output.c_str());
   }
   if (!o.plot.empty()) {
-    const std::string svg = renderSweepSvg(set.points, panels, 0.0,
+    const std::string svg = plot::renderSweepSvg(set.points, panels, 0.0,
                                            "hullmap sweep: " + std::to_string(set.points.size()) + " points, metric " +
                                                clustering::toString(metric));
-    for (const auto& file : writePicture(svg, PictureOutput{o.plot, false, "--plot"}, converter)) {
+    for (const auto& file : plot::writePicture(svg, plot::PictureOutput{o.plot, false, "--plot"}, converter)) {
       std::printf("wrote %s\n", file.c_str());
     }
   }

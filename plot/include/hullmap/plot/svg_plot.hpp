@@ -11,7 +11,7 @@
 #include "hullmap/clustering/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 
-namespace hullmap::cli {
+namespace hullmap::plot {
 
 /// An sRGB colour, 8 bits per channel.
 struct Rgb {
@@ -130,4 +130,4 @@ void checkPictureOutput(const PictureOutput& output, const std::optional<std::st
 std::vector<std::string> writePicture(const std::string& svg, const PictureOutput& output,
                                       const std::optional<std::string>& converter);
 
-}  // namespace hullmap::cli
+}  // namespace hullmap::plot

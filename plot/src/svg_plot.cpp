@@ -1,4 +1,4 @@
-#include "svg_plot.hpp"
+#include "hullmap/plot/svg_plot.hpp"
 
 #include <algorithm>
 #include <array>
@@ -22,7 +22,7 @@
 
 extern char** environ;
 
-namespace hullmap::cli {
+namespace hullmap::plot {
 namespace {
 
 // Kelly (1965), colours of maximum contrast in his order, without white, black, grey (#848482)
@@ -790,4 +790,4 @@ std::vector<std::string> writePicture(const std::string& svg, const PictureOutpu
   return written;
 }
 
-}  // namespace hullmap::cli
+}  // namespace hullmap::plot
