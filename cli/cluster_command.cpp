@@ -86,7 +86,8 @@ void runCluster(const ClusterOptions& o) {
     largest += (i ? ", " : "") + std::to_string(sizes[i]);
   }
   std::printf("largest clusters: %s\n", largest.empty() ? "none" : largest.c_str());
-  const std::vector<double> curve = clustering::kDistanceCurve(points, o.min_pts, params.metric);
+  const std::vector<double> curve =
+      clustering::kDistanceCurve(points, o.min_pts, params.metric, clustering::kEpsSuggestionSamples);
   if (curve.empty()) {
     std::printf("eps suggestion: none (fewer than min-pts points)\n");
   } else {
