@@ -2,6 +2,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -71,6 +72,10 @@ void runCluster(const ClusterOptions& o) {
   if (o.min_pts < 1) throw Error("--min-pts: must be >= 1, got " + std::to_string(o.min_pts));
   const clustering::DbscanParams params{o.eps, o.min_pts, clustering::parseMetric(o.metric)};
   const mapper::Points points = loadMapPoints(o);
+  // The eps suggestion's k-d tree is built on one core: it runs beside the clustering, not after it.
+  std::future<std::vector<double>> k_distances = std::async(std::launch::async, [&] {
+    return clustering::kDistanceCurve(points, o.min_pts, params.metric, clustering::kEpsSuggestionSamples);
+  });
   const clustering::DbscanResult result = clustering::dbscan(points, {}, params);
 
   std::vector<std::size_t> sizes = result.cluster_sizes;
@@ -86,8 +91,7 @@ void runCluster(const ClusterOptions& o) {
     largest += (i ? ", " : "") + std::to_string(sizes[i]);
   }
   std::printf("largest clusters: %s\n", largest.empty() ? "none" : largest.c_str());
-  const std::vector<double> curve =
-      clustering::kDistanceCurve(points, o.min_pts, params.metric, clustering::kEpsSuggestionSamples);
+  const std::vector<double> curve = k_distances.get();
   if (curve.empty()) {
     std::printf("eps suggestion: none (fewer than min-pts points)\n");
   } else {

@@ -38,7 +38,7 @@ template <int D>
 void kthDistances(const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& queries, int k,
                   std::vector<double>& curve) {
   const CloudAdaptor cloud{points};
-  const KdTree<D> tree(D, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(12));
+  const KdTree<D> tree(D, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(32));
   const std::size_t want = static_cast<std::size_t>(k) + 1;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), 1024),
                     [&](const tbb::blocked_range<std::size_t>& r) {
