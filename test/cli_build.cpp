@@ -471,3 +471,45 @@ TEST(CliBadInput, StreamedBuildFailsAsTheWholeFileBuild) {
     EXPECT_FALSE(fs::exists(dir / "out"));
   }
 }
+
+// A live node has no file: buildFromPoints on the points a file holds makes the map, voxel labels and
+// obstacles that build makes of the file (with and without a sensor origin), and write()s the same
+// obstacles.json apart from the inputs it names.
+TEST(PipelineLibrary, BuildFromPointsInMemoryIsBuildOfTheFile) {
+  using namespace hullmap;
+  const fs::path file = fs::path(HULLMAP_SOURCE_DIR) / "maps" / "room" / "map_points.txt";
+  for (const bool with_origin : {false, true}) {
+    SCOPED_TRACE(with_origin ? "one scan from an origin" : "points only");
+    pipeline::BuildParams params;
+    params.inputs = {file};
+    params.frame.up = mapper::UpAxis::kNegY;
+    if (with_origin) params.origin = Eigen::Vector3d(0, -1, 0);
+    const pipeline::BuildResult from_file = pipeline::build(params);
+    mapper::Points points = mapper::readPointFile(file.string()).points;
+    points.push_back(Eigen::Vector3d(std::nan(""), 0, 0));
+    const pipeline::BuildResult from_memory = pipeline::buildFromPoints(points, params, "live");
+    ASSERT_EQ(from_memory.voxels.size(), from_file.voxels.size());
+    for (std::size_t i = 0; i < from_file.voxels.size(); ++i) {
+      ASSERT_EQ(from_memory.voxels[i].center, from_file.voxels[i].center) << i;
+      ASSERT_EQ(from_memory.voxels[i].weight, from_file.voxels[i].weight) << i;
+    }
+    EXPECT_EQ(from_memory.clusters.labels, from_file.clusters.labels);
+    ASSERT_EQ(from_memory.obstacles.size(), from_file.obstacles.size());
+    EXPECT_GT(from_file.obstacles.size(), 5u);
+    EXPECT_EQ(from_memory.report.points.used, from_file.report.points.used);
+    EXPECT_EQ(from_memory.report.points.read, from_file.report.points.read + 1);
+    EXPECT_EQ(from_memory.report.points.dropped.at("non_finite"), 1u);
+    EXPECT_EQ(from_memory.report.inputs.at(0).format, "memory");
+    const auto dir = freshDir(with_origin ? "memory_origin" : "memory_points");
+    pipeline::write(from_memory, dir / "memory");
+    pipeline::write(from_file, dir / "file");
+    const auto back = pipeline::readObstacles(dir / "memory" / "obstacles.json");
+    ASSERT_EQ(back.size(), from_file.obstacles.size());
+    for (std::size_t i = 0; i < back.size(); ++i) {
+      EXPECT_EQ(back[i].id, from_file.obstacles[i].id);
+      EXPECT_EQ(back[i].hull.vertices, from_file.obstacles[i].hull.vertices);
+    }
+    EXPECT_EQ(slurp(dir / "memory" / "voxels.csv"), slurp(dir / "file" / "voxels.csv"));
+    EXPECT_EQ(slurp(dir / "memory" / "obstacles.obj"), slurp(dir / "file" / "obstacles.obj"));
+  }
+}
