@@ -14,7 +14,7 @@ jobs=${JOBS:-$(nproc)}
 
 # Library packages hullmap builds against, and the tools its tests use.
 packages=(build-essential cmake pkg-config liboctomap-dev libfcl-dev libcgal-dev libeigen3-dev
-          libtbb-dev liblzf-dev libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev)
+          libtbb-dev liblzf-dev libcli11-dev nlohmann-json3-dev libnanoflann-dev libgtest-dev libbenchmark-dev)
 if [ "$mode" = test ]; then
   # python3-sklearn: DBSCAN oracle on real maps; librsvg2-bin: PNG rendering test;
   # clang + libclang-rt-14-dev: the libFuzzer targets that .ci/run runs briefly.
@@ -22,7 +22,8 @@ if [ "$mode" = test ]; then
 fi
 if [ "$mode" = bench ]; then
   # The peers a user would pick instead (Open3D's and scikit-learn's DBSCAN), and /usr/bin/time.
-  packages+=(python3 python3-numpy python3-sklearn python3-open3d time)
+  # python3-venv: a venv for the PyPI peer `dbscan` (Wang, Gu and Shun's exact parallel DBSCAN).
+  packages+=(python3 python3-numpy python3-sklearn python3-open3d python3-venv time bc)
 fi
 
 missing=()
@@ -38,6 +39,16 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 if [ "$mode" = bench ]; then
+  # The PyPI package `dbscan` in a venv of its own (Debian does not package it). Where the package index
+  # cannot be reached the DBSCAN section still runs and says that this peer could not be installed.
+  venv=${BENCH_VENV:-build-bench/venv}
+  if [ ! -x "$venv/bin/python3" ] || ! "$venv/bin/python3" -c "import dbscan" 2>/dev/null; then
+    echo "== installing the PyPI package dbscan into $venv"
+    /usr/bin/python3 -m venv --system-site-packages "$venv" &&
+      timeout 300 "$venv/bin/pip" install --quiet dbscan ||
+      echo "== could not install the PyPI package dbscan (is pypi.org reachable?); its column will say so"
+  fi
+  export HULLMAP_DBSCAN_VENV="$venv"
   exec bench/run_benchmarks.sh  # builds its own Release tree with the benchmarks
 fi
 

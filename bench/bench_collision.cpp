@@ -4,7 +4,7 @@
 //   {"scene": ..., "obstacles": K, "occupied_voxels": V, "radius": r, "segments": N, ...,
 //    "hull_2t_per_s": .., "hull_1t_per_s": .., "octree_2t_per_s": .., "octree_1t_per_s": .., ...}
 //
-// Scenes go through `hullmap build`'s own pipeline (cli::runBuild: frame, octree with keyframe ray
+// Scenes go through `hullmap build`'s own pipeline (pipeline::build: frame, octree with keyframe ray
 // casting, DBSCAN eps 0.1 minPts 10, CGAL hulls), at its defaults:
 //   room           the sample map maps/room (ROOM_DIR), read with --up -y and its trajectory;
 //   generated_100  generateScene with 100 obstacles in a 30 m room (seed 42), written in ORB-SLAM's
@@ -55,9 +55,9 @@
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
-#include "../cli/pipeline.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/collision/path_check.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 
 namespace {
@@ -107,16 +107,16 @@ struct BuiltScene {
   std::string name;
   double room_size = 10;
   double room_height = 3;
-  hullmap::cli::BuildResult build;
+  hullmap::pipeline::BuildResult build;
 };
 
 /// `hullmap build DIR/map_points.txt --trajectory DIR/KeyFrameTrajectory.txt --up -y`, defaults otherwise.
-hullmap::cli::BuildResult buildLikeCli(const std::string& dir) {
-  hullmap::cli::BuildOptions options;
-  options.inputs = {dir + "/map_points.txt"};
-  options.trajectory = dir + "/KeyFrameTrajectory.txt";
-  options.up = "-y";
-  return hullmap::cli::runBuild(options);
+hullmap::pipeline::BuildResult buildLikeCli(const std::string& dir) {
+  hullmap::pipeline::BuildParams params;
+  params.inputs = {dir + "/map_points.txt"};
+  params.trajectory = dir + "/KeyFrameTrajectory.txt";
+  params.frame.up = hullmap::mapper::UpAxis::kNegY;
+  return hullmap::pipeline::build(params);
 }
 
 std::vector<Segment> randomSegments(std::size_t n, double room_size, double room_height, std::uint64_t seed) {
@@ -159,7 +159,7 @@ struct TemporaryDirectory {
 
 void run(const BuiltScene& scene, double radius, std::size_t n, std::size_t m, std::size_t f, int repeats) {
   const auto& obstacles = scene.build.obstacles;
-  const octomap::OcTree& tree = scene.build.map->tree();
+  const octomap::OcTree& tree = scene.build.map.tree();
   const HullChecker hulls(obstacles);
   const OctreeChecker octree(tree);
 

@@ -36,7 +36,7 @@
 #include <tbb/info.h>
 
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 
 namespace {

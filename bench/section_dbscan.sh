@@ -53,4 +53,29 @@ echo
 OMP_NUM_THREADS=2 /usr/bin/python3 "$here/dbscan_peers.py" "$work" "$work/hullmap.jsonl" --sizes "$peers" \
   --eps 0.1 --min-pts 10 --threads 2 --markdown
 echo
+# Third peer: the PyPI package `dbscan` (Wang, Gu and Shun, SIGMOD 2020: exact parallel DBSCAN), from the
+# venv `./setup.sh bench` makes; where it could not be installed the section says so and goes on.
+venv_python="${HULLMAP_DBSCAN_VENV:-$here/../build-bench/venv}/bin/python3"
+if [ -x "$venv_python" ] && "$venv_python" -c "import dbscan" 2>/dev/null; then
+  echo "PyPI \`dbscan\` (Wang, Gu and Shun's exact parallel DBSCAN), one timed call on the same points:"
+  echo
+  echo "| points | dbscan (PyPI) s | clusters |"
+  echo "|---:|---:|---:|"
+  for n in $(echo "$peers" | tr ',' ' '); do
+    "$venv_python" - "$work/scene_$n.f64" "$n" <<'PY' || echo "| $n | failed | - |"
+import sys, time
+import numpy as np
+from dbscan import DBSCAN
+points = np.fromfile(sys.argv[1], dtype=np.float64).reshape(-1, 3)
+start = time.perf_counter()
+labels, core = DBSCAN(points, eps=0.1, min_samples=10)
+elapsed = time.perf_counter() - start
+print(f"| {int(sys.argv[2]):,} | {elapsed:.3f} | {labels.max() + 1} |")
+PY
+  done
+else
+  echo "PyPI \`dbscan\` (Wang, Gu and Shun's exact parallel DBSCAN, the third peer): not installed on this machine"
+  echo "(\`./setup.sh bench\` tries \`pip install dbscan\` in a venv; the package index could not be reached), so it is not timed."
+fi
+echo
 echo "Machine: ${cpu:-unknown CPU}, $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg) at the end. Regenerate: \`bench/section_dbscan.sh BUILD_DIR${full:+ $full}\`."

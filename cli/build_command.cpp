@@ -1,18 +1,68 @@
+#include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "commands.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/level_check.hpp"
+#include "hullmap/mapper/output_dir.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 #include "option_checks.hpp"
-#include "pipeline.hpp"
 
 namespace hullmap::cli {
 namespace {
 
+/// `hullmap build`'s options as typed; strings still to parse.
+struct BuildOptions {
+  std::vector<std::string> inputs;
+  std::string output_dir = "out";
+  bool make_parents = false;  ///< -p: create missing parents of output_dir (mkdir -p)
+  std::optional<std::string> trajectory;
+  std::optional<std::string> origin;  ///< "x,y,z"
+  std::string up = "z";
+  double scale = 1.0;
+  std::optional<std::string> crop;    ///< "x0,y0,z0,x1,y1,z1"
+  std::optional<double> z_min;
+  std::optional<double> z_max;
+  std::string metric = "xyz";
+  pipeline::BuildParams params;
+};
+
+pipeline::BuildParams toParams(const BuildOptions& o) {
+  pipeline::BuildParams params = o.params;
+  params.inputs.assign(o.inputs.begin(), o.inputs.end());
+  if (o.trajectory) params.trajectory = *o.trajectory;
+  if (o.origin) params.origin = mapper::parseVector3("--origin", *o.origin);
+  params.frame = {mapper::parseUpAxis(o.up), o.scale};
+  if (o.crop) params.filters.crop = mapper::parseBox("--crop", *o.crop);
+  params.filters.z_min = o.z_min;
+  params.filters.z_max = o.z_max;
+  params.dbscan.metric = clustering::parseMetric(o.metric);
+  return params;
+}
+
+/// Errors of the output directory named by the option that gave it.
+template <typename F>
+void naming(F&& write) {
+  try {
+    write();
+  } catch (const Error& e) {
+    throw Error("-o " + std::string(e.what()));
+  }
+}
+
 /// Options that cannot apply to the run are refused, all named in one line: recording them as
 /// applied would misstate the outputs. A finished octree is read as it is (no option that makes or
 /// places one applies); a points-only build casts no rays (--max-range and --miss act on none).
+bool readsOctree(const BuildOptions& options) {
+  pipeline::BuildParams params;
+  params.inputs.assign(options.inputs.begin(), options.inputs.end());
+  return pipeline::readsOctree(params);
+}
+
 void refuseMisfits(const CLI::App& cmd, const BuildOptions& options) {
   if (!readsOctree(options)) {
     // Points alone are occupied updates only: nothing for a ray bound or P(miss) to act on.
@@ -35,6 +85,20 @@ void refuseMisfits(const CLI::App& cmd, const BuildOptions& options) {
   throw Error(given + ": cannot apply to " + options.inputs.front() +
               ", a finished octree read as it is (its own frame, resolution and sensor model); leave " +
               (given.find(',') == std::string::npos ? "it" : "them") + " out, or build from the map points");
+}
+
+/// The output directory, checked before the work (pipeline::checkOutputDir) and named by -o; a
+/// missing parent says that -p creates it.
+void checkOutput(const BuildOptions& options, const pipeline::BuildParams& params) {
+  try {
+    pipeline::checkOutputDir(options.output_dir, params, {options.make_parents});
+  } catch (const Error& e) {
+    std::filesystem::path out = std::filesystem::absolute(options.output_dir).lexically_normal();
+    if (out.filename().empty()) out = out.parent_path();
+    std::error_code ec;
+    const bool missing_parent = !options.make_parents && !std::filesystem::exists(out.parent_path(), ec);
+    throw Error("-o " + std::string(e.what()) + (missing_parent ? " (give -p to create missing parents)" : ""));
+  }
 }
 
 }  // namespace
@@ -64,7 +128,7 @@ void addBuildCommand(CLI::App& app, int& status) {
   cmd->add_option("--crop", options->crop, "x0,y0,z0,x1,y1,z1: keep points inside this box (map frame)");
   cmd->add_option("--z-min", options->z_min, "Keep points with z >= this (map frame)")->check(finiteNumber());
   cmd->add_option("--z-max", options->z_max, "Keep points with z <= this (map frame)")->check(finiteNumber());
-  auto& octree = options->octree;
+  auto& octree = options->params.octree;
   cmd->add_option("--resolution", octree.resolution, "Octree leaf size, map units")
       ->check(numberAbove(0))
       ->capture_default_str();
@@ -81,38 +145,40 @@ void addBuildCommand(CLI::App& app, int& status) {
   cmd->add_option("--occupancy-threshold", octree.sensor.occupancy_threshold,
                   "Occupied when probability > this")
       ->check(numberIn(0.0, 1.0))->capture_default_str();
-  cmd->add_option("--eps", options->dbscan.eps, "DBSCAN radius, map units (>= --resolution, or voxels stand alone)")
+  cmd->add_option("--eps", options->params.dbscan.eps, "DBSCAN radius, map units (>= --resolution, or voxels stand alone)")
       ->check(numberAbove(0))->capture_default_str();
-  cmd->add_option("--min-pts", options->dbscan.min_pts,
+  cmd->add_option("--min-pts", options->params.dbscan.min_pts,
                   "DBSCAN core threshold, counted in map points (voxels weigh the points in them)")
       ->check(wholeNumberFrom(1))->capture_default_str();
   cmd->add_option("--metric", options->metric, "DBSCAN distance: xyz or xy (top view)")
       ->check(CLI::IsMember({"xyz", "xy"}))->capture_default_str();
-  cmd->add_flag("--ot", options->write_ot, "Also write map.ot (full probabilities)");
+  cmd->add_flag("--ot", options->params.write_ot, "Also write map.ot (full probabilities)");
 
   cmd->callback([options, cmd, &status] {
     options->inputs = inputPaths(options->inputs);
     refuseMisfits(*cmd, *options);
-    checkOutputDir(*options);
-    BuildResult result = runBuild(*options);
-    std::vector<mapper::InputStats> named = result.inputs;
+    const pipeline::BuildParams params = toParams(*options);
+    const pipeline::WriteOptions write_options{options->make_parents};
+    checkOutput(*options, params);
+    pipeline::BuildResult result = pipeline::build(params);
+    std::vector<mapper::InputStats> named = result.report.inputs;
     if (options->trajectory) {
       named.emplace_back();
       named.back().path = *options->trajectory;  // KeyFrameTrajectory.txt names an ORB-SLAM run too
       named.back().format = "tum";
     }
-    if (auto hint = mapper::orbSlamUpHint(named, cmd->count("--up") > 0))
-      result.warnings.insert(result.warnings.begin(), *hint);
-    for (const auto& warning : result.warnings) std::cerr << "hullmap: warning: " << warning << "\n";
-    writeBuild(*options, result);
-    const auto& a = result.account;
+    auto& warnings = result.report.warnings;
+    if (auto hint = mapper::orbSlamUpHint(named, cmd->count("--up") > 0)) warnings.insert(warnings.begin(), *hint);
+    for (const auto& warning : warnings) std::cerr << "hullmap: warning: " << warning << "\n";
+    naming([&] { pipeline::write(result, options->output_dir, write_options); });
+    const auto& a = result.report.points;
     std::cout << "points: " << a.read << " read, " << a.used << " used";
     for (const auto& [reason, count] : a.dropped) std::cout << ", " << count << " dropped (" << reason << ")";
     std::cout << "\noctree: " << result.voxels.size() << " occupied voxels at "
-              << result.map->resolution() << "\nclusters: " << result.clusters.cluster_sizes.size()
+              << result.map.resolution() << "\nclusters: " << result.clusters.cluster_sizes.size()
               << ", noise voxels: " << result.clusters.noise
               << "\nobstacles: " << result.obstacles.size() << "\nwrote " << options->output_dir
-              << "/{map.bt" << (options->write_ot ? ",map.ot" : "")
+              << "/{map.bt" << (options->params.write_ot ? ",map.ot" : "")
               << ",voxels.csv,obstacles.json,obstacles.obj,report.json}\n";
     status = 0;
   });

@@ -12,10 +12,10 @@
 
 #include "commands.hpp"
 #include "hullmap/collision/path_check.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 #include "check_warnings.hpp"
-#include "obstacle_io.hpp"
 #include "option_checks.hpp"
 #include "path_file.hpp"
 
@@ -102,11 +102,11 @@ void runCheck(const CheckOptions& o, int& status) {
     throw Error("--against: expected \"hulls\" or \"octree\", got \"" + o.against + "\"");
 
   std::vector<collision::Segment> segments;
-  bool is_path = false;
-  if (!o.path_file.empty()) {
-    is_path = true;
-    const auto points = readPathFile(o.path_file);
-    for (std::size_t i = 0; i + 1 < points.size(); ++i) segments.push_back({points[i], points[i + 1]});
+  std::vector<Eigen::Vector3d> waypoints;
+  const bool is_path = !o.path_file.empty();
+  if (is_path) {
+    waypoints = readPathFile(o.path_file);
+    for (std::size_t i = 0; i + 1 < waypoints.size(); ++i) segments.push_back({waypoints[i], waypoints[i + 1]});
   } else if (!o.segments_file.empty()) {
     segments = readSegmentsFile(o.segments_file);
   } else {
@@ -114,43 +114,53 @@ void runCheck(const CheckOptions& o, int& status) {
     segments.push_back({{r[0], r[1], r[2]}, {r[3], r[4], r[5]}});
   }
 
-  std::vector<collision::SegmentCheck> results;
+  // A path is checked as one (checkPath: the first collision along it); segments one by one.
+  const collision::CheckRequest request{o.radius};
+  collision::PathCheck path;
   std::vector<std::string> warnings;
   if (o.against == "octree") {
     const mapper::OccupancyMap map = mapper::readMap(artefact(o.input, "map.bt"));
     const collision::OctreeChecker checker(map.tree());
-    for (const auto& s : segments) results.push_back(checker.check(s, o.radius));
+    if (is_path) {
+      path = checker.checkPath(waypoints, request);
+    } else {
+      for (const auto& s : segments) path.segments.push_back(checker.check(s, request));
+    }
   } else {
     const std::string obstacles_json = artefact(o.input, "obstacles.json");
     refuseOctreeAsHulls(obstacles_json);
-    const auto obstacles = readObstaclesJson(obstacles_json);
+    const auto obstacles = pipeline::readObstacles(obstacles_json);
     warnings = hullCheckWarnings(obstacles_json, obstacles.size());
     const collision::HullChecker checker(obstacles);
-    results = checker.checkBatch(segments, o.radius);
+    if (is_path) {
+      path = checker.checkPath(waypoints, request);
+    } else {
+      path.segments = checker.checkBatch(segments, request);
+    }
   }
   for (const auto& warning : warnings) std::cerr << "hullmap: warning: " << warning << "\n";
+  const std::vector<collision::SegmentCheck>& results = path.segments;
 
   std::string out;
   if (o.json) {
     for (const auto& warning : warnings) out += nlohmann::json{{"warning", warning}}.dump() + "\n";
   }
-  std::optional<std::size_t> first;
+  bool any = false;
   for (std::size_t i = 0; i < results.size(); ++i) {
     out += describe(i, segments[i], results[i], o.json) + "\n";
-    if (results[i].collides && !first) first = i;
+    any = any || results[i].collides;
   }
   if (is_path && !o.json) {
-    if (first) {
-      const auto& s = segments[*first];
-      const Eigen::Vector3d p = s.a + results[*first].t * (s.b - s.a);
-      out += "path: first collision in segment " + std::to_string(*first) + " at (" + numberText(p.x()) + " " +
-             numberText(p.y()) + " " + numberText(p.z()) + ")\n";
+    if (path.first_colliding_segment) {
+      const Eigen::Vector3d& p = *path.first_contact;
+      out += "path: first collision in segment " + std::to_string(*path.first_colliding_segment) + " at (" +
+             numberText(p.x()) + " " + numberText(p.y()) + " " + numberText(p.z()) + ")\n";
     } else {
       out += "path: clear\n";
     }
   }
   std::cout << out << std::flush;
-  status = first ? 1 : 0;
+  status = any ? 1 : 0;
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/clustering/build_warnings.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 
 namespace hullmap::cli {
 

@@ -2,6 +2,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <iostream>
 #include <ostream>
 #include <memory>
@@ -10,11 +11,11 @@
 
 #include "commands.hpp"
 #include "hullmap/mapper/output_dir.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 #include "option_checks.hpp"
-#include "pipeline.hpp"
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/mapper/atomic_file.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/atomic_file.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/mapper/readers.hpp"
@@ -36,7 +37,7 @@ struct ClusterOptions {
 // The inputs' points, unioned in order, in the z-up map frame.
 mapper::Points loadMapPoints(const ClusterOptions& o) {
   const mapper::FrameParams frame{mapper::parseUpAxis(o.up), o.scale};
-  mapper::PointSet set = readInputPoints(inputPaths(o.inputs));
+  mapper::PointSet set = pipeline::readInputPoints(inputPaths(o.inputs));
   mapper::toMapFrame(frame, set.points);
   return std::move(set.points);
 }
@@ -64,7 +65,7 @@ void writeLabelsTo(std::ostream& out, const mapper::Points& points, const cluste
 }
 
 void writeLabels(const std::string& path, const mapper::Points& points, const clustering::DbscanResult& result) {
-  mapper::writeFileAtomically(path, [&](std::ostream& out) { writeLabelsTo(out, points, result); });
+  core::writeFileAtomically(path, [&](std::ostream& out) { writeLabelsTo(out, points, result); });
 }
 
 std::string numberText(double value) {
@@ -87,6 +88,10 @@ void runCluster(const ClusterOptions& o) {
   // With -o - the labels are standard output: the summary goes to standard error.
   std::FILE* const say = o.output == "-" ? stderr : stdout;
   const mapper::Points points = loadMapPoints(o);
+  // The eps suggestion's k-d tree is built on one core: it runs beside the clustering, not after it.
+  std::future<std::vector<double>> k_distances = std::async(std::launch::async, [&] {
+    return clustering::kDistanceCurve(points, o.min_pts, params.metric, clustering::kEpsSuggestionSamples);
+  });
   const clustering::DbscanResult result = clustering::dbscan(points, {}, params);
 
   std::vector<std::size_t> sizes = result.cluster_sizes;
@@ -102,7 +107,7 @@ void runCluster(const ClusterOptions& o) {
     largest += (i ? ", " : "") + std::to_string(sizes[i]);
   }
   std::fprintf(say, "largest clusters: %s\n", largest.empty() ? "none" : largest.c_str());
-  const std::vector<double> curve = clustering::kDistanceCurve(points, o.min_pts, params.metric);
+  const std::vector<double> curve = k_distances.get();
   if (curve.empty()) {
     std::fprintf(say, "eps suggestion: none (fewer than min-pts points)\n");
   } else {

@@ -3,7 +3,7 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 
 namespace hullmap::cli {

@@ -1,5 +1,8 @@
 #include <algorithm>
 #include <cctype>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -8,7 +11,8 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 
 namespace {
 
@@ -37,9 +41,41 @@ std::string firstUnknownOption(const CLI::App& cmd, int first, int argc, char** 
   return "";
 }
 
+// The message of a library error with the parameters it names spelt as this CLI's flags
+// ("min_pts: must be >= 1" -> "--min-pts: must be >= 1").
+std::string cliMessage(const hullmap::Error& e) {
+  if (e.parameter().empty()) return e.what();
+  std::string flags;
+  std::size_t start = 0;
+  while (start <= e.parameter().size()) {
+    std::size_t end = e.parameter().find('/', start);
+    if (end == std::string::npos) end = e.parameter().size();
+    std::string name = e.parameter().substr(start, end - start);
+    if (name == "keyframes") {
+      name = "--trajectory";
+    } else if (name != "inputs") {
+      std::replace(name.begin(), name.end(), '_', '-');
+      name = "--" + name;
+    }
+    flags += (flags.empty() ? "" : "/") + name;
+    start = end + 1;
+  }
+  return flags + ": " + e.detail();
+}
+
+// Test-only (test/cli_build.cpp): HULLMAP_TEST_KILL_AT=<stage> makes the run SIGKILL itself when
+// the pipeline reaches that stage, so that "a run killed there" is a fact, not a race with a timer.
+const char* kill_at = nullptr;
+
+void killAtStage(const char* stage) {
+  if (std::strcmp(stage, kill_at) == 0) std::raise(SIGKILL);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  kill_at = std::getenv("HULLMAP_TEST_KILL_AT");
+  if (kill_at != nullptr) hullmap::pipeline::detail::stage_hook = killAtStage;
   CLI::App app{"hullmap: SLAM map points -> OctoMap -> DBSCAN clusters -> convex obstacles -> path checks"};
   app.set_version_flag("--version", HULLMAP_VERSION);
   app.require_subcommand(1);
@@ -89,7 +125,7 @@ int main(int argc, char** argv) {
     std::cerr << "hullmap: error: " << e.what() << (bad_value ? "\n" : " (see hullmap --help)\n");
     return 2;
   } catch (const hullmap::Error& e) {
-    std::cerr << "hullmap: error: " << e.what() << "\n";
+    std::cerr << "hullmap: error: " << cliMessage(e) << "\n";
     return 2;
   } catch (const std::bad_alloc&) {
     std::cerr << "hullmap: error: out of memory\n";

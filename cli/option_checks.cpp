@@ -5,7 +5,7 @@
 #include <cmath>
 #include <string>
 
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 
 namespace hullmap::cli {
 namespace {

@@ -3,7 +3,7 @@
 #include <charconv>
 #include <cmath>
 
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/number_table.hpp"
 
 namespace hullmap::cli {

@@ -9,11 +9,11 @@
 
 #include "commands.hpp"
 #include "hullmap/collision/path_check.hpp"
-#include "hullmap/mapper/error.hpp"
-#include "obstacle_io.hpp"
+#include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/plot/svg_plot.hpp"
 #include "option_checks.hpp"
 #include "path_file.hpp"
-#include "svg_plot.hpp"
 
 namespace hullmap::cli {
 namespace {
@@ -29,52 +29,16 @@ struct PlotOptions {
   bool png = false;
 };
 
-// voxels.csv as `hullmap build` writes it: header x,y,z,weight,label,core, one voxel a line.
-void readVoxelsCsv(const std::string& path, MapPlot& plot) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open (is this a hullmap build directory?)");
-  std::string line;
-  if (!std::getline(in, line) || line.rfind("x,y,z,weight,label", 0) != 0) {
-    throw Error(path + ":1: expected header x,y,z,weight,label,core");
-  }
-  std::size_t number = 1;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.empty() || line == "\r") continue;
-    std::istringstream fields(line);
-    double v[5];
-    char comma = 0;
-    bool ok = static_cast<bool>(fields >> v[0]);
-    for (int i = 1; ok && i < 5; ++i) ok = (fields >> comma) && comma == ',' && (fields >> v[i]);
-    if (!ok || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
-      throw Error(path + ":" + std::to_string(number) + ": expected x,y,z,weight,label,core numbers");
-    }
-    plot.centers.emplace_back(v[0], v[1], v[2]);
-    plot.labels.push_back(static_cast<std::int32_t>(v[4]));
-  }
-}
-
 std::string scalarText(const nlohmann::json& value) {
   if (value.is_string()) return value.get<std::string>();
   return value.dump();
 }
 
 // The build's parameters for the caption, and the voxel size.
-void readReport(const std::string& path, MapPlot& plot) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open (is this a hullmap build directory?)");
-  nlohmann::json report;
-  try {
-    in >> report;
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(path + ": not valid JSON: " + e.what());
-  }
+void readReport(const std::string& path, plot::MapPlot& plot) {
+  const nlohmann::json report = pipeline::readReport(path);
   const auto params = report.find("parameters");
-  if (params == report.end() || !params->is_object()) throw Error(path + ": no \"parameters\" object");
   const auto resolution = params->find("resolution");
-  if (resolution == params->end() || !resolution->is_number() || !(resolution->get<double>() > 0.0)) {
-    throw Error(path + ": parameters.resolution missing or not a positive number");
-  }
   plot.voxel_size = resolution->get<double>();
   std::string line;
   const auto add = [&](const char* key, const char* name) {
@@ -93,24 +57,27 @@ void readReport(const std::string& path, MapPlot& plot) {
 
 void runPlot(const PlotOptions& o) {
   if (!fs::is_directory(o.dir)) throw Error("plot: " + o.dir + " is not a directory");
-  const auto converter = findPngConverter();
-  const PictureOutput output{o.output, o.png, "-o"};
-  checkPictureOutput(output, converter);
-  MapPlot plot;
-  plot.view = o.side ? PlotView::kSide : PlotView::kTop;
+  const auto converter = plot::findPngConverter();
+  const plot::PictureOutput output{o.output, o.png, "-o"};
+  plot::checkPictureOutput(output, converter);
+  plot::MapPlot plot;
+  plot.view = o.side ? plot::PlotView::kSide : plot::PlotView::kTop;
   readReport((fs::path(o.dir) / "report.json").string(), plot);
-  readVoxelsCsv((fs::path(o.dir) / "voxels.csv").string(), plot);
-  plot.obstacles = readObstaclesJson((fs::path(o.dir) / "obstacles.json").string());
+  for (const auto& row : pipeline::readVoxelsCsv(fs::path(o.dir) / "voxels.csv")) {
+    plot.centers.push_back(row.center);
+    plot.labels.push_back(row.label);
+  }
+  plot.obstacles = pipeline::readObstacles(fs::path(o.dir) / "obstacles.json");
   if (!o.path_file.empty()) {
     checkRadius(o.radius);
-    PlotPath path;
+    plot::PlotPath path;
     path.waypoints = readPathFile(o.path_file);
     path.radius = o.radius;
     path.check = collision::HullChecker(plot.obstacles).checkPath(path.waypoints, o.radius);
     plot.path = std::move(path);
   }
-  const SvgPicture picture = renderMapSvg(plot);
-  const auto written = writePicture(picture.svg, output, converter);
+  const plot::SvgPicture picture = plot::renderMapSvg(plot);
+  const auto written = plot::writePicture(picture.svg, output, converter);
   std::cout << "plot: " << (o.side ? "side view (x-z)" : "top view (x-y)") << ", " << plot.centers.size()
             << " voxels drawn as " << picture.cells << " cells, " << plot.obstacles.size() << " obstacles";
   if (picture.hidden_voxels > 0) std::cout << ", " << picture.hidden_voxels << " far noise voxels not drawn";
@@ -118,7 +85,7 @@ void runPlot(const PlotOptions& o) {
   for (const auto& file : written) {
     std::cout << "wrote " << file;
     if (fs::path(file).extension() == ".png" || fs::path(file).extension() == ".PNG") {
-      std::cout << " (rendered by " << *converter << ", Debian package " << kPngConverterPackage << ")";
+      std::cout << " (rendered by " << *converter << ", Debian package " << plot::kPngConverterPackage << ")";
     }
     std::cout << "\n";
   }

@@ -10,14 +10,14 @@
 
 #include "commands.hpp"
 #include "hullmap/mapper/output_dir.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 #include "option_checks.hpp"
-#include "pipeline.hpp"
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/mapper/atomic_file.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/atomic_file.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/readers.hpp"
-#include "svg_plot.hpp"
+#include "hullmap/plot/svg_plot.hpp"
 
 namespace hullmap::cli {
 namespace {
@@ -116,15 +116,15 @@ void runSweep(const SweepOptions& o) {
     }
   }
   // Looked up before the runs, so a PNG without a converter fails before the work.
-  const auto converter = findPngConverter();
-  if (!o.plot.empty()) checkPictureOutput(PictureOutput{o.plot, false, "--plot"}, converter);
-  mapper::PointSet set = readInputPoints(inputPaths(o.inputs));
+  const auto converter = plot::findPngConverter();
+  if (!o.plot.empty()) plot::checkPictureOutput(plot::PictureOutput{o.plot, false, "--plot"}, converter);
+  mapper::PointSet set = pipeline::readInputPoints(inputPaths(o.inputs));
   mapper::toMapFrame(frame, set.points);
   // With -o - the CSV is standard output: the table goes to standard error.
   std::FILE* const say = o.output == "-" ? stderr : stdout;
 
   std::vector<SweepRow> rows;
-  std::vector<SweepPanel> panels;
+  std::vector<plot::SweepPanel> panels;
   std::fprintf(say, "points: %zu, metric %s\n", set.points.size(), clustering::toString(metric).c_str());
   std::fprintf(say, "%10s %8s %9s %9s %9s\n", "eps", "min_pts", "clusters", "noise", "largest");
   for (double eps : eps_values) {
@@ -134,7 +134,7 @@ void runSweep(const SweepOptions& o) {
       if (!r.cluster_sizes.empty()) row.largest = *std::max_element(r.cluster_sizes.begin(), r.cluster_sizes.end());
       std::fprintf(say, "%10g %8d %9zu %9zu %9zu\n", row.eps, row.min_pts, row.clusters, row.noise, row.largest);
       rows.push_back(row);
-      if (!o.plot.empty()) panels.push_back(SweepPanel{eps, min_pts, r.labels});
+      if (!o.plot.empty()) panels.push_back(plot::SweepPanel{eps, min_pts, r.labels});
     }
   }
   const auto writeCsv = [&](std::ostream& out) {
@@ -150,14 +150,14 @@ void runSweep(const SweepOptions& o) {
     writeCsv(std::cout);
     std::cout.flush();
   } else if (!o.output.empty()) {
-    mapper::writeFileAtomically(o.output, writeCsv);
+    core::writeFileAtomically(o.output, writeCsv);
     std::fprintf(say, "wrote %s\n", o.output.c_str());
   }
   if (!o.plot.empty()) {
-    const std::string svg = renderSweepSvg(set.points, panels, 0.0,
+    const std::string svg = plot::renderSweepSvg(set.points, panels, 0.0,
                                            "hullmap sweep: " + std::to_string(set.points.size()) + " points, metric " +
                                                clustering::toString(metric));
-    for (const auto& file : writePicture(svg, PictureOutput{o.plot, false, "--plot"}, converter)) {
+    for (const auto& file : plot::writePicture(svg, plot::PictureOutput{o.plot, false, "--plot"}, converter)) {
       std::fprintf(say, "wrote %s\n", file.c_str());
     }
   }

@@ -201,7 +201,7 @@ TEST(FirstHour, OptionsThatCannotApplyToAnOctreeAreRefused) {
   EXPECT_EQ(report["parameters"]["resolution"].get<double>(), 0.1);
   EXPECT_TRUE(report["parameters"]["up"].is_null());
   EXPECT_TRUE(report["parameters"]["scale"].is_null());
-  EXPECT_EQ(report["frame"], "the octree's own frame (" + bt + " read as it is: no --up or --scale applied)");
+  EXPECT_EQ(report["frame"], "the octree's own frame (" + bt + " read as it is: no up axis or scale applied)");
   EXPECT_EQ(readJson(dir / "again" / "obstacles.json")["frame"], report["frame"]);
   EXPECT_EQ(readJson(dir / "again" / "obstacles.json")["parameters"]["resolution"].get<double>(), 0.1);
 }

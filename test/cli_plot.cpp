@@ -17,17 +17,17 @@
 
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/clustering/obstacles.hpp"
-#include "hullmap/mapper/error.hpp"
-#include "obstacle_io.hpp"
-#include "svg_plot.hpp"
+#include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/obstacle_io.hpp"
+#include "hullmap/plot/svg_plot.hpp"
 #include "test_support.hpp"
 
 namespace {
 
-using hullmap::cli::clusterColour;
-using hullmap::cli::MapPlot;
-using hullmap::cli::PlotView;
-using hullmap::cli::toHex;
+using hullmap::plot::clusterColour;
+using hullmap::plot::MapPlot;
+using hullmap::plot::PlotView;
+using hullmap::plot::toHex;
 namespace fs = std::filesystem;
 
 // ---------------------------------------------------------------- helpers
@@ -152,7 +152,7 @@ print(w, h, non_white, *counts)
 )PY";
 
 // sRGB -> CIE Lab (D65), written independently of the renderer's LCh -> sRGB.
-std::array<double, 3> toLab(hullmap::cli::Rgb c) {
+std::array<double, 3> toLab(hullmap::plot::Rgb c) {
   const auto lin = [](std::uint8_t v) {
     const double s = v / 255.0;
     return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
@@ -165,7 +165,7 @@ std::array<double, 3> toLab(hullmap::cli::Rgb c) {
   return {116.0 * f(y) - 16.0, 500.0 * (f(x) - f(y)), 200.0 * (f(y) - f(z))};
 }
 
-double deltaE(hullmap::cli::Rgb a, hullmap::cli::Rgb b) {
+double deltaE(hullmap::plot::Rgb a, hullmap::plot::Rgb b) {
   const auto la = toLab(a), lb = toLab(b);
   return std::sqrt((la[0] - lb[0]) * (la[0] - lb[0]) + (la[1] - lb[1]) * (la[1] - lb[1]) +
                    (la[2] - lb[2]) * (la[2] - lb[2]));
@@ -259,7 +259,7 @@ std::map<std::pair<long, long>, int> drawnCells(const std::string& svg, std::siz
 TEST(PlotPalette, NoiseIsBlackAndFiftyClustersStayApart) {
   EXPECT_EQ(toHex(clusterColour(hullmap::clustering::kNoise)), "#000000");
   EXPECT_EQ(toHex(clusterColour(0)), "#f3c300");  // Kelly's first colour
-  const hullmap::cli::Rgb black{0, 0, 0}, white{255, 255, 255};
+  const hullmap::plot::Rgb black{0, 0, 0}, white{255, 255, 255};
   std::set<std::string> seen;
   for (int i = 0; i < 50; ++i) {
     const auto c = clusterColour(i);
@@ -271,7 +271,11 @@ TEST(PlotPalette, NoiseIsBlackAndFiftyClustersStayApart) {
           << "labels " << i << " and " << j << ": " << toHex(c) << " " << toHex(clusterColour(j));
     }
   }
-  EXPECT_EQ(toHex(clusterColour(123)), toHex(clusterColour(123)));  // deterministic
+  // From label 18 on, lightness cycles through 55, 72, 45 (CIE L*, measured by the test's own
+  // sRGB -> Lab; sRGB rounding moves it by well under 1).
+  const double lightness[3] = {55.0, 72.0, 45.0};
+  for (int label = 18; label < 200; ++label)
+    EXPECT_NEAR(toLab(clusterColour(label))[0], lightness[(label - 18) % 3], 1.0) << "label " << label;
 }
 
 // ---------------------------------------------------------------- map rendering
@@ -280,7 +284,7 @@ TEST(PlotMap, TopViewIsValidXmlWithOneFootprintPerObstacleAndPaletteColours) {
   if (!havePython()) GTEST_SKIP() << "no XML parser: " << HULLMAP_PYTHON3 << " not found and libxml2 is not a dependency";
   Scene s = makeScene(12, 0.05, 7);
   ASSERT_EQ(s.plot.obstacles.size(), 12u);
-  const auto picture = hullmap::cli::renderMapSvg(s.plot);
+  const auto picture = hullmap::plot::renderMapSvg(s.plot);
   const auto elements = parseSvg(picture.svg, "top");
   EXPECT_EQ(countClass(elements, "footprint"), s.plot.obstacles.size());
   EXPECT_EQ(countClass(elements, "obstacle-id"), s.plot.obstacles.size());
@@ -309,7 +313,7 @@ TEST(PlotMap, EachTopCellDrawnOnceWithItsTopmostClusteredVoxel) {
   s.plot.labels.push_back(9);
   s.plot.centers.emplace_back(0.45, 0.45, 0.25);
   s.plot.labels.push_back(3);
-  const auto picture = hullmap::cli::renderMapSvg(s.plot);
+  const auto picture = hullmap::plot::renderMapSvg(s.plot);
   const auto expected = expectedTopCells(s.plot);
   std::size_t rectangles = 0;
   const auto drawn = drawnCells(picture.svg, rectangles);
@@ -337,7 +341,7 @@ TEST(PlotMap, HundredThousandVoxelsGiveASmallFile) {
     plot.centers.emplace_back(snap(p.x()), snap(p.y()), snap(p.z()));
     plot.labels.push_back(wall == 4 && p.x() > 9.0 ? -1 : wall);
   }
-  const auto picture = hullmap::cli::renderMapSvg(plot);
+  const auto picture = hullmap::plot::renderMapSvg(plot);
   EXPECT_EQ(picture.cells, expectedTopCells(plot).size());
   EXPECT_LT(picture.svg.size(), 300u * 1024u) << picture.cells << " cells";
 }
@@ -346,7 +350,7 @@ TEST(PlotMap, SideViewShowsHeightsAndOutlinesEachHull) {
   if (!havePython()) GTEST_SKIP() << "no XML parser: " << HULLMAP_PYTHON3 << " not found";
   Scene s = makeScene(5, 0.05, 11);
   s.plot.view = PlotView::kSide;
-  const auto picture = hullmap::cli::renderMapSvg(s.plot);
+  const auto picture = hullmap::plot::renderMapSvg(s.plot);
   const auto elements = parseSvg(picture.svg, "side");
   EXPECT_EQ(countClass(elements, "footprint"), s.plot.obstacles.size());
   EXPECT_NE(picture.svg.find("z (map units)"), std::string::npos);
@@ -360,7 +364,7 @@ TEST(PlotMap, SideViewShowsHeightsAndOutlinesEachHull) {
 TEST(PlotMap, PathMarksCollidingSegmentsAndFirstContact) {
   if (!havePython()) GTEST_SKIP() << "no XML parser: " << HULLMAP_PYTHON3 << " not found";
   Scene s = makeScene(3, 0.05, 5);
-  hullmap::cli::PlotPath path;
+  hullmap::plot::PlotPath path;
   path.waypoints = {{0.0, 0.0, 0.1}, {1.0, 0.3, 0.1}, {2.0, 0.3, 0.1}, {2.0, 2.0, 0.1}};
   path.radius = 0.1;
   path.check.segments.resize(3);
@@ -371,7 +375,7 @@ TEST(PlotMap, PathMarksCollidingSegmentsAndFirstContact) {
   path.check.first_colliding_segment = 1;
   path.check.first_contact = Eigen::Vector3d(1.2, 0.3, 0.1);
   s.plot.path = path;
-  const auto picture = hullmap::cli::renderMapSvg(s.plot);
+  const auto picture = hullmap::plot::renderMapSvg(s.plot);
   const auto elements = parseSvg(picture.svg, "path");
   EXPECT_EQ(countClass(elements, "colliding-segment"), 2u);
   EXPECT_EQ(countClass(elements, "first-contact"), 1u);
@@ -380,18 +384,18 @@ TEST(PlotMap, PathMarksCollidingSegmentsAndFirstContact) {
 
   path.check.segments.pop_back();  // inconsistent with the waypoints
   s.plot.path = path;
-  EXPECT_THROW(hullmap::cli::renderMapSvg(s.plot), hullmap::Error);
+  EXPECT_THROW(hullmap::plot::renderMapSvg(s.plot), hullmap::Error);
 }
 
 TEST(PlotMap, BadInputIsAnError) {
   MapPlot plot;
   plot.voxel_size = 0.0;
-  EXPECT_THROW(hullmap::cli::renderMapSvg(plot), hullmap::Error);
+  EXPECT_THROW(hullmap::plot::renderMapSvg(plot), hullmap::Error);
   plot.voxel_size = 0.1;
   plot.centers.emplace_back(0, 0, 0);
-  EXPECT_THROW(hullmap::cli::renderMapSvg(plot), hullmap::Error);
+  EXPECT_THROW(hullmap::plot::renderMapSvg(plot), hullmap::Error);
   plot.labels.push_back(0);
-  EXPECT_NO_THROW(hullmap::cli::renderMapSvg(plot));
+  EXPECT_NO_THROW(hullmap::plot::renderMapSvg(plot));
 }
 
 // ---------------------------------------------------------------- sweep
@@ -399,15 +403,15 @@ TEST(PlotMap, BadInputIsAnError) {
 TEST(PlotSweep, OnePanelPerRunInAnEpsByMinPtsGrid) {
   if (!havePython()) GTEST_SKIP() << "no XML parser: " << HULLMAP_PYTHON3 << " not found";
   Scene s = makeScene(6, 0.05, 2);
-  std::vector<hullmap::cli::SweepPanel> panels;
+  std::vector<hullmap::plot::SweepPanel> panels;
   for (int min_pts : {5, 10}) {
     for (double eps : {0.05, 0.1, 0.3}) {
-      hullmap::cli::SweepPanel p{eps, min_pts, s.plot.labels};
+      hullmap::plot::SweepPanel p{eps, min_pts, s.plot.labels};
       if (eps > 0.2) std::fill(p.labels.begin(), p.labels.end(), 0);  // one big cluster
       panels.push_back(p);
     }
   }
-  const std::string svg = hullmap::cli::renderSweepSvg(s.plot.centers, panels, 0.0, "sweep");
+  const std::string svg = hullmap::plot::renderSweepSvg(s.plot.centers, panels, 0.0, "sweep");
   const auto elements = parseSvg(svg, "sweep");
   EXPECT_EQ(countClass(elements, "panel"), 6u);
   EXPECT_NE(svg.find("data-eps=\"0.3\" data-min-pts=\"10\" data-clusters=\"1\""), std::string::npos);
@@ -418,20 +422,20 @@ TEST(PlotSweep, OnePanelPerRunInAnEpsByMinPtsGrid) {
     }
   }
   panels[2].labels.pop_back();
-  EXPECT_THROW(hullmap::cli::renderSweepSvg(s.plot.centers, panels, 0.0, "sweep"), hullmap::Error);
+  EXPECT_THROW(hullmap::plot::renderSweepSvg(s.plot.centers, panels, 0.0, "sweep"), hullmap::Error);
 }
 
 // ---------------------------------------------------------------- output files
 
 TEST(PlotOutput, PngIsRenderedAndNotBlank) {
-  const auto converter = hullmap::cli::findPngConverter();
+  const auto converter = hullmap::plot::findPngConverter();
   if (!converter) GTEST_SKIP() << "rsvg-convert not on PATH (Debian package librsvg2-bin)";
   if (!havePython()) GTEST_SKIP() << "no PNG decoder: " << HULLMAP_PYTHON3 << " not found";
   Scene s = makeScene(4, 0.05, 9);
   const auto dir = hullmap::test::freshDir("plot_png");
-  const auto svg = hullmap::cli::renderMapSvg(s.plot).svg;
+  const auto svg = hullmap::plot::renderMapSvg(s.plot).svg;
   const auto written =
-      hullmap::cli::writePicture(svg, {(dir / "map.svg").string(), true, "-o"}, converter);
+      hullmap::plot::writePicture(svg, {(dir / "map.svg").string(), true, "-o"}, converter);
   ASSERT_EQ(written.size(), 2u);
   EXPECT_TRUE(fs::exists(dir / "map.svg"));
   ASSERT_TRUE(fs::exists(dir / "map.png"));
@@ -450,7 +454,7 @@ TEST(PlotOutput, PngIsRenderedAndNotBlank) {
 
   // PNG only, by extension; nothing else left in the directory.
   const auto only = hullmap::test::freshDir("plot_png_only");
-  hullmap::cli::writePicture(svg, {(only / "map.png").string(), false, "-o"}, converter);
+  hullmap::plot::writePicture(svg, {(only / "map.png").string(), false, "-o"}, converter);
   std::size_t files = 0;
   for (const auto& e : fs::directory_iterator(only)) files += e.is_regular_file();
   EXPECT_EQ(files, 1u);
@@ -459,15 +463,15 @@ TEST(PlotOutput, PngIsRenderedAndNotBlank) {
 
 TEST(PlotOutput, MissingConverterNamesThePackageAndWritesNothing) {
   const auto dir = hullmap::test::freshDir("plot_noconv");
-  EXPECT_FALSE(hullmap::cli::findProgram("rsvg-convert", dir.string()));
+  EXPECT_FALSE(hullmap::plot::findProgram("rsvg-convert", dir.string()));
   try {
-    hullmap::cli::writePicture("<svg/>", {(dir / "map.png").string(), false, "-o"}, std::nullopt);
+    hullmap::plot::writePicture("<svg/>", {(dir / "map.png").string(), false, "-o"}, std::nullopt);
     FAIL() << "expected hullmap::Error";
   } catch (const hullmap::Error& e) {
     EXPECT_NE(std::string(e.what()).find("librsvg2-bin"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("map.png"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(hullmap::cli::writePicture("<svg/>", {(dir / "map.svg").string(), true, "-o"}, std::nullopt),
+  EXPECT_THROW(hullmap::plot::writePicture("<svg/>", {(dir / "map.svg").string(), true, "-o"}, std::nullopt),
                hullmap::Error);
   EXPECT_TRUE(fs::is_empty(dir));
   // findProgram takes the first executable match in PATH order.
@@ -475,7 +479,7 @@ TEST(PlotOutput, MissingConverterNamesThePackageAndWritesNothing) {
   fs::create_directories(bin);
   std::ofstream(bin / "rsvg-convert") << "#!/bin/sh\n";
   fs::permissions(bin / "rsvg-convert", fs::perms::owner_all);
-  EXPECT_EQ(hullmap::cli::findProgram("rsvg-convert", "/nonexistent::" + bin.string()), (bin / "rsvg-convert").string());
+  EXPECT_EQ(hullmap::plot::findProgram("rsvg-convert", "/nonexistent::" + bin.string()), (bin / "rsvg-convert").string());
 }
 
 // ---------------------------------------------------------------- the subcommand
@@ -492,7 +496,7 @@ fs::path writeBuildDir(const Scene& s, const std::string& name) {
   std::ofstream(dir / "report.json")
       << R"({"parameters": {"eps": 0.1, "min_pts": 10, "metric": "xyz", "resolution": )" << s.plot.voxel_size
       << R"(}, "frame": "z-up map, up=-y of input"})";
-  hullmap::cli::writeObstaclesJson((dir / "obstacles.json").string(), s.plot.obstacles, {});
+  hullmap::pipeline::writeObstaclesJson((dir / "obstacles.json").string(), s.plot.obstacles, {});
   return dir;
 }
 
@@ -516,7 +520,7 @@ TEST(PlotCommand, DrawsABuildDirectory) {
   ASSERT_EQ(side.status, 0) << side.err;
   EXPECT_NE(hullmap::test::slurp(dir / "side.svg").find("side view (x-z)"), std::string::npos);
 
-  if (hullmap::cli::findPngConverter()) {
+  if (hullmap::plot::findPngConverter()) {
     const auto png = hullmap::test::runHullmap("plot '" + dir.string() + "' -o '" + (dir / "map.png").string() + "'");
     ASSERT_EQ(png.status, 0) << png.err;
     EXPECT_NE(png.out.find("rsvg-convert"), std::string::npos) << png.out;
@@ -573,7 +577,7 @@ TEST(PlotCommand, GenerateBuildPlotEndToEnd) {
   ASSERT_EQ(r.status, 0) << r.err;
   r = hullmap::test::runHullmap("plot '" + out.string() + "' -o '" + (dir / "top.svg").string() + "'");
   ASSERT_EQ(r.status, 0) << r.err;
-  const auto obstacles = hullmap::cli::readObstaclesJson((out / "obstacles.json").string());
+  const auto obstacles = hullmap::pipeline::readObstaclesJson((out / "obstacles.json").string());
   ASSERT_FALSE(obstacles.empty());
   const std::string svg = hullmap::test::slurp(dir / "top.svg");
   for (const auto& o : obstacles) {

@@ -14,7 +14,7 @@
 #include <tbb/global_control.h>
 
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::clustering {
@@ -414,8 +414,39 @@ TEST(KDistance, MatchesBruteForce) {
     }
   }
   EXPECT_TRUE(kDistanceCurve(Points(3, Eigen::Vector3d::Zero()), 4, Metric::kXyz).empty());
+  EXPECT_TRUE(kDistanceCurve(Points(3, Eigen::Vector3d::Zero()), 4, Metric::kXyz, 2).empty());
   EXPECT_EQ(kDistanceCurve(Points(4, Eigen::Vector3d::Zero()), 4, Metric::kXyz), std::vector<double>(4, 0.0));
   EXPECT_THROW(kDistanceCurve(points, 0, Metric::kXyz), Error);
+}
+
+// A sampled curve holds the exact k-distances (against every point, duplicates counting) of the points
+// kDistanceSample picks, evenly spread over the input.
+TEST(KDistance, SampledCurveMatchesBruteForceOnTheSample) {
+  Points points = blobs(82, 600, 1.0, 3, 0.05);
+  for (std::size_t i = 0; i < 40; ++i) points.push_back(points[i * 7]);  // duplicates
+  const std::vector<std::uint32_t> sample = kDistanceSample(points.size(), 97);
+  ASSERT_EQ(sample.size(), 97u);
+  EXPECT_EQ(sample.front(), 0u);
+  EXPECT_LT(sample.back(), points.size());
+  EXPECT_TRUE(std::is_sorted(sample.begin(), sample.end()));
+  EXPECT_GE(sample.back(), points.size() - points.size() / 97 - 1);  // spread to the end
+  EXPECT_EQ(kDistanceSample(50, 97).size(), 50u);
+  EXPECT_EQ(kDistanceSample(50, 0).size(), 50u);
+  for (Metric metric : {Metric::kXyz, Metric::kXy}) {
+    for (int min_pts : {2, 6, 10}) {
+      std::vector<double> ref;
+      for (const std::uint32_t i : sample) {
+        std::vector<double> d;
+        for (std::size_t j = 0; j < points.size(); ++j) {
+          if (j != i) d.push_back(std::sqrt(squaredDistance(points[i], points[j], metric)));
+        }
+        std::sort(d.begin(), d.end());
+        ref.push_back(d[min_pts - 2]);
+      }
+      std::sort(ref.rbegin(), ref.rend());
+      EXPECT_EQ(kDistanceCurve(points, min_pts, metric, 97), ref) << "minPts " << min_pts;
+    }
+  }
 }
 
 TEST(KDistance, SuggestsTheKnee) {

@@ -12,9 +12,9 @@
 
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/clustering/obstacles.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
-#include "pipeline.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::clustering {
@@ -241,14 +241,14 @@ TEST(Obstacles, OffLatticeAndFarFromOriginStillContained) {
 }
 
 /// The obstacles `hullmap build` makes of a map, checked against their voxels as above.
-void expectBuildWrapsEveryCluster(const cli::BuildOptions& options) {
-  const cli::BuildResult r = cli::runBuild(options);
+void expectBuildWrapsEveryCluster(const pipeline::BuildParams& params) {
+  const pipeline::BuildResult r = pipeline::build(params);
   Voxels v;
   for (std::size_t i = 0; i < r.voxels.size(); ++i) add(v, r.voxels[i].center, r.clusters.labels[i], r.voxels[i].weight);
   ASSERT_GT(r.obstacles.size(), 5u);
   std::size_t clustered = 0;
   for (const auto& o : r.obstacles) {
-    expectWraps(o, v, r.map->resolution());
+    expectWraps(o, v, r.map.resolution());
     clustered += o.voxel_count;
   }
   EXPECT_EQ(clustered + r.clusters.noise, r.voxels.size());
@@ -261,10 +261,10 @@ TEST(Obstacles, HullsOfGeneratedMapsContainEveryClusteredVoxel) {
     params.points = 40000;
     const auto dir = test::freshDir("scene_" + std::to_string(seed));
     mapper::writeScene(mapper::generateScene(params), params, dir.string());
-    cli::BuildOptions options;
-    options.inputs = {(dir / "map_points.txt").string()};
-    options.trajectory = (dir / "KeyFrameTrajectory.txt").string();
-    options.up = "-y";
+    pipeline::BuildParams options;
+    options.inputs = {dir / "map_points.txt"};
+    options.trajectory = dir / "KeyFrameTrajectory.txt";
+    options.frame.up = mapper::UpAxis::kNegY;
     SCOPED_TRACE("seed " + std::to_string(seed));
     expectBuildWrapsEveryCluster(options);
   }
@@ -278,25 +278,25 @@ TEST(Obstacles, HullsOfRealMapsContainEveryClusteredVoxel) {
   HULLMAP_REQUIRE_REAL_DATA(people, "pcl_five_people.pcd");
   {
     SCOPED_TRACE("ORB-SLAM2 EuRoC V1_01, points only");
-    cli::BuildOptions options;
+    pipeline::BuildParams options;
     options.inputs = {v1};
-    options.up = "-y";
+    options.frame.up = mapper::UpAxis::kNegY;
     expectBuildWrapsEveryCluster(options);
   }
   {
     SCOPED_TRACE("ORB-SLAM3 EuRoC MH_01, both files, with the keyframes");
-    cli::BuildOptions options;
+    pipeline::BuildParams options;
     options.inputs = {mh, mh_ref};
     options.trajectory = mh_traj;
-    options.up = "-y";
+    options.frame.up = mapper::UpAxis::kNegY;
     expectBuildWrapsEveryCluster(options);
   }
   {
     SCOPED_TRACE("PCL five people (Kinect), from the camera at the origin, 0.1 m voxels");
-    cli::BuildOptions options;
+    pipeline::BuildParams options;
     options.inputs = {people};
-    options.origin = "0,0,0";
-    options.up = "-y";
+    options.origin = Eigen::Vector3d::Zero();
+    options.frame.up = mapper::UpAxis::kNegY;
     options.octree.resolution = 0.1;
     options.dbscan.eps = 0.2;
     expectBuildWrapsEveryCluster(options);

@@ -9,11 +9,11 @@
 
 #include "hullmap/clustering/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
-#include "hullmap/mapper/error.hpp"
-#include "obstacle_io.hpp"
+#include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/obstacle_io.hpp"
 #include "test_support.hpp"
 
-namespace hullmap::cli {
+namespace hullmap::pipeline {
 namespace {
 
 using V3 = Eigen::Vector3d;
@@ -186,4 +186,4 @@ TEST(CheckCommand, ErrorsExitTwoNamingTheFault) {
 }
 
 }  // namespace
-}  // namespace hullmap::cli
+}  // namespace hullmap::pipeline

@@ -4,9 +4,12 @@
 
 #include <octomap/OcTree.h>
 
+#include <fcl/geometry/shape/sphere.h>
+
 #include "collision_oracle.hpp"
+#include "hullmap/collision/fcl_obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 
 namespace hullmap::collision {
 namespace {
@@ -24,6 +27,37 @@ Scene randomScene(std::uint32_t seed, int clusters, double size) {
   s.voxels = test::randomBlobs(rng, clusters, 150, size, 30);
   s.obstacles = clustering::buildObstacles(s.voxels.centers, s.voxels.weights, s.voxels.labels, size);
   return s;
+}
+
+// A planner's own FCL query names the obstacle it met by the obstacle's id, as HullChecker does.
+TEST(FclObstacles, CallbacksNameTheObstacleByItsId) {
+  std::vector<V3> centers;
+  std::vector<std::int32_t> labels;
+  for (int i = 0; i < 4; ++i) {
+    centers.emplace_back(0.1 * i, 0.0, 1.0);
+    labels.push_back(0);
+    centers.emplace_back(5.0 + 0.1 * i, 0.0, 1.0);
+    labels.push_back(1);
+  }
+  auto obstacles = clustering::buildObstacles(centers, std::vector<std::uint32_t>(centers.size(), 1), labels, 0.1);
+  ASSERT_EQ(obstacles.size(), 2u);
+  obstacles[0].id = 7;
+  obstacles[1].id = 3;
+  const FclObstacles fcl(obstacles);
+  fcl::CollisionObjectd sphere(std::make_shared<fcl::Sphered>(0.1), fcl::Transform3d(Eigen::Translation3d(5.1, 0, 1)));
+  struct Query {
+    const FclObstacles* fcl;
+    const fcl::CollisionObjectd* sphere;
+    std::vector<int> ids;
+  } query{&fcl, &sphere, {}};
+  fcl.manager().collide(&sphere, &query, [](fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* data) {
+    auto* q = static_cast<Query*>(data);
+    q->ids.push_back(q->fcl->idOf(a == q->sphere ? *b : *a));
+    return false;
+  });
+  EXPECT_EQ(query.ids, std::vector<int>{3});
+  const HullChecker checker(obstacles);
+  EXPECT_EQ(checker.check({V3(5.1, -1, 1), V3(5.1, 1, 1)}, 0.1).obstacle, 3);
 }
 
 Segment randomSegment(std::mt19937& rng, double extent, double max_length) {

@@ -1,5 +1,5 @@
 // Path checks against the generator's ground truth: a path that flies through an obstacle the map
-// observed must never be reported clear. The whole pipeline runs (hullmap build's runBuild: frame,
+// observed must never be reported clear. The whole pipeline runs (hullmap build's pipeline::build: frame,
 // octree with free space from the keyframes, weighted DBSCAN, hulls), then HullChecker.
 #include <cmath>
 #include <filesystem>
@@ -11,7 +11,7 @@
 
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
-#include "pipeline.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::collision {
@@ -40,7 +40,7 @@ V3 innerPoint(const SceneObstacle& o, std::mt19937& rng) {
 
 struct Built {
   mapper::Scene scene;
-  cli::BuildResult result;
+  pipeline::BuildResult result;
 };
 
 /// `hullmap build MAP --trajectory TRAJ --up -y` with the given DBSCAN parameters.
@@ -49,13 +49,13 @@ Built build(const mapper::SceneParams& params, const std::string& name, double e
   b.scene = mapper::generateScene(params);
   const auto dir = test::freshDir(name);
   mapper::writeScene(b.scene, params, dir.string());
-  cli::BuildOptions options;
-  options.inputs = {(dir / "map_points.txt").string()};
-  options.trajectory = (dir / "KeyFrameTrajectory.txt").string();
-  options.up = "-y";
+  pipeline::BuildParams options;
+  options.inputs = {dir / "map_points.txt"};
+  options.trajectory = dir / "KeyFrameTrajectory.txt";
+  options.frame.up = mapper::UpAxis::kNegY;
   options.dbscan.eps = eps;
   options.dbscan.min_pts = min_pts;
-  b.result = cli::runBuild(options);
+  b.result = pipeline::build(options);
   return b;
 }
 
@@ -66,7 +66,7 @@ Built build(const mapper::SceneParams& params, const std::string& name, double e
 int expectNoPathThroughAnObstacleIsClear(const Built& b, const std::vector<double>& radii, std::uint32_t seed,
                                          bool contact_before_inside = true) {
   const HullChecker checker(b.result.obstacles);
-  const double voxel = b.result.map->resolution();
+  const double voxel = b.result.map.resolution();
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
   int observed = 0, clear = 0, late = 0;

@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/mapper/align.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "test_support.hpp"
 
 namespace {

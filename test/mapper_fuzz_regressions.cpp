@@ -14,7 +14,7 @@
 
 #include <gtest/gtest.h>
 
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/mapper/readers.hpp"
 #include "test_support.hpp"

@@ -19,7 +19,7 @@
 #include <gtest/gtest.h>
 #include <liblzf/lzf.h>
 
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/readers.hpp"
 #include "test_support.hpp"
 

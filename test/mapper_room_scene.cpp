@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/mapper/align.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/readers.hpp"
 #include "hullmap/mapper/sample_scene.hpp"

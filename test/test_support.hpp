@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/readers.hpp"
 
 namespace hullmap::test {

@@ -7,7 +7,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 
 namespace hullmap::clustering {
 namespace {

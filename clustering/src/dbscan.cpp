@@ -4,10 +4,6 @@
 #include <array>
 #include <atomic>
 #include <cassert>
-#ifdef HULLMAP_DBSCAN_TRACE
-#include <chrono>
-#include <cstdio>
-#endif
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -24,7 +20,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 
 // Grid DBSCAN after Gunawan (2013), Wang, Gu and Shun (SIGMOD 2020) and ArborX's FDBSCAN-DenseBox:
 //  1. points are binned into cells of side slightly below eps/sqrt(d), so any two points of a cell are
@@ -42,7 +38,7 @@ namespace hullmap::clustering {
 Metric parseMetric(const std::string& text) {
   if (text == "xyz") return Metric::kXyz;
   if (text == "xy") return Metric::kXy;
-  throw Error("--metric: expected xyz or xy, got '" + text + "'");
+  throw Error::inParameter("metric", "expected xyz or xy, got '" + text + "'");
 }
 
 std::string toString(Metric metric) { return metric == Metric::kXy ? "xy" : "xyz"; }
@@ -368,29 +364,10 @@ class GridDbscan {
   }
 
   DbscanResult run() {
-#ifdef HULLMAP_DBSCAN_TRACE
-    auto t = std::chrono::steady_clock::now();
-    const auto lap = [&](const char* what) {
-      const auto now = std::chrono::steady_clock::now();
-      std::fprintf(stderr, "%-10s %.4f s\n", what, std::chrono::duration<double>(now - t).count());
-      t = now;
-    };
-    buildGrid();
-    lap("grid");
-    std::fprintf(stderr, "cells %zu\n", coords_.size());
-    markCore();
-    lap("core");
-    joinCoreCells();
-    lap("join");
-    DbscanResult r = label();
-    lap("label");
-    return r;
-#else
     buildGrid();
     markCore();
     joinCoreCells();
     return label();
-#endif
   }
 
  private:
@@ -407,12 +384,6 @@ class GridDbscan {
   std::uint64_t weightOf(Index sorted) const { return input_weights_.empty() ? 1 : input_weights_[order_[sorted]]; }
 
   void buildGrid() {
-#ifdef HULLMAP_DBSCAN_TRACE
-    auto t = std::chrono::steady_clock::now();
-#define GRID_LAP(what) do { const auto now = std::chrono::steady_clock::now(); std::fprintf(stderr, "  %-12s %.4f s\n", what, std::chrono::duration<double>(now - t).count()); t = now; } while (0)
-#else
-#define GRID_LAP(what) do {} while (0)
-#endif
     const std::size_t n = input_.size();
     constexpr double kLimit = 4.0e18;  // |cell coordinate| must fit in int64 with room for the stencil
     BigVector<KeyedPoint> keyed(n);
@@ -428,9 +399,7 @@ class GridDbscan {
         keyed[i] = KeyedPoint{sortKey(cellOf(p)), Index(i)};
       }
     });
-    GRID_LAP("keys");
     sortByKey(keyed);
-    GRID_LAP("sort");
 
     // Cells start where the key changes. The keys go before the sorted points arrive, to keep the
     // peak memory low.
@@ -447,7 +416,6 @@ class GridDbscan {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
       for (std::size_t j = r.begin(); j != r.end(); ++j) pts_[j] = input_[order_[j]];
     });
-    GRID_LAP("gather");
 
     // Two cells may share a key (a hash collision of their blocks): such a run is sorted by
     // coordinates and split where the coordinates change.
@@ -487,7 +455,6 @@ class GridDbscan {
       start_.push_back(Index(n));
     }
     const std::size_t cells = coords_.size();
-    GRID_LAP("bounds");
 
     boxes_.resize(cells);
     cell_weight_.resize(cells);
@@ -512,9 +479,7 @@ class GridDbscan {
         cell_weight_[c] = w;
       }
     });
-    GRID_LAP("boxes");
     table_ = std::make_unique<CellTable>(coords_);
-    GRID_LAP("table");
   }
 
   /// Existing cells of the stencil around `c` that can hold a point within eps of one of c's points,
@@ -747,9 +712,9 @@ class GridDbscan {
 DbscanResult dbscan(const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& weights,
                     const DbscanParams& params) {
   if (!(params.eps > 0.0) || !std::isfinite(params.eps)) {
-    throw Error("dbscan: eps must be a positive finite number, got " + std::to_string(params.eps));
+    throw Error::inParameter("eps", "must be a positive finite number, got " + std::to_string(params.eps));
   }
-  if (params.min_pts < 1) throw Error("dbscan: min_pts must be >= 1, got " + std::to_string(params.min_pts));
+  if (params.min_pts < 1) throw Error::inParameter("min_pts", "must be >= 1, got " + std::to_string(params.min_pts));
   if (!weights.empty() && weights.size() != points.size()) {
     throw Error("dbscan: " + std::to_string(weights.size()) + " weights for " + std::to_string(points.size()) +
                 " points");

@@ -17,7 +17,7 @@
 #include <tbb/parallel_for.h>
 
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 
 namespace hullmap::clustering {
 namespace {
@@ -287,7 +287,7 @@ std::vector<Obstacle> buildObstacles(const std::vector<Eigen::Vector3d>& centers
                                      const std::vector<std::uint32_t>& weights,
                                      const std::vector<std::int32_t>& labels, double voxel_size) {
   if (!(voxel_size > 0) || !std::isfinite(voxel_size))
-    throw Error("buildObstacles: voxel_size must be positive, got " + std::to_string(voxel_size));
+    throw Error::inParameter("voxel_size", "must be positive, got " + std::to_string(voxel_size));
   if (labels.size() != centers.size())
     throw Error("buildObstacles: " + std::to_string(labels.size()) + " labels for " +
                 std::to_string(centers.size()) + " voxels");

@@ -8,7 +8,8 @@
 #include <map>
 #include <utility>
 
-#include "hullmap/mapper/error.hpp"
+#include "convex_distance_detail.hpp"
+#include "hullmap/core/error.hpp"
 
 namespace hullmap::collision {
 namespace {
@@ -417,8 +418,9 @@ double detail::firstContactTouching(const V3& a, const V3& b, const ConvexPolyto
   return bisectContact(a, b, polytope, radius, t_tolerance, lo);
 }
 
-double firstContact(const V3& a, const V3& b, const ConvexPolytope& polytope, double radius, double t_tolerance) {
-  if (segmentPolytopeDistance(a, b, polytope) > radius) return -1.0;
+std::optional<double> firstContact(const V3& a, const V3& b, const ConvexPolytope& polytope, double radius,
+                                   double t_tolerance) {
+  if (segmentPolytopeDistance(a, b, polytope) > radius) return std::nullopt;
   const double lower = detail::contactLowerBound(a, b, polytope, radius);
   return detail::firstContactTouching(a, b, polytope, radius, t_tolerance, lower > 1.0 ? 0.0 : lower);
 }

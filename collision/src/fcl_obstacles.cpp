@@ -4,7 +4,7 @@
 #include <string>
 
 #include "hullmap/collision/convex_distance.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 
 namespace hullmap::collision {
 
@@ -15,6 +15,7 @@ FclObstacles::FclObstacles(const std::vector<clustering::Obstacle>& obstacles)
     const clustering::ConvexHull& hull = obstacles[i].hull;
     const std::string what = "obstacle " + std::to_string(obstacles[i].id);
     polytopes_.push_back(ConvexPolytope::fromHull(hull, what));  // FCL checks none of this
+    ids_.push_back(obstacles[i].id);
     auto vertices = std::make_shared<const std::vector<Eigen::Vector3d>>(hull.vertices);
     auto faces = std::make_shared<std::vector<int>>();
     faces->reserve(4 * hull.triangles.size());

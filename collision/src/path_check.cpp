@@ -20,20 +20,25 @@
 
 #include "hullmap/collision/convex_distance.hpp"
 #include "hullmap/collision/fcl_obstacles.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "convex_distance_detail.hpp"
+#include "hullmap/core/error.hpp"
 
 namespace hullmap::collision {
 namespace {
 
-/// First contact tolerance: 1e-3 of the segment or 1 mm, whichever is larger.
-double contactTolerance(const Segment& segment) {
+/// The request's contact tolerance as a fraction of the segment: 1e-3 of the segment or
+/// contact_tolerance map units, whichever is larger.
+double contactTolerance(const Segment& segment, const CheckRequest& request) {
   const double length = (segment.b - segment.a).norm();
-  return length > 0 ? std::max(1e-3, 1e-3 / length) : 1.0;
+  return length > 0 ? std::max(1e-3, request.contact_tolerance / length) : 1.0;
 }
 
-void checkRadius(double radius) {
-  if (!(radius >= 0) || !std::isfinite(radius))
-    throw Error("radius must be a finite number >= 0, got " + std::to_string(radius));
+void checkRequest(const CheckRequest& request) {
+  if (!(request.radius >= 0) || !std::isfinite(request.radius))
+    throw Error::inParameter("radius", "must be a finite number >= 0, got " + std::to_string(request.radius));
+  if (!(request.contact_tolerance > 0) || !std::isfinite(request.contact_tolerance))
+    throw Error::inParameter("contact_tolerance",
+                             "must be a finite number > 0, got " + std::to_string(request.contact_tolerance));
 }
 
 void checkSegment(const Segment& segment) {
@@ -43,11 +48,10 @@ void checkSegment(const Segment& segment) {
 template <typename CheckOne>
 PathCheck checkWaypoints(const std::vector<Eigen::Vector3d>& waypoints, CheckOne&& check) {
   PathCheck path;
-  if (waypoints.size() == 1) {
-    path.segments.push_back(check(Segment{waypoints[0], waypoints[0]}));
-  }
-  for (std::size_t i = 0; i + 1 < waypoints.size(); ++i)
-    path.segments.push_back(check(Segment{waypoints[i], waypoints[i + 1]}));
+  std::vector<Segment> legs;
+  if (waypoints.size() == 1) legs.push_back(Segment{waypoints[0], waypoints[0]});
+  for (std::size_t i = 0; i + 1 < waypoints.size(); ++i) legs.push_back(Segment{waypoints[i], waypoints[i + 1]});
+  path.segments = check(legs);
   for (std::size_t i = 0; i < path.segments.size(); ++i) {
     if (!path.segments[i].collides) continue;
     path.first_colliding_segment = i;
@@ -194,8 +198,9 @@ HullChecker::~HullChecker() = default;
 HullChecker::HullChecker(HullChecker&&) noexcept = default;
 HullChecker& HullChecker::operator=(HullChecker&&) noexcept = default;
 
-SegmentCheck HullChecker::check(const Segment& segment, double radius) const {
-  checkRadius(radius);
+SegmentCheck HullChecker::check(const Segment& segment, const CheckRequest& request) const {
+  checkRequest(request);
+  const double radius = request.radius;
   checkSegment(segment);
   SegmentCheck result;
   const FclObstacles& obstacles = impl_->fcl;
@@ -218,7 +223,7 @@ SegmentCheck HullChecker::check(const Segment& segment, double radius) const {
   }
   result.collides = true;
   result.clearance = 0.0;
-  const double tolerance = contactTolerance(segment);
+  const double tolerance = contactTolerance(segment, request);
   // Hulls in the order the sweep can first reach them; one that cannot be reached before the
   // first contact found so far is not computed.
   for (auto& [bound, hull] : touching) {
@@ -242,16 +247,17 @@ SegmentCheck HullChecker::check(const Segment& segment, double radius) const {
   return result;
 }
 
-PathCheck HullChecker::checkPath(const std::vector<Eigen::Vector3d>& waypoints, double radius) const {
-  return checkWaypoints(waypoints, [&](const Segment& s) { return check(s, radius); });
+PathCheck HullChecker::checkPath(const std::vector<Eigen::Vector3d>& waypoints, const CheckRequest& request) const {
+  return checkWaypoints(waypoints, [&](const std::vector<Segment>& legs) { return checkBatch(legs, request); });
 }
 
-std::vector<SegmentCheck> HullChecker::checkBatch(const std::vector<Segment>& segments, double radius) const {
-  checkRadius(radius);
+std::vector<SegmentCheck> HullChecker::checkBatch(const std::vector<Segment>& segments,
+                                                  const CheckRequest& request) const {
+  checkRequest(request);
   std::vector<SegmentCheck> results(segments.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) results[i] = check(segments[i], radius);
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) results[i] = check(segments[i], request);
                     });
   return results;
 }
@@ -293,8 +299,9 @@ OctreeChecker::~OctreeChecker() = default;
 OctreeChecker::OctreeChecker(OctreeChecker&&) noexcept = default;
 OctreeChecker& OctreeChecker::operator=(OctreeChecker&&) noexcept = default;
 
-SegmentCheck OctreeChecker::check(const Segment& segment, double radius) const {
-  checkRadius(radius);
+SegmentCheck OctreeChecker::check(const Segment& segment, const CheckRequest& request) const {
+  checkRequest(request);
+  const double radius = request.radius;
   checkSegment(segment);
   SegmentCheck result;
   auto collidesUpTo = [&](double t) {
@@ -319,7 +326,7 @@ SegmentCheck OctreeChecker::check(const Segment& segment, double radius) const {
     return result;
   }
   double lo = 0, hi = 1;
-  const double tolerance = contactTolerance(segment);
+  const double tolerance = contactTolerance(segment, request);
   while (hi - lo > tolerance) {
     const double mid = 0.5 * (lo + hi);
     (collidesUpTo(mid) ? hi : lo) = mid;
@@ -328,8 +335,12 @@ SegmentCheck OctreeChecker::check(const Segment& segment, double radius) const {
   return result;
 }
 
-PathCheck OctreeChecker::checkPath(const std::vector<Eigen::Vector3d>& waypoints, double radius) const {
-  return checkWaypoints(waypoints, [&](const Segment& s) { return check(s, radius); });
+PathCheck OctreeChecker::checkPath(const std::vector<Eigen::Vector3d>& waypoints, const CheckRequest& request) const {
+  return checkWaypoints(waypoints, [&](const std::vector<Segment>& legs) {
+    std::vector<SegmentCheck> results;
+    for (const auto& s : legs) results.push_back(check(s, request));
+    return results;
+  });
 }
 
 }  // namespace hullmap::collision

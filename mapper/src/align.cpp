@@ -8,7 +8,7 @@
 #include <Eigen/SVD>
 
 #include "byte_source.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "read_detail.hpp"
 
 namespace hullmap::mapper {

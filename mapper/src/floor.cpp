@@ -7,7 +7,7 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "read_detail.hpp"
 
 namespace hullmap::mapper {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "read_detail.hpp"
 
 namespace hullmap::mapper {
@@ -21,7 +21,7 @@ UpAxis parseUpAxis(const std::string& text) {
   if (t == "-y") return UpAxis::kNegY;
   if (t == "z" || t == "+z") return UpAxis::kPosZ;
   if (t == "-z") return UpAxis::kNegZ;
-  throw Error("--up: expected one of x, -x, y, -y, z, -z, got '" + text + "'");
+  throw Error::inParameter("up", "expected one of x, -x, y, -y, z, -z, got '" + text + "'");
 }
 
 std::string toString(UpAxis up) {
@@ -65,7 +65,7 @@ namespace {
 
 void checkScale(double scale) {
   if (!(std::isfinite(scale) && scale > 0)) {
-    throw Error("--scale: must be a finite number > 0, got " + std::to_string(scale));
+    throw Error::inParameter("scale", "must be a finite number > 0, got " + std::to_string(scale));
   }
 }
 

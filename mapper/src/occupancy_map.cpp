@@ -19,8 +19,10 @@
 #include <octomap/AbstractOcTree.h>
 #include <tbb/parallel_for.h>
 
-#include "hullmap/mapper/atomic_file.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/atomic_file.hpp"
+#include "hullmap/core/error.hpp"
+#include "keyframe_index.hpp"
+#include "octree_file.hpp"
 #include "octree_keys.hpp"
 
 namespace hullmap::mapper {
@@ -67,19 +69,19 @@ class MuteOctomapStderr {
 constexpr std::uint64_t kMaxOccupiedVoxels = std::uint64_t(1) << 25;
 
 void checkParams(const OctreeParams& p) {
-  auto require = [](bool ok, const std::string& what) {
-    if (!ok) throw Error(what);
+  auto require = [](bool ok, const std::string& parameter, const std::string& what) {
+    if (!ok) throw Error::inParameter(parameter, what);
   };
-  require(std::isfinite(p.resolution) && p.resolution > 0.0, "--resolution must be a positive number of map units");
+  require(std::isfinite(p.resolution) && p.resolution > 0.0, "resolution", "must be a positive number of map units");
   const SensorModel& s = p.sensor;
-  require(s.hit > 0.0 && s.hit < 1.0, "--hit must be a probability in (0, 1)");
-  require(s.miss > 0.0 && s.miss < 1.0, "--miss must be a probability in (0, 1)");
-  require(s.clamp_min > 0.0 && s.clamp_min < 1.0, "--clamp-min must be a probability in (0, 1)");
-  require(s.clamp_max > 0.0 && s.clamp_max < 1.0, "--clamp-max must be a probability in (0, 1)");
-  require(s.clamp_min < s.clamp_max, "--clamp-min must be below --clamp-max");
-  require(s.occupancy_threshold > 0.0 && s.occupancy_threshold < 1.0,
-          "--occupancy-threshold must be a probability in (0, 1)");
-  require(!std::isnan(p.max_range), "--max-range must be a number");
+  const std::string probability = "must be a probability in (0, 1)";
+  require(s.hit > 0.0 && s.hit < 1.0, "hit", probability);
+  require(s.miss > 0.0 && s.miss < 1.0, "miss", probability);
+  require(s.clamp_min > 0.0 && s.clamp_min < 1.0, "clamp_min", probability);
+  require(s.clamp_max > 0.0 && s.clamp_max < 1.0, "clamp_max", probability);
+  require(s.clamp_min < s.clamp_max, "clamp_min/clamp_max", "the lower clamp must be below the upper one");
+  require(s.occupancy_threshold > 0.0 && s.occupancy_threshold < 1.0, "occupancy_threshold", probability);
+  require(!std::isnan(p.max_range), "max_range", "must be a number");
 }
 
 octomap::point3d toPoint3d(const Point& p) {
@@ -151,89 +153,6 @@ void addDropped(InputStats& stats, std::size_t dropped) {
   if (dropped > 0) stats.dropped["out_of_octree"] += dropped;
 }
 
-// Keyframe lookup: nearest keyframe (squared distance, then lower index) among those facing the
-// point, else the nearest of all. A uniform grid over the keyframe positions, searched in
-// growing Chebyshev rings, gives the same answer as the brute-force rule.
-class KeyframeIndex {
- public:
-  explicit KeyframeIndex(const std::vector<Keyframe>& keyframes) : keyframes_(keyframes) {
-    lo_ = hi_ = keyframes.front().position;
-    for (const auto& k : keyframes) {
-      lo_ = lo_.cwiseMin(k.position);
-      hi_ = hi_.cwiseMax(k.position);
-      forward_.push_back(k.orientation * Eigen::Vector3d::UnitZ());
-    }
-    const Eigen::Vector3d extent = (hi_ - lo_).cwiseMax(1e-9);
-    const double volume_per_cell = std::max(extent.prod(), std::pow(extent.maxCoeff(), 3) * 1e-6) /
-                                   static_cast<double>(keyframes.size());
-    cell_ = std::max({std::cbrt(volume_per_cell), extent.maxCoeff() / 64.0, 1e-9});
-    for (int i = 0; i < 3; ++i) dims_[i] = static_cast<long>(std::floor(extent[i] / cell_)) + 1;
-    cells_.assign(static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]), {});
-    for (std::size_t i = 0; i < keyframes.size(); ++i) {
-      const auto c = cellOf(keyframes[i].position);
-      cells_[index(c[0], c[1], c[2])].push_back(static_cast<std::uint32_t>(i));
-    }
-  }
-
-  std::size_t lookup(const Point& p) const {
-    const auto c = cellOf(p);
-    long r0 = 0;  // first ring that meets the grid
-    for (int i = 0; i < 3; ++i) r0 = std::max({r0, -c[i], c[i] - (dims_[i] - 1)});
-    const long r_max = r0 + std::max({dims_[0], dims_[1], dims_[2]});
-    Best facing, any;
-    for (long r = r0; r <= r_max; ++r) {
-      const double bound = static_cast<double>(std::max(0L, r - 1)) * cell_;
-      if (facing.found() && facing.d2 <= bound * bound) break;
-      for (long x = std::max(0L, c[0] - r); x <= std::min(dims_[0] - 1, c[0] + r); ++x) {
-        for (long y = std::max(0L, c[1] - r); y <= std::min(dims_[1] - 1, c[1] + r); ++y) {
-          const bool edge_xy = std::abs(x - c[0]) == r || std::abs(y - c[1]) == r;
-          for (long z = std::max(0L, c[2] - r); z <= std::min(dims_[2] - 1, c[2] + r); ++z) {
-            if (!edge_xy && std::abs(z - c[2]) != r) continue;
-            for (std::uint32_t k : cells_[index(x, y, z)]) {
-              const Eigen::Vector3d d = p - keyframes_[k].position;
-              const double d2 = d.squaredNorm();
-              any.offer(d2, k);
-              if (forward_[k].dot(d) > 0.0) facing.offer(d2, k);
-            }
-          }
-        }
-      }
-    }
-    return facing.found() ? facing.index : any.index;
-  }
-
- private:
-  struct Best {
-    double d2 = std::numeric_limits<double>::infinity();
-    std::size_t index = std::numeric_limits<std::size_t>::max();
-    bool found() const { return index != std::numeric_limits<std::size_t>::max(); }
-    void offer(double d, std::size_t i) {
-      if (d < d2 || (d == d2 && i < index)) {
-        d2 = d;
-        index = i;
-      }
-    }
-  };
-
-  std::array<long, 3> cellOf(const Point& p) const {
-    std::array<long, 3> c{};
-    for (int i = 0; i < 3; ++i) {
-      const double v = std::floor((p[i] - lo_[i]) / cell_);
-      c[i] = static_cast<long>(std::clamp(v, -1e15, 1e15));
-    }
-    return c;
-  }
-  std::size_t index(long x, long y, long z) const {
-    return static_cast<std::size_t>((x * dims_[1] + y) * dims_[2] + z);
-  }
-
-  const std::vector<Keyframe>& keyframes_;
-  std::vector<Eigen::Vector3d> forward_;
-  Eigen::Vector3d lo_, hi_;
-  double cell_ = 1.0;
-  std::array<long, 3> dims_{};
-  std::vector<std::vector<std::uint32_t>> cells_;
-};
 
 std::string extensionOf(const std::string& path) {
   const auto dot = path.find_last_of('.');
@@ -243,92 +162,6 @@ std::string extensionOf(const std::string& path) {
   return ext;
 }
 
-// Parses octomap's text header ("id", "size", "res" lines up to "data") and walks the node
-// stream: 2 bytes per node in .bt (2 bits per child: 01 occupied, 10 free, 11 inner), a float
-// and a child mask per node in .ot. Throws naming the file when anything does not add up.
-/// What the header of a .bt / .ot file says, and where its node stream starts.
-struct OctreeFileHeader {
-  double resolution = 0.0;
-  std::size_t size = 0;         ///< nodes
-  std::size_t data_offset = 0;  ///< first byte after the 'data' line
-};
-
-/// Parses the header line by line, strictly (one `key value` a line, nothing after it), and walks the
-/// node stream. readMap then gives octomap only those node bytes: octomap's own header parser reads
-/// tokens, not lines ("res 0.1data" ends its header), so a file it parsed differently could pass this
-/// walk and still send octomap's recursive reader into garbage.
-OctreeFileHeader validateOctreeFile(const std::string& path, const std::string& bytes, bool binary) {
-  std::size_t pos = bytes.find('\n');
-  std::string id;
-  long long size = -1;
-  double res = 0.0;
-  bool data = false;
-  while (pos != std::string::npos && pos + 1 < bytes.size()) {
-    const std::size_t begin = pos + 1;
-    pos = bytes.find('\n', begin);
-    const std::string line = bytes.substr(begin, pos == std::string::npos ? std::string::npos : pos - begin);
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream words(line);
-    std::string token;
-    words >> token;
-    if (token == "data") {
-      std::string extra;
-      if (words >> extra) throw Error(path + ": malformed OctoMap header line '" + line + "'");
-      data = true;
-      break;
-    }
-    if (token == "id") words >> id;
-    else if (token == "size") words >> size;
-    else if (token == "res") words >> res;
-    else throw Error(path + ": unknown OctoMap header line '" + line + "'");
-    std::string extra;
-    if (!words || words >> extra) throw Error(path + ": malformed OctoMap header line '" + line + "'");
-  }
-  if (!data || pos == std::string::npos) throw Error(path + ": OctoMap header without a 'data' line");
-  if (size < 0 || !(res > 0.0) || !std::isfinite(res)) throw Error(path + ": OctoMap header lacks a valid size and res");
-  if (id != "OcTree") throw Error(path + ": octree type '" + id + "' is not an OcTree");
-  std::size_t at = pos + 1;
-  long long nodes = 0;
-  auto need = [&](std::size_t n) {
-    if (at + n > bytes.size()) throw Error(path + ": truncated OctoMap data (file ends inside node " + std::to_string(nodes) + ")");
-  };
-  // Depth-first; the depth check bounds the recursion at 16.
-  std::function<void(unsigned)> walk = [&](unsigned depth) {
-    ++nodes;
-    if (nodes > size) throw Error(path + ": OctoMap data holds more nodes than its header's size " + std::to_string(size));
-    if (binary) {
-      need(2);
-      const unsigned char a = static_cast<unsigned char>(bytes[at]);
-      const unsigned char b = static_cast<unsigned char>(bytes[at + 1]);
-      at += 2;
-      const unsigned bits = a | (b << 8);
-      for (unsigned i = 0; i < 8; ++i) {
-        const unsigned code = (bits >> (2 * i)) & 3;
-        if (code == 0) continue;
-        if (depth + 1 > kTreeDepth) throw Error(path + ": corrupt OctoMap data (tree deeper than 16)");
-        if (code == 3) {
-          walk(depth + 1);
-        } else {
-          ++nodes;
-        }
-      }
-    } else {
-      need(sizeof(float) + 1);
-      const unsigned char mask = static_cast<unsigned char>(bytes[at + sizeof(float)]);
-      at += sizeof(float) + 1;
-      for (unsigned i = 0; i < 8; ++i) {
-        if (!(mask & (1u << i))) continue;
-        if (depth + 1 > kTreeDepth) throw Error(path + ": corrupt OctoMap data (tree deeper than 16)");
-        walk(depth + 1);
-      }
-    }
-  };
-  if (size > 0) walk(0);
-  if (nodes != size) {
-    throw Error(path + ": OctoMap data holds " + std::to_string(nodes) + " nodes, its header says " + std::to_string(size));
-  }
-  return {res, static_cast<std::size_t>(size), pos + 1};
-}
 
 }  // namespace
 
@@ -481,14 +314,14 @@ OccupancyMap buildFromPoints(const Points& points, const OctreeParams& params, I
 
 OccupancyMap buildWithTrajectory(const Points& points, const std::vector<Keyframe>& keyframes,
                                  const OctreeParams& params, InputStats& stats) {
-  if (keyframes.empty()) throw Error("--trajectory: no keyframes to cast free space from");
+  if (keyframes.empty()) throw Error::inParameter("keyframes", "none to cast free space from");
   OccupancyMap map(params);
   std::size_t dropped = 0;
   std::vector<char> ok;
   recordCounts(map, countPoints(map.tree(), points, ok, dropped));
   addDropped(stats, dropped);
 
-  const KeyframeIndex index(keyframes);
+  const detail::KeyframeIndex index(keyframes);
   std::vector<std::uint32_t> owner(points.size());
   tbb::parallel_for(std::size_t{0}, points.size(), std::size_t{4096}, [&](std::size_t begin) {
     const std::size_t end = std::min(points.size(), begin + 4096);
@@ -514,6 +347,22 @@ OccupancyMap buildWithTrajectory(const Points& points, const std::vector<Keyfram
   return map;
 }
 
+OccupancyMap buildFromScan(const Points& points, const Point& origin, const OctreeParams& params,
+                           InputStats& stats) {
+  OccupancyMap map(params);
+  std::size_t dropped = 0;
+  std::vector<char> ok;
+  recordCounts(map, countPoints(map.tree(), points, ok, dropped));
+  addDropped(stats, dropped);
+  Points addressable;
+  addressable.reserve(points.size() - dropped);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (ok[i]) addressable.push_back(points[i]);
+  }
+  insertScan(map.tree(), addressable, origin, params.max_range);
+  return map;
+}
+
 OccupancyMap readMap(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open octree file");
@@ -525,7 +374,7 @@ OccupancyMap readMap(const std::string& path) {
   // octomap trusts the node stream: a truncated or corrupt one reads uninitialised bytes and can
   // recurse without end. Walk it first, then give octomap those node bytes alone (its readData and
   // readBinaryData are what AbstractOcTree::read and readBinary call after their own header parse).
-  const OctreeFileHeader header = validateOctreeFile(path, bytes, binary);  // id is OcTree
+  const detail::OctreeFileHeader header = detail::validateOctreeFile(path, bytes, binary);  // id is OcTree
   OctreeParams params;
   params.resolution = header.resolution;
   OccupancyMap map(params);
@@ -547,7 +396,7 @@ OccupancyMap readMap(const std::string& path) {
 void writeMap(const OccupancyMap& map, const std::string& path) {
   const std::string ext = extensionOf(path);
   if (ext != "bt" && ext != "ot") throw Error(path + ": octree file must end in .bt or .ot");
-  writeFileAtomically(
+  core::writeFileAtomically(
       path,
       [&map, &ext, &path](std::ostream& out) {
         bool ok;

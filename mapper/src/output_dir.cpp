@@ -9,8 +9,8 @@
 
 #include <unistd.h>
 
-#include "hullmap/mapper/atomic_file.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/atomic_file.hpp"
+#include "hullmap/core/error.hpp"
 
 namespace hullmap::mapper {
 namespace {
@@ -164,7 +164,7 @@ void checkOutputFile(const std::string& path) {
 }
 
 void writeOutputMarker(const std::string& dir, const std::vector<std::string>& files) {
-  writeFileAtomically((fs::path(dir) / kOutputMarker).string(), [&](std::ostream& out) {
+  core::writeFileAtomically((fs::path(dir) / kOutputMarker).string(), [&](std::ostream& out) {
     out << kOutputMarkerFormat << '\n';
     for (const auto& name : files) out << name << '\n';
   });

@@ -11,7 +11,7 @@
 #include <string_view>
 
 #include "byte_source.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/point_cloud.hpp"
 #include "hullmap/mapper/readers.hpp"
 

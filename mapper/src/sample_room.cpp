@@ -6,7 +6,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 #include "scene_random.hpp"
 

@@ -12,8 +12,8 @@
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
 
-#include "hullmap/mapper/atomic_file.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/atomic_file.hpp"
+#include "hullmap/core/error.hpp"
 #include "scene_random.hpp"
 
 namespace hullmap::mapper {
@@ -286,7 +286,7 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
   if (ec) throw Error(dir + ": cannot create directory: " + ec.message());
   const fs::path base(dir);
 
-  writeFileAtomically((base / "map_points.txt").string(), [&scene](std::ostream& out) {
+  core::writeFileAtomically((base / "map_points.txt").string(), [&scene](std::ostream& out) {
     constexpr std::size_t kBlock = 1 << 20;
     constexpr std::size_t kPart = 1 << 15;
     const std::size_t n = scene.points.size();
@@ -304,7 +304,7 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
     }
   });
 
-  writeFileAtomically((base / "KeyFrameTrajectory.txt").string(), [&scene](std::ostream& out) {
+  core::writeFileAtomically((base / "KeyFrameTrajectory.txt").string(), [&scene](std::ostream& out) {
     char line[512];
     for (const Keyframe& k : scene.keyframes) {
       const Eigen::Quaterniond& q = k.orientation;
@@ -320,7 +320,7 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
                           {"size", {o.size.x(), o.size.y(), o.size.z()}}};
   };
   if (params.layout == SceneLayout::kRoom) {
-    writeFileAtomically((base / "reference_trajectory.txt").string(), [&scene](std::ostream& out) {
+    core::writeFileAtomically((base / "reference_trajectory.txt").string(), [&scene](std::ostream& out) {
       char line[512];
       for (const Keyframe& k : scene.reference) {
         const Eigen::Quaterniond& q = k.orientation;
@@ -331,7 +331,7 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
     });
   }
 
-  writeFileAtomically((base / "ground_truth.json").string(), [&scene, &params, &primitive](std::ostream& out) {
+  core::writeFileAtomically((base / "ground_truth.json").string(), [&scene, &params, &primitive](std::ostream& out) {
     nlohmann::json j;
     j["frame"] = "z-up map";
     j["units"] = "metres";

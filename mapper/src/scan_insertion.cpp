@@ -410,22 +410,56 @@ void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3]
 
 namespace {
 
-// First update in [begin, end) (sorted) with code >= limit. Exponential search: the runs of one
-// child are long near the root and short near the leaves, and a scan would read every update at
+// First item in [begin, end) (sorted by code) with code >= limit. Exponential search: the runs of
+// one child are long near the root and short near the leaves, and a scan would read every item at
 // every level.
-VoxelUpdate* firstAtLeast(VoxelUpdate* begin, VoxelUpdate* end, std::uint64_t limit) {
+template <typename Item>
+Item* firstAtLeast(Item* begin, Item* end, std::uint64_t limit) {
   const std::size_t n = static_cast<std::size_t>(end - begin);
   std::size_t bound = 1;
   while (bound <= n && begin[bound - 1].code < limit) bound *= 2;
   return std::lower_bound(begin + bound / 2, begin + std::min(bound, n), limit,
-                          [](const VoxelUpdate& u, std::uint64_t l) { return u.code < l; });
+                          [](const Item& item, std::uint64_t l) { return item.code < l; });
 }
+
+// LSD radix sort of items by their `code`, 13 bits a pass, `passes` passes (stable).
+template <typename Item>
+void radixSortByCode(std::vector<Item>& items, unsigned passes) {
+  std::vector<Item> buffer(items.size());
+  std::vector<std::size_t> count(1 << 13);
+  for (unsigned pass = 0; pass < passes; ++pass) {
+    const unsigned shift = 13 * pass;
+    std::fill(count.begin(), count.end(), 0);
+    for (const Item& item : items) ++count[(item.code >> shift) & 0x1FFF];
+    std::size_t sum = 0;
+    for (std::size_t& n : count) {
+      const std::size_t here = n;
+      n = sum;
+      sum += here;
+    }
+    for (const Item& item : items) buffer[count[(item.code >> shift) & 0x1FFF]++] = item;
+    items.swap(buffer);
+  }
+}
+
+// octomap's node update, as updateNode applies it: a hit adds the hit log-odds, a miss the miss
+// log-odds, and an update is skipped (search(key) stops there) when the node is already clamped on
+// the side the update pushes towards.
+struct UpdatePolicy {
+  explicit UpdatePolicy(const octomap::OcTree& tree)
+      : hit(tree.getProbHitLog()), miss(tree.getProbMissLog()), clamp_min(tree.getClampingThresMinLog()),
+        clamp_max(tree.getClampingThresMaxLog()) {}
+  float logOdds(bool occupied) const { return occupied ? hit : miss; }
+  bool aborts(bool occupied, float v) const {
+    const float update = logOdds(occupied);
+    return (update >= 0 && v >= clamp_max) || (update <= 0 && v <= clamp_min);
+  }
+  float hit, miss, clamp_min, clamp_max;
+};
 
 class BatchUpdate {
  public:
-  explicit BatchUpdate(octomap::OcTree& tree)
-      : tree_(tree), hit_(tree.getProbHitLog()), miss_(tree.getProbMissLog()),
-        clamp_min_(tree.getClampingThresMinLog()), clamp_max_(tree.getClampingThresMaxLog()) {}
+  explicit BatchUpdate(octomap::OcTree& tree) : tree_(tree), policy_(tree) {}
 
   // Returns true when something below `node` changed (octomap then prunes or refreshes it).
   bool descend(octomap::OcTreeNode* node, bool just_created, unsigned depth, VoxelUpdate* begin,
@@ -437,7 +471,7 @@ class BatchUpdate {
       if (begin == end) return false;
     }
     if (depth == kTreeDepth) {
-      const float update = (begin->code & 1) ? hit_ : miss_;
+      const float update = policy_.logOdds((begin->code & 1) != 0);
       tree_.updateNodeLogOdds(node, update);
       for (std::uint32_t i = 1; i < begin->count && !aborts(begin->code, node->getLogOdds()); ++i) {
         tree_.updateNodeLogOdds(node, update);
@@ -467,55 +501,24 @@ class BatchUpdate {
 
  private:
   bool aborts(std::uint64_t code, float v) const {
-    const float update = (code & 1) ? hit_ : miss_;
-    return (update >= 0 && v >= clamp_max_) || (update <= 0 && v <= clamp_min_);
+    return policy_.aborts((code & 1) != 0, v);
   }
 
   static constexpr unsigned kTreeDepth = 16;
   octomap::OcTree& tree_;
-  float hit_, miss_, clamp_min_, clamp_max_;
+  UpdatePolicy policy_;
 };
 
 }  // namespace
 
 void sortUpdates(std::vector<VoxelUpdate>& updates) {
-  // 49-bit codes: four passes of 13 bits.
-  std::vector<VoxelUpdate> buffer(updates.size());
-  std::vector<std::size_t> count(1 << 13);
-  for (unsigned pass = 0; pass < 4; ++pass) {
-    const unsigned shift = 13 * pass;
-    std::fill(count.begin(), count.end(), 0);
-    for (const VoxelUpdate& u : updates) ++count[(u.code >> shift) & 0x1FFF];
-    std::size_t sum = 0;
-    for (std::size_t& n : count) {
-      const std::size_t here = n;
-      n = sum;
-      sum += here;
-    }
-    for (const VoxelUpdate& u : updates) buffer[count[(u.code >> shift) & 0x1FFF]++] = u;
-    updates.swap(buffer);
-  }
+  radixSortByCode(updates, 4);  // 49-bit codes
 }
 
 namespace {
 
 void sortBricks(std::vector<ScanUpdate::Entry>& bricks) {
-  // 39-bit codes: three passes of 13 bits.
-  std::vector<ScanUpdate::Entry> buffer(bricks.size());
-  std::vector<std::size_t> count(1 << 13);
-  for (unsigned pass = 0; pass < 3; ++pass) {
-    const unsigned shift = 13 * pass;
-    std::fill(count.begin(), count.end(), 0);
-    for (const auto& b : bricks) ++count[(b.code >> shift) & 0x1FFF];
-    std::size_t sum = 0;
-    for (std::size_t& n : count) {
-      const std::size_t here = n;
-      n = sum;
-      sum += here;
-    }
-    for (const auto& b : bricks) buffer[count[(b.code >> shift) & 0x1FFF]++] = b;
-    bricks.swap(buffer);
-  }
+  radixSortByCode(bricks, 3);  // 39-bit codes
 }
 
 // The voxels of the entries [begin, end) of one brick: occupied, and free but not occupied.
@@ -659,8 +662,7 @@ namespace {
 class ScanApply {
  public:
   ScanApply(octomap::OcTree& tree, const ScanUpdate& update)
-      : tree_(tree), update_(update), hit_(tree.getProbHitLog()), miss_(tree.getProbMissLog()),
-        clamp_min_(tree.getClampingThresMinLog()), clamp_max_(tree.getClampingThresMaxLog()) {}
+      : tree_(tree), update_(update), policy_(tree) {}
 
   /// Voxel `skip` (Morton code) is left out: the caller applied it already.
   void run(std::uint64_t skip) {
@@ -670,8 +672,8 @@ class ScanApply {
   }
 
  private:
-  bool abortsOccupied(float v) const { return (hit_ >= 0 && v >= clamp_max_) || (hit_ <= 0 && v <= clamp_min_); }
-  bool abortsFree(float v) const { return (miss_ >= 0 && v >= clamp_max_) || (miss_ <= 0 && v <= clamp_min_); }
+  bool abortsOccupied(float v) const { return policy_.aborts(true, v); }
+  bool abortsFree(float v) const { return policy_.aborts(false, v); }
 
   // Child `pos` of `node`, created (or `node` expanded) as updateNodeRecurs does.
   octomap::OcTreeNode* child(octomap::OcTreeNode* node, bool node_created, unsigned pos, bool& created) {
@@ -732,7 +734,7 @@ class ScanApply {
     bool changed = false;
     for (const ScanUpdate::Entry* it = begin; it != end;) {
       const unsigned pos = static_cast<unsigned>((it->code >> shift) & 7);
-      const ScanUpdate::Entry* run = firstEntryAtLeast(it + 1, end, ((it->code >> shift) + 1) << shift);
+      const ScanUpdate::Entry* run = firstAtLeast(it + 1, end, ((it->code >> shift) + 1) << shift);
       bool created;
       octomap::OcTreeNode* next = child(node, just_created, pos, created);
       if (depth + 1 < kBrickDepth) {
@@ -807,7 +809,7 @@ class ScanApply {
   // each once from 0 (the same value for all) and prune them into it, leaving the node a leaf with
   // that value, which is the node updated once from its own 0. Saves the children's allocations.
   bool collapsed(octomap::OcTreeNode* node, bool occupied) {
-    tree_.updateNodeLogOdds(node, occupied ? hit_ : miss_);
+    tree_.updateNodeLogOdds(node, policy_.logOdds(occupied));
     return true;
   }
 
@@ -815,23 +817,14 @@ class ScanApply {
     if (!just_created && (occupied ? abortsOccupied(node->getLogOdds()) : abortsFree(node->getLogOdds()))) {
       return false;
     }
-    tree_.updateNodeLogOdds(node, occupied ? hit_ : miss_);
+    tree_.updateNodeLogOdds(node, policy_.logOdds(occupied));
     return true;
-  }
-
-  static const ScanUpdate::Entry* firstEntryAtLeast(const ScanUpdate::Entry* begin, const ScanUpdate::Entry* end,
-                                                    std::uint64_t limit) {
-    const std::size_t n = static_cast<std::size_t>(end - begin);
-    std::size_t bound = 1;
-    while (bound <= n && begin[bound - 1].code < limit) bound *= 2;
-    return std::lower_bound(begin + bound / 2, begin + std::min(bound, n), limit,
-                            [](const ScanUpdate::Entry& e, std::uint64_t l) { return e.code < l; });
   }
 
   static constexpr unsigned kBrickDepth = 13;
   octomap::OcTree& tree_;
   const ScanUpdate& update_;
-  float hit_, miss_, clamp_min_, clamp_max_;
+  UpdatePolicy policy_;
   std::uint64_t skip_ = ~std::uint64_t{0};
 };
 

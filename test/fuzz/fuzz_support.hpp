@@ -11,7 +11,7 @@
 #include <string>
 #include <string_view>
 
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/point_cloud.hpp"
 
 namespace hullmap::fuzz {

@@ -54,8 +54,26 @@ DbscanResult dbscan(const std::vector<Eigen::Vector3d>& points, const std::vecto
 /// Distance to the k-th nearest neighbour (k = min_pts - 1, the point itself not counted; duplicates
 /// count) of each point under `metric`, sorted descending: the k-distance curve. Weights are not used.
 /// min_pts <= 1 gives all zeros; with fewer than min_pts points the curve is empty.
-/// Throws hullmap::Error on min_pts < 1 or non-finite points.
-std::vector<double> kDistanceCurve(const std::vector<Eigen::Vector3d>& points, int min_pts, Metric metric);
+///
+/// With `max_samples` > 0 and more points than that, the curve holds the exact k-distances (against
+/// all points) of the max_samples points kDistanceSample picks, evenly spread over the input: a
+/// sample of the full curve, for an eps suggestion on millions of points (`hullmap cluster` samples
+/// kEpsSuggestionSamples). 0: every point.
+///
+/// nanoflann's k-d tree, in parallel (TBB); the distances are those of the brute-force definition
+/// (squared differences summed per axis in axis order, then the square root). Throws hullmap::Error
+/// on min_pts < 1 or non-finite points.
+std::vector<double> kDistanceCurve(const std::vector<Eigen::Vector3d>& points, int min_pts, Metric metric,
+                                   std::size_t max_samples = 0);
+
+/// Points whose k-distance a sampled curve holds: floor(j * n / count) for j < count, count =
+/// min(n, max_samples) (all n when max_samples is 0), ascending.
+std::vector<std::uint32_t> kDistanceSample(std::size_t n, std::size_t max_samples);
+
+/// Sample size of `hullmap cluster`'s eps suggestion. Against the full curve its knee moved by 0.5% on
+/// a generated 300k-point scene, 0.45% on PCL's table scene and not at all on ORB-SLAM2's EuRoC V1_01
+/// map, at a fraction of the time.
+inline constexpr std::size_t kEpsSuggestionSamples = 8192;
 
 /// Suggested eps: the knee of the k-distance curve, found by this rule:
 /// 1. drop the largest 1% of the values (at least one value when there are 100 or more), so that gross

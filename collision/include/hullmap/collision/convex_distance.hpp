@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,40 +47,13 @@ double pointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                              const Eigen::Vector3d& c);
 
 /// Smallest t in [0, 1] such that the sphere of `radius` swept from a to a + t (b - a) touches the
-/// polytope, to within `t_tolerance` (the returned t is at or just after the true first contact);
-/// nullopt-like -1 when the whole sweep stays clear. The contact is bracketed from below (where the
+/// polytope, to within `t_tolerance` (the returned t is at or just after the true first contact,
+/// at most `t_tolerance` after it); std::nullopt when the whole sweep stays clear. The contact is bracketed from below (where the
 /// segment enters the face planes pushed out by `radius`, then certified Newton steps on the point's
 /// distance, which is convex in t) and confirmed by a distance within `radius` at most `t_tolerance`
 /// later; bisection on the prefix distance where the distance cannot decide.
-double firstContact(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const ConvexPolytope& polytope,
-                    double radius, double t_tolerance);
+std::optional<double> firstContact(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                   const ConvexPolytope& polytope, double radius, double t_tolerance);
 
-namespace detail {
-
-/// A distance with its proof: `upper` is realised by a pair of points (the distance is at most it),
-/// and every point of the polytope x satisfies normal.(p - x) >= lower for every p of the segment
-/// (so the distance is at least `lower`). normal is a unit vector, or zero when lower is 0.
-struct DistanceCertificate {
-  double upper = 0.0;
-  double lower = 0.0;
-  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-};
-
-/// segmentPolytopeDistance with its certificate. Stops early, with a valid but loose certificate,
-/// once `upper <= settle_at` or `lower > give_up_beyond` (for callers that only need to know which).
-DistanceCertificate certifiedDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                      const ConvexPolytope& polytope, double settle_at, double give_up_beyond);
-
-/// A t no later than the sweep's first contact: where [a, b] has crossed every face plane, pushed
-/// out by `radius`, that a starts outside of. Greater than 1 proves the sweep stays clear.
-double contactLowerBound(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const ConvexPolytope& polytope,
-                         double radius);
-
-/// firstContact for a sweep known to touch the polytope (distance of [a, b] <= radius), given a
-/// lower bound on the contact (contactLowerBound, or 0).
-double firstContactTouching(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const ConvexPolytope& polytope,
-                            double radius, double t_tolerance, double lower_bound);
-
-}  // namespace detail
 
 }  // namespace hullmap::collision

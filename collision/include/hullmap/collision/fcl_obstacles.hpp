@@ -17,8 +17,9 @@ namespace hullmap::collision {
 /// `fcl::Convexd` (triangles as faces, outward), validated twice — hullmap's check that it is
 /// closed, convex and of positive volume, then FCL's own topology check (`throw_if_invalid`) — at
 /// the identity pose (hull vertices are in the z-up map frame, map units), all registered in one
-/// `fcl::DynamicAABBTreeCollisionManagerd`, already set up. The user data of each object is its
-/// index in the obstacles given (see indexOf). Each hull is kept as a ConvexPolytope too.
+/// `fcl::DynamicAABBTreeCollisionManagerd`, already set up. An FCL callback names the obstacle an
+/// object stands for by its id (idOf), as HullChecker's results do. Each hull is kept as a
+/// ConvexPolytope too.
 ///
 /// HullChecker uses this manager as its broadphase. It does not take its answers from FCL's
 /// narrowphase on `Convex` (GJK/EPA distances that are not exact, and a continuous collision that
@@ -48,12 +49,16 @@ class FclObstacles {
   /// The hull of obstacles[i] for hullmap's exact queries (the same vertices as object(i)).
   const ConvexPolytope& polytope(std::size_t i) const { return polytopes_[i]; }
 
-  /// Index in the obstacles of an object this class made (for FCL callbacks).
+  /// The id (clustering::Obstacle::id) of the obstacle an object this class made stands for.
+  int idOf(const fcl::CollisionObjectd& object) const { return ids_[indexOf(object)]; }
+
+  /// Position of an object this class made among object(i) and polytope(i) (the user data FCL carries).
   static std::size_t indexOf(const fcl::CollisionObjectd& object) {
     return reinterpret_cast<std::size_t>(object.getUserData());
   }
 
  private:
+  std::vector<int> ids_;
   std::vector<ConvexPolytope> polytopes_;
   std::vector<std::unique_ptr<fcl::CollisionObjectd>> objects_;
   std::unique_ptr<fcl::DynamicAABBTreeCollisionManagerd> manager_;

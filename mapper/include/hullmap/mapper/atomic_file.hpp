@@ -1,15 +1,7 @@
 #pragma once
-
-#include <functional>
-#include <ostream>
-#include <string>
+// writeFileAtomically lives in the core library; this header stays for code written against the old path.
+#include "hullmap/core/atomic_file.hpp"
 
 namespace hullmap::mapper {
-
-/// Writes `path` whole or not at all: `write` fills a temporary file beside `path`, which is
-/// flushed and renamed over `path` only when `write` returns normally and the stream is good.
-/// On any failure the temporary file is removed and hullmap::Error names `path`.
-void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write,
-                         bool binary = false);
-
+using core::writeFileAtomically;
 }  // namespace hullmap::mapper

@@ -1,15 +1,3 @@
 #pragma once
-
-#include <stdexcept>
-#include <string>
-
-namespace hullmap {
-
-/// The one exception hullmap's public API throws. Its message names the file and line, or the
-/// parameter, at fault: "maps/a.pcd:12: expected 3 numbers, got 2".
-class Error : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-}  // namespace hullmap
+// hullmap::Error lives in the core library; this header stays for code written against the old path.
+#include "hullmap/core/error.hpp"

@@ -120,6 +120,13 @@ class PointMapBuilder {
 OccupancyMap buildWithTrajectory(const Points& points, const std::vector<Keyframe>& keyframes,
                                  const OctreeParams& params, InputStats& stats);
 
+/// Builds the map of one scan: `points` (map frame) inserted with insertScan from `origin`, rays
+/// bounded by params.max_range, and each point counted in its voxel. Points the tree cannot
+/// address are dropped first and counted under "out_of_octree" (they cast no ray). Keys are
+/// computed as insertScan computes them (float coordinates, octomap's coordToKey).
+OccupancyMap buildFromScan(const Points& points, const Point& origin, const OctreeParams& params,
+                           InputStats& stats);
+
 /// Inserts one scan from `origin` exactly as octomap's insertPointCloud(points, origin, max_range)
 /// would with its defaults (lazy_eval and discretize off): same leaves, same log-odds, same pruning.
 /// Faster: ray keys cast in parallel (TBB) into per-thread sets, merged without a lock (occupied
@@ -133,11 +140,18 @@ void insertScan(octomap::OcTree& tree, const Points& points, const Point& origin
 /// reads it, and octomap's result is checked: a missing, truncated, corrupt or non-OctoMap file is
 /// an Error naming it. A .bt holds no point counts (and only maximum-likelihood log-odds): its
 /// occupied voxels have weight 1. A .bt tree gets octomap's default sensor model.
+///
+/// stderr: Debian's liboctomap prints progress on stderr while it reads and writes a tree (fprintf
+/// and std::cerr in its compiled code, which hullmap cannot reach). readMap and writeMap therefore
+/// point file descriptor 2 at /dev/null for the duration of octomap's call, under a process-wide
+/// mutex: anything another thread of the process writes to stderr in that moment is lost too. A
+/// node that must not lose log lines should log elsewhere than fd 2, or not read and write trees
+/// while logging to it.
 OccupancyMap readMap(const std::string& path);
 
 /// Writes the tree as .bt (binary, octomap's writeBinaryConst: maximum likelihood, no counts) or
 /// .ot (full log-odds) by extension, atomically (temporary file + rename). Other extensions are an
-/// Error naming the path.
+/// Error naming the path. Mutes fd 2 around octomap's call as readMap does (see there).
 void writeMap(const OccupancyMap& map, const std::string& path);
 
 /// Summary for `hullmap info`: resolution, metric bounds of the tree (getMetricMin/Max, zero when

@@ -10,27 +10,10 @@
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/clustering/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/plot/colour.hpp"
+#include "hullmap/plot/picture_output.hpp"
 
-namespace hullmap::cli {
-
-/// An sRGB colour, 8 bits per channel.
-struct Rgb {
-  std::uint8_t r = 0;
-  std::uint8_t g = 0;
-  std::uint8_t b = 0;
-};
-
-/// "#rrggbb", lower case.
-std::string toHex(Rgb colour);
-
-/// Colour of a cluster label, the same in every picture hullmap draws:
-/// - clustering::kNoise (and any negative label) is black, #000000;
-/// - labels 0..17 take Kelly's colours of maximum contrast, in Kelly's order (white, black, the
-///   neutral grey and the near-black olive left out, so no cluster looks like noise);
-/// - from label 18 on, the hue steps by the golden angle (137.5 degrees) in CIE LCh at lightness
-///   cycling through 55, 72, 45, so consecutive labels stay far apart and none is near black.
-/// Pure function, thread-safe.
-Rgb clusterColour(std::int32_t label);
+namespace hullmap::plot {
 
 /// Which plane the picture shows. The map frame is z up.
 enum class PlotView {
@@ -101,33 +84,4 @@ std::string renderSweepSvg(const std::vector<Eigen::Vector3d>& points,
                            const std::vector<SweepPanel>& panels, double cell_size,
                            const std::string& title);
 
-/// Debian package that provides rsvg-convert, named in errors and output.
-inline constexpr const char* kPngConverterPackage = "librsvg2-bin";
-
-/// Full path of the executable `name` in the ':'-separated directory list `search_path` (the value
-/// of PATH), or nullopt.
-std::optional<std::string> findProgram(const std::string& name, const std::string& search_path);
-
-/// rsvg-convert found on the process's PATH, or nullopt.
-std::optional<std::string> findPngConverter();
-
-/// Where a picture goes. `path` ending in ".png" (any case) means PNG only; otherwise the SVG is
-/// written to `path`, and with `also_png` a PNG beside it (extension replaced by .png).
-struct PictureOutput {
-  std::string path;
-  bool also_png = false;
-  std::string option = "-o";   ///< the option that named `path`, for error messages
-};
-
-/// Throws the hullmap::Error writePicture would throw before writing anything: no file name, a
-/// directory that does not exist, a PNG asked without a converter. Lets a command fail before its work.
-void checkPictureOutput(const PictureOutput& output, const std::optional<std::string>& converter);
-
-/// Writes `svg` as asked, each file atomically (temporary file + rename). PNGs are rendered by
-/// `converter` (rsvg-convert). Returns the files written. Throws hullmap::Error naming the file or
-/// the option: when a PNG is asked and `converter` is nullopt the message names the package to
-/// install (librsvg2-bin); when the converter fails, its exit status.
-std::vector<std::string> writePicture(const std::string& svg, const PictureOutput& output,
-                                      const std::optional<std::string>& converter);
-
-}  // namespace hullmap::cli
+}  // namespace hullmap::plot

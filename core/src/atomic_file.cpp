@@ -1,4 +1,4 @@
-#include "hullmap/mapper/atomic_file.hpp"
+#include "hullmap/core/atomic_file.hpp"
 
 #include <cerrno>
 #include <cstdio>
@@ -9,9 +9,9 @@
 
 #include <unistd.h>
 
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/error.hpp"
 
-namespace hullmap::mapper {
+namespace hullmap::core {
 
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write,
                          bool binary) {
@@ -37,4 +37,4 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
   }
 }
 
-}  // namespace hullmap::mapper
+}  // namespace hullmap::core

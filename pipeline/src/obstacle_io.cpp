@@ -1,13 +1,13 @@
-#include "obstacle_io.hpp"
+#include "hullmap/pipeline/obstacle_io.hpp"
 
 #include <fstream>
 #include <iomanip>
 #include <limits>
 
-#include "hullmap/mapper/atomic_file.hpp"
-#include "hullmap/mapper/error.hpp"
+#include "hullmap/core/atomic_file.hpp"
+#include "hullmap/core/error.hpp"
 
-namespace hullmap::cli {
+namespace hullmap::pipeline {
 namespace {
 
 using nlohmann::json;
@@ -72,7 +72,7 @@ void writeObstaclesJson(const std::string& path, const std::vector<clustering::O
                     {"footprint", {{"polygon", polygon}, {"z_min", o.footprint.z_min}, {"z_max", o.footprint.z_max}}}});
   }
   doc["obstacles"] = std::move(list);
-  mapper::writeFileAtomically(path, [&](std::ostream& out) { out << doc.dump(1) << '\n'; });
+  core::writeFileAtomically(path, [&](std::ostream& out) { out << doc.dump(1) << '\n'; });
 }
 
 std::vector<clustering::Obstacle> readObstaclesJson(const std::string& path, ObstaclesMeta* meta) {
@@ -145,7 +145,7 @@ std::vector<clustering::Obstacle> readObstaclesJson(const std::string& path, Obs
 }
 
 void writeObstaclesObj(const std::string& path, const std::vector<clustering::Obstacle>& obstacles) {
-  mapper::writeFileAtomically(path, [&](std::ostream& out) {
+  core::writeFileAtomically(path, [&](std::ostream& out) {
     out << "# hullmap obstacles: convex hulls, z-up map frame\n";
     out << std::setprecision(std::numeric_limits<double>::max_digits10);
     std::size_t base = 1;
@@ -159,4 +159,4 @@ void writeObstaclesObj(const std::string& path, const std::vector<clustering::Ob
   });
 }
 
-}  // namespace hullmap::cli
+}  // namespace hullmap::pipeline

@@ -7,7 +7,7 @@
 
 #include "hullmap/clustering/obstacles.hpp"
 
-namespace hullmap::cli {
+namespace hullmap::pipeline {
 
 /// Version tag written in, and required of, every obstacles.json.
 inline constexpr const char* kObstaclesFormat = "hullmap-obstacles/1";
@@ -32,4 +32,4 @@ std::vector<clustering::Obstacle> readObstaclesJson(const std::string& path, Obs
 /// lines with 1-based global indices; opens in MeshLab, CloudCompare, Blender and Open3D. Atomic.
 void writeObstaclesObj(const std::string& path, const std::vector<clustering::Obstacle>& obstacles);
 
-}  // namespace hullmap::cli
+}  // namespace hullmap::pipeline

@@ -1,0 +1,62 @@
+#!/bin/sh
+# Prints the "## Whole process: hullmap cluster" section of docs/BENCHMARKS.md (markdown) to stdout.
+#
+# usage: bench/section_cluster_process.sh BUILD_DIR [POINTS]
+#
+# What a user times: `hullmap cluster POINTS.txt -o labels.csv` from start to exit (read the text file,
+# frame change, DBSCAN, the eps suggestion, write labels.csv), against Open3D's cluster_dbscan call
+# alone (no file I/O) on the same points in the same run. A generated scene of POINTS points
+# (default 300,000), eps 0.1, minPts 10; hullmap is the median of 3 runs. Needs /usr/bin/python3
+# with numpy and open3d (Debian's python3-open3d); without them the Open3D column says so.
+set -eu
+
+if [ $# -lt 1 ]; then
+  echo "usage: $0 BUILD_DIR [POINTS]" >&2
+  exit 2
+fi
+build=$1
+n=${2:-300000}
+hullmap="$build/cli/hullmap"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+"$hullmap" generate -o "$work/scene" --points "$n" --seed 5 >/dev/null
+points="$work/scene/map_points.txt"
+times=""
+for run in 1 2 3; do
+  start=$(date +%s.%N)
+  "$hullmap" cluster "$points" --up -y --eps 0.1 --min-pts 10 -o "$work/labels.csv" >"$work/cluster.txt"
+  end=$(date +%s.%N)
+  times="$times $(echo "$end - $start" | bc -l)"
+done
+hullmap_s=$(echo $times | tr ' ' '\n' | sort -g | sed -n 2p)
+clusters=$(sed -n 's/^clusters: //p' "$work/cluster.txt")
+
+open3d_s=$(/usr/bin/python3 - "$points" <<'PY' 2>/dev/null || echo "-"
+import sys, time
+import numpy as np
+import open3d as o3d
+points = np.loadtxt(sys.argv[1])
+cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
+start = time.perf_counter()
+cloud.cluster_dbscan(eps=0.1, min_points=10)
+print(f"{time.perf_counter() - start:.2f}")
+PY
+)
+if [ "$open3d_s" = "-" ]; then
+  ratio="- (Open3D not installed)"
+else
+  ratio="$(echo "$open3d_s / $hullmap_s" | bc -l | xargs printf '%.0f')x"
+fi
+
+echo "## Whole process: hullmap cluster"
+echo
+echo "What a user times: \`hullmap cluster map_points.txt --up -y -o labels.csv\` from start to exit (read"
+echo "the text file, frame change, exact DBSCAN, the eps suggestion from the k-distance curve of an evenly"
+echo "spread sample of 8192 points, write one labels.csv row per point), against Open3D's"
+echo "\`cluster_dbscan\` call alone (points already in memory, no file I/O) on the same points, in the same"
+echo "run; eps 0.1, minPts 10, a generated scene; hullmap the median of 3 runs (\`bench/section_cluster_process.sh\`)."
+echo
+echo "| points | hullmap cluster, whole process s | Open3D cluster_dbscan call s | Open3D / hullmap | clusters |"
+echo "|---|---|---|---|---|"
+printf '| %s | %.2f | %s | %s | %s |\n' "$n" "$hullmap_s" "$open3d_s" "$ratio" "$clusters"

@@ -1,0 +1,178 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "hullmap/clustering/dbscan.hpp"
+#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/mapper/frame.hpp"
+#include "hullmap/mapper/occupancy_map.hpp"
+#include "hullmap/mapper/readers.hpp"
+
+/// The whole build of `hullmap build` as a library: point files (or points in memory, or one .bt/.ot)
+/// -> map frame -> filters -> OctoMap octree -> exact DBSCAN of the occupied voxels -> convex obstacles,
+/// and the output directory it writes. Everything in the z-up map frame, map units (metres for a
+/// metric SLAM map). Functions are reentrant: two builds may run at once on different params; each
+/// build uses all cores (TBB) in the caller's arena.
+namespace hullmap::pipeline {
+
+/// Everything a build can be asked, typed. Defaults are `hullmap build`'s.
+struct BuildParams {
+  /// Map-point files (ORB-SLAM echo dump, text/CSV, XYZ, PCD, PLY; formats detected), unioned in
+  /// order; or exactly one .bt/.ot, a finished map (then frame, filters, octree and trajectory do
+  /// not apply and every voxel weighs 1). Ignored by buildFromPoints.
+  std::vector<std::filesystem::path> inputs;
+  /// TUM keyframe trajectory (input frame): free space is ray-cast from the keyframes.
+  std::optional<std::filesystem::path> trajectory;
+  /// Sensor origin, input frame: the points are inserted as one scan from there (free space along
+  /// the rays). Not with `trajectory`.
+  std::optional<Eigen::Vector3d> origin;
+  mapper::FrameParams frame;         ///< input -> z-up map frame (up axis, scale)
+  mapper::FilterParams filters;      ///< crop box, z bounds, map frame
+  mapper::OctreeParams octree;       ///< resolution 0.05, octomap's sensor model, unbounded rays
+  clustering::DbscanParams dbscan;   ///< eps 0.1, min_pts 10 (map points: voxels weigh their points), xyz
+  bool write_ot = false;             ///< write() also writes map.ot (full probabilities)
+};
+
+/// Account of what happened to the input points, stage by stage.
+struct PointAccount {
+  std::size_t read = 0;
+  std::map<std::string, std::size_t> dropped;  ///< reason ("out_of_octree", "outside_crop", ...) -> count
+  std::size_t used = 0;
+};
+
+/// What a build did, as data; reportJson() makes report.json of it.
+struct BuildReport {
+  std::vector<mapper::InputStats> inputs;                    ///< per input file, in order
+  PointAccount points;
+  std::size_t keyframes = 0;                                 ///< keyframes read (0 without a trajectory)
+  std::vector<std::pair<std::string, double>> timings_ms;    ///< stage -> wall time, ms, in order
+  std::vector<std::pair<std::string, double>> peak_rss_mb;   ///< stage -> process peak RSS at its end, MB
+  /// One line each about what the outputs leave out or misstate (most voxels noise, no obstacle,
+  /// eps below the resolution, a tilted floor): report.json records them, `hullmap build` prints them.
+  std::vector<std::string> warnings;
+};
+
+/// The occupied voxels of a map clustered and wrapped: the one voxel -> DBSCAN -> obstacles step.
+struct ClusteredVoxels {
+  std::vector<mapper::OccupiedVoxel> voxels;       ///< sorted by octree key (OccupancyMap::occupiedVoxels)
+  clustering::DbscanResult clusters;               ///< per voxel: label, core; cluster sizes in voxels
+  std::vector<clustering::Obstacle> obstacles;     ///< one per cluster, id = cluster label
+};
+
+/// The in-memory result of a build: what write() puts in the output directory.
+struct BuildResult {
+  BuildParams params;                              ///< as given (inputs included)
+  mapper::OccupancyMap map{mapper::OctreeParams{}};
+  std::vector<mapper::OccupiedVoxel> voxels;       ///< see ClusteredVoxels
+  clustering::DbscanResult clusters;               ///< voxel labels: clusters.labels[i] is voxels[i]'s
+  std::vector<clustering::Obstacle> obstacles;     ///< what collision::HullChecker takes
+  BuildReport report;
+};
+
+/// Clusters the map's occupied voxels (each weighted by its map points) with `dbscan` and wraps each
+/// cluster in a convex obstacle. Throws hullmap::Error naming the parameter at fault.
+ClusteredVoxels clusterMap(const mapper::OccupancyMap& map, const clustering::DbscanParams& dbscan);
+
+/// Runs read -> frame -> filters -> octree -> DBSCAN -> obstacles on params.inputs. Point files
+/// without trajectory and origin are streamed batch by batch (never whole in memory); the timings of
+/// read, frame_and_filters and octree are then each summed over the batches. Throws hullmap::Error
+/// naming the file (and line) or the parameter at fault (parameter names are BuildParams' fields:
+/// "scale", "crop/z_min/z_max", "trajectory/origin").
+BuildResult build(const BuildParams& params);
+
+/// The same build from points already in memory, input frame (a live node has no file): `points`
+/// go through params.frame, params.filters, the octree (with params.trajectory or params.origin as
+/// for files) and clustering; params.inputs is ignored and the report lists one input named
+/// `name` with format "memory". Throws hullmap::Error as build().
+BuildResult buildFromPoints(mapper::Points points, const BuildParams& params,
+                            const std::string& name = "points");
+
+/// How write() treats the output directory.
+struct WriteOptions {
+  bool make_parents = false;  ///< create missing parents of the directory (as mkdir -p); else refuse
+};
+
+/// True when the build reads one finished octree (.bt/.ot) rather than points: frame, filters,
+/// octree parameters and trajectory then do not apply.
+bool readsOctree(const BuildParams& params);
+
+/// The frame the outputs of `result` are in, as written into report.json and obstacles.json.
+std::string outputFrame(const BuildResult& result);
+
+/// Writes map.bt (+ map.ot with params.write_ot), voxels.csv, obstacles.json, obstacles.obj and
+/// report.json into `dir` whole or not at all: everything goes to a sibling staging directory
+/// `.NAME.new<pid>` (locked while written) which then replaces `dir` in one atomic step (rename, or
+/// renameat2 RENAME_EXCHANGE when `dir` exists); a failed run leaves the previous `dir` as it was.
+/// Staging directories of killed runs are removed. `dir` may only be absent, empty or a previous
+/// output (checkOutputDir); write() puts the marker mapper::kOutputMarker in it. Throws
+/// hullmap::Error naming `dir`.
+void write(const BuildResult& result, const std::filesystem::path& dir, const WriteOptions& options = {});
+
+/// Throws hullmap::Error "<dir>: <why>" when write() may not replace `dir` whole
+/// (mapper::outputDirRefusal): only an absent directory (its parent existing, or
+/// options.make_parents), an empty one, or a previous hullmap output holding nothing else is
+/// replaced; never one holding an input or the trajectory of `params`, nor the working directory.
+/// write() checks it twice (before it writes and just before it swaps the directory in); call it
+/// before a long build so that it does not fail at its end.
+void checkOutputDir(const std::filesystem::path& dir, const BuildParams& params, const WriteOptions& options = {});
+
+/// The obstacles of an obstacles.json written by write() (or writeObstaclesJson), each with its id.
+/// Throws hullmap::Error "<path>: <what>" on a missing file, another format or any malformed field.
+std::vector<clustering::Obstacle> readObstacles(const std::filesystem::path& obstacles_json);
+
+/// The report.json document of a result (parameters, inputs, point account, octree, clusters,
+/// obstacles, timings, peak memory).
+nlohmann::json reportJson(const BuildResult& result);
+
+/// The parameters object of report.json and obstacles.json.
+nlohmann::json parametersJson(const BuildParams& params);
+
+/// Reads a report.json written by write(); throws hullmap::Error naming `path` unless it is JSON
+/// with a "parameters" object whose "resolution" is a positive number.
+nlohmann::json readReport(const std::filesystem::path& path);
+
+/// The frame description written into every output ("z-up map frame: input axis -y rotated to +z").
+std::string frameDescription(const mapper::FrameParams& frame);
+
+/// "x", "-x", ..., "-z": an up axis as report.json writes it (parseUpAxis reads it back).
+std::string upAxisText(mapper::UpAxis up);
+
+/// One row of voxels.csv.
+struct VoxelRow {
+  Eigen::Vector3d center;       ///< map frame, map units
+  std::uint32_t weight = 1;     ///< map points in the voxel
+  std::int32_t label = clustering::kNoise;
+  bool core = false;
+};
+
+/// Writes voxels.csv atomically: header `x,y,z,weight,label,core`, one voxel a line (9 significant
+/// digits). `clusters` holds one label and core flag per voxel. Throws hullmap::Error naming `path`.
+void writeVoxelsCsv(const std::filesystem::path& path, const std::vector<mapper::OccupiedVoxel>& voxels,
+                    const clustering::DbscanResult& clusters);
+
+/// Reads a voxels.csv written by writeVoxelsCsv; throws hullmap::Error "<path>:<line>: <what>".
+std::vector<VoxelRow> readVoxelsCsv(const std::filesystem::path& path);
+
+/// Reads and unions point files (any format the mapper reads); throws hullmap::Error naming them
+/// when none holds a point.
+mapper::PointSet readInputPoints(const std::vector<std::string>& inputs);
+
+namespace detail {
+/// Test-only: when set, build() and write() call it at the start of each stage with the stage's
+/// name: "read", "frame_and_filters", "octree", "dbscan", "obstacles", then write()'s "write" (staging
+/// directory made and locked), "wrote_map", "wrote_voxels", "wrote_obstacles" and "move_into_place"
+/// (every file written, the directory not yet in place); a test stops the run there (throw, or kill the process) to see what a run interrupted at
+/// that stage leaves behind. Not thread-safe; nullptr (the default) does nothing.
+extern void (*stage_hook)(const char* stage);
+}  // namespace detail
+
+}  // namespace hullmap::pipeline
