@@ -196,6 +196,9 @@ PathPlanner& PathPlanner::operator=(PathPlanner&&) noexcept = default;
 const Roadmap& PathPlanner::roadmap() const { return impl_->roadmap; }
 const collision::HullChecker& PathPlanner::checker() const { return impl_->checker; }
 const PathPlanner::Graph& PathPlanner::graph() const { return impl_->graph; }
+std::vector<std::pair<int, double>> PathPlanner::connections(const Eigen::Vector3d& end, double z, double radius) const {
+  return impl_->connect(end, z, radius, radius + impl_->roadmap.tolerance);
+}
 
 PlanResult PathPlanner::plan(const PlanRequest& request) const {
   const double r = request.radius;

@@ -50,6 +50,11 @@ class PathPlanner {
   const Roadmap& roadmap() const;
   const collision::HullChecker& checker() const;
 
+  /// Graph vertices (see graph()) that `end` reaches by a straight segment to the vertex lifted to
+  /// height `z` with clearance `radius` (exact hull check), nearest first, at most 6, with the
+  /// segment's length. Only vertices with a link of clearance >= radius + tolerance are tried.
+  std::vector<std::pair<int, double>> connections(const Eigen::Vector3d& end, double z, double radius) const;
+
   /// The roadmap's polylines as one graph: vertex positions (ground plane) and, per vertex, its
   /// neighbours with the length and clearance of the piece between them. Roadmap nodes come first.
   struct Graph {
