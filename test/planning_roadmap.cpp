@@ -1,4 +1,5 @@
 #include <cmath>
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -126,7 +127,7 @@ TEST(Roadmap, BandSelectsObstaclesAndJsonIsTheDocumentedGraph) {
   params.z0 = 0.2;
   params.z1 = 0.8;
   const Roadmap map = planning::buildRoadmap({low, high}, params);
-  ASSERT_EQ(map.obstacle_ids, std::vector<int>{1});
+  ASSERT_EQ(map.obstacle_groups, std::vector<std::vector<int>>{{1}});
   EXPECT_DOUBLE_EQ(map.bounds.x1, 2.0);  // low's footprint grown by the 1 m margin
   const auto j = nlohmann::json::parse(planning::roadmapJson(map));
   EXPECT_EQ(j["format"], "hullmap-roadmap/1");
@@ -137,6 +138,43 @@ TEST(Roadmap, BandSelectsObstaclesAndJsonIsTheDocumentedGraph) {
     EXPECT_EQ(e["polyline"].front(), first);
     EXPECT_GE(e["clearance"].get<double>(), 0.0);
   }
+}
+
+/// Connected components of the roadmap graph.
+std::size_t components(const Roadmap& map) {
+  std::vector<int> parent(map.nodes.size());
+  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int>(i);
+  std::function<int(int)> find = [&](int i) { return parent[i] == i ? i : parent[i] = find(parent[i]); };
+  for (const auto& e : map.edges) parent[find(e.from)] = find(e.to);
+  std::size_t roots = 0;
+  for (std::size_t i = 0; i < parent.size(); ++i) roots += find(static_cast<int>(i)) == static_cast<int>(i);
+  return roots;
+}
+
+TEST(Roadmap, TouchingAndOverlappingFootprintsKeepTheRoadmapConnected) {
+  // Fragments of one voxelized object: edges on the same lines, overlapping in part, one footprint
+  // inside another (CGAL splits such edges into pieces whose ends come from different obstacles),
+  // and separate obstacles around them. The free space is connected, so must the roadmap be.
+  const std::vector<clustering::Obstacle> obstacles{
+      test::prism(1, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 0, 1),
+      test::prism(2, {{0.5, 1}, {1.5, 1}, {1.5, 2}, {0.5, 2}}, 0, 1),
+      test::prism(3, {{0.2, 0.5}, {0.6, 0.5}, {0.6, 1}, {0.2, 1}}, 0, 1),
+      test::prism(4, {{1, 0.25}, {1.75, 0.25}, {1.75, 0.75}, {1, 0.75}}, 0, 1),
+      test::prism(5, {{3, 0}, {4, 0}, {4, 1}, {3, 1}}, 0, 1),
+      test::prism(6, {{-2, 2}, {-1, 2}, {-1.5, 3}}, 0, 1),
+  };
+  const Roadmap map = planning::buildRoadmap(obstacles, {});
+  ASSERT_EQ(map.footprints.size(), 3u);  // 1-4 meet: one hull
+  EXPECT_EQ(map.obstacle_groups[0], (std::vector<int>{1, 2, 3, 4}));
+  EXPECT_EQ(components(map), 1u);
+  for (const auto& e : map.edges)
+    for (const auto& p : e.polyline) {
+      const double da = planning::siteDistance(e.site_a, p), db = planning::siteDistance(e.site_b, p);
+      EXPECT_NEAR(da, db, 1e-6);
+      EXPECT_GE(nearestSite(obstacles, map, p), std::min(da, db) - 1e-6);
+    }
+  std::mt19937 rng(7);
+  for (int round = 0; round < 5; ++round) EXPECT_EQ(components(planning::buildRoadmap(randomPolygons(rng, 6, 1.5), {})), 1u);
 }
 
 TEST(Roadmap, RejectsBadParameters) {

@@ -258,27 +258,34 @@ PlanResult PathPlanner::plan(const PlanRequest& request) const {
   return result;
 }
 
+RoadmapParams roadmapParamsFor(const std::vector<clustering::Obstacle>& obstacles,
+                               const std::vector<Eigen::Vector3d>& points, double radius) {
+  if (points.empty()) throw Error("roadmapParamsFor: no points");
+  RoadmapParams params;
+  Eigen::Vector3d lo = points.front(), hi = points.front();
+  for (const auto& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  params.z0 = lo.z() - radius;
+  params.z1 = hi.z() + radius;
+  Eigen::Vector2d lo2 = lo.head<2>(), hi2 = hi.head<2>();
+  for (const auto& o : obstacles)
+    for (const auto& p : o.footprint.polygon) {
+      lo2 = lo2.cwiseMin(p);
+      hi2 = hi2.cwiseMax(p);
+    }
+  const double margin = std::max(params.margin, 2 * radius + 0.5);
+  params.bounds = Bounds2d{lo2.x() - margin, lo2.y() - margin, hi2.x() + margin, hi2.y() + margin};
+  return params;
+}
+
 PlanResult planPath(const std::vector<clustering::Obstacle>& obstacles, const PlanRequest& request,
-                    RoadmapParams roadmap_params) {
+                    std::optional<RoadmapParams> roadmap_params) {
   const double z = request.flight_z.value_or(request.start.z());
-  if (roadmap_params.z0 == RoadmapParams{}.z0 && roadmap_params.z1 == RoadmapParams{}.z1) {
-    roadmap_params.z0 = std::min({request.start.z(), request.goal.z(), z}) - request.radius;
-    roadmap_params.z1 = std::max({request.start.z(), request.goal.z(), z}) + request.radius;
-  }
-  roadmap_params.min_clearance = 0.0;
-  if (!roadmap_params.bounds) {
-    // The footprints, start and goal, grown so that a drone of this radius fits round the outside.
-    Eigen::Vector2d lo = request.start.head<2>().cwiseMin(request.goal.head<2>());
-    Eigen::Vector2d hi = request.start.head<2>().cwiseMax(request.goal.head<2>());
-    for (const auto& o : obstacles)
-      for (const auto& p : o.footprint.polygon) {
-        lo = lo.cwiseMin(p);
-        hi = hi.cwiseMax(p);
-      }
-    const double margin = std::max(roadmap_params.margin, 2 * request.radius + 0.5);
-    roadmap_params.bounds = Bounds2d{lo.x() - margin, lo.y() - margin, hi.x() + margin, hi.y() + margin};
-  }
-  const PathPlanner planner(obstacles, buildRoadmap(obstacles, roadmap_params));
+  const RoadmapParams params = roadmap_params.value_or(roadmapParamsFor(
+      obstacles, {request.start, request.goal, Eigen::Vector3d(request.start.x(), request.start.y(), z)}, request.radius));
+  const PathPlanner planner(obstacles, buildRoadmap(obstacles, params));
   return planner.plan(request);
 }
 

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include <CGAL/Segment_Delaunay_graph_2.h>
+#include <Eigen/Geometry>
 #include <CGAL/Segment_Delaunay_graph_filtered_traits_2.h>
 #include <CGAL/Simple_cartesian.h>
 #include <nlohmann/json.hpp>
@@ -19,15 +20,13 @@ namespace hullmap::planning {
 namespace {
 
 // Filtered traits: every predicate is exact (interval arithmetic, falling back to exact numbers);
-// Field_with_sqrt_tag lets the constructions (Voronoi vertices) use sqrt in double. The variant
-// with intersections accepts footprints that overlap in the ground plane.
+// Field_with_sqrt_tag lets the constructions (Voronoi vertices) use sqrt in double. Footprints that
+// meet are merged first (mergeMeeting), so no two sites intersect.
 using Kernel = CGAL::Simple_cartesian<double>;
-using Traits = CGAL::Segment_Delaunay_graph_filtered_traits_2<Kernel, CGAL::Field_with_sqrt_tag>;
+using Traits = CGAL::Segment_Delaunay_graph_filtered_traits_without_intersections_2<Kernel, CGAL::Field_with_sqrt_tag>;
 using Sdg = CGAL::Segment_Delaunay_graph_2<Traits>;
-using Key = std::pair<double, double>;
 
 Eigen::Vector2d toEigen(const Kernel::Point_2& p) { return {CGAL::to_double(p.x()), CGAL::to_double(p.y())}; }
-Key keyOf(const Kernel::Point_2& p) { return {CGAL::to_double(p.x()), CGAL::to_double(p.y())}; }
 
 double segmentDistance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
   const Eigen::Vector2d ab = b - a;
@@ -56,31 +55,32 @@ struct UnionFind {
   void unite(int a, int b) { parent[find(a)] = find(b); }
 };
 
-/// Owners of each input point and segment: obstacle indices, `bounds_owner` for the bounds.
-struct Owners {
-  std::map<Key, std::vector<int>> of_point;
-  std::vector<int> ofPoint(const Kernel::Point_2& p) const {
-    const auto it = of_point.find(keyOf(p));
-    return it == of_point.end() ? std::vector<int>{} : it->second;
-  }
-  std::vector<int> ofSegment(const Kernel::Point_2& a, const Kernel::Point_2& b) const {
-    std::vector<int> oa = ofPoint(a), ob = ofPoint(b), both;
-    std::sort(oa.begin(), oa.end());
-    std::sort(ob.begin(), ob.end());
-    std::set_intersection(oa.begin(), oa.end(), ob.begin(), ob.end(), std::back_inserter(both));
-    return both;
+/// Which footprints (by index) and whether the bounds have `p` on their boundary, within `eps`.
+/// Geometric, because CGAL splits overlapping collinear edges of different obstacles into pieces
+/// whose ends come from different input segments.
+struct Boundaries {
+  std::vector<const std::vector<Eigen::Vector2d>*> polygons;
+  std::vector<Eigen::AlignedBox<double, 2>> boxes;
+  Eigen::AlignedBox<double, 2> bounds;
+  double eps = 0.0;
+
+  std::vector<int> owners(const Eigen::Vector2d& p) const {
+    std::vector<int> out;
+    for (std::size_t i = 0; i < polygons.size(); ++i) {
+      if (boxes[i].exteriorDistance(p) > eps) continue;
+      const auto& poly = *polygons[i];
+      for (std::size_t k = 0; k < poly.size(); ++k)
+        if (segmentDistance(poly[k], poly[(k + 1) % poly.size()], p) <= eps) {
+          out.push_back(static_cast<int>(i));
+          break;
+        }
+    }
+    const Eigen::Vector2d lo = bounds.min(), hi = bounds.max();
+    if (std::min({std::abs(p.x() - lo.x()), std::abs(p.x() - hi.x()), std::abs(p.y() - lo.y()), std::abs(p.y() - hi.y())}) <= eps)
+      out.push_back(static_cast<int>(polygons.size()));
+    return out;
   }
 };
-
-std::vector<int> ownersOf(const Sdg::Site_2& s, const Owners& owners) {
-  if (s.is_segment()) return owners.ofSegment(s.source_of_supporting_site(), s.target_of_supporting_site());
-  if (s.is_input()) return owners.ofPoint(s.point());
-  // An intersection of two input segments belongs to both.
-  std::vector<int> a = owners.ofSegment(s.source_of_supporting_site(0), s.target_of_supporting_site(0));
-  const std::vector<int> b = owners.ofSegment(s.source_of_supporting_site(1), s.target_of_supporting_site(1));
-  a.insert(a.end(), b.begin(), b.end());
-  return a;
-}
 
 SiteRef siteRef(const Sdg::Site_2& s, const std::vector<int>& owner, int bounds_owner) {
   SiteRef r;
@@ -146,6 +146,58 @@ void traceBisector(RoadmapEdge& edge, const Eigen::Vector2d& a, const Eigen::Vec
   edge.polyline.push_back(b);
 }
 
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
+  return (b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x());
+}
+
+/// Convex counter-clockwise polygons P and Q touch, overlap or come within eps of each other.
+bool polygonsMeet(const std::vector<Eigen::Vector2d>& P, const std::vector<Eigen::Vector2d>& Q, double eps) {
+  auto inside = [](const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
+    for (std::size_t i = 0; i < poly.size(); ++i)
+      if (cross(poly[i], poly[(i + 1) % poly.size()], p) < 0) return false;
+    return true;
+  };
+  for (const auto& p : P) if (inside(Q, p)) return true;
+  for (const auto& q : Q) if (inside(P, q)) return true;
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    const Eigen::Vector2d& a = P[i];
+    const Eigen::Vector2d& b = P[(i + 1) % P.size()];
+    for (std::size_t j = 0; j < Q.size(); ++j) {
+      const Eigen::Vector2d& c = Q[j];
+      const Eigen::Vector2d& d = Q[(j + 1) % Q.size()];
+      if (segmentDistance(a, b, c) <= eps || segmentDistance(c, d, a) <= eps) return true;
+      if (cross(a, b, c) * cross(a, b, d) < 0 && cross(c, d, a) * cross(c, d, b) < 0) return true;
+    }
+  }
+  return false;
+}
+
+/// Clips a convex polygon to the box (Sutherland-Hodgman); empty when nothing is left.
+std::vector<Eigen::Vector2d> clipToBox(std::vector<Eigen::Vector2d> poly, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
+  for (int side = 0; side < 4 && !poly.empty(); ++side) {
+    const int axis = side % 2;
+    const bool low = side < 2;
+    const double limit = low ? lo[axis] : hi[axis];
+    auto in = [&](const Eigen::Vector2d& p) { return low ? p[axis] >= limit : p[axis] <= limit; };
+    std::vector<Eigen::Vector2d> out;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const Eigen::Vector2d& a = poly[i];
+      const Eigen::Vector2d& b = poly[(i + 1) % poly.size()];
+      if (in(a)) out.push_back(a);
+      if (in(a) != in(b)) {
+        const double t = (limit - a[axis]) / (b[axis] - a[axis]);
+        Eigen::Vector2d x = a + t * (b - a);
+        x[axis] = limit;
+        out.push_back(x);
+      }
+    }
+    poly = std::move(out);
+  }
+  poly = clustering::convexHull2d(poly);
+  return poly.size() >= 3 ? poly : std::vector<Eigen::Vector2d>{};
+}
+
 }  // namespace
 
 double siteDistance(const SiteRef& site, const Eigen::Vector2d& p) {
@@ -171,7 +223,6 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
       throw Error("obstacle " + std::to_string(o.id) + ": footprint has " +
                   std::to_string(o.footprint.polygon.size()) + " vertices, expected >= 3");
     band.push_back(&o);
-    map.obstacle_ids.push_back(o.id);
   }
 
   if (params.bounds) {
@@ -191,20 +242,73 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   if (!(bb.x0 < bb.x1 && bb.y0 < bb.y1) || !std::isfinite(bb.x0 + bb.x1 + bb.y0 + bb.y1))
     throw Error("roadmap bounds: need x0 < x1 and y0 < y1");
 
-  const int bounds_owner = static_cast<int>(band.size());
-  Owners owners;
+  const double scale = std::max({std::abs(bb.x0), std::abs(bb.x1), std::abs(bb.y0), std::abs(bb.y1), 1.0});
+
+  // Footprints clipped to the bounds (shrunk by a hair, so none touches them), then every group of
+  // footprints that meet replaced by the convex hull of their union until none meet: conservative
+  // (a notch between touching fragments is filled) and it leaves CGAL only disjoint sites.
+  const double hair = 1e-6 * scale;
+  for (const auto* o : band) {
+    auto clipped = clipToBox(o->footprint.polygon, {bb.x0 + hair, bb.y0 + hair}, {bb.x1 - hair, bb.y1 - hair});
+    if (clipped.empty()) continue;
+    map.footprints.push_back(std::move(clipped));
+    map.obstacle_groups.push_back({o->id});
+  }
+  auto box = [](const std::vector<Eigen::Vector2d>& poly) {
+    Eigen::AlignedBox<double, 2> b(poly.front(), poly.front());
+    for (const auto& p : poly) b.extend(p);
+    return b;
+  };
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t i = 0; i < map.footprints.size(); ++i) {
+      Eigen::AlignedBox<double, 2> bi = box(map.footprints[i]);
+      for (std::size_t j = i + 1; j < map.footprints.size(); ++j) {
+        if (bi.exteriorDistance(box(map.footprints[j])) > hair ||
+            !polygonsMeet(map.footprints[i], map.footprints[j], hair))
+          continue;
+        auto points = map.footprints[i];
+        points.insert(points.end(), map.footprints[j].begin(), map.footprints[j].end());
+        map.footprints[i] = clustering::convexHull2d(points);
+        auto& ids = map.obstacle_groups[i];
+        ids.insert(ids.end(), map.obstacle_groups[j].begin(), map.obstacle_groups[j].end());
+        map.footprints.erase(map.footprints.begin() + static_cast<std::ptrdiff_t>(j));
+        map.obstacle_groups.erase(map.obstacle_groups.begin() + static_cast<std::ptrdiff_t>(j));
+        bi = box(map.footprints[i]);
+        changed = true;
+        j = i;  // the grown hull may now meet footprints already passed
+      }
+    }
+  }
+
+  const int bounds_owner = static_cast<int>(map.footprints.size());
+  Boundaries boundaries;
+  boundaries.eps = 1e-9 * scale;
+  boundaries.bounds = Eigen::AlignedBox<double, 2>(Eigen::Vector2d(bb.x0, bb.y0), Eigen::Vector2d(bb.x1, bb.y1));
   Sdg sdg;
-  auto addSegment = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b, int owner) {
+  auto addSegment = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     const Kernel::Point_2 pa(a.x(), a.y()), pb(b.x(), b.y());
-    owners.of_point[keyOf(pa)].push_back(owner);
     if (pa != pb) sdg.insert(pa, pb);
   };
-  for (std::size_t i = 0; i < band.size(); ++i) {
-    const auto& poly = band[i]->footprint.polygon;
-    for (std::size_t k = 0; k < poly.size(); ++k) addSegment(poly[k], poly[(k + 1) % poly.size()], static_cast<int>(i));
+  for (const auto& poly : map.footprints) {
+    boundaries.polygons.push_back(&poly);
+    boundaries.boxes.emplace_back(poly.front(), poly.front());
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+      boundaries.boxes.back().extend(poly[k]);
+      addSegment(poly[k], poly[(k + 1) % poly.size()]);
+    }
   }
   const Eigen::Vector2d corners[4] = {{bb.x0, bb.y0}, {bb.x1, bb.y0}, {bb.x1, bb.y1}, {bb.x0, bb.y1}};
-  for (int k = 0; k < 4; ++k) addSegment(corners[k], corners[(k + 1) % 4], bounds_owner);
+  for (int k = 0; k < 4; ++k) addSegment(corners[k], corners[(k + 1) % 4]);
+  std::map<Sdg::Vertex_handle, std::vector<int>> owner_cache;
+  auto ownersOf = [&](Sdg::Vertex_handle v) -> const std::vector<int>& {
+    auto it = owner_cache.find(v);
+    if (it != owner_cache.end()) return it->second;
+    const Sdg::Site_2 s = v->site();
+    const Eigen::Vector2d p = s.is_point() ? toEigen(s.point())
+                                           : 0.5 * (toEigen(s.segment().source()) + toEigen(s.segment().target()));
+    return owner_cache.emplace(v, boundaries.owners(p)).first->second;
+  };
 
   // Voronoi vertices: one per finite face; faces whose vertices coincide (co-circular sites, common
   // with boxes) are merged into one node so that the graph stays connected through them.
@@ -214,15 +318,16 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     face_index.emplace(f, static_cast<int>(vertex.size()));
     vertex.push_back(toEigen(sdg.primal(f)));
   }
-  const double scale = std::max({std::abs(bb.x0), std::abs(bb.x1), std::abs(bb.y0), std::abs(bb.y1), 1.0});
-  const double same = 1e-9 * scale;
+  // Constructions are in double: one vertex computed from different faces differs by ~1e-8 m.
+  const double same = 1e-6 * scale;
   UnionFind merged(vertex.size());
-  for (auto e = sdg.finite_edges_begin(); e != sdg.finite_edges_end(); ++e) {
-    const auto f = e->first;
-    const auto g = f->neighbor(e->second);
-    if (sdg.is_infinite(f) || sdg.is_infinite(g)) continue;
-    const int i = face_index.at(f), j = face_index.at(g);
-    if ((vertex[i] - vertex[j]).norm() <= same) merged.unite(i, j);
+  {
+    std::vector<int> by_x(vertex.size());
+    std::iota(by_x.begin(), by_x.end(), 0);
+    std::sort(by_x.begin(), by_x.end(), [&](int i, int j) { return vertex[i].x() < vertex[j].x(); });
+    for (std::size_t k = 0; k < by_x.size(); ++k)
+      for (std::size_t l = k + 1; l < by_x.size() && vertex[by_x[l]].x() - vertex[by_x[k]].x() <= same; ++l)
+        if ((vertex[by_x[k]] - vertex[by_x[l]]).norm() <= same) merged.unite(by_x[k], by_x[l]);
   }
 
   std::map<int, int> node_of_root;
@@ -243,9 +348,8 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     const auto va = f->vertex(Sdg::ccw(e->second));
     const auto vb = f->vertex(Sdg::cw(e->second));
     const Sdg::Site_2 sa = va->site(), sb = vb->site();
-    std::vector<int> oa = ownersOf(sa, owners), ob = ownersOf(sb, owners);
-    std::sort(oa.begin(), oa.end());
-    std::sort(ob.begin(), ob.end());
+    const std::vector<int>& oa = ownersOf(va);
+    const std::vector<int>& ob = ownersOf(vb);  // both sorted
     std::vector<int> common;
     std::set_intersection(oa.begin(), oa.end(), ob.begin(), ob.end(), std::back_inserter(common));
     if (!common.empty() || oa.empty() || ob.empty()) continue;  // same obstacle (or bounds twice)
@@ -262,7 +366,7 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     const Eigen::Vector2d mid = edge.polyline[edge.polyline.size() / 2] * 0.5 +
                                 edge.polyline[(edge.polyline.size() - 1) / 2] * 0.5;
     bool inside = false;
-    for (const auto* o : band) inside = inside || insideConvex(o->footprint.polygon, mid);
+    for (const auto& poly : map.footprints) inside = inside || insideConvex(poly, mid);
     if (inside) continue;
     for (std::size_t k = 1; k < edge.polyline.size(); ++k) edge.length += (edge.polyline[k] - edge.polyline[k - 1]).norm();
     edge.from = nodeOf(fi);
@@ -290,7 +394,12 @@ std::string roadmapJson(const Roadmap& roadmap) {
   j["band"] = {roadmap.z0, roadmap.z1};
   j["min_clearance"] = roadmap.min_clearance;
   j["tolerance"] = roadmap.tolerance;
-  j["obstacle_ids"] = roadmap.obstacle_ids;
+  j["obstacles"] = json::array();
+  for (std::size_t i = 0; i < roadmap.footprints.size(); ++i) {
+    json o{{"ids", roadmap.obstacle_groups[i]}, {"footprint", json::array()}};
+    for (const auto& p : roadmap.footprints[i]) o["footprint"].push_back(xy(p));
+    j["obstacles"].push_back(std::move(o));
+  }
   j["nodes"] = json::array();
   for (const auto& n : roadmap.nodes) j["nodes"].push_back(xy(n.position));
   j["edges"] = json::array();

@@ -69,10 +69,16 @@ class PathPlanner {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Builds the roadmap (band: the lowest of start, goal and flight height less the radius to the
-/// highest plus it, unless `roadmap_params` sets one; no clearance floor, so that a blocked query
-/// can name its narrowest passage) and plans. Throws hullmap::Error as buildRoadmap and plan do.
+/// Roadmap settings for flights through `points` (starts, goals, flight heights) at `radius`: band
+/// from the lowest point's z less the radius to the highest's plus it; bounds around the footprints
+/// and the points, grown by max(1 m, 2 radius + 0.5 m); no clearance floor (so that a blocked query
+/// can name its narrowest passage).
+RoadmapParams roadmapParamsFor(const std::vector<clustering::Obstacle>& obstacles,
+                               const std::vector<Eigen::Vector3d>& points, double radius);
+
+/// Builds the roadmap (roadmapParamsFor the start, goal and flight height unless `roadmap_params`
+/// is given) and plans. Throws hullmap::Error as buildRoadmap and plan do.
 PlanResult planPath(const std::vector<clustering::Obstacle>& obstacles, const PlanRequest& request,
-                    RoadmapParams roadmap_params = {});
+                    std::optional<RoadmapParams> roadmap_params = std::nullopt);
 
 }  // namespace hullmap::planning

@@ -33,7 +33,7 @@ struct RoadmapNode {
 
 /// Where a Voronoi edge's defining site comes from.
 struct SiteRef {
-  int obstacle = -1;   ///< index into the obstacles given to buildRoadmap; -1: the bounds
+  int obstacle = -1;   ///< index into Roadmap::footprints; -1: the bounds
   bool is_point = false;
   Eigen::Vector2d a = Eigen::Vector2d::Zero();  ///< the point, or the segment's first end
   Eigen::Vector2d b = Eigen::Vector2d::Zero();  ///< the segment's second end (== a for a point)
@@ -57,14 +57,18 @@ struct Roadmap {
   double z0 = 0.0, z1 = 0.0;
   double min_clearance = 0.0;
   double tolerance = 0.0;
-  std::vector<int> obstacle_ids;  ///< Obstacle::id of the obstacles in the band, by index
+  /// The sites' polygons: the footprints in the band, clipped to the bounds, those that meet
+  /// merged into the convex hull of their union (counter-clockwise).
+  std::vector<std::vector<Eigen::Vector2d>> footprints;
+  std::vector<std::vector<int>> obstacle_groups;  ///< Obstacle::id of each footprint's members
   std::vector<RoadmapNode> nodes;
   std::vector<RoadmapEdge> edges;
 };
 
 /// Exact generalized Voronoi diagram of the footprints in the band, inside the bounds, with CGAL's
 /// segment Delaunay graph (filtered exact predicates; sites: every footprint edge plus the four
-/// bounds edges; intersecting footprints are allowed). Keeps the Voronoi edges between sites of
+/// bounds edges). Footprints are clipped to the bounds, and footprints that touch or overlap are
+/// replaced by the convex hull of their union (conservative: it closes the notches between them). Keeps the Voronoi edges between sites of
 /// different obstacles or an obstacle and the bounds, drops edges touching the outside of the
 /// bounds, inside a footprint, or with clearance < min_clearance. The clearance of an edge is its
 /// exact minimum along the arc (closed form per bisector type: point-point, point-segment parabola,
