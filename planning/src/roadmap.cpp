@@ -10,6 +10,7 @@
 #include <CGAL/Segment_Delaunay_graph_2.h>
 #include <Eigen/Geometry>
 #include <CGAL/Segment_Delaunay_graph_filtered_traits_2.h>
+#include <CGAL/Segment_Delaunay_graph_traits_2.h>
 #include <CGAL/Simple_cartesian.h>
 #include <nlohmann/json.hpp>
 
@@ -25,6 +26,10 @@ namespace {
 using Kernel = CGAL::Simple_cartesian<double>;
 using Traits = CGAL::Segment_Delaunay_graph_filtered_traits_without_intersections_2<Kernel, CGAL::Field_with_sqrt_tag>;
 using Sdg = CGAL::Segment_Delaunay_graph_2<Traits>;
+// Voronoi vertices are constructed in double with sqrt: the filtered traits fall back to an exact
+// ring construction that divides by zero on some degenerate faces (collinear sites, which voxel
+// footprints have plenty of); a non-finite result marks the face unusable instead.
+using DoubleTraits = CGAL::Segment_Delaunay_graph_traits_without_intersections_2<Kernel, CGAL::Field_with_sqrt_tag>;
 
 Eigen::Vector2d toEigen(const Kernel::Point_2& p) { return {CGAL::to_double(p.x()), CGAL::to_double(p.y())}; }
 
@@ -314,9 +319,10 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   // with boxes) are merged into one node so that the graph stays connected through them.
   std::map<Sdg::Face_handle, int> face_index;
   std::vector<Eigen::Vector2d> vertex;
+  const auto construct = DoubleTraits().construct_svd_vertex_2_object();
   for (auto f = sdg.finite_faces_begin(); f != sdg.finite_faces_end(); ++f) {
     face_index.emplace(f, static_cast<int>(vertex.size()));
-    vertex.push_back(toEigen(sdg.primal(f)));
+    vertex.push_back(toEigen(construct(f->vertex(0)->site(), f->vertex(1)->site(), f->vertex(2)->site())));
   }
   // Constructions are in double: one vertex computed from different faces differs by ~1e-8 m.
   const double same = 1e-6 * scale;
@@ -355,7 +361,7 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     if (!common.empty() || oa.empty() || ob.empty()) continue;  // same obstacle (or bounds twice)
     const int fi = face_index.at(f), gi = face_index.at(g);
     const Eigen::Vector2d a = vertex[merged.find(fi)], b = vertex[merged.find(gi)];
-    if (!inBounds(a) || !inBounds(b)) continue;
+    if (!a.allFinite() || !b.allFinite() || !inBounds(a) || !inBounds(b)) continue;
     if (merged.find(fi) == merged.find(gi)) continue;  // zero length
 
     RoadmapEdge edge;
