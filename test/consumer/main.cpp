@@ -1,5 +1,5 @@
 // Uses each installed library once: a two-blob DBSCAN, an octree, a hull, a path check and the
-// hulls as FCL objects.
+// hulls as FCL objects, and a path round an obstacle.
 #include <cstdio>
 #include <memory>
 #include <vector>
@@ -10,6 +10,7 @@
 #include <hullmap/collision/fcl_obstacles.hpp>
 #include <hullmap/collision/path_check.hpp>
 #include <hullmap/mapper/occupancy_map.hpp>
+#include <hullmap/planning/path_planner.hpp>
 
 int main() {
   std::vector<Eigen::Vector3d> points;
@@ -46,7 +47,15 @@ int main() {
     static_cast<Hit*>(data)->index = hullmap::collision::FclObstacles::indexOf(*o);
     return true;
   });
-  std::printf("clusters %zu obstacles %zu collides %d fcl hit %zu\n", result.cluster_sizes.size(), obstacles.size(),
-              int(hit.collides), first.index);
-  return result.cluster_sizes.size() == 2 && obstacles.size() == 2 && hit.collides && first.index == 0 ? 0 : 1;
+  // A path from one side of the first blob to the other, round it.
+  hullmap::planning::PlanRequest request;
+  request.start = Eigen::Vector3d(0.1, -1.0, 1.0);
+  request.goal = Eigen::Vector3d(0.1, 1.0, 1.0);
+  request.radius = 0.1;
+  const auto plan = hullmap::planning::planPath(obstacles, request);
+  std::printf("clusters %zu obstacles %zu collides %d fcl hit %zu path %d\n", result.cluster_sizes.size(),
+              obstacles.size(), int(hit.collides), first.index, int(plan.path.has_value()));
+  return result.cluster_sizes.size() == 2 && obstacles.size() == 2 && hit.collides && first.index == 0 && plan.path
+             ? 0
+             : 1;
 }
