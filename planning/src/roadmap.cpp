@@ -7,7 +7,7 @@
 #include <numeric>
 #include <utility>
 
-#include <CGAL/Segment_Delaunay_graph_2.h>
+#include <CGAL/Segment_Delaunay_graph_hierarchy_2.h>
 #include <Eigen/Geometry>
 #include <CGAL/Segment_Delaunay_graph_filtered_traits_2.h>
 #include <CGAL/Segment_Delaunay_graph_traits_2.h>
@@ -25,7 +25,7 @@ namespace {
 // meet are merged first (mergeMeeting), so no two sites intersect.
 using Kernel = CGAL::Simple_cartesian<double>;
 using Traits = CGAL::Segment_Delaunay_graph_filtered_traits_without_intersections_2<Kernel, CGAL::Field_with_sqrt_tag>;
-using Sdg = CGAL::Segment_Delaunay_graph_2<Traits>;
+using Sdg = CGAL::Segment_Delaunay_graph_hierarchy_2<Traits>;  // hierarchy: fast point location
 // Voronoi vertices are constructed in double with sqrt: the filtered traits fall back to an exact
 // ring construction that divides by zero on some degenerate faces (collinear sites, which voxel
 // footprints have plenty of); a non-finite result marks the face unusable instead.
@@ -264,22 +264,24 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     for (const auto& p : poly) b.extend(p);
     return b;
   };
+  std::vector<Eigen::AlignedBox<double, 2>> boxes;
+  for (const auto& poly : map.footprints) boxes.push_back(box(poly));
   for (bool changed = true; changed;) {
     changed = false;
     for (std::size_t i = 0; i < map.footprints.size(); ++i) {
-      Eigen::AlignedBox<double, 2> bi = box(map.footprints[i]);
       for (std::size_t j = i + 1; j < map.footprints.size(); ++j) {
-        if (bi.exteriorDistance(box(map.footprints[j])) > hair ||
-            !polygonsMeet(map.footprints[i], map.footprints[j], hair))
+        if (boxes[i].exteriorDistance(boxes[j]) > hair || !polygonsMeet(map.footprints[i], map.footprints[j], hair))
           continue;
         auto points = map.footprints[i];
         points.insert(points.end(), map.footprints[j].begin(), map.footprints[j].end());
         map.footprints[i] = clustering::convexHull2d(points);
         auto& ids = map.obstacle_groups[i];
         ids.insert(ids.end(), map.obstacle_groups[j].begin(), map.obstacle_groups[j].end());
-        map.footprints.erase(map.footprints.begin() + static_cast<std::ptrdiff_t>(j));
-        map.obstacle_groups.erase(map.obstacle_groups.begin() + static_cast<std::ptrdiff_t>(j));
-        bi = box(map.footprints[i]);
+        const auto at = static_cast<std::ptrdiff_t>(j);
+        map.footprints.erase(map.footprints.begin() + at);
+        map.obstacle_groups.erase(map.obstacle_groups.begin() + at);
+        boxes.erase(boxes.begin() + at);
+        boxes[i] = box(map.footprints[i]);
         changed = true;
         j = i;  // the grown hull may now meet footprints already passed
       }
@@ -372,7 +374,8 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     const Eigen::Vector2d mid = edge.polyline[edge.polyline.size() / 2] * 0.5 +
                                 edge.polyline[(edge.polyline.size() - 1) / 2] * 0.5;
     bool inside = false;
-    for (const auto& poly : map.footprints) inside = inside || insideConvex(poly, mid);
+    for (std::size_t i = 0; i < map.footprints.size() && !inside; ++i)
+      inside = boxes[i].contains(mid) && insideConvex(map.footprints[i], mid);
     if (inside) continue;
     for (std::size_t k = 1; k < edge.polyline.size(); ++k) edge.length += (edge.polyline[k] - edge.polyline[k - 1]).norm();
     edge.from = nodeOf(fi);
