@@ -1,10 +1,7 @@
-#include <charconv>
 #include <cmath>
-#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
-#include <vector>
 
 #include "commands.hpp"
 #include "hullmap/mapper/error.hpp"

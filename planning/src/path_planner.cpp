@@ -150,7 +150,6 @@ struct PathPlanner::Impl {
       }
     }
     if (reached < 0) return "";
-    int at = reached;
     double best = kInf;
     Eigen::Vector2d where = graph.position[reached];
     for (int v = reached; parent[v] >= 0; v = parent[v])
@@ -158,9 +157,7 @@ struct PathPlanner::Impl {
         if (l.to == parent[v] && l.clearance < best) {
           best = l.clearance;
           where = 0.5 * (graph.position[v] + graph.position[l.to]);
-          at = v;
         }
-    (void)at;
     std::ostringstream s;
     s.precision(4);
     s << "the widest passage between them narrows to clearance " << best << " m near (" << where.x() << ", "
