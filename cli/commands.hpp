@@ -13,5 +13,7 @@ void addClusterCommand(CLI::App& app, int& status);
 void addSweepCommand(CLI::App& app, int& status);
 void addCheckCommand(CLI::App& app, int& status);
 void addPlotCommand(CLI::App& app, int& status);
+void addRoadmapCommand(CLI::App& app, int& status);
+void addPlanCommand(CLI::App& app, int& status);
 
 }  // namespace hullmap::cli

@@ -1,0 +1,430 @@
+#include "hullmap/planning/roadmap.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <utility>
+
+#include <CGAL/Segment_Delaunay_graph_hierarchy_2.h>
+#include <Eigen/Geometry>
+#include <CGAL/Segment_Delaunay_graph_filtered_traits_2.h>
+#include <CGAL/Segment_Delaunay_graph_traits_2.h>
+#include <CGAL/Simple_cartesian.h>
+#include <nlohmann/json.hpp>
+
+#include "hullmap/core/atomic_file.hpp"
+#include "hullmap/core/error.hpp"
+
+namespace hullmap::planning {
+namespace {
+
+// Filtered traits: every predicate is exact (interval arithmetic, falling back to exact numbers);
+// Field_with_sqrt_tag lets the constructions (Voronoi vertices) use sqrt in double. Footprints that
+// meet are merged first (mergeMeeting), so no two sites intersect.
+using Kernel = CGAL::Simple_cartesian<double>;
+using Traits = CGAL::Segment_Delaunay_graph_filtered_traits_without_intersections_2<Kernel, CGAL::Field_with_sqrt_tag>;
+using Sdg = CGAL::Segment_Delaunay_graph_hierarchy_2<Traits>;  // hierarchy: fast point location
+// Voronoi vertices are constructed in double with sqrt: the filtered traits fall back to an exact
+// ring construction that divides by zero on some degenerate faces (collinear sites, which voxel
+// footprints have plenty of); a non-finite result marks the face unusable instead.
+using DoubleTraits = CGAL::Segment_Delaunay_graph_traits_without_intersections_2<Kernel, CGAL::Field_with_sqrt_tag>;
+
+Eigen::Vector2d toEigen(const Kernel::Point_2& p) { return {CGAL::to_double(p.x()), CGAL::to_double(p.y())}; }
+
+double segmentDistance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+bool insideConvex(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p) {
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
+    const double cross = (b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x());
+    if (cross <= 0) return false;  // counter-clockwise: strictly inside is strictly left of every edge
+  }
+  return true;
+}
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  }
+  void unite(int a, int b) { parent[find(a)] = find(b); }
+};
+
+/// Which footprints (by index) and whether the bounds have `p` on their boundary, within `eps`.
+/// Geometric, because CGAL splits overlapping collinear edges of different obstacles into pieces
+/// whose ends come from different input segments.
+struct Boundaries {
+  std::vector<const std::vector<Eigen::Vector2d>*> polygons;
+  std::vector<Eigen::AlignedBox<double, 2>> boxes;
+  Eigen::AlignedBox<double, 2> bounds;
+  double eps = 0.0;
+
+  std::vector<int> owners(const Eigen::Vector2d& p) const {
+    std::vector<int> out;
+    for (std::size_t i = 0; i < polygons.size(); ++i) {
+      if (boxes[i].exteriorDistance(p) > eps) continue;
+      const auto& poly = *polygons[i];
+      for (std::size_t k = 0; k < poly.size(); ++k)
+        if (segmentDistance(poly[k], poly[(k + 1) % poly.size()], p) <= eps) {
+          out.push_back(static_cast<int>(i));
+          break;
+        }
+    }
+    const Eigen::Vector2d lo = bounds.min(), hi = bounds.max();
+    if (std::min({std::abs(p.x() - lo.x()), std::abs(p.x() - hi.x()), std::abs(p.y() - lo.y()), std::abs(p.y() - hi.y())}) <= eps)
+      out.push_back(static_cast<int>(polygons.size()));
+    return out;
+  }
+};
+
+SiteRef siteRef(const Sdg::Site_2& s, const std::vector<int>& owner, int bounds_owner) {
+  SiteRef r;
+  r.obstacle = owner.empty() || owner.front() == bounds_owner ? -1 : owner.front();
+  r.is_point = s.is_point();
+  if (s.is_point()) {
+    r.a = r.b = toEigen(s.point());
+  } else {
+    const auto seg = s.segment();
+    r.a = toEigen(seg.source());
+    r.b = toEigen(seg.target());
+  }
+  return r;
+}
+
+/// Fills edge.polyline between the Voronoi vertices a and b and edge.clearance, per bisector type.
+void traceBisector(RoadmapEdge& edge, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double tolerance) {
+  const SiteRef& sa = edge.site_a;
+  const SiteRef& sb = edge.site_b;
+  edge.polyline = {a, b};
+  if (sa.is_point && sb.is_point) {
+    // Straight bisector; the distance to a point along a segment is minimal at its closest point.
+    edge.clearance = segmentDistance(a, b, sa.a);
+    return;
+  }
+  if (!sa.is_point && !sb.is_point) {
+    // Straight bisector; the distance to a segment's interior is linear along it: min at an end.
+    edge.clearance = std::min(siteDistance(sa, a), siteDistance(sa, b));
+    return;
+  }
+  // Point p and segment s: a parabola. With t along s's line and n its normal towards p, the arc is
+  // foot(t) + h(t) n with h(t) = ((t - tp)^2 + d^2) / (2 d): the distance to both sites, minimal
+  // at t = tp. A chord over [t, t + dt] lies within dt^2 / (8 d) of the arc (measured along n, an
+  // upper bound of the true distance), so dt = sqrt(8 d tolerance) keeps every chord within it.
+  const SiteRef& point = sa.is_point ? sa : sb;
+  const SiteRef& segment = sa.is_point ? sb : sa;
+  const Eigen::Vector2d o = segment.a;
+  const Eigen::Vector2d u = (segment.b - segment.a).normalized();
+  Eigen::Vector2d n(-u.y(), u.x());
+  double d = (point.a - o).dot(n);
+  if (d < 0) {
+    n = -n;
+    d = -d;
+  }
+  const double tp = (point.a - o).dot(u);
+  const double ta = (a - o).dot(u);
+  const double tb = (b - o).dot(u);
+  auto h = [&](double t) { return ((t - tp) * (t - tp) + d * d) / (2 * d); };
+  if (!(d > 1e-12)) {
+    edge.clearance = std::min(siteDistance(point, a), siteDistance(point, b));
+    return;
+  }
+  edge.clearance = h(std::clamp(tp, std::min(ta, tb), std::max(ta, tb)));
+  const double step = std::sqrt(8 * d * tolerance);
+  const auto pieces = static_cast<std::size_t>(std::min(1e5, std::ceil(std::abs(tb - ta) / step)));
+  if (pieces <= 1) return;
+  edge.polyline.clear();
+  edge.polyline.push_back(a);
+  for (std::size_t i = 1; i < pieces; ++i) {
+    const double t = ta + (tb - ta) * static_cast<double>(i) / static_cast<double>(pieces);
+    edge.polyline.push_back(o + t * u + h(t) * n);
+  }
+  edge.polyline.push_back(b);
+}
+
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
+  return (b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x());
+}
+
+/// Convex counter-clockwise polygons P and Q touch, overlap or come within eps of each other.
+bool polygonsMeet(const std::vector<Eigen::Vector2d>& P, const std::vector<Eigen::Vector2d>& Q, double eps) {
+  auto inside = [](const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
+    for (std::size_t i = 0; i < poly.size(); ++i)
+      if (cross(poly[i], poly[(i + 1) % poly.size()], p) < 0) return false;
+    return true;
+  };
+  for (const auto& p : P) if (inside(Q, p)) return true;
+  for (const auto& q : Q) if (inside(P, q)) return true;
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    const Eigen::Vector2d& a = P[i];
+    const Eigen::Vector2d& b = P[(i + 1) % P.size()];
+    for (std::size_t j = 0; j < Q.size(); ++j) {
+      const Eigen::Vector2d& c = Q[j];
+      const Eigen::Vector2d& d = Q[(j + 1) % Q.size()];
+      if (segmentDistance(a, b, c) <= eps || segmentDistance(c, d, a) <= eps) return true;
+      if (cross(a, b, c) * cross(a, b, d) < 0 && cross(c, d, a) * cross(c, d, b) < 0) return true;
+    }
+  }
+  return false;
+}
+
+/// Clips a convex polygon to the box (Sutherland-Hodgman); empty when nothing is left.
+std::vector<Eigen::Vector2d> clipToBox(std::vector<Eigen::Vector2d> poly, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
+  for (int side = 0; side < 4 && !poly.empty(); ++side) {
+    const int axis = side % 2;
+    const bool low = side < 2;
+    const double limit = low ? lo[axis] : hi[axis];
+    auto in = [&](const Eigen::Vector2d& p) { return low ? p[axis] >= limit : p[axis] <= limit; };
+    std::vector<Eigen::Vector2d> out;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const Eigen::Vector2d& a = poly[i];
+      const Eigen::Vector2d& b = poly[(i + 1) % poly.size()];
+      if (in(a)) out.push_back(a);
+      if (in(a) != in(b)) {
+        const double t = (limit - a[axis]) / (b[axis] - a[axis]);
+        Eigen::Vector2d x = a + t * (b - a);
+        x[axis] = limit;
+        out.push_back(x);
+      }
+    }
+    poly = std::move(out);
+  }
+  poly = clustering::convexHull2d(poly);
+  return poly.size() >= 3 ? poly : std::vector<Eigen::Vector2d>{};
+}
+
+}  // namespace
+
+double siteDistance(const SiteRef& site, const Eigen::Vector2d& p) {
+  return site.is_point ? (p - site.a).norm() : segmentDistance(site.a, site.b, p);
+}
+
+Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const RoadmapParams& params) {
+  if (!(params.tolerance > 0) || !std::isfinite(params.tolerance))
+    throw Error("roadmap tolerance: must be > 0, got " + std::to_string(params.tolerance));
+  if (!(params.z0 <= params.z1)) throw Error("roadmap band: z0 must be <= z1");
+  if (!(params.min_clearance >= 0)) throw Error("roadmap min_clearance: must be >= 0");
+
+  Roadmap map;
+  map.z0 = params.z0;
+  map.z1 = params.z1;
+  map.min_clearance = params.min_clearance;
+  map.tolerance = params.tolerance;
+
+  std::vector<const clustering::Obstacle*> band;
+  for (const auto& o : obstacles) {
+    if (o.footprint.z_max < params.z0 || o.footprint.z_min > params.z1) continue;
+    if (o.footprint.polygon.size() < 3)
+      throw Error("obstacle " + std::to_string(o.id) + ": footprint has " +
+                  std::to_string(o.footprint.polygon.size()) + " vertices, expected >= 3");
+    band.push_back(&o);
+  }
+
+  if (params.bounds) {
+    map.bounds = *params.bounds;
+  } else {
+    if (!(params.margin > 0)) throw Error("roadmap margin: must be > 0");
+    double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+    for (const auto* o : band)
+      for (const auto& p : o->footprint.polygon) {
+        x0 = std::min(x0, p.x()); y0 = std::min(y0, p.y());
+        x1 = std::max(x1, p.x()); y1 = std::max(y1, p.y());
+      }
+    if (band.empty()) x0 = y0 = x1 = y1 = 0.0;
+    map.bounds = {x0 - params.margin, y0 - params.margin, x1 + params.margin, y1 + params.margin};
+  }
+  const Bounds2d& bb = map.bounds;
+  if (!(bb.x0 < bb.x1 && bb.y0 < bb.y1) || !std::isfinite(bb.x0 + bb.x1 + bb.y0 + bb.y1))
+    throw Error("roadmap bounds: need x0 < x1 and y0 < y1");
+
+  const double scale = std::max({std::abs(bb.x0), std::abs(bb.x1), std::abs(bb.y0), std::abs(bb.y1), 1.0});
+
+  // Footprints clipped to the bounds (shrunk by a hair, so none touches them), then every group of
+  // footprints that meet replaced by the convex hull of their union until none meet: conservative
+  // (a notch between touching fragments is filled) and it leaves CGAL only disjoint sites.
+  const double hair = 1e-6 * scale;
+  for (const auto* o : band) {
+    auto clipped = clipToBox(o->footprint.polygon, {bb.x0 + hair, bb.y0 + hair}, {bb.x1 - hair, bb.y1 - hair});
+    if (clipped.empty()) continue;
+    map.footprints.push_back(std::move(clipped));
+    map.obstacle_groups.push_back({o->id});
+  }
+  auto box = [](const std::vector<Eigen::Vector2d>& poly) {
+    Eigen::AlignedBox<double, 2> b(poly.front(), poly.front());
+    for (const auto& p : poly) b.extend(p);
+    return b;
+  };
+  std::vector<Eigen::AlignedBox<double, 2>> boxes;
+  for (const auto& poly : map.footprints) boxes.push_back(box(poly));
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t i = 0; i < map.footprints.size(); ++i) {
+      for (std::size_t j = i + 1; j < map.footprints.size(); ++j) {
+        if (boxes[i].exteriorDistance(boxes[j]) > hair || !polygonsMeet(map.footprints[i], map.footprints[j], hair))
+          continue;
+        auto points = map.footprints[i];
+        points.insert(points.end(), map.footprints[j].begin(), map.footprints[j].end());
+        map.footprints[i] = clustering::convexHull2d(points);
+        auto& ids = map.obstacle_groups[i];
+        ids.insert(ids.end(), map.obstacle_groups[j].begin(), map.obstacle_groups[j].end());
+        const auto at = static_cast<std::ptrdiff_t>(j);
+        map.footprints.erase(map.footprints.begin() + at);
+        map.obstacle_groups.erase(map.obstacle_groups.begin() + at);
+        boxes.erase(boxes.begin() + at);
+        boxes[i] = box(map.footprints[i]);
+        changed = true;
+        j = i;  // the grown hull may now meet footprints already passed
+      }
+    }
+  }
+
+  const int bounds_owner = static_cast<int>(map.footprints.size());
+  Boundaries boundaries;
+  boundaries.eps = 1e-9 * scale;
+  boundaries.bounds = Eigen::AlignedBox<double, 2>(Eigen::Vector2d(bb.x0, bb.y0), Eigen::Vector2d(bb.x1, bb.y1));
+  Sdg sdg;
+  auto addSegment = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    const Kernel::Point_2 pa(a.x(), a.y()), pb(b.x(), b.y());
+    if (pa != pb) sdg.insert(pa, pb);
+  };
+  for (const auto& poly : map.footprints) {
+    boundaries.polygons.push_back(&poly);
+    boundaries.boxes.emplace_back(poly.front(), poly.front());
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+      boundaries.boxes.back().extend(poly[k]);
+      addSegment(poly[k], poly[(k + 1) % poly.size()]);
+    }
+  }
+  const Eigen::Vector2d corners[4] = {{bb.x0, bb.y0}, {bb.x1, bb.y0}, {bb.x1, bb.y1}, {bb.x0, bb.y1}};
+  for (int k = 0; k < 4; ++k) addSegment(corners[k], corners[(k + 1) % 4]);
+  std::map<Sdg::Vertex_handle, std::vector<int>> owner_cache;
+  auto ownersOf = [&](Sdg::Vertex_handle v) -> const std::vector<int>& {
+    auto it = owner_cache.find(v);
+    if (it != owner_cache.end()) return it->second;
+    const Sdg::Site_2 s = v->site();
+    const Eigen::Vector2d p = s.is_point() ? toEigen(s.point())
+                                           : 0.5 * (toEigen(s.segment().source()) + toEigen(s.segment().target()));
+    return owner_cache.emplace(v, boundaries.owners(p)).first->second;
+  };
+
+  // Voronoi vertices: one per finite face; faces whose vertices coincide (co-circular sites, common
+  // with boxes) are merged into one node so that the graph stays connected through them.
+  std::map<Sdg::Face_handle, int> face_index;
+  std::vector<Eigen::Vector2d> vertex;
+  const auto construct = DoubleTraits().construct_svd_vertex_2_object();
+  for (auto f = sdg.finite_faces_begin(); f != sdg.finite_faces_end(); ++f) {
+    face_index.emplace(f, static_cast<int>(vertex.size()));
+    vertex.push_back(toEigen(construct(f->vertex(0)->site(), f->vertex(1)->site(), f->vertex(2)->site())));
+  }
+  // Constructions are in double: one vertex computed from different faces differs by ~1e-8 m.
+  const double same = 1e-6 * scale;
+  UnionFind merged(vertex.size());
+  {
+    std::vector<int> by_x(vertex.size());
+    std::iota(by_x.begin(), by_x.end(), 0);
+    std::sort(by_x.begin(), by_x.end(), [&](int i, int j) { return vertex[i].x() < vertex[j].x(); });
+    for (std::size_t k = 0; k < by_x.size(); ++k)
+      for (std::size_t l = k + 1; l < by_x.size() && vertex[by_x[l]].x() - vertex[by_x[k]].x() <= same; ++l)
+        if ((vertex[by_x[k]] - vertex[by_x[l]]).norm() <= same) merged.unite(by_x[k], by_x[l]);
+  }
+
+  std::map<int, int> node_of_root;
+  auto nodeOf = [&](int face) {
+    const int root = merged.find(face);
+    const auto [it, fresh] = node_of_root.emplace(root, static_cast<int>(map.nodes.size()));
+    if (fresh) map.nodes.push_back({vertex[root]});
+    return it->second;
+  };
+  auto inBounds = [&](const Eigen::Vector2d& p) {
+    return p.x() >= bb.x0 - same && p.x() <= bb.x1 + same && p.y() >= bb.y0 - same && p.y() <= bb.y1 + same;
+  };
+
+  for (auto e = sdg.finite_edges_begin(); e != sdg.finite_edges_end(); ++e) {
+    const auto f = e->first;
+    const auto g = f->neighbor(e->second);
+    if (sdg.is_infinite(f) || sdg.is_infinite(g)) continue;  // reaches infinity: outside the bounds
+    const auto va = f->vertex(Sdg::ccw(e->second));
+    const auto vb = f->vertex(Sdg::cw(e->second));
+    const Sdg::Site_2 sa = va->site(), sb = vb->site();
+    const std::vector<int>& oa = ownersOf(va);
+    const std::vector<int>& ob = ownersOf(vb);  // both sorted
+    std::vector<int> common;
+    std::set_intersection(oa.begin(), oa.end(), ob.begin(), ob.end(), std::back_inserter(common));
+    if (!common.empty() || oa.empty() || ob.empty()) continue;  // same obstacle (or bounds twice)
+    const int fi = face_index.at(f), gi = face_index.at(g);
+    const Eigen::Vector2d a = vertex[merged.find(fi)], b = vertex[merged.find(gi)];
+    if (!a.allFinite() || !b.allFinite() || !inBounds(a) || !inBounds(b)) continue;
+    if (merged.find(fi) == merged.find(gi)) continue;  // zero length
+
+    RoadmapEdge edge;
+    edge.site_a = siteRef(sa, oa, bounds_owner);
+    edge.site_b = siteRef(sb, ob, bounds_owner);
+    traceBisector(edge, a, b, params.tolerance);
+    if (edge.clearance < params.min_clearance) continue;
+    const Eigen::Vector2d mid = edge.polyline[edge.polyline.size() / 2] * 0.5 +
+                                edge.polyline[(edge.polyline.size() - 1) / 2] * 0.5;
+    bool inside = false;
+    for (std::size_t i = 0; i < map.footprints.size() && !inside; ++i)
+      inside = boxes[i].contains(mid) && insideConvex(map.footprints[i], mid);
+    if (inside) continue;
+    for (std::size_t k = 1; k < edge.polyline.size(); ++k) edge.length += (edge.polyline[k] - edge.polyline[k - 1]).norm();
+    edge.from = nodeOf(fi);
+    edge.to = nodeOf(gi);
+    edge.polyline.front() = map.nodes[edge.from].position;
+    edge.polyline.back() = map.nodes[edge.to].position;
+    map.edges.push_back(std::move(edge));
+  }
+  return map;
+}
+
+std::string roadmapJson(const Roadmap& roadmap) {
+  using nlohmann::json;
+  auto xy = [](const Eigen::Vector2d& p) { return json::array({p.x(), p.y()}); };
+  auto site = [&](const SiteRef& s) {
+    json j{{"obstacle", s.obstacle >= 0 ? json(s.obstacle) : json(nullptr)}};
+    if (s.is_point) j["point"] = xy(s.a);
+    else j["segment"] = json::array({xy(s.a), xy(s.b)});
+    return j;
+  };
+  json j;
+  j["format"] = "hullmap-roadmap/1";
+  j["frame"] = "z-up map";
+  j["bounds"] = {roadmap.bounds.x0, roadmap.bounds.y0, roadmap.bounds.x1, roadmap.bounds.y1};
+  j["band"] = {roadmap.z0, roadmap.z1};
+  j["min_clearance"] = roadmap.min_clearance;
+  j["tolerance"] = roadmap.tolerance;
+  j["obstacles"] = json::array();
+  for (std::size_t i = 0; i < roadmap.footprints.size(); ++i) {
+    json o{{"ids", roadmap.obstacle_groups[i]}, {"footprint", json::array()}};
+    for (const auto& p : roadmap.footprints[i]) o["footprint"].push_back(xy(p));
+    j["obstacles"].push_back(std::move(o));
+  }
+  j["nodes"] = json::array();
+  for (const auto& n : roadmap.nodes) j["nodes"].push_back(xy(n.position));
+  j["edges"] = json::array();
+  for (const auto& e : roadmap.edges) {
+    json je{{"from", e.from}, {"to", e.to}, {"length", e.length}, {"clearance", e.clearance}};
+    je["sites"] = json::array({site(e.site_a), site(e.site_b)});
+    je["polyline"] = json::array();
+    for (const auto& p : e.polyline) je["polyline"].push_back(xy(p));
+    j["edges"].push_back(std::move(je));
+  }
+  return j.dump(1) + "\n";
+}
+
+void writeRoadmapJson(const std::string& path, const Roadmap& roadmap) {
+  const std::string text = roadmapJson(roadmap);
+  core::writeFileAtomically(path, [&](std::ostream& out) { out << text; });
+}
+
+}  // namespace hullmap::planning
