@@ -1,0 +1,219 @@
+#include "hullmap/pipeline/obstacles_json.hpp"
+
+#include <array>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+
+#include "hullmap/mapper/error.hpp"
+
+namespace hullmap::pipeline {
+namespace {
+
+using nlohmann::json;
+
+json vec3(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+json hullJson(const clustering::ConvexHull& hull) {
+  json vertices = json::array();
+  for (const auto& v : hull.vertices) vertices.push_back(vec3(v));
+  json triangles = json::array();
+  for (const auto& t : hull.triangles) triangles.push_back({t[0], t[1], t[2]});
+  return {{"vertices", vertices}, {"triangles", triangles}};
+}
+
+json footprintJson(const clustering::Footprint& footprint) {
+  json polygon = json::array();
+  for (const auto& p : footprint.polygon) polygon.push_back({p.x(), p.y()});
+  return {{"polygon", polygon}, {"z_min", footprint.z_min}, {"z_max", footprint.z_max}};
+}
+
+/// Reading side: every access names the source and the JSON path that is wrong.
+struct Reader {
+  const std::string& source;
+
+  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+    throw Error(source + ": " + where + ": " + what);
+  }
+  const json& field(const json& object, const char* key, const std::string& where) const {
+    if (!object.is_object()) fail(where, "expected an object");
+    const auto it = object.find(key);
+    if (it == object.end()) fail(where, std::string("missing \"") + key + "\"");
+    return *it;
+  }
+  double number(const json& j, const std::string& where) const {
+    if (!j.is_number()) fail(where, "expected a number");
+    return j.get<double>();
+  }
+  std::uint64_t count(const json& j, const std::string& where) const {
+    if (!j.is_number_unsigned() && !(j.is_number_integer() && j.get<std::int64_t>() >= 0))
+      fail(where, "expected a non-negative integer");
+    return j.get<std::uint64_t>();
+  }
+  Eigen::Vector3d point3(const json& j, const std::string& where) const {
+    if (!j.is_array() || j.size() != 3) fail(where, "expected [x, y, z]");
+    return {number(j[0], where), number(j[1], where), number(j[2], where)};
+  }
+  const json& array(const json& j, const std::string& where) const {
+    if (!j.is_array()) fail(where, "expected an array");
+    return j;
+  }
+  clustering::ConvexHull hull(const json& j, const std::string& at) const {
+    clustering::ConvexHull out;
+    const json& vertices = array(field(j, "vertices", at), at + ".vertices");
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+      out.vertices.push_back(point3(vertices[i], at + ".vertices[" + std::to_string(i) + "]"));
+    const json& triangles = array(field(j, "triangles", at), at + ".triangles");
+    for (std::size_t i = 0; i < triangles.size(); ++i) {
+      const std::string where = at + ".triangles[" + std::to_string(i) + "]";
+      const json& t = triangles[i];
+      if (!t.is_array() || t.size() != 3) fail(where, "expected [i, j, k]");
+      std::array<int, 3> tri{};
+      for (int c = 0; c < 3; ++c) {
+        if (!t[c].is_number_integer() || t[c].get<std::int64_t>() < 0 ||
+            t[c].get<std::int64_t>() >= std::int64_t(out.vertices.size()))
+          fail(where, "vertex index out of range (0.." + std::to_string(out.vertices.size()) + ")");
+        tri[std::size_t(c)] = t[c].get<int>();
+      }
+      out.triangles.push_back(tri);
+    }
+    if (out.vertices.size() < 4 || out.triangles.size() < 4)
+      fail(at, "a closed hull needs at least 4 vertices and 4 triangles");
+    return out;
+  }
+  clustering::Footprint footprint(const json& j, const std::string& at) const {
+    clustering::Footprint out;
+    const json& polygon = array(field(j, "polygon", at), at + ".polygon");
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const std::string where = at + ".polygon[" + std::to_string(i) + "]";
+      if (!polygon[i].is_array() || polygon[i].size() != 2) fail(where, "expected [x, y]");
+      out.polygon.emplace_back(number(polygon[i][0], where), number(polygon[i][1], where));
+    }
+    out.z_min = number(field(j, "z_min", at), at + ".z_min");
+    out.z_max = number(field(j, "z_max", at), at + ".z_max");
+    return out;
+  }
+  /// The fields a whole obstacle and a part share.
+  template <class T>
+  void common(const json& j, const std::string& at, T& o) const {
+    o.voxel_count = count(field(j, "voxel_count", at), at + ".voxel_count");
+    o.point_weight = count(field(j, "point_weight", at), at + ".point_weight");
+    const json& aabb = field(j, "aabb", at);
+    o.aabb_min = point3(field(aabb, "min", at + ".aabb"), at + ".aabb.min");
+    o.aabb_max = point3(field(aabb, "max", at + ".aabb"), at + ".aabb.max");
+    o.centroid = point3(field(j, "centroid", at), at + ".centroid");
+    o.volume = number(field(j, "volume", at), at + ".volume");
+    o.hull = hull(field(j, "hull", at), at + ".hull");
+    o.footprint = footprint(field(j, "footprint", at), at + ".footprint");
+  }
+};
+
+template <class T>
+json commonJson(const T& o) {
+  return {{"voxel_count", o.voxel_count},
+          {"point_weight", o.point_weight},
+          {"aabb", {{"min", vec3(o.aabb_min)}, {"max", vec3(o.aabb_max)}}},
+          {"centroid", vec3(o.centroid)},
+          {"volume", o.volume},
+          {"hull", hullJson(o.hull)},
+          {"footprint", footprintJson(o.footprint)}};
+}
+
+}  // namespace
+
+json obstaclesToJson(const std::vector<clustering::Obstacle>& obstacles, const ObstaclesDocMeta& meta) {
+  json doc;
+  doc["format"] = kObstaclesFormatV2;
+  doc["frame"] = meta.frame;
+  doc["parameters"] = meta.parameters;
+  json list = json::array();
+  for (const auto& o : obstacles) {
+    json entry = commonJson(o);
+    entry["id"] = o.id;
+    json parts = json::array();
+    for (const auto& p : o.parts) {
+      json part = commonJson(p);
+      part["concavity_bound"] = p.concavity_bound;
+      part["free_voxels_inside"] = p.free_voxels_inside;
+      parts.push_back(std::move(part));
+    }
+    entry["parts"] = std::move(parts);
+    list.push_back(std::move(entry));
+  }
+  doc["obstacles"] = std::move(list);
+  return doc;
+}
+
+std::vector<clustering::Obstacle> obstaclesFromJson(const json& doc, const std::string& source,
+                                                    ObstaclesDocMeta* meta) {
+  const Reader r{source};
+  const json& format = r.field(doc, "format", "top level");
+  const bool v1 = format.is_string() && format.get<std::string>() == kObstaclesFormatV1;
+  const bool v2 = format.is_string() && format.get<std::string>() == kObstaclesFormatV2;
+  if (!v1 && !v2)
+    r.fail("format", std::string("expected \"") + kObstaclesFormatV2 + "\" or \"" + kObstaclesFormatV1 +
+                         "\", got " + format.dump());
+  if (meta) {
+    meta->format = format.get<std::string>();
+    const json& frame = r.field(doc, "frame", "top level");
+    if (!frame.is_string()) r.fail("frame", "expected a string");
+    meta->frame = frame.get<std::string>();
+    meta->parameters = r.field(doc, "parameters", "top level");
+  }
+  std::vector<clustering::Obstacle> obstacles;
+  const json& list = r.array(r.field(doc, "obstacles", "top level"), "obstacles");
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const std::string at = "obstacles[" + std::to_string(k) + "]";
+    const json& j = list[k];
+    clustering::Obstacle o;
+    const json& id = r.field(j, "id", at);
+    if (!id.is_number_integer()) r.fail(at + ".id", "expected an integer");
+    o.id = id.get<int>();
+    r.common(j, at, o);
+    if (v2) {
+      const json& parts = r.array(r.field(j, "parts", at), at + ".parts");
+      for (std::size_t p = 0; p < parts.size(); ++p) {
+        const std::string where = at + ".parts[" + std::to_string(p) + "]";
+        clustering::ObstaclePart part;
+        r.common(parts[p], where, part);
+        part.concavity_bound = r.number(r.field(parts[p], "concavity_bound", where), where + ".concavity_bound");
+        part.free_voxels_inside =
+            r.count(r.field(parts[p], "free_voxels_inside", where), where + ".free_voxels_inside");
+        o.parts.push_back(std::move(part));
+      }
+    }
+    obstacles.push_back(std::move(o));
+  }
+  return obstacles;
+}
+
+std::vector<clustering::Obstacle> readObstaclesFile(const std::string& path, ObstaclesDocMeta* meta) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open");
+  json doc;
+  try {
+    doc = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw Error(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+  }
+  return obstaclesFromJson(doc, path, meta);
+}
+
+void writeObstaclesObj(std::ostream& out, const std::vector<clustering::Obstacle>& obstacles) {
+  out << "# hullmap obstacles: convex hulls (one object per convex part), z-up map frame\n";
+  out << std::setprecision(std::numeric_limits<double>::max_digits10);
+  std::size_t base = 1;
+  const auto write = [&](const std::string& name, const clustering::ConvexHull& hull) {
+    out << "o " << name << '\n';
+    for (const auto& v : hull.vertices) out << "v " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
+    for (const auto& t : hull.triangles) out << "f " << base + t[0] << ' ' << base + t[1] << ' ' << base + t[2] << '\n';
+    base += hull.vertices.size();
+  };
+  for (const auto& o : obstacles) {
+    if (o.parts.empty()) write("obstacle_" + std::to_string(o.id), o.hull);
+    for (std::size_t k = 0; k < o.parts.size(); ++k)
+      write("obstacle_" + std::to_string(o.id) + "_part_" + std::to_string(k), o.parts[k].hull);
+  }
+}
+
+}  // namespace hullmap::pipeline
