@@ -11,9 +11,16 @@ namespace hullmap::collision {
 FclObstacles::FclObstacles(const std::vector<clustering::Obstacle>& obstacles)
     : manager_(std::make_unique<fcl::DynamicAABBTreeCollisionManagerd>()) {
   std::vector<fcl::CollisionObjectd*> registered;
-  for (std::size_t i = 0; i < obstacles.size(); ++i) {
-    const clustering::ConvexHull& hull = obstacles[i].hull;
-    const std::string what = "obstacle " + std::to_string(obstacles[i].id);
+  for (std::size_t o = 0; o < obstacles.size(); ++o) {
+    for (int p = obstacles[o].parts.empty() ? -1 : 0; p < int(obstacles[o].parts.size()); ++p)
+      sources_.push_back({o, p});
+  }
+  for (std::size_t i = 0; i < sources_.size(); ++i) {
+    const clustering::Obstacle& obstacle = obstacles[sources_[i].obstacle];
+    const int part = sources_[i].part;
+    const clustering::ConvexHull& hull = part < 0 ? obstacle.hull : obstacle.parts[std::size_t(part)].hull;
+    const std::string what =
+        "obstacle " + std::to_string(obstacle.id) + (part < 0 ? "" : " part " + std::to_string(part));
     polytopes_.push_back(ConvexPolytope::fromHull(hull, what));  // FCL checks none of this
     auto vertices = std::make_shared<const std::vector<Eigen::Vector3d>>(hull.vertices);
     auto faces = std::make_shared<std::vector<int>>();

@@ -127,10 +127,14 @@ class TouchingHulls {
 
 struct HullChecker::Impl {
   explicit Impl(const std::vector<clustering::Obstacle>& obstacles) : fcl(obstacles) {
-    for (const auto& o : obstacles) ids.push_back(o.id);
+    for (std::size_t i = 0; i < fcl.size(); ++i) {
+      ids.push_back(obstacles[fcl.source(i).obstacle].id);
+      parts.push_back(fcl.source(i).part);
+    }
   }
   FclObstacles fcl;
-  std::vector<int> ids;
+  std::vector<int> ids;    ///< per FCL object: its obstacle's id
+  std::vector<int> parts;  ///< per FCL object: its part index (-1: whole hull)
 };
 
 namespace {
@@ -239,6 +243,7 @@ SegmentCheck HullChecker::check(const Segment& segment, double radius) const {
   }
   result.t = first;
   result.obstacle = impl_->ids[std::size_t(first_hull)];
+  result.part = impl_->parts[std::size_t(first_hull)];
   return result;
 }
 

@@ -13,12 +13,21 @@
 
 namespace hullmap::collision {
 
-/// The obstacles as FCL collision objects, for planners that query FCL themselves: each hull an
+/// Which hull an object of FclObstacles is: part `part` of obstacles[obstacle], or (part -1) the
+/// whole hull of an obstacle that has no parts.
+struct HullSource {
+  std::size_t obstacle = 0;
+  int part = -1;
+};
+
+/// The obstacles as FCL collision objects, for planners that query FCL themselves: one object per
+/// convex part of an obstacle that has parts (clustering/convex_parts.hpp), else one for its whole
+/// hull (so without parts, object i is obstacles[i]); each hull an
 /// `fcl::Convexd` (triangles as faces, outward), validated twice — hullmap's check that it is
 /// closed, convex and of positive volume, then FCL's own topology check (`throw_if_invalid`) — at
 /// the identity pose (hull vertices are in the z-up map frame, map units), all registered in one
 /// `fcl::DynamicAABBTreeCollisionManagerd`, already set up. The user data of each object is its
-/// index in the obstacles given (see indexOf). Each hull is kept as a ConvexPolytope too.
+/// index among the objects (see indexOf; source() says which obstacle and part it is). Each hull is kept as a ConvexPolytope too.
 ///
 /// HullChecker uses this manager as its broadphase. It does not take its answers from FCL's
 /// narrowphase on `Convex` (GJK/EPA distances that are not exact, and a continuous collision that
@@ -30,7 +39,7 @@ namespace hullmap::collision {
 /// objects' addresses, which a move keeps).
 class FclObstacles {
  public:
-  /// Throws hullmap::Error naming the obstacle id when a hull is invalid.
+  /// Throws hullmap::Error naming the obstacle id (and part) when a hull is invalid.
   explicit FclObstacles(const std::vector<clustering::Obstacle>& obstacles);
   ~FclObstacles();
   FclObstacles(FclObstacles&&) noexcept;
@@ -41,20 +50,25 @@ class FclObstacles {
   /// Every obstacle's object, set up for queries.
   const fcl::DynamicAABBTreeCollisionManagerd& manager() const { return *manager_; }
 
+  /// Number of objects (hulls).
   std::size_t size() const { return objects_.size(); }
-  /// The object of obstacles[i].
+  /// Object i.
   const fcl::CollisionObjectd& object(std::size_t i) const { return *objects_[i]; }
 
-  /// The hull of obstacles[i] for hullmap's exact queries (the same vertices as object(i)).
+  /// The hull of object i for hullmap's exact queries (the same vertices as object(i)).
   const ConvexPolytope& polytope(std::size_t i) const { return polytopes_[i]; }
 
-  /// Index in the obstacles of an object this class made (for FCL callbacks).
+  /// The obstacle (index in the obstacles given) and part of object i.
+  const HullSource& source(std::size_t i) const { return sources_[i]; }
+
+  /// Index among the objects of an object this class made (for FCL callbacks).
   static std::size_t indexOf(const fcl::CollisionObjectd& object) {
     return reinterpret_cast<std::size_t>(object.getUserData());
   }
 
  private:
   std::vector<ConvexPolytope> polytopes_;
+  std::vector<HullSource> sources_;
   std::vector<std::unique_ptr<fcl::CollisionObjectd>> objects_;
   std::unique_ptr<fcl::DynamicAABBTreeCollisionManagerd> manager_;
 };

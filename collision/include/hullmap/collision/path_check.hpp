@@ -22,6 +22,7 @@ struct Segment {
 struct SegmentCheck {
   bool collides = false;
   int obstacle = -1;        ///< id of the obstacle hit first (-1: none)
+  int part = -1;            ///< index of its part hit first (-1: none, or an obstacle without parts)
   double t = 1.0;           ///< first contact as a fraction of the segment (valid when collides)
   double clearance = 0.0;   ///< min distance to any obstacle minus r; 0 when colliding
 };
@@ -32,7 +33,7 @@ struct PathCheck {
   std::optional<Eigen::Vector3d> first_contact;   ///< point on the path
 };
 
-/// Hull mode: the obstacles' convex hulls as FCL objects in FCL's broadphase manager (FclObstacles);
+/// Hull mode: the obstacles' convex hulls (one per convex part when an obstacle has parts) as FCL objects in FCL's broadphase manager (FclObstacles);
 /// every answer from certified segment-hull distances (convex_distance.hpp), the first contact
 /// bracketed as firstContact does. Throws hullmap::Error on an invalid hull (naming its id).
 /// Thread-safe for concurrent checks after construction.
