@@ -13,5 +13,6 @@ void addClusterCommand(CLI::App& app, int& status);
 void addSweepCommand(CLI::App& app, int& status);
 void addCheckCommand(CLI::App& app, int& status);
 void addPlotCommand(CLI::App& app, int& status);
+void addEvaluateCommand(CLI::App& app, int& status);
 
 }  // namespace hullmap::cli

@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
   hullmap::cli::addSweepCommand(app, status);
   hullmap::cli::addCheckCommand(app, status);
   hullmap::cli::addPlotCommand(app, status);
+  hullmap::cli::addEvaluateCommand(app, status);
   if (argc > 1 && argv[1][0] != '-') {
     std::string names;
     bool known = false;
