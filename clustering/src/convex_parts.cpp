@@ -300,10 +300,14 @@ class ClusterSplitter {
         if (const auto cut = bestBoxCut(part, a)) planes.emplace_back(Eigen::Vector3d::Unit(a), Eigen::Vector3d::Constant(double(*cut)));
       std::optional<std::pair<Members, Members>> best;
       std::int64_t best_volume = 0;
+      std::vector<Members> tried;  // planes that cut the same way are scored once
       for (const auto& [n, point] : planes) {
         Members left, right;
         for (const auto i : part) (n.dot(centre(i) - point) < 0 ? left : right).push_back(i);
         if (left.empty() || right.empty()) continue;
+        if (left.front() != part.front()) std::swap(left, right);
+        if (std::find(tried.begin(), tried.end(), left) != tried.end()) continue;
+        tried.push_back(left);
         const std::int64_t volume = latticeHull(gather(left)).volume6 + latticeHull(gather(right)).volume6;
         if (!best || volume < best_volume) {
           best_volume = volume;
