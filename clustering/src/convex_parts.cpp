@@ -298,23 +298,26 @@ class ClusterSplitter {
       for (int a = 2; a >= 0; --a) planes.emplace_back(pca.eigenvectors().col(a), check.split_point);
       for (int a = 0; a < 3; ++a)
         if (const auto cut = bestBoxCut(part, a)) planes.emplace_back(Eigen::Vector3d::Unit(a), Eigen::Vector3d::Constant(double(*cut)));
-      std::optional<std::pair<Members, Members>> best;
-      std::int64_t best_volume = 0;
-      std::vector<Members> tried;  // planes that cut the same way are scored once
+      // Distinct cuts (planes that cut the same way are scored once), scored in parallel; the
+      // smallest summed hull volume wins, ties to the first candidate (thread-count independent).
+      std::vector<std::pair<Members, Members>> cuts;
       for (const auto& [n, point] : planes) {
         Members left, right;
         for (const auto i : part) (n.dot(centre(i) - point) < 0 ? left : right).push_back(i);
         if (left.empty() || right.empty()) continue;
         if (left.front() != part.front()) std::swap(left, right);
-        if (std::find(tried.begin(), tried.end(), left) != tried.end()) continue;
-        tried.push_back(left);
-        const std::int64_t volume = latticeHull(gather(left)).volume6 + latticeHull(gather(right)).volume6;
-        if (!best || volume < best_volume) {
-          best_volume = volume;
-          best.emplace(std::move(left), std::move(right));
-        }
+        if (std::any_of(cuts.begin(), cuts.end(), [&](const auto& cut) { return cut.first == left; })) continue;
+        cuts.emplace_back(std::move(left), std::move(right));
       }
-      if (best) return std::move(*best);
+      std::vector<std::int64_t> side_volumes(2 * cuts.size());
+      tbb::parallel_for(std::size_t(0), side_volumes.size(), [&](std::size_t k) {
+        side_volumes[k] = latticeHull(gather(k % 2 ? cuts[k / 2].second : cuts[k / 2].first)).volume6;
+      });
+      std::optional<std::size_t> best;
+      for (std::size_t c = 0; c < cuts.size(); ++c)
+        if (!best || side_volumes[2 * c] + side_volumes[2 * c + 1] < side_volumes[2 * *best] + side_volumes[2 * *best + 1])
+          best = c;
+      if (best) return std::move(cuts[*best]);
     }
     // At the median of the longest axis of the box.
     int axis = 0;
@@ -410,15 +413,24 @@ class ClusterSplitter {
       std::merge(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
       return out;
     };
-    const auto consider = [&](std::size_t a, std::size_t b) {
-      if (!near(nodes[a], nodes[b])) return;
-      const Members both = unite(nodes[a].members, nodes[b].members);
-      const std::int64_t added =
-          latticeHull(gather(both)).volume6 - nodes[a].check.hull.volume6 - nodes[b].check.hull.volume6;
-      queue.emplace(added, std::min(a, b), std::max(a, b));
+    // The added hull volume of each near pair, computed in parallel, queued in pair order.
+    const auto consider = [&](const std::vector<std::pair<std::size_t, std::size_t>>& candidates) {
+      std::vector<std::pair<std::size_t, std::size_t>> pairs;
+      for (const auto& [a, b] : candidates)
+        if (near(nodes[a], nodes[b])) pairs.emplace_back(a, b);
+      std::vector<std::int64_t> added(pairs.size());
+      tbb::parallel_for(std::size_t(0), pairs.size(), [&](std::size_t k) {
+        const auto [a, b] = pairs[k];
+        added[k] = latticeHull(gather(unite(nodes[a].members, nodes[b].members))).volume6 -
+                   nodes[a].check.hull.volume6 - nodes[b].check.hull.volume6;
+      });
+      for (std::size_t k = 0; k < pairs.size(); ++k)
+        queue.emplace(added[k], std::min(pairs[k].first, pairs[k].second), std::max(pairs[k].first, pairs[k].second));
     };
+    std::vector<std::pair<std::size_t, std::size_t>> all_pairs;
     for (std::size_t a = 0; a < nodes.size(); ++a)
-      for (std::size_t b = a + 1; b < nodes.size(); ++b) consider(a, b);
+      for (std::size_t b = a + 1; b < nodes.size(); ++b) all_pairs.emplace_back(a, b);
+    consider(all_pairs);
     while (!queue.empty()) {
       const auto [added, a, b] = queue.top();
       queue.pop();
@@ -431,8 +443,10 @@ class ClusterSplitter {
       box(node.members, node.lo, node.hi);
       nodes.push_back(std::move(node));
       const std::size_t added_node = nodes.size() - 1;
+      std::vector<std::pair<std::size_t, std::size_t>> with_new;
       for (std::size_t c = 0; c < added_node; ++c)
-        if (nodes[c].alive) consider(c, added_node);
+        if (nodes[c].alive) with_new.emplace_back(c, added_node);
+      consider(with_new);
     }
     std::vector<std::pair<Members, Check>> out;
     for (auto& node : nodes)

@@ -85,7 +85,8 @@ struct ConvexPartsSummary {
 
 /// Fills `parts` of every obstacle made by buildObstacles from the same centres/weights/labels:
 /// splitConvexParts on each cluster (in parallel over clusters, TBB), each part wrapped as the
-/// whole is (hull, footprint, volume, ...), with its certified concavity bound and the count of
+/// whole is (hull, footprint, volume, ...; candidate cuts and merges are also scored in parallel, with
+/// results independent of the thread count), with its certified concavity bound and the count of
 /// `known.free_voxels` inside its hull. A cluster that needs no split gets one part equal to the whole.
 /// Throws hullmap::Error as buildObstacles and splitConvexParts do, and when an obstacle's id is not a
 /// label of the voxels.
