@@ -7,10 +7,12 @@
 
 #include <gtest/gtest.h>
 
+#include "hullmap/clustering/convex_parts.hpp"
 #include "hullmap/clustering/obstacles.hpp"
 #include "hullmap/mapper/error.hpp"
 #include "hullmap/pipeline/evaluate.hpp"
 #include "hullmap/pipeline/obstacles_json.hpp"
+#include "pipeline.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::pipeline {
@@ -181,6 +183,42 @@ TEST(Evaluate, SameSeedSameNumbers) {
   const auto a = evaluationToJson(evaluate(obstacles, truth, {}, {}, params), params);
   const auto b = evaluationToJson(evaluate(obstacles, truth, {}, {}, params), params);
   EXPECT_EQ(a, b);
+}
+
+TEST(Evaluate, PartsStopSwallowingTheRoom) {
+  // maps/room at eps 0.2 / minPts 3 (fewer fragments, but clusters that bridge free space): whole
+  // hulls against convex parts at the default T, scored against the room's truth. Prints both.
+  cli::BuildOptions options;
+  options.inputs = {std::string(HULLMAP_SOURCE_DIR) + "/maps/room/map_points.txt"};
+  options.up = "-y";
+  options.dbscan.eps = 0.2;
+  options.dbscan.min_pts = 3;
+  cli::BuildResult r = cli::runBuild(options);
+  const GroundTruth truth = readGroundTruth(std::string(HULLMAP_SOURCE_DIR) + "/maps/room/ground_truth.json");
+  std::vector<V3> centers;
+  std::vector<std::uint32_t> weights;
+  for (const auto& v : r.voxels) {
+    centers.push_back(v.center);
+    weights.push_back(v.weight);
+  }
+  const EvaluateParams params;
+  const Evaluation whole = evaluate(r.obstacles, truth, centers, weights, params);
+  clustering::addConvexParts(r.obstacles, centers, weights, r.clusters.labels, r.map->resolution(), {});
+  const Evaluation parts = evaluate(r.obstacles, truth, centers, weights, params);
+  for (const auto* e : {&whole, &parts})
+    std::cout << (e == &whole ? "whole hulls: " : "convex parts: ") << e->parts << " hulls, " << e->false_parts.size()
+              << " false; union " << e->union_volume << " m^3, farther than 0.1 m from the truth " << e->far_volume
+              << " +- " << e->far_volume_se << "; deep " << e->deep << " missed " << e->missed << "; clear " << e->clear
+              << " false alarms " << e->false_alarms << "\n";
+  EXPECT_EQ(parts.missed, 0u);
+  EXPECT_LE(parts.far_volume, whole.far_volume);
+  EXPECT_LE(parts.false_alarms, whole.false_alarms);
+  double near = 0, inside = 0;
+  for (const auto& t : parts.truth) {
+    near += t.points_near;
+    inside += t.points_inside;
+  }
+  EXPECT_GT(inside, 0.95 * near);  // splitting keeps every clustered voxel in some part
 }
 
 void expectOneLineError(const test::CommandResult& r, const std::string& needle) {

@@ -84,8 +84,9 @@ struct Evaluation {
 
 /// Scores the obstacles (their parts when they have some, else their whole hulls) against the
 /// truth. `points` (map frame) with `weights` (empty: 1 each) are the map's observed points.
-/// Segments: endpoints drawn uniformly in the box of the truth and hulls (grown by radius) until both
-/// keep radius + clear_margin from the truth; the truth's smallest distance along a segment is taken
+/// Segments: endpoints drawn uniformly in the box of the truth grown by radius + clear_margin + 0.5
+/// until both keep radius + clear_margin from the truth (from their own random stream: the same
+/// segments whatever the obstacles, so two builds are scored on the same ones); the truth's smallest distance along a segment is taken
 /// at spacing <= sample_step, which brackets the exact value within sample_step / 2 (distance is
 /// 1-Lipschitz): a segment is deep or clear only when the bracket says so for certain, and neither
 /// otherwise. The hull side is collision::HullChecker. Volumes: volume_samples uniform points in each
