@@ -14,7 +14,7 @@
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/mapper/error.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "obstacle_io.hpp"
+#include "hullmap/pipeline/obstacles_json.hpp"
 
 namespace hullmap::cli {
 namespace {
@@ -94,6 +94,7 @@ std::string describe(std::size_t index, const collision::Segment& s, const colli
   if (json) {
     nlohmann::json j{{"index", index}, {"collides", c.collides}};
     j["obstacle"] = c.obstacle >= 0 ? nlohmann::json(c.obstacle) : nlohmann::json(nullptr);
+    if (c.part >= 0) j["part"] = c.part;
     j["t"] = c.collides ? nlohmann::json(c.t) : nlohmann::json(nullptr);
     j["clearance"] = c.clearance;
     return j.dump();
@@ -103,6 +104,7 @@ std::string describe(std::size_t index, const collision::Segment& s, const colli
   const Eigen::Vector3d p = s.a + c.t * (s.b - s.a);
   line += "COLLIDES";
   if (c.obstacle >= 0) line += " with obstacle " + std::to_string(c.obstacle);
+  if (c.part >= 0) line += " part " + std::to_string(c.part);
   return line + " at t=" + numberText(c.t) + " (" + numberText(p.x()) + " " + numberText(p.y()) + " " +
          numberText(p.z()) + ")";
 }
@@ -137,7 +139,7 @@ void runCheck(const CheckOptions& o, int& status) {
     const collision::OctreeChecker checker(map.tree());
     for (const auto& s : segments) results.push_back(checker.check(s, o.radius));
   } else {
-    const collision::HullChecker checker(readObstaclesJson(artefact(o.input, "obstacles.json")));
+    const collision::HullChecker checker(pipeline::readObstaclesFile(artefact(o.input, "obstacles.json")));
     results = checker.checkBatch(segments, o.radius);
   }
 
