@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
+#include <iostream>
 #include <random>
+#include <sstream>
 
 #include <gtest/gtest.h>
 

@@ -17,6 +17,7 @@ namespace {
 
 using V3 = Eigen::Vector3d;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.141592653589793238462643383279502884;
 
 /// Uniform in [0, 1) from 53 random bits (the same on every standard library).
 double uniform(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1.0p-53; }
@@ -244,7 +245,7 @@ double TruthShape::signedDistance(const V3& p) const {
         const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
         winding += 2.0 * std::atan2(num, den);
       }
-      winding /= 4.0 * M_PI;
+      winding /= 4.0 * kPi;
       return std::abs(winding) >= 0.5 ? -best : best;
     }
   }
@@ -361,7 +362,7 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
   for (std::size_t tries = 0; segments.size() < params.segments && tries < 1000 * params.segments; ++tries) {
     const V3 a = lo + (hi - lo).cwiseProduct(V3(uniform(rng), uniform(rng), uniform(rng)));
     // A direction uniform on the sphere, and a length in [0.2, segment_length].
-    const double z = 2 * uniform(rng) - 1, phi = 2 * M_PI * uniform(rng), r = std::sqrt(1 - z * z);
+    const double z = 2 * uniform(rng) - 1, phi = 2 * kPi * uniform(rng), r = std::sqrt(1 - z * z);
     const double length = 0.2 + (params.segment_length - 0.2) * uniform(rng);
     const V3 b = a + length * V3(r * std::cos(phi), r * std::sin(phi), z);
     if (truth.signedDistance(a) < free_distance || truth.signedDistance(b) < free_distance) continue;
