@@ -81,6 +81,7 @@ std::string describe(std::size_t index, const collision::Segment& s, const colli
   if (json) {
     nlohmann::json j{{"index", index}, {"collides", c.collides}};
     j["obstacle"] = c.obstacle >= 0 ? nlohmann::json(c.obstacle) : nlohmann::json(nullptr);
+    if (c.part >= 0) j["part"] = c.part;
     j["t"] = c.collides ? nlohmann::json(c.t) : nlohmann::json(nullptr);
     j["clearance"] = c.clearance;
     return j.dump();
@@ -90,6 +91,7 @@ std::string describe(std::size_t index, const collision::Segment& s, const colli
   const Eigen::Vector3d p = s.a + c.t * (s.b - s.a);
   line += "COLLIDES";
   if (c.obstacle >= 0) line += " with obstacle " + std::to_string(c.obstacle);
+  if (c.part >= 0) line += " part " + std::to_string(c.part);
   return line + " at t=" + numberText(c.t) + " (" + numberText(p.x()) + " " + numberText(p.y()) + " " +
          numberText(p.z()) + ")";
 }

@@ -15,5 +15,6 @@ void addCheckCommand(CLI::App& app, int& status);
 void addPlotCommand(CLI::App& app, int& status);
 void addRoadmapCommand(CLI::App& app, int& status);
 void addPlanCommand(CLI::App& app, int& status);
+void addEvaluateCommand(CLI::App& app, int& status);
 
 }  // namespace hullmap::cli

@@ -89,6 +89,7 @@ int main(int argc, char** argv) {
   hullmap::cli::addPlotCommand(app, status);
   hullmap::cli::addRoadmapCommand(app, status);
   hullmap::cli::addPlanCommand(app, status);
+  hullmap::cli::addEvaluateCommand(app, status);
   if (argc > 1 && argv[1][0] != '-') {
     std::string names;
     bool known = false;

@@ -18,6 +18,7 @@
 
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/core/error.hpp"
+#include "lattice_hull.hpp"
 
 namespace hullmap::clustering {
 namespace {
@@ -48,6 +49,9 @@ void widen(ColumnExtremes& columns, CornerKey key, std::int64_t lo, std::int64_t
   }
 }
 
+}  // namespace
+
+namespace detail {
 /// Corners that can be vertices of the hull of all voxel corners: a corner strictly between two
 /// others on an axis-parallel line is not extreme, so only each line's two ends are kept, for the
 /// lines along x, y and z. Exact (integer lattice), never drops a hull vertex.
@@ -74,6 +78,11 @@ std::vector<std::array<std::int64_t, 3>> candidateCorners(const std::vector<std:
   }
   return out;
 }
+
+}  // namespace detail
+
+namespace {
+using detail::candidateCorners;
 
 /// A hull on the integer lattice of voxel corners.
 struct LatticeHull {
@@ -157,6 +166,9 @@ LatticeHull canonical(const LatticeHull& hull, int id) {
   return out;
 }
 
+}  // namespace
+
+namespace detail {
 Obstacle wrapCluster(int id, const std::vector<std::size_t>& members, const std::vector<Eigen::Vector3d>& centers,
                      const std::vector<std::uint32_t>& weights, double voxel_size) {
   Obstacle obstacle;
@@ -257,6 +269,9 @@ Obstacle wrapCluster(int id, const std::vector<std::size_t>& members, const std:
   return obstacle;
 }
 
+}  // namespace detail
+
+namespace {
 double cross2(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
 }
@@ -304,7 +319,7 @@ std::vector<Obstacle> buildObstacles(const std::vector<Eigen::Vector3d>& centers
   std::vector<std::pair<std::int32_t, std::vector<std::size_t>>> work(clusters.begin(), clusters.end());
   std::vector<Obstacle> obstacles(work.size());
   tbb::parallel_for(std::size_t(0), work.size(), [&](std::size_t k) {
-    obstacles[k] = wrapCluster(work[k].first, work[k].second, centers, weights, voxel_size);
+    obstacles[k] = detail::wrapCluster(work[k].first, work[k].second, centers, weights, voxel_size);
   });
   return obstacles;
 }

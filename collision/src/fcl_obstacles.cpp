@@ -11,11 +11,20 @@ namespace hullmap::collision {
 FclObstacles::FclObstacles(const std::vector<clustering::Obstacle>& obstacles)
     : manager_(std::make_unique<fcl::DynamicAABBTreeCollisionManagerd>()) {
   std::vector<fcl::CollisionObjectd*> registered;
-  for (std::size_t i = 0; i < obstacles.size(); ++i) {
-    const clustering::ConvexHull& hull = obstacles[i].hull;
-    const std::string what = "obstacle " + std::to_string(obstacles[i].id);
+  std::vector<std::size_t> owner;  // per object: index of its obstacle in `obstacles`
+  for (std::size_t o = 0; o < obstacles.size(); ++o) {
+    for (int p = obstacles[o].parts.empty() ? -1 : 0; p < int(obstacles[o].parts.size()); ++p) {
+      sources_.push_back({obstacles[o].id, p});
+      owner.push_back(o);
+    }
+  }
+  for (std::size_t i = 0; i < sources_.size(); ++i) {
+    const clustering::Obstacle& obstacle = obstacles[owner[i]];
+    const int part = sources_[i].part;
+    const clustering::ConvexHull& hull = part < 0 ? obstacle.hull : obstacle.parts[std::size_t(part)].hull;
+    const std::string what =
+        "obstacle " + std::to_string(obstacle.id) + (part < 0 ? "" : " part " + std::to_string(part));
     polytopes_.push_back(ConvexPolytope::fromHull(hull, what));  // FCL checks none of this
-    ids_.push_back(obstacles[i].id);
     auto vertices = std::make_shared<const std::vector<Eigen::Vector3d>>(hull.vertices);
     auto faces = std::make_shared<std::vector<int>>();
     faces->reserve(4 * hull.triangles.size());

@@ -131,10 +131,14 @@ class TouchingHulls {
 
 struct HullChecker::Impl {
   explicit Impl(const std::vector<clustering::Obstacle>& obstacles) : fcl(obstacles) {
-    for (const auto& o : obstacles) ids.push_back(o.id);
+    for (std::size_t i = 0; i < fcl.size(); ++i) {
+      ids.push_back(fcl.source(i).id);
+      parts.push_back(fcl.source(i).part);
+    }
   }
   FclObstacles fcl;
-  std::vector<int> ids;
+  std::vector<int> ids;    ///< per FCL object: its obstacle's id
+  std::vector<int> parts;  ///< per FCL object: its part index (-1: whole hull)
 };
 
 namespace {
@@ -244,6 +248,7 @@ SegmentCheck HullChecker::check(const Segment& segment, const CheckRequest& requ
   }
   result.t = first;
   result.obstacle = impl_->ids[std::size_t(first_hull)];
+  result.part = impl_->parts[std::size_t(first_hull)];
   return result;
 }
 

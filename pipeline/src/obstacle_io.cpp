@@ -1,5 +1,6 @@
 #include "hullmap/pipeline/obstacle_io.hpp"
 
+#include <array>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -14,12 +15,26 @@ using nlohmann::json;
 
 json vec3(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 
-/// Reading side: every access names the file and the JSON path that is wrong.
+json hullJson(const clustering::ConvexHull& hull) {
+  json vertices = json::array();
+  for (const auto& v : hull.vertices) vertices.push_back(vec3(v));
+  json triangles = json::array();
+  for (const auto& t : hull.triangles) triangles.push_back({t[0], t[1], t[2]});
+  return {{"vertices", vertices}, {"triangles", triangles}};
+}
+
+json footprintJson(const clustering::Footprint& footprint) {
+  json polygon = json::array();
+  for (const auto& p : footprint.polygon) polygon.push_back({p.x(), p.y()});
+  return {{"polygon", polygon}, {"z_min", footprint.z_min}, {"z_max", footprint.z_max}};
+}
+
+/// Reading side: every access names the source and the JSON path that is wrong.
 struct Reader {
-  const std::string& file;
+  const std::string& source;
 
   [[noreturn]] void fail(const std::string& where, const std::string& what) const {
-    throw Error(file + ": " + where + ": " + what);
+    throw Error(source + ": " + where + ": " + what);
   }
   const json& field(const json& object, const char* key, const std::string& where) const {
     if (!object.is_object()) fail(where, "expected an object");
@@ -44,51 +59,103 @@ struct Reader {
     if (!j.is_array()) fail(where, "expected an array");
     return j;
   }
+  clustering::ConvexHull hull(const json& j, const std::string& at) const {
+    clustering::ConvexHull out;
+    const json& vertices = array(field(j, "vertices", at), at + ".vertices");
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+      out.vertices.push_back(point3(vertices[i], at + ".vertices[" + std::to_string(i) + "]"));
+    const json& triangles = array(field(j, "triangles", at), at + ".triangles");
+    for (std::size_t i = 0; i < triangles.size(); ++i) {
+      const std::string where = at + ".triangles[" + std::to_string(i) + "]";
+      const json& t = triangles[i];
+      if (!t.is_array() || t.size() != 3) fail(where, "expected [i, j, k]");
+      std::array<int, 3> tri{};
+      for (int c = 0; c < 3; ++c) {
+        if (!t[c].is_number_integer() || t[c].get<std::int64_t>() < 0 ||
+            t[c].get<std::int64_t>() >= std::int64_t(out.vertices.size()))
+          fail(where, "vertex index out of range (0.." + std::to_string(out.vertices.size()) + ")");
+        tri[std::size_t(c)] = t[c].get<int>();
+      }
+      out.triangles.push_back(tri);
+    }
+    if (out.vertices.size() < 4 || out.triangles.size() < 4)
+      fail(at, "a closed hull needs at least 4 vertices and 4 triangles");
+    return out;
+  }
+  clustering::Footprint footprint(const json& j, const std::string& at) const {
+    clustering::Footprint out;
+    const json& polygon = array(field(j, "polygon", at), at + ".polygon");
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const std::string where = at + ".polygon[" + std::to_string(i) + "]";
+      if (!polygon[i].is_array() || polygon[i].size() != 2) fail(where, "expected [x, y]");
+      out.polygon.emplace_back(number(polygon[i][0], where), number(polygon[i][1], where));
+    }
+    out.z_min = number(field(j, "z_min", at), at + ".z_min");
+    out.z_max = number(field(j, "z_max", at), at + ".z_max");
+    return out;
+  }
+  /// The fields a whole obstacle and a part share.
+  template <class T>
+  void common(const json& j, const std::string& at, T& o) const {
+    o.voxel_count = count(field(j, "voxel_count", at), at + ".voxel_count");
+    o.point_weight = count(field(j, "point_weight", at), at + ".point_weight");
+    const json& aabb = field(j, "aabb", at);
+    o.aabb_min = point3(field(aabb, "min", at + ".aabb"), at + ".aabb.min");
+    o.aabb_max = point3(field(aabb, "max", at + ".aabb"), at + ".aabb.max");
+    o.centroid = point3(field(j, "centroid", at), at + ".centroid");
+    o.volume = number(field(j, "volume", at), at + ".volume");
+    o.hull = hull(field(j, "hull", at), at + ".hull");
+    o.footprint = footprint(field(j, "footprint", at), at + ".footprint");
+  }
 };
+
+template <class T>
+json commonJson(const T& o) {
+  return {{"voxel_count", o.voxel_count},
+          {"point_weight", o.point_weight},
+          {"aabb", {{"min", vec3(o.aabb_min)}, {"max", vec3(o.aabb_max)}}},
+          {"centroid", vec3(o.centroid)},
+          {"volume", o.volume},
+          {"hull", hullJson(o.hull)},
+          {"footprint", footprintJson(o.footprint)}};
+}
 
 }  // namespace
 
-void writeObstaclesJson(const std::string& path, const std::vector<clustering::Obstacle>& obstacles,
-                        const ObstaclesMeta& meta) {
+json obstaclesToJson(const std::vector<clustering::Obstacle>& obstacles, const ObstaclesMeta& meta) {
   json doc;
-  doc["format"] = kObstaclesFormat;
+  doc["format"] = kObstaclesFormatV2;
   doc["frame"] = meta.frame;
   doc["parameters"] = meta.parameters;
   json list = json::array();
   for (const auto& o : obstacles) {
-    json vertices = json::array();
-    for (const auto& v : o.hull.vertices) vertices.push_back(vec3(v));
-    json triangles = json::array();
-    for (const auto& t : o.hull.triangles) triangles.push_back({t[0], t[1], t[2]});
-    json polygon = json::array();
-    for (const auto& p : o.footprint.polygon) polygon.push_back({p.x(), p.y()});
-    list.push_back({{"id", o.id},
-                    {"voxel_count", o.voxel_count},
-                    {"point_weight", o.point_weight},
-                    {"aabb", {{"min", vec3(o.aabb_min)}, {"max", vec3(o.aabb_max)}}},
-                    {"centroid", vec3(o.centroid)},
-                    {"volume", o.volume},
-                    {"hull", {{"vertices", vertices}, {"triangles", triangles}}},
-                    {"footprint", {{"polygon", polygon}, {"z_min", o.footprint.z_min}, {"z_max", o.footprint.z_max}}}});
+    json entry = commonJson(o);
+    entry["id"] = o.id;
+    json parts = json::array();
+    for (const auto& p : o.parts) {
+      json part = commonJson(p);
+      part["concavity_bound"] = p.concavity_bound;
+      part["free_voxels_inside"] = p.free_voxels_inside;
+      parts.push_back(std::move(part));
+    }
+    entry["parts"] = std::move(parts);
+    list.push_back(std::move(entry));
   }
   doc["obstacles"] = std::move(list);
-  core::writeFileAtomically(path, [&](std::ostream& out) { out << doc.dump(1) << '\n'; });
+  return doc;
 }
 
-std::vector<clustering::Obstacle> readObstaclesJson(const std::string& path, ObstaclesMeta* meta) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open");
-  json doc;
-  try {
-    doc = json::parse(in);
-  } catch (const json::parse_error& e) {
-    throw Error(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
-  }
-  const Reader r{path};
+std::vector<clustering::Obstacle> obstaclesFromJson(const json& doc, const std::string& source,
+                                                    ObstaclesMeta* meta) {
+  const Reader r{source};
   const json& format = r.field(doc, "format", "top level");
-  if (!format.is_string() || format.get<std::string>() != kObstaclesFormat)
-    r.fail("format", std::string("expected \"") + kObstaclesFormat + "\", got " + format.dump());
+  const bool v1 = format.is_string() && format.get<std::string>() == kObstaclesFormatV1;
+  const bool v2 = format.is_string() && format.get<std::string>() == kObstaclesFormatV2;
+  if (!v1 && !v2)
+    r.fail("format", std::string("expected \"") + kObstaclesFormatV2 + "\" or \"" + kObstaclesFormatV1 +
+                         "\", got " + format.dump());
   if (meta) {
+    meta->format = format.get<std::string>();
     const json& frame = r.field(doc, "frame", "top level");
     if (!frame.is_string()) r.fail("frame", "expected a string");
     meta->frame = frame.get<std::string>();
@@ -103,60 +170,61 @@ std::vector<clustering::Obstacle> readObstaclesJson(const std::string& path, Obs
     const json& id = r.field(j, "id", at);
     if (!id.is_number_integer()) r.fail(at + ".id", "expected an integer");
     o.id = id.get<int>();
-    o.voxel_count = r.count(r.field(j, "voxel_count", at), at + ".voxel_count");
-    o.point_weight = r.count(r.field(j, "point_weight", at), at + ".point_weight");
-    const json& aabb = r.field(j, "aabb", at);
-    o.aabb_min = r.point3(r.field(aabb, "min", at + ".aabb"), at + ".aabb.min");
-    o.aabb_max = r.point3(r.field(aabb, "max", at + ".aabb"), at + ".aabb.max");
-    o.centroid = r.point3(r.field(j, "centroid", at), at + ".centroid");
-    o.volume = r.number(r.field(j, "volume", at), at + ".volume");
-    const json& hull = r.field(j, "hull", at);
-    const json& vertices = r.array(r.field(hull, "vertices", at + ".hull"), at + ".hull.vertices");
-    for (std::size_t i = 0; i < vertices.size(); ++i)
-      o.hull.vertices.push_back(r.point3(vertices[i], at + ".hull.vertices[" + std::to_string(i) + "]"));
-    const json& triangles = r.array(r.field(hull, "triangles", at + ".hull"), at + ".hull.triangles");
-    for (std::size_t i = 0; i < triangles.size(); ++i) {
-      const std::string where = at + ".hull.triangles[" + std::to_string(i) + "]";
-      const json& t = triangles[i];
-      if (!t.is_array() || t.size() != 3) r.fail(where, "expected [i, j, k]");
-      std::array<int, 3> tri{};
-      for (int c = 0; c < 3; ++c) {
-        if (!t[c].is_number_integer() || t[c].get<std::int64_t>() < 0 ||
-            t[c].get<std::int64_t>() >= std::int64_t(o.hull.vertices.size()))
-          r.fail(where, "vertex index out of range (0.." + std::to_string(o.hull.vertices.size()) + ")");
-        tri[c] = t[c].get<int>();
+    r.common(j, at, o);
+    if (v2) {
+      const json& parts = r.array(r.field(j, "parts", at), at + ".parts");
+      for (std::size_t p = 0; p < parts.size(); ++p) {
+        const std::string where = at + ".parts[" + std::to_string(p) + "]";
+        clustering::ObstaclePart part;
+        r.common(parts[p], where, part);
+        part.concavity_bound = r.number(r.field(parts[p], "concavity_bound", where), where + ".concavity_bound");
+        part.free_voxels_inside =
+            r.count(r.field(parts[p], "free_voxels_inside", where), where + ".free_voxels_inside");
+        o.parts.push_back(std::move(part));
       }
-      o.hull.triangles.push_back(tri);
     }
-    if (o.hull.vertices.size() < 4 || o.hull.triangles.size() < 4)
-      r.fail(at + ".hull", "a closed hull needs at least 4 vertices and 4 triangles");
-    const json& footprint = r.field(j, "footprint", at);
-    const json& polygon = r.array(r.field(footprint, "polygon", at + ".footprint"), at + ".footprint.polygon");
-    for (std::size_t i = 0; i < polygon.size(); ++i) {
-      const std::string where = at + ".footprint.polygon[" + std::to_string(i) + "]";
-      if (!polygon[i].is_array() || polygon[i].size() != 2) r.fail(where, "expected [x, y]");
-      o.footprint.polygon.emplace_back(r.number(polygon[i][0], where), r.number(polygon[i][1], where));
-    }
-    o.footprint.z_min = r.number(r.field(footprint, "z_min", at + ".footprint"), at + ".footprint.z_min");
-    o.footprint.z_max = r.number(r.field(footprint, "z_max", at + ".footprint"), at + ".footprint.z_max");
     obstacles.push_back(std::move(o));
   }
   return obstacles;
 }
 
+void writeObstaclesJson(const std::string& path, const std::vector<clustering::Obstacle>& obstacles,
+                        const ObstaclesMeta& meta) {
+  const json doc = obstaclesToJson(obstacles, meta);
+  core::writeFileAtomically(path, [&](std::ostream& out) { out << doc.dump(1) << '\n'; });
+}
+
+std::vector<clustering::Obstacle> readObstaclesJson(const std::string& path, ObstaclesMeta* meta) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open");
+  json doc;
+  try {
+    doc = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw Error(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+  }
+  return obstaclesFromJson(doc, path, meta);
+}
+
+void writeObstaclesObj(std::ostream& out, const std::vector<clustering::Obstacle>& obstacles) {
+  out << "# hullmap obstacles: convex hulls (one object per convex part), z-up map frame\n";
+  out << std::setprecision(std::numeric_limits<double>::max_digits10);
+  std::size_t base = 1;
+  const auto write = [&](const std::string& name, const clustering::ConvexHull& hull) {
+    out << "o " << name << '\n';
+    for (const auto& v : hull.vertices) out << "v " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
+    for (const auto& t : hull.triangles) out << "f " << base + t[0] << ' ' << base + t[1] << ' ' << base + t[2] << '\n';
+    base += hull.vertices.size();
+  };
+  for (const auto& o : obstacles) {
+    if (o.parts.empty()) write("obstacle_" + std::to_string(o.id), o.hull);
+    for (std::size_t k = 0; k < o.parts.size(); ++k)
+      write("obstacle_" + std::to_string(o.id) + "_part_" + std::to_string(k), o.parts[k].hull);
+  }
+}
+
 void writeObstaclesObj(const std::string& path, const std::vector<clustering::Obstacle>& obstacles) {
-  core::writeFileAtomically(path, [&](std::ostream& out) {
-    out << "# hullmap obstacles: convex hulls, z-up map frame\n";
-    out << std::setprecision(std::numeric_limits<double>::max_digits10);
-    std::size_t base = 1;
-    for (const auto& o : obstacles) {
-      out << "o obstacle_" << o.id << '\n';
-      for (const auto& v : o.hull.vertices) out << "v " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
-      for (const auto& t : o.hull.triangles)
-        out << "f " << base + t[0] << ' ' << base + t[1] << ' ' << base + t[2] << '\n';
-      base += o.hull.vertices.size();
-    }
-  });
+  core::writeFileAtomically(path, [&](std::ostream& out) { writeObstaclesObj(out, obstacles); });
 }
 
 }  // namespace hullmap::pipeline

@@ -599,8 +599,10 @@ void write(const BuildResult& result, const fs::path& dir, const WriteOptions& o
     writeVoxelsCsv(staging / "voxels.csv", result.voxels, result.clusters);
     runStage("wrote_voxels");
     const nlohmann::json report = reportJson(result);
-    writeObstaclesJson((staging / "obstacles.json").string(), result.obstacles,
-                       ObstaclesMeta{outputFrame(result), report["parameters"]});
+    ObstaclesMeta meta;
+    meta.frame = outputFrame(result);
+    meta.parameters = report["parameters"];
+    writeObstaclesJson((staging / "obstacles.json").string(), result.obstacles, meta);
     writeObstaclesObj((staging / "obstacles.obj").string(), result.obstacles);
     runStage("wrote_obstacles");
     core::writeFileAtomically((staging / "report.json").string(),

@@ -23,6 +23,23 @@ struct Footprint {
   double z_max = 0.0;
 };
 
+/// One convex part of an obstacle (see convex_parts.hpp): a subset of its cluster's voxels wrapped
+/// conservatively like the whole. Map frame (z up), map units.
+struct ObstaclePart {
+  std::size_t voxel_count = 0;
+  std::uint64_t point_weight = 0;      ///< map points in its voxels
+  Eigen::Vector3d aabb_min = Eigen::Vector3d::Zero();
+  Eigen::Vector3d aabb_max = Eigen::Vector3d::Zero();
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  ///< of the hull volume
+  double volume = 0.0;                 ///< of the hull
+  ConvexHull hull;                     ///< contains every voxel of the part completely
+  Footprint footprint;
+  /// Certified upper bound on the distance from any point of the hull to the part's own voxel
+  /// cubes (map units); at most the concavity asked for, unless the part is a single voxel.
+  double concavity_bound = 0.0;
+  std::size_t free_voxels_inside = 0;  ///< observed-free voxel centres given that lie in the hull
+};
+
 /// One obstacle: a DBSCAN cluster of occupied voxels wrapped conservatively.
 struct Obstacle {
   int id = 0;                          ///< cluster label
@@ -34,6 +51,9 @@ struct Obstacle {
   double volume = 0.0;
   ConvexHull hull;                     ///< contains every voxel of the cluster completely
   Footprint footprint;
+  /// Convex parts of the cluster (convex_parts.hpp); empty when not split. The fields above always
+  /// describe the whole cluster (the hull of all its voxels).
+  std::vector<ObstaclePart> parts;
 };
 
 /// Wraps each cluster: hull of the voxels' corners (CGAL), footprint (Andrew's monotone chain).

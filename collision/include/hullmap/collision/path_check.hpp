@@ -35,6 +35,8 @@ struct SegmentCheck {
   bool collides = false;
   int obstacle = -1;        ///< HullChecker: id (Obstacle::id) of the obstacle hit first; -1 when clear
                             ///< or in octree mode (voxels have no id)
+  int part = -1;            ///< HullChecker: index of that obstacle's convex part hit first; -1 when
+                            ///< clear, in octree mode, or for an obstacle without parts
   double t = 1.0;           ///< first contact as a fraction of the segment (valid when collides)
   double clearance = 0.0;   ///< min distance to any obstacle minus r, map units; 0 when colliding
 };
@@ -46,7 +48,7 @@ struct PathCheck {
   std::optional<Eigen::Vector3d> first_contact;   ///< point on the path, map frame
 };
 
-/// Hull mode: the obstacles' convex hulls as FCL objects in FCL's broadphase manager (FclObstacles);
+/// Hull mode: the obstacles' convex hulls (one per convex part when an obstacle has parts) as FCL objects in FCL's broadphase manager (FclObstacles);
 /// every answer from certified segment-hull distances (convex_distance.hpp), the first contact
 /// bracketed as firstContact does.
 ///

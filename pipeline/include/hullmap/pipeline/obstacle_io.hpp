@@ -1,5 +1,6 @@
 #pragma once
 
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -9,27 +10,45 @@
 
 namespace hullmap::pipeline {
 
-/// Version tag written in, and required of, every obstacles.json.
-inline constexpr const char* kObstaclesFormat = "hullmap-obstacles/1";
+/// Format tags of obstacles.json: /2 (obstacles with their convex parts) is written; /1 (whole
+/// obstacles only) and /2 are read. docs/FORMATS.md describes both.
+inline constexpr const char* kObstaclesFormatV1 = "hullmap-obstacles/1";
+inline constexpr const char* kObstaclesFormatV2 = "hullmap-obstacles/2";
 
-/// What an obstacles.json says about how its obstacles were made.
+/// What an obstacles.json says about how its obstacles were made. Set the fields by name (the
+/// first is the format tag).
 struct ObstaclesMeta {
+  std::string format = kObstaclesFormatV2;               ///< the tag read (writing always uses /2)
   std::string frame = "z-up map";                        ///< e.g. "z-up map, up=-y of input"
   nlohmann::json parameters = nlohmann::json::object();  ///< the build's settings, verbatim
 };
 
-/// Writes `obstacles.json` atomically: format, frame, parameters, then per obstacle id, voxel_count,
-/// point_weight, aabb {min,max}, centroid, volume, hull {vertices, triangles}, footprint {polygon,
-/// z_min, z_max}. Coordinates in the z-up map frame, map units. Throws hullmap::Error naming `path`.
+/// The obstacles.json document, format /2: format, frame, parameters, then per obstacle id,
+/// voxel_count, point_weight, aabb {min,max}, centroid, volume, hull {vertices, triangles}, footprint
+/// {polygon, z_min, z_max} (the whole cluster) and "parts", one object per convex part with the same
+/// fields plus concavity_bound and free_voxels_inside (empty when the obstacle was not split).
+/// Coordinates in the z-up map frame, map units.
+nlohmann::json obstaclesToJson(const std::vector<clustering::Obstacle>& obstacles, const ObstaclesMeta& meta);
+
+/// Reads a /1 or /2 document (a /1 obstacle has no parts). Validates the tag and every field (types,
+/// array sizes, triangle indices in range); throws hullmap::Error "<source>: <json path>: <what>".
+std::vector<clustering::Obstacle> obstaclesFromJson(const nlohmann::json& doc, const std::string& source,
+                                                    ObstaclesMeta* meta = nullptr);
+
+/// Writes obstaclesToJson's document to `path` atomically. Throws hullmap::Error naming `path`.
 void writeObstaclesJson(const std::string& path, const std::vector<clustering::Obstacle>& obstacles,
                         const ObstaclesMeta& meta);
 
-/// Reads an obstacles.json written by writeObstaclesJson. Validates the format tag and every field
-/// (types, array sizes, triangle indices in range); throws hullmap::Error "<path>: <what>" otherwise.
+/// Reads an obstacles.json (/1 or /2) through obstaclesFromJson; throws hullmap::Error naming `path`
+/// when it cannot be opened, is not JSON, or any field is malformed.
 std::vector<clustering::Obstacle> readObstaclesJson(const std::string& path, ObstaclesMeta* meta = nullptr);
 
-/// Writes the hulls as Wavefront OBJ, one object `o obstacle_<id>` per obstacle, `v` lines then `f`
-/// lines with 1-based global indices; opens in MeshLab, CloudCompare, Blender and Open3D. Atomic.
+/// Writes the hulls as Wavefront OBJ: one object per convex part, `o obstacle_<id>_part_<k>` (k from
+/// 0), or `o obstacle_<id>` for an obstacle without parts; `v` lines then `f` lines with 1-based
+/// global indices; opens in MeshLab, CloudCompare, Blender and Open3D.
+void writeObstaclesObj(std::ostream& out, const std::vector<clustering::Obstacle>& obstacles);
+
+/// writeObstaclesObj into `path`, atomically. Throws hullmap::Error naming `path`.
 void writeObstaclesObj(const std::string& path, const std::vector<clustering::Obstacle>& obstacles);
 
 }  // namespace hullmap::pipeline

@@ -1,0 +1,112 @@
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "hullmap/core/error.hpp"
+#include "hullmap/mapper/readers.hpp"
+#include "hullmap/pipeline/evaluate.hpp"
+#include "hullmap/pipeline/obstacle_io.hpp"
+
+namespace hullmap::cli {
+namespace {
+
+struct EvaluateOptions {
+  std::string dir;
+  std::string truth;
+  std::string points;
+  pipeline::EvaluateParams params;
+  bool json = false;
+};
+
+/// The observed map points of a build: voxels.csv's voxel centres weighted by their map points
+/// (already in the map frame; a hull holds a voxel's points exactly when it holds the whole voxel).
+void readVoxelPoints(const std::string& path, std::vector<Eigen::Vector3d>& points, std::vector<std::uint32_t>& weights) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open (is this a hullmap build directory? or give --points)");
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("x,y,z,weight", 0) != 0)
+    throw Error(path + ":1: expected header x,y,z,weight,label,core");
+  for (std::size_t number = 2; std::getline(in, line); ++number) {
+    if (line.empty() || line == "\r") continue;
+    std::istringstream fields(line);
+    double v[4];
+    char comma = 0;
+    bool ok = static_cast<bool>(fields >> v[0]);
+    for (int i = 1; ok && i < 4; ++i) ok = (fields >> comma) && comma == ',' && (fields >> v[i]);
+    if (!ok || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]) || !(v[3] >= 1))
+      throw Error(path + ":" + std::to_string(number) + ": expected x,y,z,weight,label,core numbers");
+    points.emplace_back(v[0], v[1], v[2]);
+    weights.push_back(std::uint32_t(v[3]));
+  }
+}
+
+std::string percent(double part, double whole) {
+  if (!(whole > 0)) return "-";
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(1) << 100.0 * part / whole << "%";
+  return out.str();
+}
+
+void runEvaluate(const EvaluateOptions& o) {
+  namespace fs = std::filesystem;
+  const std::string obstacles_path =
+      fs::is_directory(o.dir) ? (fs::path(o.dir) / "obstacles.json").string() : o.dir;
+  const auto obstacles = pipeline::readObstaclesJson(obstacles_path);
+  const pipeline::GroundTruth truth = pipeline::readGroundTruth(o.truth);
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::uint32_t> weights;
+  if (!o.points.empty()) {
+    points = mapper::readPointFile(o.points).points;
+  } else {
+    if (!fs::is_directory(o.dir)) throw Error(o.dir + ": not a build directory; give --points for the map points");
+    readVoxelPoints((fs::path(o.dir) / "voxels.csv").string(), points, weights);
+  }
+  const pipeline::Evaluation e = pipeline::evaluate(obstacles, truth, points, weights, o.params);
+  if (o.json) {
+    std::cout << pipeline::evaluationToJson(e, o.params).dump(1) << '\n';
+    return;
+  }
+  std::cout << "truth: " << truth.shapes.size() << " obstacles; hulls: " << e.parts << " ("
+            << e.false_parts.size() << " touching no true obstacle within " << o.params.touch_margin << ")\n";
+  for (const auto& t : e.truth)
+    std::cout << "  " << t.label << ": " << percent(t.points_inside, t.points_near) << " of its "
+              << t.points_near << " observed points inside hulls, " << t.parts_touching.size() << " hulls touching\n";
+  std::cout << std::setprecision(4) << "volume: hulls " << e.hull_volume << ", union " << e.union_volume
+            << ", outside the truth " << e.outside_volume << " +- " << e.outside_volume_se << ", farther than "
+            << o.params.far_margin << ": " << e.far_volume << " +- " << e.far_volume_se << " ("
+            << percent(e.far_volume, e.union_volume) << " of the union)\n";
+  std::cout << "segments (r = " << o.params.radius << "): " << e.segments << "; deep collisions " << e.deep
+            << ", missed " << e.missed << "; clear " << e.clear << ", false alarms " << e.false_alarms << " ("
+            << percent(double(e.false_alarms), double(e.clear)) << ")\n";
+}
+
+}  // namespace
+
+void addEvaluateCommand(CLI::App& app, int& status) {
+  auto options = std::make_shared<EvaluateOptions>();
+  auto* cmd = app.add_subcommand("evaluate", "Score a build's obstacles against ground truth (boxes, cylinders, OBJ mesh)");
+  cmd->add_option("dir", options->dir, "Directory written by `hullmap build` (obstacles.json, voxels.csv), "
+                                       "or an obstacles.json with --points")
+      ->required();
+  cmd->add_option("--truth", options->truth, "Ground truth: JSON as maps/room/ground_truth.json, or an OBJ mesh")
+      ->required();
+  cmd->add_option("--radius", options->params.radius, "Drone radius for the segment checks, map units (default 0.3)");
+  cmd->add_option("--points", options->points,
+                  "Map points in the map frame (any point format); default: the build's voxels.csv, weighted");
+  cmd->add_option("--segments", options->params.segments, "Random segments in the free volume (default 2000)");
+  cmd->add_option("--seed", options->params.seed, "Seed of every random draw (default 1)");
+  cmd->add_flag("--json", options->json, "Print the result as JSON");
+  cmd->callback([options, &status] {
+    runEvaluate(*options);
+    status = 0;
+  });
+}
+
+}  // namespace hullmap::cli

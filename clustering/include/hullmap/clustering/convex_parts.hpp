@@ -1,0 +1,98 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hullmap/clustering/obstacles.hpp"
+
+namespace hullmap::clustering {
+
+/// Settings of the split of clusters into convex parts.
+struct ConvexPartsParams {
+  /// T, map units: no point of a part's hull may be farther than T from the part's own occupied voxel
+  /// cubes, so T bounds the free space a hull may swallow. 0 means the default, defaultConcavity().
+  double concavity = 0.0;
+  /// A part whose bounding box holds more voxel cells than this is split in two at the median of
+  /// its longest axis without being checked (the check holds one 4-byte distance per cell of the
+  /// box: 2^23 cells is 32 MiB). Parts are merged back only when their union is checked.
+  std::size_t max_check_cells = std::size_t(1) << 23;
+};
+
+/// What is known to be free: nothing of it should be inside a hull.
+struct KnownFreeSpace {
+  /// Camera positions (keyframes), map frame: no part's hull may contain one, unless it lies in an
+  /// occupied voxel of that part (nothing can then keep it out; such keyframes are counted).
+  std::vector<Eigen::Vector3d> keyframes;
+  /// Centres of observed-free voxels (ray-cast), map frame: counted per part (free_voxels_inside).
+  std::vector<Eigen::Vector3d> free_voxels;
+};
+
+/// The default T: 3 voxel edges (0.15 m at 5 cm voxels). Why 3:
+/// - the check is certified but conservative by up to sqrt(3)/2 voxel (see splitConvexParts), and
+///   the hull of a wall that is not axis-aligned covers the staircase of its cubes' corners, about
+///   one voxel away from them: T must be well above one voxel or every slanted wall shatters;
+/// - sparse SLAM surfaces have one or two map points per occupied 5 cm voxel and holes of one or
+///   two voxels between them: a flat patch with such holes must stay one part;
+/// - with the half-voxel overshoot every conservative hull has anyway, 3 voxels keeps swallowed
+///   space within about 0.1 m of the surfaces (the margin issue 13's evaluation uses) at 5 cm voxels.
+/// It scales with the voxel size, so it means the same on a map of arbitrary monocular scale.
+double defaultConcavity(double voxel_size);
+
+/// Splits one cluster's voxels into convex parts; returns the parts as sorted lists of indices into
+/// `centers` (a partition of 0..n-1), ordered by their first index. Deterministic (the same parts on
+/// every run, with any number of threads).
+///
+/// Guarantee: for every part, every point of the hull of its voxels' corners (the hull
+/// buildObstacles makes) is within T of the part's own voxel cubes, unless the part is one voxel
+/// (whose hull is its cube). The check is on the voxel lattice: for each cell whose cube meets the
+/// hull (a test on the hull's facet planes, exact in integers, that may also admit a few cells
+/// touching it only near an edge, which only makes the check stricter), the bound is the distance
+/// from the cell's centre to the nearest occupied cell's centre. That bounds the distance from every
+/// point of the cell's cube to that occupied cube (the largest distance from a cube's points to
+/// another cube is at a corner, and equals the centre distance), so it is an upper bound (certified),
+/// and it exceeds the true largest distance by at most sqrt(3)/2 voxel edge.
+///
+/// Also, no part's hull contains a keyframe position (strictly or on its boundary), unless the
+/// keyframe lies in one of that part's voxels.
+///
+/// Method: top-down, a part that violates T (or contains a keyframe) is cut in two by a plane, and
+/// the halves recursively. The candidate planes: through its deepest uncovered cell (or the
+/// keyframe), the three axis planes and the three normal to the principal axes of its voxel
+/// centres; and per axis the cut whose halves have the smallest summed bounding boxes. The one whose
+/// halves have the smallest summed hull volume (exact, on the lattice) wins. Then bottom-up, adjacent parts (boxes within T) are merged while the union
+/// still passes the check, the pair adding the least hull volume first: a box stays one part, an L
+/// becomes its two arms, a ring of walls its walls.
+///
+/// `centers`: voxel centres of one cluster on a lattice of edge `voxel_size` (map units). Throws
+/// hullmap::Error on voxel_size <= 0, a negative or non-finite concavity, or non-finite input.
+std::vector<std::vector<std::size_t>> splitConvexParts(const std::vector<Eigen::Vector3d>& centers,
+                                                       double voxel_size, const ConvexPartsParams& params,
+                                                       const std::vector<Eigen::Vector3d>& keyframes = {});
+
+/// Totals of addConvexParts over all obstacles.
+struct ConvexPartsSummary {
+  std::size_t parts = 0;
+  double concavity = 0.0;                 ///< the T used, map units
+  double hull_volume_before = 0.0;        ///< summed whole-cluster hull volume, map units^3
+  double hull_volume_after = 0.0;         ///< summed part hull volume
+  double voxel_volume = 0.0;              ///< clustered voxels times voxel_size^3
+  std::size_t keyframes_in_voxels = 0;    ///< keyframes in an occupied voxel of a part (kept inside)
+  std::size_t free_voxels_inside = 0;     ///< observed-free voxel centres inside some part's hull
+};
+
+/// Fills `parts` of every obstacle made by buildObstacles from the same centres/weights/labels:
+/// splitConvexParts on each cluster (in parallel over clusters, TBB), each part wrapped as the
+/// whole is (hull, footprint, volume, ...; candidate cuts and merges are also scored in parallel, with
+/// results independent of the thread count), with its certified concavity bound and the count of
+/// `known.free_voxels` inside its hull. A cluster that needs no split gets one part equal to the whole.
+/// Throws hullmap::Error as buildObstacles and splitConvexParts do, and when an obstacle's id is not a
+/// label of the voxels.
+ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::vector<Eigen::Vector3d>& centers,
+                                  const std::vector<std::uint32_t>& weights,
+                                  const std::vector<std::int32_t>& labels, double voxel_size,
+                                  const ConvexPartsParams& params, const KnownFreeSpace& known = {});
+
+}  // namespace hullmap::clustering

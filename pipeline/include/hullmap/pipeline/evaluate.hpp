@@ -1,0 +1,101 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "hullmap/clustering/obstacles.hpp"
+
+namespace hullmap::pipeline {
+
+/// One true obstacle, z-up map frame, map units (metres for a metric map).
+struct TruthShape {
+  enum class Kind { kBox, kCylinder, kMesh } kind = Kind::kBox;
+  std::string label;                                   ///< "box 3", or the OBJ object's name
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();    ///< box centre; cylinder axis centre
+  Eigen::Vector3d size = Eigen::Vector3d::Ones();      ///< box extents; cylinder (2r, 2r, height)
+  double yaw = 0.0;                                    ///< box rotation about z, radians
+  std::vector<std::array<Eigen::Vector3d, 3>> triangles;  ///< mesh: a closed surface
+  Eigen::Vector3d aabb_min = Eigen::Vector3d::Zero();
+  Eigen::Vector3d aabb_max = Eigen::Vector3d::Zero();
+
+  /// Exact signed distance: negative inside, positive outside. A mesh is inside by its winding
+  /// number (>= 1/2), its distance the exact point-triangle minimum.
+  double signedDistance(const Eigen::Vector3d& p) const;
+};
+
+/// The ground truth: boxes and cylinders (walls and floors are boxes) and/or meshes.
+struct GroundTruth {
+  std::vector<TruthShape> shapes;
+  /// Smallest signed distance over the shapes (+infinity without shapes).
+  double signedDistance(const Eigen::Vector3d& p) const;
+};
+
+/// Reads ground truth: a JSON file as maps/room/ground_truth.json ({"obstacles": [{"shape": "box" |
+/// "cylinder", "center": [x,y,z], "size": [sx,sy,sz], optional "yaw"}]}), or an OBJ mesh (`v` and
+/// `f` lines; each `o` object one true obstacle, the whole file one when it has none; polygons are
+/// fanned). Throws hullmap::Error "<path>: <what>" (line numbers for OBJ).
+GroundTruth readGroundTruth(const std::string& path);
+
+/// Settings of evaluate(); every random draw comes from std::mt19937_64(seed) with hullmap's own
+/// transforms, so the numbers are the same on every machine.
+struct EvaluateParams {
+  double radius = 0.3;             ///< drone radius R for the segment checks
+  double surface_margin = 0.05;    ///< a map point within this of a shape's surface is one of its observed points
+  double touch_margin = 0.1;       ///< a part touches a shape when part of its hull comes within this
+  double far_margin = 0.1;         ///< swallowed volume: hull volume farther than this from every shape
+  double depth_margin = 0.1;       ///< deep collision: the capsule penetrates a shape by more than this
+  double clear_margin = 0.1;       ///< clear segment: keeps radius + this from every shape
+  std::size_t volume_samples = 4000;  ///< Monte Carlo points per part hull
+  std::size_t segments = 2000;        ///< random segments in the free volume
+  double segment_length = 2.0;        ///< segments are 0.2 .. this long
+  double sample_step = 0.01;          ///< spacing of the truth's distance samples along a segment
+  std::uint64_t seed = 1;
+};
+
+/// Per true obstacle.
+struct TruthScore {
+  std::string label;
+  double points_near = 0;          ///< weight of map points within surface_margin of its surface
+  double points_inside = 0;        ///< of those, inside some hull
+  std::vector<std::pair<int, int>> parts_touching;  ///< (obstacle id, part index; -1 whole hull)
+};
+
+/// What evaluate() measures. Volumes in map units^3, each with its Monte Carlo standard error.
+struct Evaluation {
+  std::vector<TruthScore> truth;
+  std::size_t parts = 0;                       ///< hulls scored (parts, or whole obstacles without parts)
+  std::vector<std::pair<int, int>> false_parts;  ///< parts touching no shape
+  double hull_volume = 0.0;                    ///< summed part hull volume
+  double union_volume = 0.0, union_volume_se = 0.0;      ///< volume of the union of the hulls
+  double outside_volume = 0.0, outside_volume_se = 0.0;  ///< of the union, outside every shape
+  double far_volume = 0.0, far_volume_se = 0.0;          ///< of the union, farther than far_margin
+  std::size_t segments = 0;
+  std::size_t deep = 0;           ///< segments whose capsule penetrates the truth by > depth_margin
+  std::size_t missed = 0;         ///< of those, reported clear by the hull checker
+  std::size_t clear = 0;          ///< segments keeping radius + clear_margin from the truth
+  std::size_t false_alarms = 0;   ///< of those, reported colliding
+};
+
+/// Scores the obstacles (their parts when they have some, else their whole hulls) against the
+/// truth. `points` (map frame) with `weights` (empty: 1 each) are the map's observed points.
+/// Segments: endpoints drawn uniformly in the box of the truth grown by radius + clear_margin + 0.5
+/// until both keep radius + clear_margin from the truth (from their own random stream: the same
+/// segments whatever the obstacles, so two builds are scored on the same ones); the truth's smallest distance along a segment is taken
+/// at spacing <= sample_step, which brackets the exact value within sample_step / 2 (distance is
+/// 1-Lipschitz): a segment is deep or clear only when the bracket says so for certain, and neither
+/// otherwise. The hull side is collision::HullChecker. Volumes: volume_samples uniform points in each
+/// hull, a point counted for the union only in the first hull holding it.
+Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const GroundTruth& truth,
+                    const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& weights,
+                    const EvaluateParams& params);
+
+/// The result as JSON: params, per truth shape, totals.
+nlohmann::json evaluationToJson(const Evaluation& evaluation, const EvaluateParams& params);
+
+}  // namespace hullmap::pipeline

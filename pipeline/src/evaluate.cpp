@@ -1,0 +1,427 @@
+#include "hullmap/pipeline/evaluate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <sstream>
+
+#include <Eigen/Geometry>
+
+#include "hullmap/collision/path_check.hpp"
+#include "hullmap/core/error.hpp"
+
+namespace hullmap::pipeline {
+namespace {
+
+using V3 = Eigen::Vector3d;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.141592653589793238462643383279502884;
+
+/// Uniform in [0, 1) from 53 random bits (the same on every standard library).
+double uniform(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1.0p-53; }
+
+/// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
+V3 closestOnTriangle(const V3& p, const V3& a, const V3& b, const V3& c) {
+  const V3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const V3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
+  const V3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+/// Signed distance of a 2D or 3D axis-aligned box of half extents h centred at the origin.
+template <class V>
+double boxDistance(const V& q_abs_minus_h) {
+  const double outside = q_abs_minus_h.cwiseMax(0.0).norm();
+  const double inside = std::min(q_abs_minus_h.maxCoeff(), 0.0);
+  return outside + inside;
+}
+
+/// A hull as half-spaces n . x <= d (n unit).
+struct HullPlanes {
+  std::vector<std::pair<V3, double>> planes;
+  V3 lo, hi;
+  int obstacle = 0;
+  int part = -1;
+  double volume = 0.0;
+  bool contains(const V3& p, double tolerance = 1e-9) const {
+    if ((p.array() < lo.array() - tolerance).any() || (p.array() > hi.array() + tolerance).any()) return false;
+    for (const auto& [n, d] : planes)
+      if (n.dot(p) > d + tolerance) return false;
+    return true;
+  }
+};
+
+HullPlanes planesOf(const clustering::ConvexHull& hull, int obstacle, int part, double volume) {
+  HullPlanes out;
+  out.obstacle = obstacle;
+  out.part = part;
+  out.volume = volume;
+  out.lo = out.hi = hull.vertices.empty() ? V3::Zero() : hull.vertices[0];
+  for (const auto& v : hull.vertices) {
+    out.lo = out.lo.cwiseMin(v);
+    out.hi = out.hi.cwiseMax(v);
+  }
+  for (const auto& t : hull.triangles) {
+    const V3& a = hull.vertices[std::size_t(t[0])];
+    V3 n = (hull.vertices[std::size_t(t[1])] - a).cross(hull.vertices[std::size_t(t[2])] - a);
+    if (n.norm() == 0) continue;
+    n.normalize();
+    out.planes.emplace_back(n, n.dot(a));
+  }
+  return out;
+}
+
+std::vector<HullPlanes> hullsOf(const std::vector<clustering::Obstacle>& obstacles) {
+  std::vector<HullPlanes> hulls;
+  for (const auto& o : obstacles) {
+    if (o.parts.empty()) hulls.push_back(planesOf(o.hull, o.id, -1, o.volume));
+    for (std::size_t p = 0; p < o.parts.size(); ++p)
+      hulls.push_back(planesOf(o.parts[p].hull, o.id, int(p), o.parts[p].volume));
+  }
+  return hulls;
+}
+
+void finishShape(TruthShape& s) {
+  if (s.kind == TruthShape::Kind::kMesh) {
+    s.aabb_min = V3::Constant(kInf);
+    s.aabb_max = V3::Constant(-kInf);
+    for (const auto& t : s.triangles)
+      for (const auto& v : t) {
+        s.aabb_min = s.aabb_min.cwiseMin(v);
+        s.aabb_max = s.aabb_max.cwiseMax(v);
+      }
+    return;
+  }
+  V3 half = 0.5 * s.size;
+  if (s.kind == TruthShape::Kind::kBox) {
+    const double c = std::abs(std::cos(s.yaw)), n = std::abs(std::sin(s.yaw));
+    half = V3(c * half.x() + n * half.y(), n * half.x() + c * half.y(), half.z());
+  }
+  s.aabb_min = s.center - half;
+  s.aabb_max = s.center + half;
+}
+
+GroundTruth readJsonTruth(const std::string& path, std::istream& in) {
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw Error(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+  }
+  const auto fail = [&](const std::string& where, const std::string& what) -> void {
+    throw Error(path + ": " + where + ": " + what);
+  };
+  if (!doc.is_object() || !doc.contains("obstacles") || !doc["obstacles"].is_array())
+    fail("top level", "expected an object with an \"obstacles\" array");
+  const auto vec3 = [&](const nlohmann::json& j, const std::string& where) {
+    if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
+      fail(where, "expected [x, y, z]");
+    const V3 v(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+    if (!v.allFinite()) fail(where, "non-finite number");
+    return v;
+  };
+  GroundTruth truth;
+  const auto& list = doc["obstacles"];
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const std::string at = "obstacles[" + std::to_string(k) + "]";
+    const auto& j = list[k];
+    if (!j.is_object()) fail(at, "expected an object");
+    TruthShape s;
+    const std::string shape = j.contains("shape") && j["shape"].is_string() ? j["shape"].get<std::string>() : "";
+    if (shape == "box") {
+      s.kind = TruthShape::Kind::kBox;
+    } else if (shape == "cylinder") {
+      s.kind = TruthShape::Kind::kCylinder;
+    } else {
+      fail(at + ".shape", "expected \"box\" or \"cylinder\"");
+    }
+    if (!j.contains("center")) fail(at, "missing \"center\"");
+    if (!j.contains("size")) fail(at, "missing \"size\"");
+    s.center = vec3(j["center"], at + ".center");
+    s.size = vec3(j["size"], at + ".size");
+    if (!(s.size.array() > 0).all()) fail(at + ".size", "extents must be positive");
+    if (j.contains("yaw")) {
+      if (!j["yaw"].is_number() || !std::isfinite(j["yaw"].get<double>())) fail(at + ".yaw", "expected a number");
+      s.yaw = j["yaw"].get<double>();
+    }
+    s.label = shape + " " + std::to_string(k);
+    finishShape(s);
+    truth.shapes.push_back(std::move(s));
+  }
+  return truth;
+}
+
+GroundTruth readObjTruth(const std::string& path, std::istream& in) {
+  std::vector<V3> vertices;
+  GroundTruth truth;
+  TruthShape current;
+  current.kind = TruthShape::Kind::kMesh;
+  current.label = "mesh";
+  const auto flush = [&] {
+    if (!current.triangles.empty()) {
+      finishShape(current);
+      truth.shapes.push_back(current);
+    }
+    current.triangles.clear();
+  };
+  std::string line;
+  for (std::size_t number = 1; std::getline(in, line); ++number) {
+    std::istringstream s(line);
+    std::string tag;
+    if (!(s >> tag) || tag[0] == '#') continue;
+    const std::string where = path + ":" + std::to_string(number);
+    if (tag == "v") {
+      V3 v;
+      if (!(s >> v.x() >> v.y() >> v.z()) || !v.allFinite()) throw Error(where + ": expected v x y z");
+      vertices.push_back(v);
+    } else if (tag == "o" || tag == "g") {
+      flush();
+      std::string name;
+      std::getline(s >> std::ws, name);
+      current.label = name.empty() ? "mesh" : name;
+    } else if (tag == "f") {
+      std::vector<std::size_t> ring;
+      for (std::string item; s >> item;) {
+        long index = 0;
+        try {
+          index = std::stol(item.substr(0, item.find('/')));
+        } catch (const std::exception&) {
+          throw Error(where + ": bad face index \"" + item + "\"");
+        }
+        if (index < 0) index += long(vertices.size()) + 1;  // OBJ's relative indices
+        if (index < 1 || index > long(vertices.size()))
+          throw Error(where + ": face index " + item + " out of range (1.." + std::to_string(vertices.size()) + ")");
+        ring.push_back(std::size_t(index - 1));
+      }
+      if (ring.size() < 3) throw Error(where + ": a face needs at least 3 vertices");
+      for (std::size_t k = 1; k + 1 < ring.size(); ++k)
+        current.triangles.push_back({vertices[ring[0]], vertices[ring[k]], vertices[ring[k + 1]]});
+    }
+  }
+  flush();
+  if (truth.shapes.empty()) throw Error(path + ": no faces");
+  return truth;
+}
+
+}  // namespace
+
+double TruthShape::signedDistance(const V3& p) const {
+  switch (kind) {
+    case Kind::kBox: {
+      const V3 d = p - center;
+      const double c = std::cos(yaw), s = std::sin(yaw);
+      const V3 local(c * d.x() + s * d.y(), -s * d.x() + c * d.y(), d.z());
+      return boxDistance<V3>(local.cwiseAbs() - 0.5 * size);
+    }
+    case Kind::kCylinder: {
+      const V3 d = p - center;
+      const Eigen::Vector2d q(std::hypot(d.x(), d.y()) - 0.5 * size.x(), std::abs(d.z()) - 0.5 * size.z());
+      return boxDistance<Eigen::Vector2d>(q);
+    }
+    case Kind::kMesh: {
+      double best = kInf;
+      double winding = 0.0;
+      for (const auto& t : triangles) {
+        best = std::min(best, (p - closestOnTriangle(p, t[0], t[1], t[2])).norm());
+        // Solid angle of the triangle seen from p (Van Oosterom and Strackee 1983).
+        const V3 a = t[0] - p, b = t[1] - p, c = t[2] - p;
+        const double la = a.norm(), lb = b.norm(), lc = c.norm();
+        const double num = a.dot(b.cross(c));
+        const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+        winding += 2.0 * std::atan2(num, den);
+      }
+      winding /= 4.0 * kPi;
+      return std::abs(winding) >= 0.5 ? -best : best;
+    }
+  }
+  return kInf;
+}
+
+double GroundTruth::signedDistance(const V3& p) const {
+  double best = kInf;
+  for (const auto& s : shapes) best = std::min(best, s.signedDistance(p));
+  return best;
+}
+
+GroundTruth readGroundTruth(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open");
+  std::string lower = path;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (lower.size() >= 4 && lower.compare(lower.size() - 4, 4, ".obj") == 0) return readObjTruth(path, in);
+  return readJsonTruth(path, in);
+}
+
+Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const GroundTruth& truth,
+                    const std::vector<V3>& points, const std::vector<std::uint32_t>& weights,
+                    const EvaluateParams& params) {
+  if (!(params.radius >= 0) || !std::isfinite(params.radius))
+    throw Error("evaluate: --radius must be >= 0, got " + std::to_string(params.radius));
+  if (!weights.empty() && weights.size() != points.size())
+    throw Error("evaluate: " + std::to_string(weights.size()) + " weights for " + std::to_string(points.size()) + " points");
+  if (!(params.sample_step > 0) || !(params.segment_length > 0.2))
+    throw Error("evaluate: sample_step must be > 0 and segment_length > 0.2");
+  Evaluation e;
+  const std::vector<HullPlanes> hulls = hullsOf(obstacles);
+  e.parts = hulls.size();
+
+  // Observed points per true obstacle.
+  e.truth.resize(truth.shapes.size());
+  for (std::size_t s = 0; s < truth.shapes.size(); ++s) e.truth[s].label = truth.shapes[s].label;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double w = weights.empty() ? 1.0 : double(weights[i]);
+    bool inside = false, decided = false;
+    for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
+      if (std::abs(truth.shapes[s].signedDistance(points[i])) > params.surface_margin) continue;
+      if (!decided) {
+        inside = std::any_of(hulls.begin(), hulls.end(), [&](const HullPlanes& h) { return h.contains(points[i]); });
+        decided = true;
+      }
+      e.truth[s].points_near += w;
+      if (inside) e.truth[s].points_inside += w;
+    }
+  }
+
+  // Volumes and touching, by Monte Carlo in each hull.
+  std::mt19937_64 rng(params.seed);
+  double union_var = 0, outside_var = 0, far_var = 0;
+  for (std::size_t h = 0; h < hulls.size(); ++h) {
+    const HullPlanes& hull = hulls[h];
+    e.hull_volume += hull.volume;
+    std::vector<char> touches(truth.shapes.size(), 0);
+    std::size_t got = 0, in_union = 0, outside = 0, far = 0;
+    for (std::size_t tries = 0; got < params.volume_samples && tries < 200 * params.volume_samples; ++tries) {
+      const V3 p = hull.lo + (hull.hi - hull.lo).cwiseProduct(V3(uniform(rng), uniform(rng), uniform(rng)));
+      if (!hull.contains(p, 0.0)) continue;
+      ++got;
+      double nearest = kInf;
+      for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
+        const double d = truth.shapes[s].signedDistance(p);
+        nearest = std::min(nearest, d);
+        if (d <= params.touch_margin) touches[s] = 1;
+      }
+      bool first = true;
+      for (std::size_t g = 0; g < h && first; ++g) first = !hulls[g].contains(p, 0.0);
+      if (!first) continue;
+      ++in_union;
+      if (nearest > 0) ++outside;
+      if (nearest > params.far_margin) ++far;
+    }
+    bool any = false;
+    for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
+      if (touches[s]) {
+        e.truth[s].parts_touching.emplace_back(hull.obstacle, hull.part);
+        any = true;
+      }
+    }
+    if (!any) e.false_parts.emplace_back(hull.obstacle, hull.part);
+    if (got == 0) continue;
+    const double n = double(got);
+    const auto add = [&](std::size_t count, double& value, double& var) {
+      const double p = double(count) / n;
+      value += hull.volume * p;
+      var += hull.volume * hull.volume * p * (1 - p) / n;
+    };
+    add(in_union, e.union_volume, union_var);
+    add(outside, e.outside_volume, outside_var);
+    add(far, e.far_volume, far_var);
+  }
+  e.union_volume_se = std::sqrt(union_var);
+  e.outside_volume_se = std::sqrt(outside_var);
+  e.far_volume_se = std::sqrt(far_var);
+
+  // Random segments in the free volume.
+  V3 lo = V3::Constant(kInf), hi = V3::Constant(-kInf);
+  for (const auto& s : truth.shapes) {
+    lo = lo.cwiseMin(s.aabb_min);
+    hi = hi.cwiseMax(s.aabb_max);
+  }
+  if (!lo.allFinite() || params.segments == 0) return e;
+  // The segments depend on the truth and the seed only, so that two builds are scored on the same ones.
+  rng.seed(params.seed + 1);
+  lo -= V3::Constant(params.radius + params.clear_margin + 0.5);
+  hi += V3::Constant(params.radius + params.clear_margin + 0.5);
+  const double free_distance = params.radius + params.clear_margin;
+  std::vector<collision::Segment> segments;
+  std::vector<int> verdict;  // 1 deep, 2 clear, 0 neither
+  for (std::size_t tries = 0; segments.size() < params.segments && tries < 1000 * params.segments; ++tries) {
+    const V3 a = lo + (hi - lo).cwiseProduct(V3(uniform(rng), uniform(rng), uniform(rng)));
+    // A direction uniform on the sphere, and a length in [0.2, segment_length].
+    const double z = 2 * uniform(rng) - 1, phi = 2 * kPi * uniform(rng), r = std::sqrt(1 - z * z);
+    const double length = 0.2 + (params.segment_length - 0.2) * uniform(rng);
+    const V3 b = a + length * V3(r * std::cos(phi), r * std::sin(phi), z);
+    if (truth.signedDistance(a) < free_distance || truth.signedDistance(b) < free_distance) continue;
+    const std::size_t steps = std::size_t(std::ceil(length / params.sample_step));
+    const double spacing = length / double(steps);
+    double nearest = kInf;
+    for (std::size_t k = 0; k <= steps; ++k) nearest = std::min(nearest, truth.signedDistance(a + (b - a) * (double(k) / double(steps))));
+    // The exact minimum lies in [nearest - spacing / 2, nearest].
+    int v = 0;
+    if (nearest < params.radius - params.depth_margin) v = 1;
+    else if (nearest - 0.5 * spacing > params.radius + params.clear_margin) v = 2;
+    segments.push_back({a, b});
+    verdict.push_back(v);
+  }
+  e.segments = segments.size();
+  const collision::HullChecker checker(obstacles);
+  const std::vector<collision::SegmentCheck> checks = checker.checkBatch(segments, params.radius);
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    if (verdict[k] == 1) {
+      ++e.deep;
+      if (!checks[k].collides) ++e.missed;
+    } else if (verdict[k] == 2) {
+      ++e.clear;
+      if (checks[k].collides) ++e.false_alarms;
+    }
+  }
+  return e;
+}
+
+nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
+  using nlohmann::json;
+  json truth = json::array();
+  for (const auto& t : e.truth) {
+    json touching = json::array();
+    for (const auto& [o, part] : t.parts_touching) touching.push_back({{"obstacle", o}, {"part", part}});
+    truth.push_back({{"label", t.label},
+                     {"points_near", t.points_near},
+                     {"points_inside", t.points_inside},
+                     {"share_inside", t.points_near > 0 ? json(t.points_inside / t.points_near) : json(nullptr)},
+                     {"parts_touching", touching}});
+  }
+  json false_parts = json::array();
+  for (const auto& [o, part] : e.false_parts) false_parts.push_back({{"obstacle", o}, {"part", part}});
+  return {{"format", "hullmap-evaluation/1"},
+          {"parameters",
+           {{"radius", p.radius}, {"surface_margin", p.surface_margin}, {"touch_margin", p.touch_margin},
+            {"far_margin", p.far_margin}, {"depth_margin", p.depth_margin}, {"clear_margin", p.clear_margin},
+            {"volume_samples", p.volume_samples}, {"segments", p.segments}, {"segment_length", p.segment_length},
+            {"sample_step", p.sample_step}, {"seed", p.seed}}},
+          {"truth", truth},
+          {"parts", e.parts},
+          {"false_parts", false_parts},
+          {"volume",
+           {{"hulls", e.hull_volume}, {"union", e.union_volume}, {"union_se", e.union_volume_se},
+            {"outside_truth", e.outside_volume}, {"outside_truth_se", e.outside_volume_se},
+            {"far_from_truth", e.far_volume}, {"far_from_truth_se", e.far_volume_se}}},
+          {"segments",
+           {{"count", e.segments}, {"deep", e.deep}, {"missed", e.missed}, {"clear", e.clear},
+            {"false_alarms", e.false_alarms}}}};
+}
+
+}  // namespace hullmap::pipeline

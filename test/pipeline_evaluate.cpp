@@ -1,0 +1,263 @@
+// evaluate: truth geometry against brute-force oracles; hand-built cases with known answers; the
+// CLI's exit codes.
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <random>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "hullmap/clustering/convex_parts.hpp"
+#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/evaluate.hpp"
+#include "hullmap/pipeline/obstacle_io.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
+#include "test_support.hpp"
+
+namespace hullmap::pipeline {
+namespace {
+
+using V3 = Eigen::Vector3d;
+
+TruthShape box(const V3& center, const V3& size, double yaw = 0.0) {
+  TruthShape s;
+  s.kind = TruthShape::Kind::kBox;
+  s.center = center;
+  s.size = size;
+  s.yaw = yaw;
+  s.aabb_min = center - size;  // loose is fine for these tests
+  s.aabb_max = center + size;
+  return s;
+}
+
+/// Points on a shape's surface at spacing `step`: `inside(p)` decides membership, the surface is
+/// where a grid point is in and a neighbour out (brute force on a fine grid).
+std::vector<V3> surfaceSamples(const std::function<bool(const V3&)>& inside, const V3& lo, const V3& hi, double step) {
+  std::vector<V3> out;
+  for (double x = lo.x(); x <= hi.x(); x += step)
+    for (double y = lo.y(); y <= hi.y(); y += step)
+      for (double z = lo.z(); z <= hi.z(); z += step) {
+        const V3 p(x, y, z);
+        if (!inside(p)) continue;
+        for (const V3& d : {V3(step, 0, 0), V3(-step, 0, 0), V3(0, step, 0), V3(0, -step, 0), V3(0, 0, step), V3(0, 0, -step)})
+          if (!inside(p + d)) {
+            out.push_back(p);
+            break;
+          }
+      }
+  return out;
+}
+
+void expectMatchesOracle(const TruthShape& shape, const std::function<bool(const V3&)>& inside, double step) {
+  const std::vector<V3> surface = surfaceSamples(inside, V3::Constant(-1.5), V3::Constant(1.5), step);
+  ASSERT_FALSE(surface.empty());
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.4, 1.4);
+  for (int k = 0; k < 300; ++k) {
+    const V3 p(u(rng), u(rng), u(rng));
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& s : surface) nearest = std::min(nearest, (p - s).norm());
+    const double oracle = inside(p) ? -nearest : nearest;
+    EXPECT_NEAR(shape.signedDistance(p), oracle, 2.0 * step) << p.transpose();
+  }
+}
+
+TEST(TruthGeometry, BoxMatchesBruteForce) {
+  const TruthShape b = box(V3(0.1, -0.2, 0.05), V3(1.0, 0.6, 0.8), 0.5);
+  const double c = std::cos(0.5), s = std::sin(0.5);
+  expectMatchesOracle(b, [&](const V3& p) {
+    const V3 d = p - b.center;
+    const V3 local(c * d.x() + s * d.y(), -s * d.x() + c * d.y(), d.z());
+    return (local.cwiseAbs().array() <= 0.5 * b.size.array()).all();
+  }, 0.04);
+}
+
+TEST(TruthGeometry, CylinderMatchesBruteForce) {
+  TruthShape cyl;
+  cyl.kind = TruthShape::Kind::kCylinder;
+  cyl.center = V3(0.1, 0.0, -0.1);
+  cyl.size = V3(1.2, 1.2, 1.0);
+  expectMatchesOracle(cyl, [&](const V3& p) {
+    const V3 d = p - cyl.center;
+    return std::hypot(d.x(), d.y()) <= 0.6 && std::abs(d.z()) <= 0.5;
+  }, 0.04);
+}
+
+/// The 12 triangles of a box, outward.
+std::string boxObj(const V3& lo, const V3& hi) {
+  std::ostringstream out;
+  out << "o crate\n";
+  for (int m = 0; m < 8; ++m)
+    out << "v " << ((m & 1) ? hi.x() : lo.x()) << ' ' << ((m & 2) ? hi.y() : lo.y()) << ' ' << ((m & 4) ? hi.z() : lo.z()) << '\n';
+  // Quads, counter-clockwise from outside, 1-based.
+  out << "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+  return out.str();
+}
+
+TEST(TruthGeometry, MeshOfABoxIsTheBox) {
+  const auto dir = test::freshDir("mesh");
+  const std::string path = (dir / "crate.obj").string();
+  std::ofstream(path) << boxObj(V3(-0.5, -0.3, 0.0), V3(0.5, 0.3, 0.4));
+  const GroundTruth truth = readGroundTruth(path);
+  ASSERT_EQ(truth.shapes.size(), 1u);
+  EXPECT_EQ(truth.shapes[0].label, "crate");
+  const TruthShape b = box(V3(0, 0, 0.2), V3(1.0, 0.6, 0.4));
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int k = 0; k < 500; ++k) {
+    const V3 p(u(rng), u(rng), u(rng));
+    EXPECT_NEAR(truth.shapes[0].signedDistance(p), b.signedDistance(p), 1e-9) << p.transpose();
+  }
+}
+
+/// An obstacle of voxels (edge 0.1) filling [lo, hi) exactly.
+clustering::Obstacle filled(const V3& lo, const V3& hi, int id) {
+  std::vector<V3> centers;
+  for (double x = lo.x() + 0.05; x < hi.x(); x += 0.1)
+    for (double y = lo.y() + 0.05; y < hi.y(); y += 0.1)
+      for (double z = lo.z() + 0.05; z < hi.z(); z += 0.1) centers.emplace_back(x, y, z);
+  auto obstacles = clustering::buildObstacles(centers, {}, std::vector<std::int32_t>(centers.size(), 0), 0.1);
+  obstacles.at(0).id = id;
+  return obstacles[0];
+}
+
+std::vector<V3> boxSurface(const V3& lo, const V3& hi) {
+  std::vector<V3> out;
+  for (double x = lo.x(); x <= hi.x() + 1e-9; x += 0.1)
+    for (double y = lo.y(); y <= hi.y() + 1e-9; y += 0.1) {
+      out.emplace_back(x, y, lo.z());
+      out.emplace_back(x, y, hi.z());
+    }
+  return out;
+}
+
+TEST(Evaluate, ExactHullHasNothingToReport) {
+  GroundTruth truth;
+  truth.shapes.push_back(box(V3(0.5, 0.5, 0.5), V3(1, 1, 1)));
+  const std::vector<clustering::Obstacle> obstacles{filled(V3(0, 0, 0), V3(1, 1, 1), 0)};
+  EvaluateParams params;
+  const Evaluation e = evaluate(obstacles, truth, boxSurface(V3(0, 0, 0), V3(1, 1, 1)), {}, params);
+  ASSERT_EQ(e.truth.size(), 1u);
+  EXPECT_GT(e.truth[0].points_near, 100);
+  EXPECT_EQ(e.truth[0].points_inside, e.truth[0].points_near);
+  EXPECT_EQ(e.truth[0].parts_touching.size(), 1u);
+  EXPECT_TRUE(e.false_parts.empty());
+  EXPECT_NEAR(e.hull_volume, 1.0, 1e-9);
+  EXPECT_EQ(e.outside_volume, 0.0);
+  EXPECT_EQ(e.far_volume, 0.0);
+  EXPECT_EQ(e.segments, 2000u);
+  EXPECT_GT(e.deep, 10u);
+  EXPECT_GT(e.clear, 100u);
+  EXPECT_EQ(e.missed, 0u);
+  EXPECT_EQ(e.false_alarms, 0u);
+}
+
+TEST(Evaluate, SwallowedVolumeMatchesTheAnalyticValue) {
+  // Truth: the unit cube. Hull: [0, 2] x [0, 1] x [0, 1], swallowing 1 m^3, of which 0.9 m^3 is
+  // farther than 0.1 from the cube; and a hull 5 m away touching nothing.
+  GroundTruth truth;
+  truth.shapes.push_back(box(V3(0.5, 0.5, 0.5), V3(1, 1, 1)));
+  const std::vector<clustering::Obstacle> obstacles{filled(V3(0, 0, 0), V3(2, 1, 1), 0),
+                                                     filled(V3(5, 0, 0), V3(5.5, 0.5, 0.5), 1)};
+  EvaluateParams params;
+  params.segments = 500;
+  params.volume_samples = 20000;
+  const Evaluation e = evaluate(obstacles, truth, {}, {}, params);
+  EXPECT_NEAR(e.union_volume, 2.125, 1e-9);  // every sample is in one hull only
+  EXPECT_GT(e.outside_volume_se, 0.0);
+  EXPECT_NEAR(e.outside_volume, 1.0 + 0.125, 4 * e.outside_volume_se);
+  EXPECT_NEAR(e.far_volume, 0.9 + 0.125, 4 * e.far_volume_se);
+  ASSERT_EQ(e.false_parts.size(), 1u);
+  EXPECT_EQ(e.false_parts[0].first, 1);
+  EXPECT_EQ(e.missed, 0u);
+  EXPECT_GT(e.false_alarms, 0u);  // segments over the swallowed half
+}
+
+TEST(Evaluate, SameSeedSameNumbers) {
+  GroundTruth truth;
+  truth.shapes.push_back(box(V3(0.5, 0.5, 0.5), V3(1, 1, 1)));
+  const std::vector<clustering::Obstacle> obstacles{filled(V3(0, 0, 0), V3(2, 1, 1), 0)};
+  EvaluateParams params;
+  params.segments = 200;
+  const auto a = evaluationToJson(evaluate(obstacles, truth, {}, {}, params), params);
+  const auto b = evaluationToJson(evaluate(obstacles, truth, {}, {}, params), params);
+  EXPECT_EQ(a, b);
+}
+
+TEST(Evaluate, PartsStopSwallowingTheRoom) {
+  // maps/room at eps 0.2 / minPts 3 (fewer fragments, but clusters that bridge free space): whole
+  // hulls against convex parts at the default T, scored against the room's truth. Prints both.
+  hullmap::pipeline::BuildParams build;
+  build.inputs = {std::string(HULLMAP_SOURCE_DIR) + "/maps/room/map_points.txt"};
+  build.frame.up = hullmap::mapper::parseUpAxis("-y");
+  build.dbscan.eps = 0.2;
+  build.dbscan.min_pts = 3;
+  hullmap::pipeline::BuildResult r = hullmap::pipeline::build(build);
+  const GroundTruth truth = readGroundTruth(std::string(HULLMAP_SOURCE_DIR) + "/maps/room/ground_truth.json");
+  std::vector<V3> centers;
+  std::vector<std::uint32_t> weights;
+  for (const auto& v : r.voxels) {
+    centers.push_back(v.center);
+    weights.push_back(v.weight);
+  }
+  const EvaluateParams params;
+  const Evaluation whole = evaluate(r.obstacles, truth, centers, weights, params);
+  clustering::addConvexParts(r.obstacles, centers, weights, r.clusters.labels, r.map.resolution(), {});
+  const Evaluation parts = evaluate(r.obstacles, truth, centers, weights, params);
+  for (const auto* e : {&whole, &parts})
+    std::cout << (e == &whole ? "whole hulls: " : "convex parts: ") << e->parts << " hulls, " << e->false_parts.size()
+              << " false; union " << e->union_volume << " m^3, farther than 0.1 m from the truth " << e->far_volume
+              << " +- " << e->far_volume_se << "; deep " << e->deep << " missed " << e->missed << "; clear " << e->clear
+              << " false alarms " << e->false_alarms << "\n";
+  EXPECT_EQ(parts.missed, 0u);
+  EXPECT_LE(parts.far_volume, whole.far_volume);
+  EXPECT_LE(parts.false_alarms, whole.false_alarms);
+  double near = 0, inside = 0;
+  for (const auto& t : parts.truth) {
+    near += t.points_near;
+    inside += t.points_inside;
+  }
+  EXPECT_GT(inside, 0.95 * near);  // splitting keeps every clustered voxel in some part
+}
+
+void expectOneLineError(const test::CommandResult& r, const std::string& needle) {
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(r.err.rfind("hullmap: error: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find(needle), std::string::npos) << "expected '" << needle << "' in: " << r.err;
+}
+
+TEST(EvaluateCli, ScoresABuildAndRefusesBadTruth) {
+  const auto dir = test::freshDir("cli");
+  const std::string truth = std::string(HULLMAP_SOURCE_DIR) + "/maps/room/ground_truth.json";
+  const auto build = test::runHullmap("build " + std::string(HULLMAP_SOURCE_DIR) + "/maps/room/map_points.txt --up -y -o " +
+                                      (dir / "out").string());
+  ASSERT_EQ(build.status, 0) << build.err;
+  const auto ok = test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + truth + " --segments 300 --json");
+  ASSERT_EQ(ok.status, 0) << ok.err;
+  const auto doc = nlohmann::json::parse(ok.out);
+  EXPECT_EQ(doc["truth"].size(), 8u);
+  EXPECT_EQ(doc["segments"]["count"], 300);
+  EXPECT_EQ(doc["segments"]["missed"], 0);
+
+  std::ofstream(dir / "bad.json") << "{\"obstacles\": [{\"shape\": \"cone\", \"center\": [0,0,0], \"size\": [1,1,1]}]}";
+  expectOneLineError(test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + (dir / "bad.json").string()),
+                     "bad.json: obstacles[0].shape: expected \"box\" or \"cylinder\"");
+  std::ofstream(dir / "broken.json") << "{\"obstacles\": [";
+  expectOneLineError(test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + (dir / "broken.json").string()),
+                     "broken.json: not valid JSON");
+  std::ofstream(dir / "bad.obj") << "v 0 0 0\nv 1 0 0\nf 1 2 9\n";
+  expectOneLineError(test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + (dir / "bad.obj").string()),
+                     "bad.obj:3: face index 9 out of range");
+  expectOneLineError(test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + (dir / "none.json").string()),
+                     "none.json: cannot open");
+  expectOneLineError(test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + truth + " --radius -1"),
+                     "--radius");
+}
+
+}  // namespace
+}  // namespace hullmap::pipeline
