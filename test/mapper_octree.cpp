@@ -1,8 +1,10 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <random>
+#include <sstream>
 #include <tuple>
 
 #include <gtest/gtest.h>
@@ -352,6 +354,31 @@ TEST(MapperOctree, WritesAndReadsBtAndOt) {
   EXPECT_THROW(writeMap(map, (dir / "map.txt").string()), Error);
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     EXPECT_EQ(entry.path().filename().string().rfind(".", 0), std::string::npos) << "temporary file left";
+  }
+}
+
+TEST(MapperOctree, BtIsOctomapsWriteBinaryConstByteForByteAndStderrIsUntouched) {
+  // writeMap writes the .bt header itself (octomap's writeBinaryConst prints progress on stderr in
+  // Debian's build): the bytes must be octomap's own, for an empty tree and a full one.
+  OctreeParams params;
+  params.resolution = 0.1;
+  InputStats stats;
+  const auto dir = test::freshDir("mapper_octree_bt_bytes");
+  for (const bool empty : {true, false}) {
+    const OccupancyMap map = empty ? OccupancyMap(params) : buildFromPoints(denseCloud(), params, stats);
+    const std::string bt = (dir / (empty ? "empty.bt" : "full.bt")).string();
+    testing::internal::CaptureStderr();
+    writeMap(map, bt);
+    const OccupancyMap back = readMap(bt);
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "") << "writeMap/readMap printed on stderr";
+    std::ostringstream octomap_bytes;
+    testing::internal::CaptureStderr();  // octomap's own chatter, not ours
+    ASSERT_TRUE(map.tree().writeBinaryConst(octomap_bytes));
+    testing::internal::GetCapturedStderr();
+    std::ifstream in(bt, std::ios::binary);
+    const std::string ours((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(ours, octomap_bytes.str()) << (empty ? "empty" : "full") << " tree";
+    EXPECT_EQ(back.tree().size(), map.tree().size());
   }
 }
 

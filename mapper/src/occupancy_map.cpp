@@ -5,10 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <fcntl.h>
 #include <iostream>
-#include <mutex>
-#include <unistd.h>
 #include <fstream>
 #include <functional>
 #include <iterator>
@@ -30,39 +27,21 @@ namespace {
 
 constexpr unsigned kTreeDepth = 16;
 
-// Debian's liboctomap is built with its debug output on: reading and writing a tree print
-// progress ("Writing 123 nodes to output stream... done.") on stderr, with fprintf and std::cerr.
-// hullmap's stderr is for its one-line errors, so fd 2 points to /dev/null around those calls.
-// One at a time (fd 2 is process-wide); a thread writing to stderr meanwhile is muted too.
-class MuteOctomapStderr {
- public:
-  MuteOctomapStderr() : lock_(mutex()) {
-    std::cerr.flush();
-    std::fflush(stderr);
-    saved_ = ::dup(2);
-    const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
-    if (saved_ >= 0 && null >= 0) ::dup2(null, 2);
-    if (null >= 0) ::close(null);
-  }
-  ~MuteOctomapStderr() {
-    std::cerr.flush();
-    std::fflush(stderr);
-    if (saved_ >= 0) {
-      ::dup2(saved_, 2);
-      ::close(saved_);
-    }
-  }
-  MuteOctomapStderr(const MuteOctomapStderr&) = delete;
-  MuteOctomapStderr& operator=(const MuteOctomapStderr&) = delete;
-
- private:
-  static std::mutex& mutex() {
-    static std::mutex m;
-    return m;
-  }
-  std::lock_guard<std::mutex> lock_;
-  int saved_ = -1;
-};
+// Debian's liboctomap is built with its debug output on: OccupancyOcTreeBase::writeBinaryData (which
+// writeBinary and writeBinaryConst call) prints "Writing N nodes to output stream... done." on
+// stderr. hullmap writes the .bt header itself and hands octomap only the node stream
+// (writeBinaryNode, which prints nothing): the same bytes as writeBinaryConst, and the process's
+// stderr is left alone. Reading calls readBinaryData / readData, which print nothing on a good
+// stream; .ot writing (AbstractOcTree::write -> writeData) prints nothing either.
+bool writeBinaryQuietly(const octomap::OcTree& tree, std::ostream& out) {
+  out << "# Octomap OcTree binary file\n# (feel free to add / change comments, but leave the first line as it is!)\n#\n";
+  out << "id " << tree.getTreeType() << std::endl;
+  out << "size " << tree.size() << std::endl;
+  out << "res " << tree.getResolution() << std::endl;
+  out << "data" << std::endl;
+  if (tree.getRoot() != nullptr) tree.writeBinaryNode(out, tree.getRoot());
+  return out.good();
+}
 
 
 // occupiedVoxels() lists at most this many finest voxels (52 bytes each at the peak: ~1.7 GB).
@@ -380,7 +359,6 @@ OccupancyMap readMap(const std::string& path) {
   OccupancyMap map(params);
   if (header.size > 0) {
     std::istringstream nodes(bytes.substr(header.data_offset));
-    const MuteOctomapStderr mute;
     if (binary) {
       map.tree().readBinaryData(nodes);
     } else {
@@ -399,11 +377,7 @@ void writeMap(const OccupancyMap& map, const std::string& path) {
   core::writeFileAtomically(
       path,
       [&map, &ext, &path](std::ostream& out) {
-        bool ok;
-        {
-          const MuteOctomapStderr mute;
-          ok = ext == "bt" ? map.tree().writeBinaryConst(out) : map.tree().write(out);
-        }
+        const bool ok = ext == "bt" ? writeBinaryQuietly(map.tree(), out) : map.tree().write(out);
         if (!ok) throw Error(path + ": octomap could not write the tree");
       },
       true);

@@ -141,12 +141,10 @@ void insertScan(octomap::OcTree& tree, const Points& points, const Point& origin
 /// an Error naming it. A .bt holds no point counts (and only maximum-likelihood log-odds): its
 /// occupied voxels have weight 1. A .bt tree gets octomap's default sensor model.
 ///
-/// stderr: Debian's liboctomap prints progress on stderr while it reads and writes a tree (fprintf
-/// and std::cerr in its compiled code, which hullmap cannot reach). readMap and writeMap therefore
-/// point file descriptor 2 at /dev/null for the duration of octomap's call, under a process-wide
-/// mutex: anything another thread of the process writes to stderr in that moment is lost too. A
-/// node that must not lose log lines should log elsewhere than fd 2, or not read and write trees
-/// while logging to it.
+/// stderr: neither readMap nor writeMap prints anything or touches the process's stderr. (Debian's
+/// liboctomap prints progress from writeBinary/writeBinaryConst; writeMap writes the .bt header
+/// itself and calls octomap's writeBinaryNode, which prints nothing, giving the same bytes.)
+/// Thread-safe for distinct maps and paths.
 OccupancyMap readMap(const std::string& path);
 
 /// Writes the tree as .bt (binary, octomap's writeBinaryConst: maximum likelihood, no counts) or
