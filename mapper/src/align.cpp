@@ -66,50 +66,33 @@ Eigen::Vector3d geodeticToEnu(const Eigen::Vector3d& geodetic, const Eigen::Vect
 std::vector<ReferencePose> parseReferenceTrajectory(std::string_view bytes, const std::string& name,
                                                     ReferenceFormat format) {
   std::vector<ReferencePose> poses;
-  detail::ByteSource source(bytes);
-  detail::LineCursor cursor(source);
-  std::string_view line;
   Eigen::Vector3d origin;
-  while (cursor.next(line)) {
-    const std::size_t hash = line.find('#');
-    if (hash != std::string_view::npos) line = line.substr(0, hash);
-    if (detail::trim(line).empty()) continue;
-    double v[8] = {};
-    std::size_t count = 0;
-    detail::forEachToken(line, [&](std::string_view token) {
-      double value = 0;
-      if (!detail::parseDouble(token, value)) {
-        detail::failAt(name, cursor.lineNumber(),
-                       token.empty() ? std::string("empty field") : detail::quoted(token) + " is not a number");
-      }
-      if (count < 8) v[count] = value;
-      ++count;
-    });
+  detail::forEachNumberRow(bytes, name, [&](const double* v, std::size_t count, std::size_t line) {
     if (format == ReferenceFormat::kTum && count != 4 && count != 8) {
-      detail::failAt(name, cursor.lineNumber(),
+      detail::failAt(name, line,
                      "expected 4 or 8 numbers (t x y z [qx qy qz qw]), got " + std::to_string(count));
     }
     if (format == ReferenceFormat::kGps && count != 4) {
-      detail::failAt(name, cursor.lineNumber(), "expected 4 numbers (t lat lon alt), got " + std::to_string(count));
+      detail::failAt(name, line, "expected 4 numbers (t lat lon alt), got " + std::to_string(count));
     }
     for (std::size_t i = 0; i < count; ++i) {
-      if (!std::isfinite(v[i])) detail::failAt(name, cursor.lineNumber(), "non-finite value");
+      if (!std::isfinite(v[i])) detail::failAt(name, line, "non-finite value");
     }
     ReferencePose pose;
     pose.stamp = v[0] > kNanosecondStampThreshold ? v[0] * 1e-9 : v[0];
     if (format == ReferenceFormat::kTum) {
       pose.position = Eigen::Vector3d(v[1], v[2], v[3]);
     } else {
-      if (std::abs(v[1]) > 90.0) detail::failAt(name, cursor.lineNumber(), "latitude outside [-90, 90] degrees");
+      if (std::abs(v[1]) > 90.0) detail::failAt(name, line, "latitude outside [-90, 90] degrees");
       if (v[2] < -180.0 || v[2] > 360.0) {
-        detail::failAt(name, cursor.lineNumber(), "longitude outside [-180, 360] degrees");
+        detail::failAt(name, line, "longitude outside [-180, 360] degrees");
       }
       const Eigen::Vector3d fix(v[1], v[2], v[3]);
       if (poses.empty()) origin = fix;
       pose.position = geodeticToEnu(fix, origin);
     }
     poses.push_back(pose);
-  }
+  });
   return poses;
 }
 

@@ -127,6 +127,33 @@ inline std::string quoted(std::string_view token) {
   throw Error(name + ": " + what);
 }
 
+/// The numeric rows of a trajectory-like text (TUM, GPS): `#` comments and blank lines skipped,
+/// numbers separated as forEachToken separates them. Calls row(values, count, line_number) per
+/// row with its first 8 numbers in `values` and how many it had in `count` (a row with more than 8
+/// is reported by its count); a token that is not a number is an Error naming `name` and the line.
+template <typename F>
+void forEachNumberRow(std::string_view bytes, const std::string& name, F&& row) {
+  ByteSource source(bytes);
+  LineCursor cursor(source);
+  std::string_view line;
+  while (cursor.next(line)) {
+    const std::size_t hash = line.find('#');
+    if (hash != std::string_view::npos) line = line.substr(0, hash);
+    if (trim(line).empty()) continue;
+    double v[8] = {};
+    std::size_t count = 0;
+    forEachToken(line, [&](std::string_view token) {
+      double value = 0;
+      if (!parseDouble(token, value)) {
+        failAt(name, cursor.lineNumber(), token.empty() ? std::string("empty field") : quoted(token) + " is not a number");
+      }
+      if (count < 8) v[count] = value;
+      ++count;
+    });
+    row(static_cast<const double*>(v), count, cursor.lineNumber());
+  }
+}
+
 /// Gathers the points a parser keeps into batches of `batch_points` for a PointBatchConsumer.
 /// With batch_points = SIZE_MAX the one batch is the whole input (readPointFile's case).
 class PointSink {

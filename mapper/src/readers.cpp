@@ -188,30 +188,12 @@ PointSet readPointFiles(const std::vector<std::string>& paths) {
 
 std::vector<Keyframe> parseTumTrajectory(std::string_view bytes, const std::string& name) {
   std::vector<Keyframe> keyframes;
-  detail::ByteSource source(bytes);
-  detail::LineCursor cursor(source);
-  std::string_view line;
-  while (cursor.next(line)) {
-    const std::size_t hash = line.find('#');
-    if (hash != std::string_view::npos) line = line.substr(0, hash);
-    if (detail::trim(line).empty()) continue;
-    double v[8];
-    std::size_t count = 0;
-    detail::forEachToken(line, [&](std::string_view token) {
-      double value = 0;
-      if (!detail::parseDouble(token, value)) {
-        detail::failAt(name, cursor.lineNumber(),
-                       token.empty() ? std::string("empty field") : detail::quoted(token) + " is not a number");
-      }
-      if (count < 8) v[count] = value;
-      ++count;
-    });
+  detail::forEachNumberRow(bytes, name, [&](const double* v, std::size_t count, std::size_t line) {
     if (count != 8) {
-      detail::failAt(name, cursor.lineNumber(),
-                     "expected 8 numbers (t tx ty tz qx qy qz qw), got " + std::to_string(count));
+      detail::failAt(name, line, "expected 8 numbers (t tx ty tz qx qy qz qw), got " + std::to_string(count));
     }
-    for (double x : v) {
-      if (!std::isfinite(x)) detail::failAt(name, cursor.lineNumber(), "non-finite value in pose");
+    for (std::size_t i = 0; i < 8; ++i) {
+      if (!std::isfinite(v[i])) detail::failAt(name, line, "non-finite value in pose");
     }
     Keyframe k;
     k.stamp = v[0] > kNanosecondStampThreshold ? v[0] * 1e-9 : v[0];
@@ -220,10 +202,10 @@ std::vector<Keyframe> parseTumTrajectory(std::string_view bytes, const std::stri
     // stableNorm: the squares of components near 1e200 overflow (norm() = inf normalised
     // (1e200, 0, 0, 0) to all zeros).
     const double norm = q.coeffs().stableNorm();
-    if (!(norm > 1e-12)) detail::failAt(name, cursor.lineNumber(), "zero quaternion");
+    if (!(norm > 1e-12)) detail::failAt(name, line, "zero quaternion");
     k.orientation = Eigen::Quaterniond(q.coeffs() / norm);
     keyframes.push_back(k);
-  }
+  });
   return keyframes;
 }
 
