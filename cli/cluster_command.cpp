@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <tbb/parallel_for.h>
+
 #include "commands.hpp"
 #include "hullmap/mapper/output_dir.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
@@ -49,18 +51,31 @@ void appendNumber(std::string& line, double value) {
   line.append(buffer, end);
 }
 
+/// One labels.csv row per point, in input order. Rows are formatted in parallel, a block of points at
+/// a time (shortest round-trip text for each coordinate costs more than the clustering), and written
+/// in order; memory stays at one block of text.
 void writeLabelsTo(std::ostream& out, const mapper::Points& points, const clustering::DbscanResult& result) {
   out << "x,y,z,label,core\n";
-  std::string line;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    line.clear();
-    for (int k = 0; k < 3; ++k) {
-      appendNumber(line, points[i][k]);
-      line += ',';
-    }
-    line += std::to_string(result.labels[i]);
-    line += result.core[i] ? ",1\n" : ",0\n";
-    out << line;
+  constexpr std::size_t kChunk = 8192;
+  constexpr std::size_t kBlock = 64 * kChunk;
+  std::vector<std::string> chunks(kBlock / kChunk);
+  for (std::size_t block = 0; block < points.size(); block += kBlock) {
+    const std::size_t block_end = std::min(points.size(), block + kBlock);
+    const std::size_t count = (block_end - block + kChunk - 1) / kChunk;
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t c) {
+      std::string& text = chunks[c];
+      text.clear();
+      const std::size_t end = std::min(block_end, block + (c + 1) * kChunk);
+      for (std::size_t i = block + c * kChunk; i < end; ++i) {
+        for (int k = 0; k < 3; ++k) {
+          appendNumber(text, points[i][k]);
+          text += ',';
+        }
+        text += std::to_string(result.labels[i]);
+        text += result.core[i] ? ",1\n" : ",0\n";
+      }
+    });
+    for (std::size_t c = 0; c < count; ++c) out << chunks[c];
   }
 }
 
