@@ -18,6 +18,7 @@
 #include "check_warnings.hpp"
 #include "option_checks.hpp"
 #include "path_file.hpp"
+#include "planning_args.hpp"
 
 namespace hullmap::cli {
 namespace {
@@ -32,51 +33,6 @@ struct CheckOptions {
   bool json = false;
 };
 
-std::string numberText(double value) {
-  char buffer[32];
-  return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
-}
-
-/// Parses `count` finite numbers from `text`; `where` prefixes the error ("file:line" or the option).
-std::vector<double> parseNumbers(const std::string& text, std::size_t count, const std::string& where,
-                                 char separator) {
-  std::vector<double> values;
-  const char* p = text.data();
-  const char* end = p + text.size();
-  auto skip = [&] {
-    while (p < end && (*p == ' ' || *p == '\t' || *p == '\r' || *p == separator)) ++p;
-  };
-  skip();
-  while (p < end) {
-    double v = 0;
-    const auto r = std::from_chars(p, end, v);
-    if (r.ec != std::errc() || (r.ptr < end && !(*r.ptr == ' ' || *r.ptr == '\t' || *r.ptr == '\r' || *r.ptr == separator))) {
-      const char* stop = p;
-      while (stop < end && *stop != ' ' && *stop != '\t' && *stop != separator) ++stop;
-      throw Error(where + ": not a number: \"" + std::string(p, stop) + "\"");
-    }
-    if (!std::isfinite(v)) throw Error(where + ": non-finite coordinate");
-    values.push_back(v);
-    p = r.ptr;
-    skip();
-  }
-  if (values.size() != count)
-    throw Error(where + ": expected " + std::to_string(count) + " numbers, got " + std::to_string(values.size()));
-  return values;
-}
-
-/// obstacles.json and map.bt of a build directory, or the file itself.
-std::string artefact(const std::string& input, const std::string& name) {
-  namespace fs = std::filesystem;
-  if (fs::is_directory(input)) {
-    const fs::path p = fs::path(input) / name;
-    if (!fs::exists(p)) throw Error(input + ": no " + name + " in this directory (is it a `hullmap build` output?)");
-    return p.string();
-  }
-  if (!fs::exists(input)) throw Error(input + ": no such file or directory");
-  return input;
-}
-
 std::string describe(std::size_t index, const collision::Segment& s, const collision::SegmentCheck& c, bool json) {
   if (json) {
     nlohmann::json j{{"index", index}, {"collides", c.collides}};
@@ -87,13 +43,13 @@ std::string describe(std::size_t index, const collision::Segment& s, const colli
     return j.dump();
   }
   std::string line = "segment " + std::to_string(index) + ": ";
-  if (!c.collides) return line + "clear, clearance " + numberText(c.clearance);
+  if (!c.collides) return line + "clear, clearance " + shortestNumber(c.clearance);
   const Eigen::Vector3d p = s.a + c.t * (s.b - s.a);
   line += "COLLIDES";
   if (c.obstacle >= 0) line += " with obstacle " + std::to_string(c.obstacle);
   if (c.part >= 0) line += " part " + std::to_string(c.part);
-  return line + " at t=" + numberText(c.t) + " (" + numberText(p.x()) + " " + numberText(p.y()) + " " +
-         numberText(p.z()) + ")";
+  return line + " at t=" + shortestNumber(c.t) + " (" + shortestNumber(p.x()) + " " + shortestNumber(p.y()) + " " +
+         shortestNumber(p.z()) + ")";
 }
 
 void runCheck(const CheckOptions& o, int& status) {
@@ -112,7 +68,7 @@ void runCheck(const CheckOptions& o, int& status) {
   } else if (!o.segments_file.empty()) {
     segments = readSegmentsFile(o.segments_file);
   } else {
-    const auto r = parseNumbers(o.segment, 6, "--segment", ',');
+    const auto r = parseCommaNumbers(o.segment, 6, "--segment");
     segments.push_back({{r[0], r[1], r[2]}, {r[3], r[4], r[5]}});
   }
 
@@ -121,7 +77,7 @@ void runCheck(const CheckOptions& o, int& status) {
   collision::PathCheck path;
   std::vector<std::string> warnings;
   if (o.against == "octree") {
-    const mapper::OccupancyMap map = mapper::readMap(artefact(o.input, "map.bt"));
+    const mapper::OccupancyMap map = mapper::readMap(buildArtefact(o.input, "map.bt"));
     const collision::OctreeChecker checker(map.tree());
     if (is_path) {
       path = checker.checkPath(waypoints, request);
@@ -129,7 +85,7 @@ void runCheck(const CheckOptions& o, int& status) {
       for (const auto& s : segments) path.segments.push_back(checker.check(s, request));
     }
   } else {
-    const std::string obstacles_json = artefact(o.input, "obstacles.json");
+    const std::string obstacles_json = buildArtefact(o.input, "obstacles.json");
     refuseOctreeAsHulls(obstacles_json);
     const auto obstacles = pipeline::readObstacles(obstacles_json);
     warnings = hullCheckWarnings(obstacles_json, obstacles.size());
@@ -156,7 +112,7 @@ void runCheck(const CheckOptions& o, int& status) {
     if (path.first_colliding_segment) {
       const Eigen::Vector3d& p = *path.first_contact;
       out += "path: first collision in segment " + std::to_string(*path.first_colliding_segment) + " at (" +
-             numberText(p.x()) + " " + numberText(p.y()) + " " + numberText(p.z()) + ")\n";
+             shortestNumber(p.x()) + " " + shortestNumber(p.y()) + " " + shortestNumber(p.z()) + ")\n";
     } else {
       out += "path: clear\n";
     }

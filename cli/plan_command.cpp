@@ -70,7 +70,7 @@ std::vector<planning::FleetTask> readRobots(const std::string& path) {
 void writeWaypoints(const std::string& path, const std::vector<Eigen::Vector3d>& waypoints) {
   core::writeFileAtomically(path, [&](std::ostream& out) {
     for (const auto& p : waypoints)
-      out << planningNumber(p.x()) << " " << planningNumber(p.y()) << " " << planningNumber(p.z()) << "\n";
+      out << shortestNumber(p.x()) << " " << shortestNumber(p.y()) << " " << shortestNumber(p.z()) << "\n";
   });
 }
 
@@ -87,11 +87,11 @@ void runSingle(const PlanOptions& o, const std::vector<clustering::Obstacle>& ob
   }
   if (o.output.empty()) {
     for (const auto& p : *result.path)
-      std::cout << planningNumber(p.x()) << " " << planningNumber(p.y()) << " " << planningNumber(p.z()) << "\n";
+      std::cout << shortestNumber(p.x()) << " " << shortestNumber(p.y()) << " " << shortestNumber(p.z()) << "\n";
   } else {
     writeWaypoints(o.output, *result.path);
-    std::cout << "path: " << result.path->size() << " waypoints, " << planningNumber(result.length)
-              << " m, clear by " << planningNumber(o.radius) << " (exact hull check) -> " << o.output << "\n";
+    std::cout << "path: " << result.path->size() << " waypoints, " << shortestNumber(result.length)
+              << " m, clear by " << shortestNumber(o.radius) << " (exact hull check) -> " << o.output << "\n";
   }
   status = 0;
 }
@@ -125,14 +125,14 @@ void runFleet(const PlanOptions& o, const std::vector<clustering::Obstacle>& obs
     core::writeFileAtomically(path, [&](std::ostream& out) {
       out << "# t x y z: seconds, metres, z-up map frame; drone " << i << " of hullmap plan --robots\n";
       for (const auto& w : *result.paths[i])
-        out << planningNumber(w.t) << " " << planningNumber(w.position.x()) << " " << planningNumber(w.position.y())
-            << " " << planningNumber(w.position.z()) << "\n";
+        out << shortestNumber(w.t) << " " << shortestNumber(w.position.x()) << " " << shortestNumber(w.position.y())
+            << " " << shortestNumber(w.position.z()) << "\n";
     });
     ++written;
   }
   std::cout << "fleet: " << written << " of " << tasks.size() << " drones routed, min separation "
-            << planningNumber(result.min_separation) << " m (>= 2 x " << planningNumber(o.radius) << "), step "
-            << planningNumber(result.time_step) << " s -> " << o.output << "\n";
+            << shortestNumber(result.min_separation) << " m (>= 2 x " << shortestNumber(o.radius) << "), step "
+            << shortestNumber(result.time_step) << " s -> " << o.output << "\n";
   if (!result.unrouted.empty()) {
     for (const auto& why : result.reasons) std::cout << why << "\n";
     std::string names;
@@ -145,7 +145,7 @@ void runFleet(const PlanOptions& o, const std::vector<clustering::Obstacle>& obs
 }
 
 void runPlan(const PlanOptions& o, int& status) {
-  if (!(o.radius >= 0) || !std::isfinite(o.radius)) throw Error("--radius: must be >= 0, got " + planningNumber(o.radius));
+  if (!(o.radius >= 0) || !std::isfinite(o.radius)) throw Error("--radius: must be >= 0, got " + shortestNumber(o.radius));
   const bool single = !o.from.empty() || !o.to.empty();
   if (single == !o.robots.empty()) throw Error("give either --from and --to, or --robots");
   if (single && (o.from.empty() || o.to.empty())) throw Error(o.from.empty() ? "--from is required with --to" : "--to is required with --from");

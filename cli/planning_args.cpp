@@ -8,7 +8,7 @@
 
 namespace hullmap::cli {
 
-std::string planningNumber(double value) {
+std::string shortestNumber(double value) {
   char buffer[32];
   return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
 }
@@ -36,16 +36,18 @@ std::vector<double> parseCommaNumbers(const std::string& text, std::size_t count
   return values;
 }
 
-std::string obstaclesFile(const std::string& input) {
+std::string buildArtefact(const std::string& input, const std::string& name) {
   namespace fs = std::filesystem;
   if (fs::is_directory(input)) {
-    const fs::path p = fs::path(input) / "obstacles.json";
-    if (!fs::exists(p)) throw Error(input + ": no obstacles.json in this directory (is it a `hullmap build` output?)");
+    const fs::path p = fs::path(input) / name;
+    if (!fs::exists(p)) throw Error(input + ": no " + name + " in this directory (is it a `hullmap build` output?)");
     return p.string();
   }
   if (!fs::exists(input)) throw Error(input + ": no such file or directory");
   return input;
 }
+
+std::string obstaclesFile(const std::string& input) { return buildArtefact(input, "obstacles.json"); }
 
 std::string defaultOutput(const std::string& input, const std::string& name) {
   namespace fs = std::filesystem;

@@ -22,7 +22,7 @@ struct RoadmapOptions {
 };
 
 void runRoadmap(const RoadmapOptions& o, int& status) {
-  if (!(o.radius >= 0) || !std::isfinite(o.radius)) throw Error("--radius: must be >= 0, got " + planningNumber(o.radius));
+  if (!(o.radius >= 0) || !std::isfinite(o.radius)) throw Error("--radius: must be >= 0, got " + shortestNumber(o.radius));
   planning::RoadmapParams params;
   params.min_clearance = o.radius;
   params.tolerance = o.tolerance;
@@ -44,7 +44,7 @@ void runRoadmap(const RoadmapOptions& o, int& status) {
   double length = 0;
   for (const auto& e : roadmap.edges) length += e.length;
   std::cout << "roadmap: " << roadmap.nodes.size() << " nodes, " << roadmap.edges.size() << " edges ("
-            << planningNumber(length) << " m, clearance >= " << planningNumber(o.radius) << ") around "
+            << shortestNumber(length) << " m, clearance >= " << shortestNumber(o.radius) << ") around "
             << roadmap.footprints.size() << " obstacles -> " << output << "\n";
   status = 0;
 }

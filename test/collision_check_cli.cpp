@@ -176,7 +176,7 @@ TEST(CheckCommand, ErrorsExitTwoNamingTheFault) {
   EXPECT_NE(bad.err.find("path.txt:2: 'x3' is not a number"), std::string::npos) << bad.err;
   bad = test::runHullmap("check " + dir.string() + " --radius 0.3 --segment 1,2,3");
   EXPECT_EQ(bad.status, 2);
-  EXPECT_NE(bad.err.find("--segment: expected 6 numbers, got 3"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("--segment: expected 6 comma-separated numbers, got 3"), std::string::npos) << bad.err;
   bad = test::runHullmap("check " + dir.string() + " --radius 0.3 --segment 0,0,0,1,1,1 --against octree");
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.err.find("no map.bt"), std::string::npos) << bad.err;
