@@ -21,16 +21,13 @@
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
+using hullmap::test::writeText;
 using hullmap::test::freshDir;
 using hullmap::test::lineCount;
 using hullmap::test::runHullmap;
 using hullmap::test::slurp;
 
 namespace {
-
-void writeText(const fs::path& path, const std::string& text) {
-  std::ofstream(path) << text;
-}
 
 /// A small generated scene (ORB-SLAM frame) written to `dir`.
 fs::path sampleScene(const fs::path& dir, std::size_t points = 6000) {

@@ -12,6 +12,7 @@
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
+using hullmap::test::writeText;
 using hullmap::test::CommandResult;
 using hullmap::test::freshDir;
 using hullmap::test::lineCount;
@@ -20,8 +21,6 @@ using hullmap::test::runHullmapIn;
 using hullmap::test::slurp;
 
 namespace {
-
-void writeText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 
 nlohmann::json readJson(const fs::path& path) { return nlohmann::json::parse(slurp(path)); }
 

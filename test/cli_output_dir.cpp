@@ -11,6 +11,7 @@
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
+using hullmap::test::writeText;
 using hullmap::test::CommandResult;
 using hullmap::test::freshDir;
 using hullmap::test::lineCount;
@@ -19,8 +20,6 @@ using hullmap::test::runHullmapIn;
 using hullmap::test::slurp;
 
 namespace {
-
-void writeText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 
 /// Every file and directory below `root` (relative name -> contents, "<dir>" for directories).
 std::map<std::string, std::string> snapshot(const fs::path& root) {

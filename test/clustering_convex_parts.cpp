@@ -321,22 +321,36 @@ TEST(ConvexParts, BadInputThrowsNamingTheParameter) {
   EXPECT_THROW(addConvexParts(none, c, {}, {0, 0}, kVoxel, {}), Error);
 }
 
-TEST(ConvexParts, RealMH01MapSplitsItsOneBigCluster) {
-  // The real ORB-SLAM3 MH_01 map (25,889 points, mostly ground) at eps 0.2 / minPts 3: one cluster
-  // covers most of the map. Prints size, parts and time.
-  HULLMAP_REQUIRE_REAL_DATA(path, "orbslam3_euroc_MH_01_mono_pointcloud.txt");
+/// A real ORB-SLAM map built as `hullmap build MAP --up -y --eps 0.2 --min-pts 3` would, with its
+/// voxel centres and weights.
+struct RealMap {
+  hullmap::pipeline::BuildResult result;
+  std::vector<V3> centers;
+  std::vector<std::uint32_t> weights;
+};
+
+RealMap buildRealMap(const std::string& path) {
   hullmap::pipeline::BuildParams params;
   params.inputs = {path};
   params.frame.up = hullmap::mapper::parseUpAxis("-y");
   params.dbscan.eps = 0.2;
   params.dbscan.min_pts = 3;
-  hullmap::pipeline::BuildResult r = hullmap::pipeline::build(params);
-  std::vector<V3> centers;
-  std::vector<std::uint32_t> weights;
-  for (const auto& v : r.voxels) {
-    centers.push_back(v.center);
-    weights.push_back(v.weight);
+  RealMap real{hullmap::pipeline::build(params), {}, {}};
+  for (const auto& v : real.result.voxels) {
+    real.centers.push_back(v.center);
+    real.weights.push_back(v.weight);
   }
+  return real;
+}
+
+TEST(ConvexParts, RealMH01MapSplitsItsOneBigCluster) {
+  // The real ORB-SLAM3 MH_01 map (25,889 points, mostly ground) at eps 0.2 / minPts 3: one cluster
+  // covers most of the map. Prints size, parts and time.
+  HULLMAP_REQUIRE_REAL_DATA(path, "orbslam3_euroc_MH_01_mono_pointcloud.txt");
+  RealMap real = buildRealMap(path);
+  hullmap::pipeline::BuildResult& r = real.result;
+  const std::vector<V3>& centers = real.centers;
+  const std::vector<std::uint32_t>& weights = real.weights;
   const auto start = std::chrono::steady_clock::now();
   const ConvexPartsSummary summary =
       addConvexParts(r.obstacles, centers, weights, r.clusters.labels, r.map.resolution(), ConvexPartsParams{});
@@ -359,18 +373,10 @@ TEST(ConvexParts, RealV101MapRespectsTheBound) {
   // The real ORB-SLAM2 V1_01 map at 5 cm, clustered at eps 0.2 / minPts 3 (the room's structure
   // becomes one ring-shaped cluster). Prints the numbers the issue asks for (time is not asserted).
   HULLMAP_REQUIRE_REAL_DATA(path, "orbslam2_euroc_V1_01_MapPoints.txt");
-  hullmap::pipeline::BuildParams params;
-  params.inputs = {path};
-  params.frame.up = hullmap::mapper::parseUpAxis("-y");
-  params.dbscan.eps = 0.2;
-  params.dbscan.min_pts = 3;
-  hullmap::pipeline::BuildResult r = hullmap::pipeline::build(params);
-  std::vector<V3> centers;
-  std::vector<std::uint32_t> weights;
-  for (const auto& v : r.voxels) {
-    centers.push_back(v.center);
-    weights.push_back(v.weight);
-  }
+  RealMap real = buildRealMap(path);
+  hullmap::pipeline::BuildResult& r = real.result;
+  const std::vector<V3>& centers = real.centers;
+  const std::vector<std::uint32_t>& weights = real.weights;
   const double size = r.map.resolution();
   ASSERT_EQ(size, kVoxel);  // distanceToCubes assumes it
   const auto start = std::chrono::steady_clock::now();

@@ -14,6 +14,8 @@
 #include "test_support.hpp"
 
 namespace hullmap::pipeline {
+using hullmap::test::writeText;
+
 namespace {
 
 using V3 = Eigen::Vector3d;
@@ -33,8 +35,6 @@ std::vector<clustering::Obstacle> twoBoxes(std::vector<V3>* voxels = nullptr) {
   if (voxels) *voxels = centers;
   return clustering::buildObstacles(centers, {}, labels, 0.1);
 }
-
-void writeText(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
 
 TEST(ObstacleIo, JsonRoundTripAndObj) {
   const auto dir = test::freshDir("obstacle_io");

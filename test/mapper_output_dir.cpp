@@ -9,10 +9,7 @@
 
 namespace fs = std::filesystem;
 using hullmap::test::freshDir;
-
-namespace {
-void writeText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
-}  // namespace
+using hullmap::test::writeText;
 
 // The library's answer, reason by reason (the CLI prints the message after "-o ").
 TEST(MapperOutputDir, RefusalReasons) {

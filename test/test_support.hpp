@@ -57,6 +57,9 @@ struct CommandResult {
   std::string err;
 };
 
+/// Writes `text` into `path` (a test's input file).
+inline void writeText(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
+
 inline std::string slurp(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream s;
