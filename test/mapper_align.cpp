@@ -215,7 +215,13 @@ TEST(MapperAlign, ParsesTumAndGpsReferences) {
 
   EXPECT_EQ(parseReferenceFormat("GPS"), ReferenceFormat::kGps);
   EXPECT_EQ(parseReferenceFormat(toString(ReferenceFormat::kTum)), ReferenceFormat::kTum);
-  EXPECT_NE(errorOf([] { parseReferenceFormat("kml"); }).find("--align-format"), std::string::npos);
+  try {
+    parseReferenceFormat("kml");
+    ADD_FAILURE() << "'kml' accepted as a reference format";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.parameter(), "align_format") << e.what();
+    EXPECT_NE(e.detail().find("'kml'"), std::string::npos) << e.what();
+  }
 }
 
 TEST(MapperAlign, GpsReferenceAlignsAMonocularTrajectoryToMetres) {

@@ -4,8 +4,8 @@
 #include <cctype>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <Eigen/SVD>
 
 #include "byte_source.hpp"
 #include "hullmap/core/error.hpp"
@@ -19,11 +19,15 @@ constexpr double kWgs84A = 6378137.0;                 // semi-major axis, metres
 constexpr double kWgs84F = 1.0 / 298.257223563;       // flattening
 constexpr double kWgs84E2 = kWgs84F * (2.0 - kWgs84F);  // first eccentricity squared
 
-// Singular values of the centred positions (3 x n), largest first.
+// Singular values of the centred positions (3 x n), largest first: the square roots of the
+// eigenvalues of their 3 x 3 scatter matrix (an SVD of the 3 x n matrix itself instantiates
+// Eigen's dynamic-size QR preconditioners, most of this file's compile time, for the same values).
 Eigen::Vector3d spread(const Eigen::Matrix3Xd& positions) {
   const Eigen::Vector3d mean = positions.rowwise().mean();
   const Eigen::Matrix3Xd centred = positions.colwise() - mean;
-  return Eigen::JacobiSVD<Eigen::Matrix3Xd>(centred).singularValues();
+  const Eigen::Matrix3d scatter = centred * centred.transpose();
+  const Eigen::Vector3d ascending = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues();
+  return ascending.reverse().cwiseMax(0.0).cwiseSqrt();
 }
 
 bool collinear(const Eigen::Matrix3Xd& positions) {
@@ -38,7 +42,7 @@ ReferenceFormat parseReferenceFormat(const std::string& text) {
   std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
   if (lower == "tum") return ReferenceFormat::kTum;
   if (lower == "gps") return ReferenceFormat::kGps;
-  throw Error("--align-format: expected 'tum' or 'gps', got '" + text + "'");
+  throw Error::inParameter("align_format", "expected 'tum' or 'gps', got '" + text + "'");
 }
 
 std::string toString(ReferenceFormat format) { return format == ReferenceFormat::kTum ? "tum" : "gps"; }
