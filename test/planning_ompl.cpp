@@ -49,7 +49,7 @@ TEST(PlanningOmpl, PathsRoundAThinWallKeepTheRadiusFromTheTruth) {
   request.goal = {2, 0, 1};
   request.radius = 0.2;
   hp::OmplParams params;
-  params.time_limit = 0.5;
+  params.time_limit = 0.3;
   for (int run = 0; run < 3; ++run) {
     const hp::OmplPlanResult result = hp::planPathOmpl(obstacles, request, params);
     ASSERT_TRUE(result.path) << result.blocked;
