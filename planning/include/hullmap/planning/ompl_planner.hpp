@@ -24,7 +24,7 @@ enum class OmplMotionCheck {
   /// no obstacle, however thin, is skipped.
   kExact,
   /// OMPL's own DiscreteMotionValidator at its default resolution (states every 1% of the box's
-  /// longest extent), each state checked exactly (sphere of the radius). It can step over thin
+  /// diagonal, OMPL's maximum extent), each state checked exactly (sphere of the radius). It can step over thin
   /// obstacles; kept to measure that in bench/, not for use.
   kDiscrete,
 };
