@@ -15,7 +15,7 @@ jobs=${JOBS:-$(nproc)}
 # Library packages hullmap builds against, and the tools its tests use.
 packages=(build-essential cmake pkg-config liboctomap-dev libfcl-dev libcgal-dev libeigen3-dev
           libtbb-dev liblzf-dev libcli11-dev nlohmann-json3-dev libnanoflann-dev libgtest-dev libbenchmark-dev
-          ccache)
+          libompl-dev ccache)
 if [ "$mode" = test ]; then
   # python3-sklearn: DBSCAN oracle on real maps; librsvg2-bin: PNG rendering test;
   # clang + libclang-rt-14-dev: the libFuzzer targets that .ci/run runs briefly.

@@ -15,7 +15,7 @@ build=${1:-$root/build-bench}
 out=$root/docs/BENCHMARKS.md
 
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DHULLMAP_BUILD_BENCH=ON -DHULLMAP_BUILD_TESTS=OFF >/dev/null
-cmake --build "$build" -j"$(nproc)" --target hullmap hullmap_bench_dbscan hullmap_bench_insertion hullmap_bench_collision >/dev/null
+cmake --build "$build" -j"$(nproc)" --target hullmap hullmap_bench_dbscan hullmap_bench_insertion hullmap_bench_collision hullmap_bench_planning >/dev/null
 
 mkdir -p "$root/docs"
 tmp=$(mktemp "$root/docs/.BENCHMARKS.md.XXXXXX")
@@ -46,6 +46,8 @@ trap 'rm -f "$tmp"' EXIT
   sh "$root/bench/section_collision.sh" "$build"
   echo
   sh "$root/bench/section_large_map.sh" "$build"
+  echo
+  sh "$root/bench/section_planning.sh" "$build"
 } >"$tmp"
 mv "$tmp" "$out"
 trap - EXIT

@@ -2,6 +2,8 @@
 
 #include <charconv>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include "hullmap/core/error.hpp"
 #include "hullmap/mapper/number_table.hpp"
@@ -14,6 +16,27 @@ std::vector<Eigen::Vector3d> readPathFile(const std::string& path) {
   if (waypoints.size() < 2) {
     throw Error("--path " + path + ": a path needs at least two waypoints, got " + std::to_string(waypoints.size()) +
                 " (one position is the segment x,y,z,x,y,z)");
+  }
+  return waypoints;
+}
+
+std::vector<Eigen::Vector3d> readPlainOrTimedPathFile(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::size_t fields = 0;
+  while (fields == 0 && std::getline(in, line)) {
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    for (char& c : line)
+      if (c == ',' || c == '\t') c = ' ';
+    std::istringstream words(line);
+    for (std::string w; words >> w;) ++fields;
+  }
+  if (fields != 4) return readPathFile(path);  // readPathFile says what is wrong, if anything
+  std::vector<Eigen::Vector3d> waypoints;
+  for (const auto& r : mapper::readNumberTable(path, 4, "t x y z")) waypoints.emplace_back(r[1], r[2], r[3]);
+  if (waypoints.size() < 2) {
+    throw Error("--path " + path + ": a path needs at least two waypoints, got " + std::to_string(waypoints.size()));
   }
   return waypoints;
 }

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/planning/fleet.hpp"
+#include "hullmap/planning/ompl_planner.hpp"
 #include "hullmap/planning/path_planner.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "planning_args.hpp"
@@ -26,6 +28,8 @@ struct PlanOptions {
   double radius = 0.0;
   double speed = 0.0;
   std::string output;
+  std::string method = "roadmap";
+  std::optional<double> time_limit;  ///< seconds, --method ompl
 };
 
 Eigen::Vector3d point(const std::string& text, const std::string& option) {
@@ -79,7 +83,17 @@ void runSingle(const PlanOptions& o, const std::vector<clustering::Obstacle>& ob
   request.start = point(o.from, "--from");
   request.goal = point(o.to, "--to");
   request.radius = o.radius;
-  const planning::PlanResult result = planning::planPath(obstacles, request);
+  planning::PlanResult result;
+  if (o.method == "ompl") {
+    planning::OmplParams params;
+    if (o.time_limit) params.time_limit = *o.time_limit;
+    planning::OmplPlanResult found = planning::planPathOmpl(obstacles, request, params);
+    result.path = std::move(found.path);
+    result.length = found.length;
+    result.blocked = std::move(found.blocked);
+  } else {
+    result = planning::planPath(obstacles, request);
+  }
   if (!result.path) {
     std::cout << "no path: " << result.blocked << "\n";
     status = 1;
@@ -149,6 +163,12 @@ void runPlan(const PlanOptions& o, int& status) {
   const bool single = !o.from.empty() || !o.to.empty();
   if (single == !o.robots.empty()) throw Error("give either --from and --to, or --robots");
   if (single && (o.from.empty() || o.to.empty())) throw Error(o.from.empty() ? "--from is required with --to" : "--to is required with --from");
+  if (o.method != "roadmap" && o.method != "ompl")
+    throw Error("--method: unknown method \"" + o.method + "\" (roadmap or ompl)");
+  if (o.time_limit && o.method != "ompl") throw Error("--time-limit: only with --method ompl");
+  if (o.time_limit && (!(*o.time_limit > 0) || !std::isfinite(*o.time_limit) || *o.time_limit > 86400))
+    throw Error("--time-limit: must be > 0 and at most 86400 seconds, got " + shortestNumber(*o.time_limit));
+  if (o.method == "ompl" && !single) throw Error("--method ompl: plans one drone (--from, --to), not --robots");
   const auto obstacles = pipeline::readObstacles(obstaclesFile(o.input));
   if (single) runSingle(o, obstacles, status);
   else runFleet(o, obstacles, status);
@@ -166,6 +186,10 @@ void addPlanCommand(CLI::App& app, int& status) {
   cmd->add_option("--to", options->to, "goal x,y,z");
   cmd->add_option("--robots", options->robots, "drones file: sx sy sz gx gy gz a line, # comments");
   cmd->add_option("--radius,-r", options->radius, "drone radius, map units")->required();
+  cmd->add_option("--method", options->method,
+                  "roadmap (default: the Voronoi roadmap in the flight plane) or ompl (RRT* in 3D, exact capsule "
+                  "sweep as motion check)");
+  cmd->add_option("--time-limit", options->time_limit, "seconds of RRT* with --method ompl (default 1)");
   cmd->add_option("--speed", options->speed, "top speed with --robots, map units per second");
   cmd->add_option("-o,--output", options->output,
                   "waypoints file (x y z a line, what check --path reads; default: stdout), or with --robots the "

@@ -11,6 +11,7 @@
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/planning/roadmap_json.hpp"
 #include "hullmap/plot/svg_plot.hpp"
 #include "option_checks.hpp"
 #include "path_file.hpp"
@@ -23,7 +24,8 @@ namespace fs = std::filesystem;
 struct PlotOptions {
   std::string dir;
   std::string output;
-  std::string path_file;
+  std::vector<std::string> path_files;
+  std::string roadmap;
   double radius = 0.0;
   bool side = false;
   bool png = false;
@@ -68,19 +70,35 @@ void runPlot(const PlotOptions& o) {
     plot.labels.push_back(row.label);
   }
   plot.obstacles = pipeline::readObstacles(fs::path(o.dir) / "obstacles.json");
-  if (!o.path_file.empty()) {
+  if (!o.roadmap.empty()) {
+    const planning::Roadmap roadmap = planning::readRoadmapJson(o.roadmap);
+    plot::PlotRoadmap drawn;
+    for (const auto& n : roadmap.nodes) drawn.nodes.push_back(n.position);
+    for (const auto& e : roadmap.edges) {
+      drawn.edges.push_back(e.polyline);
+      drawn.clearance.push_back(e.clearance);
+    }
+    plot.roadmap = std::move(drawn);
+  }
+  if (!o.path_files.empty()) {
     checkRadius(o.radius);
-    plot::PlotPath path;
-    path.waypoints = readPathFile(o.path_file);
-    path.radius = o.radius;
-    path.check = collision::HullChecker(plot.obstacles).checkPath(path.waypoints, o.radius);
-    plot.path = std::move(path);
+    const collision::HullChecker checker(plot.obstacles);
+    for (const auto& file : o.path_files) {
+      plot::PlotPath path;
+      path.name = fs::path(file).filename().string();
+      path.waypoints = readPlainOrTimedPathFile(file);
+      path.radius = o.radius;
+      path.check = checker.checkPath(path.waypoints, o.radius);
+      plot.paths.push_back(std::move(path));
+    }
   }
   const plot::SvgPicture picture = plot::renderMapSvg(plot);
   const auto written = plot::writePicture(picture.svg, output, converter);
   std::cout << "plot: " << (o.side ? "side view (x-z)" : "top view (x-y)") << ", " << plot.centers.size()
             << " voxels drawn as " << picture.cells << " cells, " << plot.obstacles.size() << " obstacles";
   if (picture.hidden_voxels > 0) std::cout << ", " << picture.hidden_voxels << " far noise voxels not drawn";
+  if (plot.roadmap) std::cout << ", roadmap of " << plot.roadmap->edges.size() << " edges";
+  if (!plot.paths.empty()) std::cout << ", " << plot.paths.size() << " path" << (plot.paths.size() > 1 ? "s" : "");
   std::cout << "\n";
   for (const auto& file : written) {
     std::cout << "wrote " << file;
@@ -89,8 +107,10 @@ void runPlot(const PlotOptions& o) {
     }
     std::cout << "\n";
   }
-  if (plot.path && plot.path->check.first_colliding_segment) {
-    std::cout << "path collides: first contact on segment " << *plot.path->check.first_colliding_segment << "\n";
+  for (const auto& path : plot.paths) {
+    if (!path.check.first_colliding_segment) continue;
+    std::cout << (plot.paths.size() > 1 ? path.name + ": " : std::string()) << "path collides: first contact on segment "
+              << *path.check.first_colliding_segment << "\n";
   }
 }
 
@@ -106,8 +126,10 @@ void addPlotCommand(CLI::App& app, int& status) {
   cmd->add_option("-o,--output", options->output, "Picture to write: .svg, or .png (rendered by rsvg-convert)")
       ->required();
   cmd->add_flag("--side", options->side, "Side view (x-z, seen from -y) instead of the top view (x-y)");
-  auto* path = cmd->add_option("--path", options->path_file,
-                               "Path to check and draw: one waypoint \"x y z\" per line (map frame), at least two");
+  auto* path = cmd->add_option("--path", options->path_files,
+                               "Path to check and draw, one colour each (repeat for several drones): a waypoint "
+                               "\"x y z\" or \"t x y z\" (plan --robots) per line, map frame, at least two");
+  cmd->add_option("--roadmap", options->roadmap, "roadmap.json (hullmap roadmap) to draw under the paths, top view");
   cmd->add_option("--radius,-r", options->radius, "Drone radius for --path, map units")
       ->check(numberAbove(0, true))->needs(path);
   path->needs(cmd->get_option("--radius"));

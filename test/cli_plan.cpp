@@ -203,3 +203,49 @@ TEST(CliPlan, FleetWritesTimedPathsApartAndNamesTheUnrouted) {
   EXPECT_TRUE(fs::exists(dir / "crowded" / "robot_0.txt"));
   EXPECT_FALSE(fs::exists(dir / "crowded" / "robot_1.txt"));
 }
+
+TEST(CliPlan, OmplMethodPlansRoundAThinPlateAndCheckAcceptsIt) {
+  const auto dir = freshDir("cli_plan_ompl");
+  using hullmap::test::prism;
+  // A 1 cm plate, 4 m wide and 3 m tall, across the straight line.
+  const std::vector<hullmap::clustering::Obstacle> plate{
+      prism(0, {{-0.005, -2}, {0.005, -2}, {0.005, 2}, {-0.005, 2}}, 0, 3)};
+  const auto json = (dir / "obstacles.json").string();
+  hullmap::pipeline::writeObstaclesJson(json, plate, {});
+  const auto path = dir / "path.txt";
+  const auto r = runHullmap("plan " + json + " --method ompl --time-limit 0.5 --from -2,0,1 --to 2,0,1 --radius 0.1 -o " +
+                            path.string());
+  expectOneLine(r, 0, r.out, "clear by 0.1 (exact hull check) -> " + path.string());
+  const auto rows = readRows(path);
+  ASSERT_GE(rows.size(), 3u);
+  EXPECT_EQ(rows.front(), (std::vector<double>{-2, 0, 1}));
+  EXPECT_EQ(rows.back(), (std::vector<double>{2, 0, 1}));
+  const auto check = runHullmap("check " + json + " --radius 0.1 --path " + path.string());
+  EXPECT_EQ(check.status, 0) << check.out << check.err;
+  EXPECT_NE(check.out.find("path: clear"), std::string::npos) << check.out;
+
+  const auto inside = runHullmap("plan " + json + " --method ompl --time-limit 0.1 --from 0,0,1 --to 2,0,1 --radius 0.1");
+  expectOneLine(inside, 1, inside.out, "start (0, 0, 1) is inside obstacle 0");
+}
+
+TEST(CliPlan, OmplOptionsAreChecked) {
+  const auto dir = freshDir("cli_plan_ompl_bad");
+  const auto room = walledRoom(dir).string();
+  struct Case { std::string args, needle; };
+  const std::string trip = "plan " + room + " --from 0,0,1 --to 3,0,1 -r 0.1 ";
+  const std::vector<Case> cases{
+      {trip + "--method ompl --time-limit 0", "--time-limit: must be > 0"},
+      {trip + "--method ompl --time-limit -2", "--time-limit: must be > 0"},
+      {trip + "--method ompl --time-limit nan", "--time-limit"},
+      {trip + "--method ompl --time-limit 1e9", "--time-limit: must be > 0 and at most 86400"},
+      {trip + "--method ompl --time-limit soon", "--time-limit"},
+      {trip + "--time-limit 1", "--time-limit: only with --method ompl"},
+      {trip + "--method prm", "--method: unknown method \"prm\" (roadmap or ompl)"},
+      {"plan " + room + " --robots r.txt -r 0.1 --speed 1 -o p --method ompl", "--method ompl: plans one drone"},
+  };
+  for (const auto& c : cases) {
+    const auto r = runHullmap(c.args);
+    SCOPED_TRACE(c.args);
+    expectOneLine(r, 2, r.err, c.needle);
+  }
+}

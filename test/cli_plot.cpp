@@ -383,7 +383,7 @@ TEST(PlotMap, PathMarksCollidingSegmentsAndFirstContact) {
   path.check.segments[2].collides = true;
   path.check.first_colliding_segment = 1;
   path.check.first_contact = Eigen::Vector3d(1.2, 0.3, 0.1);
-  s.plot.path = path;
+  s.plot.paths = {path};
   const auto picture = hullmap::plot::renderMapSvg(s.plot);
   const auto elements = parseSvg(picture.svg, "path");
   EXPECT_EQ(countClass(elements, "colliding-segment"), 2u);
@@ -392,7 +392,7 @@ TEST(PlotMap, PathMarksCollidingSegmentsAndFirstContact) {
   EXPECT_NE(picture.svg.find("first contact at (1.2, 0.3, 0.1) on segment 1"), std::string::npos);
 
   path.check.segments.pop_back();  // inconsistent with the waypoints
-  s.plot.path = path;
+  s.plot.paths = {path};
   EXPECT_THROW(hullmap::plot::renderMapSvg(s.plot), hullmap::Error);
 }
 
@@ -678,3 +678,49 @@ TEST(PlotCommand, ErrorsNameTheFileOrOption) {
 }
 
 }  // namespace
+
+TEST(PlotCommand, RoadmapAndSeveralPathsOneColourEach) {
+  Scene s = makeScene(3, 0.05, 4);
+  const auto dir = writeBuildDir(s, "plot_cmd_roadmap");
+  const auto roadmap = dir / "roadmap.json";
+  auto r = hullmap::test::runHullmap("roadmap '" + dir.string() + "' --radius 0.02 -o '" + roadmap.string() + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string json = hullmap::test::slurp(roadmap);
+  std::size_t edges = 0;
+  for (auto at = json.find("\"polyline\""); at != std::string::npos; at = json.find("\"polyline\"", at + 1)) ++edges;
+  ASSERT_GT(edges, 0u);
+  std::ofstream(dir / "a.txt") << "0 0 0.05\n0.6 0.9 0.05\n";
+  std::ofstream(dir / "b.txt") << "# t x y z: a timed path of plan --robots\n0 1 1 0.05\n1 1.5 1.2 0.05\n2 2 0 0.05\n";
+  r = hullmap::test::runHullmap("plot '" + dir.string() + "' --roadmap '" + roadmap.string() + "' --path '" +
+                                (dir / "a.txt").string() + "' --path '" + (dir / "b.txt").string() +
+                                "' -r 0.02 -o '" + (dir / "map.svg").string() + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("roadmap of " + std::to_string(edges) + " edges, 2 paths"), std::string::npos) << r.out;
+  const std::string svg = hullmap::test::slurp(dir / "map.svg");
+  const auto count = [&](const std::string& needle) {
+    std::size_t n = 0;
+    for (auto at = svg.find(needle); at != std::string::npos; at = svg.find(needle, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("class=\"roadmap-edge\""), edges);
+  EXPECT_GT(count("class=\"roadmap-node\""), 0u);
+  EXPECT_EQ(count("<g class=\"path\""), 2u);
+  // One colour per path: the first blue, the second orange; b.txt's three timed waypoints drawn.
+  const std::regex path_re(R"re(<g class="path" data-index="(\d)">\n<polyline class="path-band" points="[^"]*" fill="none" stroke="(#[0-9a-f]{6})")re");
+  std::vector<std::string> colours;
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), path_re); it != std::sregex_iterator(); ++it)
+    colours.push_back((*it)[2]);
+  ASSERT_EQ(colours.size(), 2u);
+  EXPECT_EQ(colours[0], hullmap::plot::toHex(hullmap::plot::pathColour(0)));
+  EXPECT_EQ(colours[1], hullmap::plot::toHex(hullmap::plot::pathColour(1)));
+  EXPECT_NE(colours[0], colours[1]);
+  EXPECT_EQ(count("class=\"waypoint\""), 5u);
+  EXPECT_NE(svg.find("path b.txt (" + colours[1] + "): 2 segments"), std::string::npos);
+
+  std::ofstream(dir / "bad.json") << "{\"format\": \"hullmap-roadmap/1\", \"bounds\": [0, 0, 1]}";
+  r = hullmap::test::runHullmap("plot '" + dir.string() + "' --roadmap '" + (dir / "bad.json").string() + "' -o '" +
+                                (dir / "bad.svg").string() + "'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("bad.json"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "bad.svg"));
+}

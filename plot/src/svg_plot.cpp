@@ -176,8 +176,27 @@ std::string point3(const Eigen::Vector3d& p) {
   return "(" + num(p.x(), 3) + ", " + num(p.y(), 3) + ", " + num(p.z(), 3) + ")";
 }
 
-// Draws the path; returns its caption line.
-std::string writePath(std::ostream& svg, const PlotPath& path, PlotView view, const Viewport& vp) {
+// Draws the roadmap's edges and nodes (top view).
+void writeRoadmap(std::ostream& svg, const PlotRoadmap& roadmap, const Viewport& vp) {
+  svg << "<g class=\"roadmap\" fill=\"none\" stroke=\"#16a34a\" stroke-opacity=\"0.75\" stroke-width=\"1\">\n";
+  for (std::size_t i = 0; i < roadmap.edges.size(); ++i) {
+    std::string points;
+    for (const auto& p : roadmap.edges[i]) points += num(vp.px(p.x())) + ',' + num(vp.py(p.y())) + ' ';
+    if (!points.empty()) points.pop_back();
+    svg << "<polyline class=\"roadmap-edge\"";
+    if (i < roadmap.clearance.size()) svg << " data-clearance=\"" << shortNum(roadmap.clearance[i]) << '"';
+    svg << " points=\"" << points << "\"/>\n";
+  }
+  for (const auto& p : roadmap.nodes) {
+    svg << "<circle class=\"roadmap-node\" cx=\"" << num(vp.px(p.x())) << "\" cy=\"" << num(vp.py(p.y()))
+        << "\" r=\"1.5\" fill=\"#16a34a\" stroke=\"none\"/>\n";
+  }
+  svg << "</g>\n";
+}
+
+// Draws the path in its colour; returns its caption line.
+std::string writePath(std::ostream& svg, const PlotPath& path, std::size_t index, PlotView view, const Viewport& vp) {
+  const std::string colour = toHex(pathColour(index));
   const auto& wp = path.waypoints;
   if (wp.size() >= 2 && path.check.segments.size() != wp.size() - 1) {
     throw Error("plot: path check has " + std::to_string(path.check.segments.size()) + " segments for " +
@@ -189,12 +208,12 @@ std::string writePath(std::ostream& svg, const PlotPath& path, PlotView view, co
     points += num(vp.px(q.x())) + ',' + num(vp.py(q.y())) + ' ';
   }
   if (!points.empty()) points.pop_back();
-  svg << "<g class=\"path\">\n"
-      << "<polyline class=\"path-band\" points=\"" << points << "\" fill=\"none\" stroke=\"#2563eb\" "
+  svg << "<g class=\"path\" data-index=\"" << index << "\">\n"
+      << "<polyline class=\"path-band\" points=\"" << points << "\" fill=\"none\" stroke=\"" << colour << "\" "
       << "stroke-opacity=\"0.22\" stroke-width=\"" << num(std::max(2.0 * path.radius * vp.scale, 1.0))
       << "\" stroke-linecap=\"round\" stroke-linejoin=\"round\"/>\n"
       << "<polyline class=\"path-line\" points=\"" << points
-      << "\" fill=\"none\" stroke=\"#1d4ed8\" stroke-width=\"1.5\"/>\n";
+      << "\" fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"1.5\"/>\n";
   std::size_t colliding = 0;
   double clearance = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < path.check.segments.size(); ++i) {
@@ -211,9 +230,10 @@ std::string writePath(std::ostream& svg, const PlotPath& path, PlotView view, co
   for (const auto& p : wp) {
     const Eigen::Vector2d q = project(p, view);
     svg << "<circle class=\"waypoint\" cx=\"" << num(vp.px(q.x())) << "\" cy=\"" << num(vp.py(q.y()))
-        << "\" r=\"2.5\" fill=\"#1d4ed8\"/>\n";
+        << "\" r=\"2.5\" fill=\"" << colour << "\"/>\n";
   }
-  std::string caption = "path: " + std::to_string(path.check.segments.size()) + " segments, radius " +
+  std::string caption = "path" + (path.name.empty() ? std::string() : " " + path.name) + " (" + colour + "): " +
+                        std::to_string(path.check.segments.size()) + " segments, radius " +
                         shortNum(path.radius) + ", ";
   if (path.check.first_contact) {
     const Eigen::Vector2d c = project(*path.check.first_contact, view);
@@ -255,6 +275,12 @@ std::string svgHeader(double width, double height) {
 
 }  // namespace
 
+Rgb pathColour(std::size_t index) {
+  static constexpr Rgb kColours[] = {{0x1d, 0x4e, 0xd8}, {0xea, 0x58, 0x0c}, {0x15, 0x80, 0x3d}, {0x7e, 0x22, 0xce},
+                                     {0xdc, 0x26, 0x26}, {0x0f, 0x76, 0x6e}, {0xdb, 0x27, 0x77}, {0x65, 0x73, 0x0e}};
+  return kColours[index % (sizeof kColours / sizeof kColours[0])];
+}
+
 SvgPicture renderMapSvg(const MapPlot& plot) {
   if (!(plot.voxel_size > 0.0) || !std::isfinite(plot.voxel_size)) {
     throw Error("plot: voxel size must be > 0, got " + shortNum(plot.voxel_size));
@@ -285,8 +311,12 @@ SvgPicture renderMapSvg(const MapPlot& plot) {
   for (const auto& o : plot.obstacles) {
     for (const auto& p : outline(o, view)) box.add(p);
   }
-  if (plot.path) {
-    for (const auto& p : plot.path->waypoints) box.add(project(p, view), plot.path->radius);
+  for (const auto& path : plot.paths) {
+    for (const auto& p : path.waypoints) box.add(project(p, view), path.radius);
+  }
+  if (plot.roadmap && view == PlotView::kTop) {
+    for (const auto& e : plot.roadmap->edges)
+      for (const auto& p : e) box.add(p);
   }
   const Box2 shown = withNearby(box, noise, 4 * cell);  // noise voxels outside are hidden outliers
   box = shown;
@@ -339,7 +369,12 @@ SvgPicture renderMapSvg(const MapPlot& plot) {
   if (picture.hidden_voxels > 0) {
     caption.push_back(std::to_string(picture.hidden_voxels) + " far noise voxels outside the view, not drawn");
   }
-  if (plot.path) caption.push_back(writePath(body, *plot.path, view, vp));
+  if (plot.roadmap && view == PlotView::kTop) {
+    writeRoadmap(body, *plot.roadmap, vp);
+    caption.push_back("roadmap (green): " + std::to_string(plot.roadmap->edges.size()) + " edges, " +
+                      std::to_string(plot.roadmap->nodes.size()) + " nodes");
+  }
+  for (std::size_t i = 0; i < plot.paths.size(); ++i) caption.push_back(writePath(body, plot.paths[i], i, view, vp));
   writeAxes(body, vp, "x (map units)", view == PlotView::kTop ? "y (map units)" : "z (map units)", font);
   double y = vp.top + vp.height() + 2 * font + 28;
   y += writeScaleBar(body, vp, y - 10, font) + 4;

@@ -23,10 +23,23 @@ enum class PlotView {
 
 /// A path and the answer of collision::HullChecker::checkPath(waypoints, radius) for it.
 struct PlotPath {
+  std::string name;                        ///< named in the caption (e.g. the file); may be empty
   std::vector<Eigen::Vector3d> waypoints;  ///< map frame, map units
   double radius = 0.0;                     ///< drone radius, map units
   collision::PathCheck check;              ///< one SegmentCheck per consecutive pair of waypoints
 };
+
+/// A roadmap to draw under the paths (planning::Roadmap's drawable part; plot does not depend on
+/// the planning library). Ground plane, map units.
+struct PlotRoadmap {
+  std::vector<Eigen::Vector2d> nodes;
+  std::vector<std::vector<Eigen::Vector2d>> edges;  ///< each edge's polyline
+  std::vector<double> clearance;                   ///< per edge, map units
+};
+
+/// Colour of the i-th path (one per drone): blue, orange, green, purple, red, teal, pink, olive,
+/// then again. Pure function.
+Rgb pathColour(std::size_t index);
 
 /// Everything `hullmap plot` draws.
 struct MapPlot {
@@ -34,7 +47,8 @@ struct MapPlot {
   std::vector<std::int32_t> labels;          ///< per voxel: cluster label or clustering::kNoise
   double voxel_size = 0.05;                  ///< leaf edge length, map units (> 0)
   std::vector<clustering::Obstacle> obstacles;
-  std::optional<PlotPath> path;
+  std::optional<PlotRoadmap> roadmap;       ///< drawn in the top view only (it is a ground-plane graph)
+  std::vector<PlotPath> paths;               ///< one colour each (pathColour), drawn over the roadmap
   std::vector<std::string> caption;          ///< lines printed under the picture (parameters)
   PlotView view = PlotView::kTop;
 };
@@ -59,9 +73,11 @@ struct SvgPicture {
 /// SvgPicture::hidden_voxels and in the caption, not drawn.
 ///
 /// Each obstacle is outlined as <polygon class="footprint" id="obstacle-ID"> (top view: its footprint
-/// polygon; side view: the x-z outline of its hull) and numbered with its id. A path is drawn with a
-/// band of its radius; segments that collide are red lines of class "colliding-segment", the first
-/// contact a red circle of class "first-contact". Axes are in map units with a scale bar.
+/// polygon; side view: the x-z outline of its hull) and numbered with its id. A roadmap (top view)
+/// is drawn as <g class="roadmap"> of <polyline class="roadmap-edge" data-clearance=".."> and
+/// <circle class="roadmap-node">. Each path is a <g class="path" data-index="i"> in pathColour(i)
+/// with a band of its radius; segments that collide are red lines of class "colliding-segment", the
+/// first contact a red circle of class "first-contact". Axes are in map units with a scale bar.
 /// Throws hullmap::Error on voxel_size <= 0 or a labels/centers size mismatch.
 SvgPicture renderMapSvg(const MapPlot& plot);
 

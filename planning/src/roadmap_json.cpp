@@ -1,0 +1,74 @@
+// Reading roadmap.json back (its writer, roadmapJson, is beside buildRoadmap in roadmap.cpp).
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "hullmap/core/error.hpp"
+#include "hullmap/planning/roadmap_json.hpp"
+
+namespace hullmap::planning {
+
+Roadmap readRoadmapJson(const std::string& path) {
+  using nlohmann::json;
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open");
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::exception& e) {
+    throw Error(path + ": not JSON: " + e.what());
+  }
+  if (!j.is_object() || j.value("format", std::string()) != "hullmap-roadmap/1")
+    throw Error(path + ": not a hullmap roadmap (format \"hullmap-roadmap/1\")");
+  Roadmap map;
+  try {
+    auto xy = [](const json& p) {
+      if (!p.is_array() || p.size() != 2) throw Error("a point is not [x, y]");
+      return Eigen::Vector2d(p.at(0).get<double>(), p.at(1).get<double>());
+    };
+    const auto& b = j.at("bounds");
+    map.bounds = {b.at(0).get<double>(), b.at(1).get<double>(), b.at(2).get<double>(), b.at(3).get<double>()};
+    map.z0 = j.at("band").at(0).get<double>();
+    map.z1 = j.at("band").at(1).get<double>();
+    map.min_clearance = j.at("min_clearance").get<double>();
+    map.tolerance = j.at("tolerance").get<double>();
+    for (const auto& o : j.at("obstacles")) {
+      map.obstacle_groups.push_back(o.at("ids").get<std::vector<int>>());
+      map.footprints.emplace_back();
+      for (const auto& p : o.at("footprint")) map.footprints.back().push_back(xy(p));
+    }
+    for (const auto& n : j.at("nodes")) map.nodes.push_back({xy(n)});
+    const int nodes = static_cast<int>(map.nodes.size());
+    auto site = [&](const json& s) {
+      SiteRef r;
+      r.obstacle = s.at("obstacle").is_null() ? -1 : s.at("obstacle").get<int>();
+      r.is_point = s.contains("point");
+      r.a = xy(r.is_point ? s.at("point") : s.at("segment").at(0));
+      r.b = r.is_point ? r.a : xy(s.at("segment").at(1));
+      return r;
+    };
+    for (const auto& je : j.at("edges")) {
+      RoadmapEdge e;
+      e.from = je.at("from").get<int>();
+      e.to = je.at("to").get<int>();
+      if (e.from < 0 || e.from >= nodes || e.to < 0 || e.to >= nodes)
+        throw Error("edge " + std::to_string(map.edges.size()) + " names a node out of range");
+      e.length = je.at("length").get<double>();
+      e.clearance = je.at("clearance").get<double>();
+      e.site_a = site(je.at("sites").at(0));
+      e.site_b = site(je.at("sites").at(1));
+      for (const auto& p : je.at("polyline")) e.polyline.push_back(xy(p));
+      if (e.polyline.size() < 2) throw Error("edge " + std::to_string(map.edges.size()) + " has a polyline of fewer than 2 points");
+      map.edges.push_back(std::move(e));
+    }
+  } catch (const json::exception& e) {
+    throw Error(path + ": " + e.what());
+  } catch (const Error& e) {
+    throw Error(path + ": " + e.what());
+  }
+  return map;
+}
+
+}  // namespace hullmap::planning
