@@ -1,0 +1,27 @@
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "hullmap/mapper/point_cloud.hpp"
+
+namespace hullmap::ros1 {
+
+/// The map a ROS1 bag's topic ends on, as hullmap_node would hold it after replaying the bag.
+struct BagMap {
+  mapper::Points points;          ///< input frame (the topic's), in message order
+  std::string type;               ///< the topic's message type
+  std::size_t messages = 0;       ///< messages read on the topic
+  std::size_t skipped = 0;        ///< malformed messages skipped (as the node skips them)
+};
+
+/// Reads `topic` of the ROS1 bag at `path` (Debian's rosbag_storage) and returns its last map:
+/// for visualization_msgs/Marker the latest MapPoints id 0 plus id 6 (OrbSlamMapMarkers, ORB-SLAM
+/// v1's /ORB_SLAM/Map), for sensor_msgs/PointCloud2 the last cloud (cloudPoints). Malformed messages
+/// (a MapPoints marker with a NaN, a cloud without z) are skipped and counted, as the node does.
+/// Throws hullmap::Error "<path>: <why>" for a bag that cannot be opened or read (truncated,
+/// corrupt: rosbag's own words), "<path>: no message on topic <topic> (topics: ...)" when the topic
+/// is absent, or when its type is neither of the two.
+BagMap readBagMap(const std::string& path, const std::string& topic);
+
+}  // namespace hullmap::ros1

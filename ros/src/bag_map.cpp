@@ -1,0 +1,62 @@
+#include "hullmap/ros1/bag_map.hpp"
+
+#include <set>
+
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <visualization_msgs/Marker.h>
+
+#include "hullmap/core/error.hpp"
+#include "hullmap/ros1/messages.hpp"
+
+namespace hullmap::ros1 {
+
+BagMap readBagMap(const std::string& path, const std::string& topic) {
+  BagMap map;
+  try {
+    rosbag::Bag bag;
+    bag.open(path, rosbag::bagmode::Read);
+    rosbag::View all(bag);
+    std::set<std::string> topics;
+    for (const auto* connection : all.getConnections()) topics.insert(connection->topic);
+    if (!topics.count(topic)) {
+      std::string names;
+      for (const auto& t : topics) names += (names.empty() ? "" : ", ") + t;
+      throw Error(path + ": no message on topic " + topic + " (topics: " + (names.empty() ? "none" : names) + ")");
+    }
+    rosbag::View view(bag, rosbag::TopicQuery(topic));
+    OrbSlamMapMarkers markers;
+    bool clouds = false;
+    for (const rosbag::MessageInstance& m : view) {
+      ++map.messages;
+      map.type = m.getDataType();
+      // A malformed message is skipped and counted, as the node skips it.
+      if (auto marker = m.instantiate<visualization_msgs::Marker>()) {
+        try {
+          markers.add(*marker);
+        } catch (const Error&) {
+          ++map.skipped;
+        }
+      } else if (auto cloud = m.instantiate<sensor_msgs::PointCloud2>()) {
+        clouds = true;
+        try {
+          map.points = cloudPoints(*cloud);  // each cloud is the whole map: the last good one stays
+        } catch (const Error&) {
+          ++map.skipped;
+        }
+      } else {
+        throw Error(path + ": topic " + topic + " carries " + map.type +
+                    ", expected visualization_msgs/Marker or sensor_msgs/PointCloud2");
+      }
+    }
+    if (!clouds) map.points = markers.points();
+  } catch (const rosbag::BagException& e) {
+    throw Error(path + ": " + e.what());
+  } catch (const ::ros::Exception& e) {
+    throw Error(path + ": " + e.what());
+  }
+  return map;
+}
+
+}  // namespace hullmap::ros1
