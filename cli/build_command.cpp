@@ -11,6 +11,9 @@
 #include "hullmap/mapper/output_dir.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "option_checks.hpp"
+#ifdef HULLMAP_HAS_ROSBAG
+#include "hullmap/ros1/bag_map.hpp"
+#endif
 
 namespace hullmap::cli {
 namespace {
@@ -28,6 +31,7 @@ struct BuildOptions {
   std::optional<double> z_min;
   std::optional<double> z_max;
   std::string metric = "xyz";
+  std::optional<std::string> topic;  ///< the input is a ROS1 bag: its map topic
   pipeline::BuildParams params;
 };
 
@@ -101,6 +105,25 @@ void checkOutput(const BuildOptions& options, const pipeline::BuildParams& param
   }
 }
 
+/// The last map on --topic of the one bag given, built as hullmap_node would build it.
+pipeline::BuildResult buildFromBag(const BuildOptions& options, const pipeline::BuildParams& params) {
+  if (options.inputs.size() != 1) throw Error("--topic: give exactly one input, a ROS1 bag");
+  if (params.trajectory) throw Error("--topic: --trajectory does not apply to a bag (keyframes from a bag are not read yet)");
+#ifdef HULLMAP_HAS_ROSBAG
+  ros1::BagMap bag = ros1::readBagMap(options.inputs.front(), *options.topic);
+  if (bag.skipped > 0) {
+    std::cerr << "hullmap: warning: " << options.inputs.front() << ": " << bag.skipped << " malformed message"
+              << (bag.skipped == 1 ? "" : "s") << " on " << *options.topic << " skipped\n";
+  }
+  if (bag.points.empty()) throw Error(options.inputs.front() + ": topic " + *options.topic + " ends on an empty map");
+  return pipeline::buildFromPoints(std::move(bag.points), params, options.inputs.front());
+#else
+  (void)params;
+  throw Error("--topic: this hullmap was built without ROS1's rosbag_storage (install librosbag-storage-dev "
+              "and pluginlib-dev, then rebuild)");
+#endif
+}
+
 }  // namespace
 
 void addBuildCommand(CLI::App& app, int& status) {
@@ -153,14 +176,21 @@ void addBuildCommand(CLI::App& app, int& status) {
   cmd->add_option("--metric", options->metric, "DBSCAN distance: xyz or xy (top view)")
       ->check(CLI::IsMember({"xyz", "xy"}))->capture_default_str();
   cmd->add_flag("--ot", options->params.write_ot, "Also write map.ot (full probabilities)");
+  cmd->add_option("--topic", options->topic,
+                  "The input is a ROS1 bag: build its last map on this topic (visualization_msgs/Marker as "
+                  "/ORB_SLAM/Map, or sensor_msgs/PointCloud2), as hullmap_node would");
 
   cmd->callback([options, cmd, &status] {
     options->inputs = inputPaths(options->inputs);
+    for (const auto& input : options->inputs) {
+      if (!options->topic && input.size() > 4 && input.compare(input.size() - 4, 4, ".bag") == 0)
+        throw Error(input + ": a ROS1 bag: give --topic, the map topic to read (as /ORB_SLAM/Map)");
+    }
     refuseMisfits(*cmd, *options);
     const pipeline::BuildParams params = toParams(*options);
     const pipeline::WriteOptions write_options{options->make_parents};
     checkOutput(*options, params);
-    pipeline::BuildResult result = pipeline::build(params);
+    pipeline::BuildResult result = options->topic ? buildFromBag(*options, params) : pipeline::build(params);
     std::vector<mapper::InputStats> named = result.report.inputs;
     if (options->trajectory) {
       named.emplace_back();

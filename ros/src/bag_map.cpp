@@ -1,7 +1,10 @@
 #include "hullmap/ros1/bag_map.hpp"
 
+#include <filesystem>
 #include <set>
+#include <system_error>
 
+#include <console_bridge/console.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -12,8 +15,37 @@
 
 namespace hullmap::ros1 {
 
+namespace {
+
+/// rosbag_storage also logs its errors to stderr through console_bridge; the exception says the same,
+/// so the caller prints one line. Restores the previous level when done.
+class QuietConsoleBridge {
+ public:
+  QuietConsoleBridge() : level_(console_bridge::getLogLevel()) {
+    console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE);
+  }
+  ~QuietConsoleBridge() { console_bridge::setLogLevel(level_); }
+  QuietConsoleBridge(const QuietConsoleBridge&) = delete;
+  QuietConsoleBridge& operator=(const QuietConsoleBridge&) = delete;
+
+ private:
+  console_bridge::LogLevel level_;
+};
+
+/// "<path>: not a readable ROS1 bag (<rosbag's words>; the file holds N bytes)": rosbag_storage's
+/// exceptions name no offset, the size tells a truncated file from a damaged one.
+std::string unreadable(const std::string& path, const std::string& what) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  return path + ": not a readable ROS1 bag (rosbag_storage: " + what +
+         (ec ? std::string(")") : "; the file holds " + std::to_string(size) + " bytes)");
+}
+
+}  // namespace
+
 BagMap readBagMap(const std::string& path, const std::string& topic) {
   BagMap map;
+  const QuietConsoleBridge quiet;
   try {
     rosbag::Bag bag;
     bag.open(path, rosbag::bagmode::Read);
@@ -52,9 +84,9 @@ BagMap readBagMap(const std::string& path, const std::string& topic) {
     }
     if (!clouds) map.points = markers.points();
   } catch (const rosbag::BagException& e) {
-    throw Error(path + ": " + e.what());
+    throw Error(unreadable(path, e.what()));
   } catch (const ::ros::Exception& e) {
-    throw Error(path + ": " + e.what());
+    throw Error(unreadable(path, e.what()));
   }
   return map;
 }

@@ -19,9 +19,11 @@ struct BagMap {
 /// for visualization_msgs/Marker the latest MapPoints id 0 plus id 6 (OrbSlamMapMarkers, ORB-SLAM
 /// v1's /ORB_SLAM/Map), for sensor_msgs/PointCloud2 the last cloud (cloudPoints). Malformed messages
 /// (a MapPoints marker with a NaN, a cloud without z) are skipped and counted, as the node does.
-/// Throws hullmap::Error "<path>: <why>" for a bag that cannot be opened or read (truncated,
-/// corrupt: rosbag's own words), "<path>: no message on topic <topic> (topics: ...)" when the topic
-/// is absent, or when its type is neither of the two.
+/// Throws hullmap::Error "<path>: not a readable ROS1 bag (rosbag_storage: <why>; the file holds N
+/// bytes)" for a bag that cannot be opened or read (truncated; a damaged version line, record
+/// header, chunk or index: ROS1 bags carry no checksum, so damage inside a message's bytes is not
+/// seen), "<path>: no message on topic <topic> (topics: ...)" when the topic is absent, or when its
+/// type is neither of the two. Not thread-safe: it silences console_bridge's log while it reads.
 BagMap readBagMap(const std::string& path, const std::string& topic);
 
 }  // namespace hullmap::ros1
