@@ -35,7 +35,7 @@ def free_port():
 
 
 def setUpModule():
-    global master, rospy, genpy, Marker, MarkerArray, PointCloud2, PointField, String, Path, PoseStamped, Trigger
+    global master, rospy, genpy, Marker, MarkerArray, PointCloud2, PointField, String, Path, PoseStamped, Trigger, Empty
     shutil.rmtree(TMP, ignore_errors=True)
     os.makedirs(TMP)
     port = free_port()
@@ -57,11 +57,11 @@ def setUpModule():
     from geometry_msgs.msg import PoseStamped as _PoseStamped
     from sensor_msgs.msg import PointCloud2 as _PointCloud2, PointField as _PointField
     from std_msgs.msg import String as _String
-    from std_srvs.srv import Trigger as _Trigger
+    from std_srvs.srv import Empty as _Empty, Trigger as _Trigger
     from visualization_msgs.msg import Marker as _Marker, MarkerArray as _MarkerArray
     rospy, genpy = _rospy, _genpy
     Marker, MarkerArray, PointCloud2, PointField = _Marker, _MarkerArray, _PointCloud2, _PointField
-    String, Path, PoseStamped, Trigger = _String, _Path, _PoseStamped, _Trigger
+    String, Path, PoseStamped, Trigger, Empty = _String, _Path, _PoseStamped, _Trigger, _Empty
     rospy.init_node("hullmap_test", anonymous=True, disable_signals=True)
 
 
@@ -335,6 +335,22 @@ class CloudInput(unittest.TestCase):
         # The markers of the obstacles gone from the last map were deleted.
         ids = [m.id for m in self.node.obstacles.markers if m.ns == "hulls" and m.action == Marker.ADD]
         self.assertEqual(sorted(ids), sorted(expected))
+
+    def test_reset_forgets_the_map_and_deletes_its_markers(self):
+        points = boxes([(0, 0, 1), (2, 0, 1)])
+        expected = self.build_of(points, "reset_boxes")
+        self.send(cloud(points))
+        self.node.wait_idle(self.sent)
+        wait_for("the map before the reset", lambda: same_triangles(self.node.hull_triangles(), expected))
+        reset = rospy.ServiceProxy("/%s/reset" % self.node.name, Empty)
+        reset.wait_for_service(TIMEOUT)
+        reset()
+        wait_for("empty ~obstacles", lambda: self.node.hull_triangles() == {})
+        deleted = {(m.ns, m.id) for m in self.node.obstacles.markers if m.action == Marker.DELETE}
+        self.assertEqual(deleted, {(ns, i) for ns in ("hulls", "footprints", "labels") for i in expected})
+        wait_for("~stats after the reset", lambda: self.node.stats["obstacles"] == 0)
+        save = rospy.ServiceProxy("/%s/save" % self.node.name, Trigger)
+        self.assertFalse(save().success)  # nothing to save
 
 
 if __name__ == "__main__":

@@ -181,7 +181,7 @@ class HullmapNode {
       publishStats();
       return;
     }
-    publishMap(snapshot, map.stamp);
+    publishMap(snapshot, map.stamp, generation);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       last_latency_ms_ = msSince(map.received);
@@ -196,9 +196,14 @@ class HullmapNode {
     return h;
   }
 
-  /// Publishes a snapshot (nullptr: the empty map). Only the worker and ~reset call it, one at a time.
-  void publishMap(const std::shared_ptr<Snapshot>& snapshot, const ::ros::Time& stamp) {
+  /// Publishes a snapshot (nullptr: the empty map) unless a ~reset came after `generation` began. Only
+  /// the worker and ~reset call it, one at a time.
+  void publishMap(const std::shared_ptr<Snapshot>& snapshot, const ::ros::Time& stamp, std::uint64_t generation) {
     std::lock_guard<std::mutex> lock(publish_mutex_);
+    {
+      std::lock_guard<std::mutex> state(mutex_);
+      if (generation != generation_) return;
+    }
     const std_msgs::Header h = header(stamp);
     static const std::vector<clustering::Obstacle> kNone;
     static const std::vector<mapper::OccupiedVoxel> kNoVoxels;
@@ -294,14 +299,15 @@ class HullmapNode {
 
   bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
     orbslam_.clear();
+    std::uint64_t generation = 0;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       pending_.reset();
-      ++generation_;
+      generation = ++generation_;
       latest_.reset();
       last_points_ = 0;
     }
-    publishMap(nullptr, ::ros::Time::now());
+    publishMap(nullptr, ::ros::Time::now(), generation);
     publishStats();
     return true;
   }
