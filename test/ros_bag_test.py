@@ -16,6 +16,8 @@ import genpy
 import rosbag
 import rospy
 import yaml
+from geometry_msgs.msg import PoseStamped
+from nav_msgs.msg import Path
 from sensor_msgs.msg import PointCloud2, PointField
 from visualization_msgs.msg import Marker
 
@@ -141,6 +143,77 @@ class BagInput(unittest.TestCase):
             run, out = build([path], "corrupt_" + name, ["--topic", "/ORB_SLAM/Map"])
             self.assert_one_line_exit_2(run, "corrupt_%s.bag" % name, "not a readable ROS1 bag", "bytes")
             self.assertFalse(os.path.exists(out))
+
+
+# Keyframes: stamp, position, quaternion (x y z w), in the map topic's frame.
+KEYFRAMES = [(1403636580.25, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)),
+             (1403636580.5, (1.5, -0.5, 0.5), (0.0, 0.0, 0.38268343236508984, 0.9238795325112867)),
+             (1403636581.0, (3.0, 0.5, 1.0), (0.0, 0.0, 0.0, 1.0))]
+
+
+def pose_stamped(stamp, position, quaternion):
+    msg = PoseStamped()
+    msg.header.frame_id = "world"
+    msg.header.stamp = rospy.Time.from_sec(stamp)
+    msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = position
+    o = msg.pose.orientation
+    o.x, o.y, o.z, o.w = quaternion
+    return msg
+
+
+class BagKeyframes(unittest.TestCase):
+    """--trajectory-topic gives what --trajectory gives with a TUM file of the same poses."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tum = os.path.join(TMP, "keyframes.txt")
+        with open(cls.tum, "w") as f:
+            for stamp, p, q in KEYFRAMES:
+                # the stamps as the bag holds them (nanoseconds)
+                f.write("%r %r %r %r %r %r %r %r\n" % ((rospy.Time.from_sec(stamp).to_sec(),) + p + q))
+        cls.bag = os.path.join(TMP, "keyframes.bag")
+        with open(ECHO_DUMP) as f:
+            docs = [d for d in yaml.safe_load_all(f) if d]
+        with rosbag.Bag(cls.bag, "w") as bag:
+            for i, doc in enumerate(docs):
+                msg = Marker()
+                genpy.message.fill_message_args(msg, [doc])
+                bag.write("/ORB_SLAM/Map", msg, rospy.Time(100 + i))
+            path = Path()
+            path.header.frame_id = "world"
+            for i, kf in enumerate(KEYFRAMES):
+                bag.write("/keyframe", pose_stamped(*kf), rospy.Time(100 + i))
+                path.poses.append(pose_stamped(*kf))
+                bag.write("/trajectory", path, rospy.Time(100 + i))  # grows; the last holds all
+
+    def check(self, topic, name):
+        run, out = build([self.bag], name, ["--topic", "/ORB_SLAM/Map", "--trajectory-topic", topic, "--max-range", "5"])
+        self.assertEqual(run.returncode, 0, run.stderr)
+        tum_run, tum_out = build([ECHO_DUMP], name + "_tum", ["--trajectory", self.tum, "--max-range", "5"])
+        self.assertEqual(tum_run.returncode, 0, tum_run.stderr)
+        self.assertEqual(obstacles(out), obstacles(tum_out))
+        with open(os.path.join(out, "report.json")) as f:
+            report = json.load(f)
+        with open(os.path.join(tum_out, "report.json")) as f:
+            tum_report = json.load(f)
+        self.assertEqual(report["keyframes"], 3)
+        self.assertEqual(tum_report["keyframes"], 3)
+        self.assertEqual(report["parameters"]["trajectory"], self.bag + ":" + topic)
+        with open(os.path.join(out, "voxels.csv")) as a, open(os.path.join(tum_out, "voxels.csv")) as b:
+            self.assertEqual(a.read(), b.read())
+        with open(os.path.join(out, "map.bt"), "rb") as a, open(os.path.join(tum_out, "map.bt"), "rb") as b:
+            self.assertEqual(a.read(), b.read())  # the same free space was cast
+
+    def test_pose_stamped_keyframes(self):
+        self.check("/keyframe", "kf_pose")
+
+    def test_path_keyframes(self):
+        self.check("/trajectory", "kf_path")
+
+    def test_a_trajectory_topic_of_another_type_is_named(self):
+        run, _ = build([self.bag], "kf_wrong", ["--topic", "/ORB_SLAM/Map", "--trajectory-topic", "/ORB_SLAM/Map"])
+        self.assertEqual(run.returncode, 2)
+        self.assertIn("expected geometry_msgs/PoseStamped or nav_msgs/Path", run.stderr)
 
 
 if __name__ == "__main__":

@@ -7,6 +7,8 @@
 #include <console_bridge/console.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
+#include <geometry_msgs/PoseStamped.h>
+#include <nav_msgs/Path.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <visualization_msgs/Marker.h>
 
@@ -41,7 +43,62 @@ std::string unreadable(const std::string& path, const std::string& what) {
          (ec ? std::string(")") : "; the file holds " + std::to_string(size) + " bytes)");
 }
 
+
+/// Throws "<path>: no message on topic ..." unless the bag has `topic`.
+void requireTopic(const rosbag::Bag& bag, const std::string& path, const std::string& topic) {
+  rosbag::View all(bag);
+  std::set<std::string> topics;
+  for (const auto* connection : all.getConnections()) topics.insert(connection->topic);
+  if (topics.count(topic)) return;
+  std::string names;
+  for (const auto& t : topics) names += (names.empty() ? "" : ", ") + t;
+  throw Error(path + ": no message on topic " + topic + " (topics: " + (names.empty() ? "none" : names) + ")");
+}
+
+mapper::Keyframe keyframe(const std_msgs::Header& header, const geometry_msgs::Pose& pose) {
+  mapper::Keyframe k;
+  k.stamp = header.stamp.toSec();
+  k.position = {pose.position.x, pose.position.y, pose.position.z};
+  k.orientation = Eigen::Quaterniond(pose.orientation.w, pose.orientation.x, pose.orientation.y, pose.orientation.z);
+  return k;
+}
+
 }  // namespace
+
+std::vector<mapper::Keyframe> readBagKeyframes(const std::string& path, const std::string& topic) {
+  const QuietConsoleBridge quiet;
+  std::vector<mapper::Keyframe> keyframes;
+  try {
+    rosbag::Bag bag;
+    bag.open(path, rosbag::bagmode::Read);
+    requireTopic(bag, path, topic);
+    rosbag::View view(bag, rosbag::TopicQuery(topic));
+    for (const rosbag::MessageInstance& m : view) {
+      if (auto pose = m.instantiate<geometry_msgs::PoseStamped>()) {
+        keyframes.push_back(keyframe(pose->header, pose->pose));
+      } else if (auto trajectory = m.instantiate<nav_msgs::Path>()) {
+        keyframes.clear();  // the last Path is the whole trajectory
+        for (const auto& p : trajectory->poses) keyframes.push_back(keyframe(p.header, p.pose));
+      } else {
+        throw Error(path + ": topic " + topic + " carries " + m.getDataType() +
+                    ", expected geometry_msgs/PoseStamped or nav_msgs/Path");
+      }
+    }
+  } catch (const rosbag::BagException& e) {
+    throw Error(unreadable(path, e.what()));
+  } catch (const ::ros::Exception& e) {
+    throw Error(unreadable(path, e.what()));
+  }
+  for (const auto& k : keyframes) {
+    if (!k.position.allFinite() || !k.orientation.coeffs().allFinite() || k.orientation.norm() < 1e-9) {
+      throw Error(path + ": topic " + topic + ": a keyframe pose is not finite or its quaternion is zero");
+    }
+  }
+  if (keyframes.empty()) throw Error(path + ": topic " + topic + " holds no pose");
+  for (auto& k : keyframes) k.orientation.normalize();
+  return keyframes;
+}
+
 
 BagMap readBagMap(const std::string& path, const std::string& topic) {
   BagMap map;
@@ -49,14 +106,7 @@ BagMap readBagMap(const std::string& path, const std::string& topic) {
   try {
     rosbag::Bag bag;
     bag.open(path, rosbag::bagmode::Read);
-    rosbag::View all(bag);
-    std::set<std::string> topics;
-    for (const auto* connection : all.getConnections()) topics.insert(connection->topic);
-    if (!topics.count(topic)) {
-      std::string names;
-      for (const auto& t : topics) names += (names.empty() ? "" : ", ") + t;
-      throw Error(path + ": no message on topic " + topic + " (topics: " + (names.empty() ? "none" : names) + ")");
-    }
+    requireTopic(bag, path, topic);
     rosbag::View view(bag, rosbag::TopicQuery(topic));
     OrbSlamMapMarkers markers;
     bool clouds = false;

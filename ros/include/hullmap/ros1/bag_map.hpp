@@ -3,7 +3,10 @@
 #include <cstddef>
 #include <string>
 
+#include <vector>
+
 #include "hullmap/mapper/point_cloud.hpp"
+#include "hullmap/mapper/readers.hpp"
 
 namespace hullmap::ros1 {
 
@@ -25,5 +28,12 @@ struct BagMap {
 /// seen), "<path>: no message on topic <topic> (topics: ...)" when the topic is absent, or when its
 /// type is neither of the two. Not thread-safe: it silences console_bridge's log while it reads.
 BagMap readBagMap(const std::string& path, const std::string& topic);
+
+/// The keyframe poses (camera-to-map, the map topic's frame) on `topic` of the bag at `path`:
+/// geometry_msgs/PoseStamped, one keyframe per message, in bag order; or nav_msgs/Path, whose last
+/// message holds every keyframe (a SLAM system re-sends its whole keyframe trajectory). Stamps are
+/// the headers' (a Path's poses' own). Throws hullmap::Error as readBagMap, and naming the topic
+/// when it holds neither type or no pose.
+std::vector<mapper::Keyframe> readBagKeyframes(const std::string& path, const std::string& topic);
 
 }  // namespace hullmap::ros1
