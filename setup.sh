@@ -20,6 +20,13 @@ if [ "$mode" = test ]; then
   # python3-sklearn: DBSCAN oracle on real maps; librsvg2-bin: PNG rendering test;
   # clang + libclang-rt-14-dev: the libFuzzer targets that .ci/run runs briefly.
   packages+=(python3 python3-sklearn python3-numpy librsvg2-bin xz-utils clang libclang-rt-14-dev)
+  # ROS1 (Debian's): hullmap_node and bag input are built only when found, so the tests install them;
+  # pluginlib-dev holds headers that rosbag/bag.h includes; the python3-* message modules, rospy,
+  # rosbag and ros-core (rosmaster) are what test/ros_*.py publish, record and run with.
+  packages+=(ros-core libroscpp-dev librosbag-storage-dev pluginlib-dev libstd-msgs-dev libgeometry-msgs-dev
+             libsensor-msgs-dev libnav-msgs-dev libvisualization-msgs-dev libstd-srvs-dev
+             python3-rospy python3-rosbag python3-yaml python3-std-msgs python3-geometry-msgs
+             python3-sensor-msgs python3-nav-msgs python3-visualization-msgs python3-std-srvs)
 fi
 if [ "$mode" = bench ]; then
   # The peers a user would pick instead (Open3D's and scikit-learn's DBSCAN), and /usr/bin/time.

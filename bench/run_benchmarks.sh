@@ -16,6 +16,12 @@ out=$root/docs/BENCHMARKS.md
 
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DHULLMAP_BUILD_BENCH=ON -DHULLMAP_BUILD_TESTS=OFF >/dev/null
 cmake --build "$build" -j"$(nproc)" --target hullmap hullmap_bench_dbscan hullmap_bench_insertion hullmap_bench_collision hullmap_bench_planning >/dev/null
+# hullmap_node exists only when ROS1 was found; its section is left out otherwise.
+if cmake --build "$build" -j"$(nproc)" --target hullmap_node hullmap_bench_octomap_cloud >/dev/null 2>&1; then
+  ros_section=yes
+else
+  ros_section=no
+fi
 
 mkdir -p "$root/docs"
 tmp=$(mktemp "$root/docs/.BENCHMARKS.md.XXXXXX")
@@ -48,6 +54,10 @@ trap 'rm -f "$tmp"' EXIT
   sh "$root/bench/section_large_map.sh" "$build"
   echo
   sh "$root/bench/section_planning.sh" "$build"
+  if [ "$ros_section" = yes ]; then
+    echo
+    sh "$root/bench/section_ros.sh" "$build"
+  fi
 } >"$tmp"
 mv "$tmp" "$out"
 trap - EXIT

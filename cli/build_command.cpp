@@ -11,6 +11,9 @@
 #include "hullmap/mapper/output_dir.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "option_checks.hpp"
+#ifdef HULLMAP_HAS_ROSBAG
+#include "hullmap/ros1/bag_map.hpp"
+#endif
 
 namespace hullmap::cli {
 namespace {
@@ -28,6 +31,8 @@ struct BuildOptions {
   std::optional<double> z_min;
   std::optional<double> z_max;
   std::string metric = "xyz";
+  std::optional<std::string> topic;  ///< the input is a ROS1 bag: its map topic
+  std::optional<std::string> trajectory_topic;  ///< and its keyframe poses' topic
   pipeline::BuildParams params;
 };
 
@@ -66,7 +71,7 @@ bool readsOctree(const BuildOptions& options) {
 void refuseMisfits(const CLI::App& cmd, const BuildOptions& options) {
   if (!readsOctree(options)) {
     // Points alone are occupied updates only: nothing for a ray bound or P(miss) to act on.
-    if (options.trajectory || options.origin) return;
+    if (options.trajectory || options.origin || options.trajectory_topic) return;
     std::string given;
     for (const char* name : {"--max-range", "--miss"})
       if (cmd.count(name) > 0) given += (given.empty() ? "" : ", ") + std::string(name);
@@ -99,6 +104,28 @@ void checkOutput(const BuildOptions& options, const pipeline::BuildParams& param
     const bool missing_parent = !options.make_parents && !std::filesystem::exists(out.parent_path(), ec);
     throw Error("-o " + std::string(e.what()) + (missing_parent ? " (give -p to create missing parents)" : ""));
   }
+}
+
+/// The last map on --topic of the one bag given, built as hullmap_node would build it.
+pipeline::BuildResult buildFromBag(const BuildOptions& options, const pipeline::BuildParams& params) {
+  if (options.inputs.size() != 1) throw Error("--topic: give exactly one input, a ROS1 bag");
+  if (params.trajectory && options.trajectory_topic) throw Error("--trajectory and --trajectory-topic: give one or the other");
+#ifdef HULLMAP_HAS_ROSBAG
+  ros1::BagMap bag = ros1::readBagMap(options.inputs.front(), *options.topic);
+  std::optional<std::vector<mapper::Keyframe>> keyframes;
+  if (options.trajectory_topic) keyframes = ros1::readBagKeyframes(options.inputs.front(), *options.trajectory_topic);
+  if (bag.skipped > 0) {
+    std::cerr << "hullmap: warning: " << options.inputs.front() << ": " << bag.skipped << " malformed message"
+              << (bag.skipped == 1 ? "" : "s") << " on " << *options.topic << " skipped\n";
+  }
+  if (bag.points.empty()) throw Error(options.inputs.front() + ": topic " + *options.topic + " ends on an empty map");
+  return pipeline::buildFromPoints(std::move(bag.points), std::move(keyframes), params, options.inputs.front(),
+                                   options.inputs.front() + ":" + options.trajectory_topic.value_or(""));
+#else
+  (void)params;
+  throw Error("--topic: this hullmap was built without ROS1's rosbag_storage (install librosbag-storage-dev "
+              "and pluginlib-dev, then rebuild)");
+#endif
 }
 
 }  // namespace
@@ -153,14 +180,25 @@ void addBuildCommand(CLI::App& app, int& status) {
   cmd->add_option("--metric", options->metric, "DBSCAN distance: xyz or xy (top view)")
       ->check(CLI::IsMember({"xyz", "xy"}))->capture_default_str();
   cmd->add_flag("--ot", options->params.write_ot, "Also write map.ot (full probabilities)");
+  cmd->add_option("--topic", options->topic,
+                  "The input is a ROS1 bag: build its last map on this topic (visualization_msgs/Marker as "
+                  "/ORB_SLAM/Map, or sensor_msgs/PointCloud2), as hullmap_node would");
+  cmd->add_option("--trajectory-topic", options->trajectory_topic,
+                  "With --topic: keyframe poses from the bag (geometry_msgs/PoseStamped, one keyframe a message; or "
+                  "nav_msgs/Path, the last message holding them all): ray-cast free space from them as --trajectory");
 
   cmd->callback([options, cmd, &status] {
     options->inputs = inputPaths(options->inputs);
+    for (const auto& input : options->inputs) {
+      if (!options->topic && input.size() > 4 && input.compare(input.size() - 4, 4, ".bag") == 0)
+        throw Error(input + ": a ROS1 bag: give --topic, the map topic to read (as /ORB_SLAM/Map)");
+    }
     refuseMisfits(*cmd, *options);
     const pipeline::BuildParams params = toParams(*options);
     const pipeline::WriteOptions write_options{options->make_parents};
     checkOutput(*options, params);
-    pipeline::BuildResult result = pipeline::build(params);
+    if (options->trajectory_topic && !options->topic) throw Error("--trajectory-topic: needs --topic (a bag input)");
+    pipeline::BuildResult result = options->topic ? buildFromBag(*options, params) : pipeline::build(params);
     std::vector<mapper::InputStats> named = result.report.inputs;
     if (options->trajectory) {
       named.emplace_back();

@@ -14,6 +14,7 @@
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
+#include "hullmap/pipeline/check_json.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "check_warnings.hpp"
 #include "option_checks.hpp"
@@ -34,14 +35,7 @@ struct CheckOptions {
 };
 
 std::string describe(std::size_t index, const collision::Segment& s, const collision::SegmentCheck& c, bool json) {
-  if (json) {
-    nlohmann::json j{{"index", index}, {"collides", c.collides}};
-    j["obstacle"] = c.obstacle >= 0 ? nlohmann::json(c.obstacle) : nlohmann::json(nullptr);
-    if (c.part >= 0) j["part"] = c.part;
-    j["t"] = c.collides ? nlohmann::json(c.t) : nlohmann::json(nullptr);
-    j["clearance"] = c.clearance;
-    return j.dump();
-  }
+  if (json) return pipeline::segmentCheckJsonLine(index, c);
   std::string line = "segment " + std::to_string(index) + ": ";
   if (!c.collides) return line + "clear, clearance " + shortestNumber(c.clearance);
   const Eigen::Vector3d p = s.a + c.t * (s.b - s.a);

@@ -100,13 +100,19 @@ void accountForInputs(BuildResult& result) {
 
 /// The octree of points already read whole (map frame after this), with the keyframes' rays
 /// (trajectory), one scan's rays (origin), or points alone.
-void buildWhole(const BuildParams& params, mapper::Points points, BuildResult& result, StageTimer& timer) {
+/// `given` (keyframes in memory, input frame) stands for the trajectory file when not null.
+void buildWhole(const BuildParams& params, mapper::Points points, BuildResult& result, StageTimer& timer,
+                std::vector<mapper::Keyframe>* given = nullptr) {
   accountForInputs(result);
   timer.stage("read");
 
   runStage("frame_and_filters");
   std::vector<mapper::Keyframe> keyframes;
-  if (params.trajectory) {
+  if (given) {
+    keyframes = std::move(*given);
+    if (keyframes.empty()) throw Error(params.trajectory->string() + ": no keyframes");
+    mapper::toMapFrame(params.frame, keyframes);
+  } else if (params.trajectory) {
     keyframes = mapper::readTumTrajectory(params.trajectory->string());
     if (keyframes.empty()) throw Error(params.trajectory->string() + ": no keyframes");
     mapper::toMapFrame(params.frame, keyframes);
@@ -324,11 +330,20 @@ BuildResult build(const BuildParams& params) {
 }
 
 BuildResult buildFromPoints(mapper::Points points, const BuildParams& params, const std::string& name) {
+  return buildFromPoints(std::move(points), std::nullopt, params, name);
+}
+
+BuildResult buildFromPoints(mapper::Points points, std::optional<std::vector<mapper::Keyframe>> keyframes,
+                            const BuildParams& params, const std::string& name, const std::string& keyframes_name) {
   BuildResult result;
   result.params = params;
   result.params.inputs.clear();
+  if (keyframes) {
+    if (params.trajectory) throw Error::inParameter("trajectory", "give a trajectory file or keyframes, not both");
+    result.params.trajectory = keyframes_name;
+  }
   StageTimer timer(result.report);
-  checkParams(params);
+  checkParams(result.params);
   runStage("read");
   mapper::InputStats stats;
   stats.path = name;
@@ -342,8 +357,8 @@ BuildResult buildFromPoints(mapper::Points points, const BuildParams& params, co
   if (non_finite > 0) stats.dropped["non_finite"] = non_finite;
   result.report.inputs.push_back(stats);
   if (points.empty()) throw Error(name + ": no points");
-  buildWhole(result.params, std::move(points), result, timer);
-  finishAccount(params, result);
+  buildWhole(result.params, std::move(points), result, timer, keyframes ? &*keyframes : nullptr);
+  finishAccount(result.params, result);
   clusterInto(result, timer);
   return result;
 }

@@ -96,6 +96,15 @@ BuildResult build(const BuildParams& params);
 BuildResult buildFromPoints(mapper::Points points, const BuildParams& params,
                             const std::string& name = "points");
 
+/// The same with keyframe poses in memory (input frame, camera-to-map, as a bag or a live topic gives
+/// them) when `keyframes` holds a value: free space is ray-cast from them exactly as from a
+/// params.trajectory file with the same poses, and the result's params.trajectory (report.json's
+/// "trajectory") is `keyframes_name`. params.trajectory must then be unset. Throws hullmap::Error
+/// as build(), "<keyframes_name>: no keyframes" for an empty list.
+BuildResult buildFromPoints(mapper::Points points, std::optional<std::vector<mapper::Keyframe>> keyframes,
+                            const BuildParams& params, const std::string& name,
+                            const std::string& keyframes_name = "keyframes");
+
 /// How write() treats the output directory.
 struct WriteOptions {
   bool make_parents = false;  ///< create missing parents of the directory (as mkdir -p); else refuse

@@ -1,0 +1,41 @@
+#!/bin/sh
+# Prints the "## ROS: map message to published obstacles" section of docs/BENCHMARKS.md to stdout.
+#
+# usage: bench/section_ros.sh BUILD_DIR [repeats]
+#
+# BUILD_DIR holds ros/hullmap_node (ROS1 found) and bench/hullmap_bench_octomap_cloud. Needs Debian's
+# ros-core, python3-rospy and the python3-*-msgs modules (./setup.sh test installs them).
+set -eu
+
+if [ $# -lt 1 ]; then
+  echo "usage: $0 BUILD_DIR [repeats]" >&2
+  exit 2
+fi
+build=$1
+repeats=${2:-3}
+here=$(cd "$(dirname "$0")" && pwd)
+node="$build/ros/hullmap_node"
+octomap="$build/bench/hullmap_bench_octomap_cloud"
+for binary in "$node" "$octomap"; do
+  if [ ! -x "$binary" ]; then
+    echo "$0: $binary not found (ROS1 packages installed? configure with -DHULLMAP_BUILD_BENCH=ON)" >&2
+    exit 2
+  fi
+done
+
+cat <<'TEXT'
+## ROS: map message to published obstacles
+
+`hullmap_node` ([ROS.md](ROS.md)) receives a whole map as a FLOAT32 `sensor_msgs/PointCloud2` on
+`~cloud_in` (as the ORB-SLAM2/3 wrappers send it) and publishes its obstacles on `~obstacles`; the peer
+is the work octomap_server does on every such message, octomap's `insertPointCloud` of every point
+from one keyframe (the room's centre) into its tree, timed on the same points in the same run
+(`hullmap_bench_octomap_cloud`, median of the repeats). The map: a 10 x 8 x 3 m room, 8 boxes whose
+surfaces carry 90% of the points, 10% scattered (outliers); `hullmap build`'s defaults (resolution
+0.05, eps 0.1, min_pts 10). **End-to-end**: from `publish()` in a rospy client to the `~obstacles`
+message with the same stamp arriving back in it (serialisation and transport both ways included);
+**node latency_ms**: the node's own `~stats` (callback to obstacles published); **rebuild_ms**: the
+build alone. Medians of 3 messages per size. `bench/ros_latency.py`, `bench/section_ros.sh`.
+
+TEXT
+/usr/bin/python3 "$here/ros_latency.py" "$node" "$octomap" "$repeats"
