@@ -17,6 +17,10 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Roadmap points tried, nearest first, when connecting an end; connections kept per end.
 constexpr std::size_t kConnectTries = 400;
 constexpr std::size_t kConnections = 6;
+/// Alternative routes: after the shortest one, up to kRoutes - 1 more with the links into vertices
+/// of the earlier routes this many times longer; the shortest after shortening wins.
+constexpr int kRoutes = 3;
+constexpr double kDetourPenalty = 3.0;
 
 std::string xyz(const Eigen::Vector3d& p) {
   std::ostringstream s;
@@ -80,7 +84,8 @@ struct PathPlanner::Impl {
   /// A* from the start connections to the goal connections over links with clearance >= floor.
   std::optional<std::vector<int>> search(const std::vector<std::pair<int, double>>& from,
                                          const std::vector<std::pair<int, double>>& to,
-                                         const Eigen::Vector2d& goal, double floor) const {
+                                         const Eigen::Vector2d& goal, double floor,
+                                         const std::vector<char>& penalized = {}) const {
     const std::size_t n = graph.position.size();
     const int target = static_cast<int>(n);  // the goal itself
     std::vector<double> exit(n, kInf);
@@ -109,7 +114,8 @@ struct PathPlanner::Impl {
       };
       if (exit[v] < kInf) relax(target, cost[v] + exit[v]);
       for (const auto& l : graph.links[v])
-        if (l.clearance >= floor) relax(l.to, cost[v] + l.length);
+        if (l.clearance >= floor)
+          relax(l.to, cost[v] + l.length * (!penalized.empty() && penalized[l.to] ? kDetourPenalty : 1.0));
     }
     if (cost[target] == kInf) return std::nullopt;
     std::vector<int> chain;
@@ -247,9 +253,9 @@ PlanResult PathPlanner::plan(const PlanRequest& request) const {
   };
   if (blockedAt("start", request.start) || blockedAt("goal", request.goal)) return result;
 
-  std::vector<Eigen::Vector3d> waypoints;
+  std::vector<std::vector<Eigen::Vector3d>> routes;
   if (impl_->clear(request.start, request.goal, r)) {
-    waypoints = {request.start, request.goal};
+    routes.push_back({request.start, request.goal});
   } else {
     const double floor = r + impl_->roadmap.tolerance;
     const auto from = impl_->connect(request.start, z, r, floor);
@@ -262,7 +268,7 @@ PlanResult PathPlanner::plan(const PlanRequest& request) const {
       result.blocked = s.str();
       return result;
     }
-    const auto chain = impl_->search(from, to, request.goal.head<2>(), floor);
+    auto chain = impl_->search(from, to, request.goal.head<2>(), floor);
     if (!chain) {
       const std::string where = impl_->narrowest(from, to);
       s << "no passage of clearance " << r << " m from start " << xyz(request.start) << " to goal "
@@ -270,17 +276,41 @@ PlanResult PathPlanner::plan(const PlanRequest& request) const {
       result.blocked = s.str();
       return result;
     }
-    waypoints.push_back(request.start);
-    for (const int v : *chain) waypoints.push_back(lift(impl_->graph.position[v], z));
-    waypoints.push_back(request.goal);
+    // A* picks the route by its length along the Voronoi edges; once pulled taut another route
+    // round the obstacles may be shorter, so a few alternatives are shortened too.
+    std::vector<char> used(impl_->graph.position.size(), 0);
+    for (int route = 0; route < kRoutes && chain; ++route) {
+      std::vector<Eigen::Vector3d> w{request.start};
+      for (const int v : *chain) {
+        w.push_back(lift(impl_->graph.position[v], z));
+        used[v] = 1;
+      }
+      w.push_back(request.goal);
+      routes.push_back(std::move(w));
+      if (route + 1 < kRoutes) {
+        auto next = impl_->search(from, to, request.goal.head<2>(), floor, used);
+        chain = next && *next != *chain ? std::move(next) : std::nullopt;
+      }
+    }
   }
 
-  // The exact check has the last word: the shortcut path, else the roadmap path itself.
-  for (const auto& candidate : {impl_->shortcut(waypoints, r), waypoints}) {
+  // The exact check has the last word: the shortest shortened route that passes it, else the
+  // first roadmap route itself.
+  const auto lengthOf = [](const std::vector<Eigen::Vector3d>& w) {
+    double length = 0;
+    for (std::size_t k = 1; k < w.size(); ++k) length += (w[k] - w[k - 1]).norm();
+    return length;
+  };
+  std::vector<std::vector<Eigen::Vector3d>> candidates;
+  for (const auto& w : routes) candidates.push_back(impl_->shortcut(w, r));
+  std::sort(candidates.begin(), candidates.end(),
+            [&](const auto& a, const auto& b) { return lengthOf(a) < lengthOf(b); });
+  candidates.push_back(routes.front());
+  for (const auto& candidate : candidates) {
     const collision::PathCheck check = impl_->checker.checkPath(candidate, r);
     if (check.first_colliding_segment) continue;
     result.path = candidate;
-    for (std::size_t k = 1; k < candidate.size(); ++k) result.length += (candidate[k] - candidate[k - 1]).norm();
+    result.length = lengthOf(candidate);
     return result;
   }
   result.blocked = "the roadmap path fails the exact hull check (roadmap built for another band or obstacles?)";

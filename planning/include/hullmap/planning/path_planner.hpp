@@ -31,10 +31,11 @@ struct PlanResult {
 
 /// Plans on a roadmap: connects start and goal to the nearest roadmap points they see with
 /// clearance `radius` (straight segments, exact hull check), A* over length on the roadmap edges
-/// whose clearance is at least radius + the roadmap's tolerance, then shortcuts (string pulling,
+/// whose clearance is at least radius + the roadmap's tolerance (and two alternative routes with
+/// the vertices already used made dearer), then shortcuts each (string pulling,
 /// then corner sliding toward each neighbours' chord) while the exact check keeps the capsule of
-/// `radius` clear, and verifies the whole path with the
-/// hull checker before returning it. The roadmap must have been built from the same obstacles in
+/// `radius` clear, keeps the shortest, and verifies the whole path with the hull checker before
+/// returning it. The roadmap must have been built from the same obstacles in
 /// a band covering the flight height ± radius (planPath does that). Thread-safe for concurrent
 /// plan() calls after construction.
 class PathPlanner {
