@@ -228,6 +228,54 @@ class EchoDumpAsMarkers(unittest.TestCase):
             node.stop()
 
 
+    def test_keyframes_give_the_tree_of_hullmap_build_with_their_trajectory(self):
+        keyframes = [(1403636580.25, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)),
+                     (1403636580.5, (1.5, -0.5, 0.5), (0.0, 0.0, 0.38268343236508984, 0.9238795325112867))]
+        tum = os.path.join(TMP, "node_keyframes.txt")
+        path = Path()
+        path.header.frame_id = "world"
+        with open(tum, "w") as f:
+            for stamp, p, q in keyframes:
+                pose = PoseStamped()
+                pose.header.stamp = rospy.Time.from_sec(stamp)
+                pose.pose.position.x, pose.pose.position.y, pose.pose.position.z = p
+                o = pose.pose.orientation
+                o.x, o.y, o.z, o.w = q
+                path.poses.append(pose)
+                f.write("%r %r %r %r %r %r %r %r\n" % ((pose.header.stamp.to_sec(),) + p + q))
+        args = ["--resolution", "0.05", "--eps", "0.15", "--min-pts", "2", "--trajectory", tum]
+        cli_out = os.path.join(TMP, "echo_trajectory_build")
+        expected = expected_triangles(hullmap_build([ECHO_DUMP], cli_out, args))
+        saved = os.path.join(TMP, "echo_trajectory_saved")
+        node = Node({"resolution": 0.05, "eps": 0.15, "min_pts": 2, "output_dir": saved})
+        try:
+            keyframe_pub = node.publisher("/%s/keyframes" % node.name, Path)
+            keyframe_pub.publish(path)
+            pub = node.publisher("/ORB_SLAM/Map", Marker)
+            with open(ECHO_DUMP) as f:
+                docs = [d for d in yaml.safe_load_all(f) if d]
+            sent = 0
+            # The keyframes and the map come on two topics, in no guaranteed order: the map is re-sent
+            # (as SLAM re-sends it) until a rebuild used the keyframes.
+            deadline = time.time() + TIMEOUT
+            while True:
+                for doc in docs:
+                    msg = Marker()
+                    genpy.message.fill_message_args(msg, [doc])
+                    pub.publish(msg)
+                    sent += doc["ns"] == "MapPoints"
+                if node.wait_idle(sent)["keyframes"] == 2 or time.time() > deadline:
+                    break
+            self.assertEqual(node.stats["keyframes"], 2)
+            wait_for("~obstacles equal to hullmap build's", lambda: same_triangles(node.hull_triangles(), expected))
+            answer = rospy.ServiceProxy("/%s/save" % node.name, Trigger)()
+            self.assertTrue(answer.success, answer.message)
+            with open(os.path.join(saved, "map.bt"), "rb") as a, open(os.path.join(cli_out, "map.bt"), "rb") as b:
+                self.assertEqual(a.read(), b.read())  # the same free space was cast from the keyframes
+        finally:
+            node.stop()
+
+
 class CloudInput(unittest.TestCase):
     """~cloud_in: equality with hullmap build, ~save then hullmap check, malformed messages, a burst."""
 
@@ -237,7 +285,9 @@ class CloudInput(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.output_dir = os.path.join(TMP, "saved")
-        cls.node = Node(dict(cls.params, output_dir=cls.output_dir))
+        # min_interval 0.1 s: at most about 10 rebuilds start during the 1 s burst below, so most of its
+        # maps must be folded (the counts are printed, not asserted: they depend on the machine).
+        cls.node = Node(dict(cls.params, output_dir=cls.output_dir, min_interval=0.1))
         cls.pub = cls.node.publisher("/%s/cloud_in" % cls.node.name, PointCloud2)
         cls.sent = 0
 
@@ -316,12 +366,16 @@ class CloudInput(unittest.TestCase):
         wait_for("the next good cloud's obstacles", lambda: same_triangles(self.node.hull_triangles(), expected))
 
     def test_a_burst_of_50_maps_ends_on_the_last_and_never_queues_more_than_one(self):
-        maps = [boxes([(0.5 * i, 0, 1), (0.5 * i, 2, 1)] if i % 2 == 0 else [(0.5 * i, 0, 1)]) for i in range(50)]
+        # Up to 18,522 points a map: rebuilds take about as long as the 20 ms between messages, so maps
+        # arrive while one runs (how many fold depends on the machine; none may be lost or queued).
+        maps = [boxes([(0.5 * i, 0, 1), (0.5 * i, 2, 1)] if i % 2 == 0 else [(0.5 * i, 0, 1)], spacing=0.02, half=0.2)
+                for i in range(50)]
         expected = self.build_of(maps[-1], "burst_last")
         before = dict(self.node.stats)
+        messages = [cloud(points) for points in maps]  # made before, so the burst is only publish()
         start = time.time()
-        for i, points in enumerate(maps):
-            self.send(cloud(points))
+        for i, msg in enumerate(messages):
+            self.send(msg)
             time.sleep(max(0.0, start + 0.02 * (i + 1) - time.time()))
         stats = self.node.wait_idle(self.sent)
         wait_for("the last map's obstacles", lambda: same_triangles(self.node.hull_triangles(), expected))

@@ -42,6 +42,7 @@ struct PendingMap {
   mapper::Points points;
   ::ros::Time stamp;
   Clock::time_point received;
+  std::shared_ptr<const std::vector<mapper::Keyframe>> keyframes;  ///< null: points-only octree
 };
 
 /// A finished rebuild, shared between the worker (writes) and the services (read).
@@ -64,6 +65,7 @@ class HullmapNode {
     marker_sub_ = nh.subscribe("/ORB_SLAM/Map", 20, &HullmapNode::onMarker, this);
     cloud_sub_ = pnh.subscribe("cloud_in", 2, &HullmapNode::onCloud, this);
     path_sub_ = pnh.subscribe("check_path", 10, &HullmapNode::onPath, this);
+    keyframes_sub_ = pnh.subscribe("keyframes", 2, &HullmapNode::onKeyframes, this);
     save_srv_ = pnh.advertiseService("save", &HullmapNode::onSave, this);
     reset_srv_ = pnh.advertiseService("reset", &HullmapNode::onReset, this);
     publishStats();
@@ -87,7 +89,27 @@ class HullmapNode {
       skip(std::string("/ORB_SLAM/Map: ") + e.what());
       return;
     }
-    submit({orbslam_.points(), msg->header.stamp, Clock::now()});
+    submit({orbslam_.points(), msg->header.stamp, Clock::now(), keyframes_});
+  }
+
+  /// The whole keyframe trajectory (the last Path replaces the previous one); used from the next map on.
+  void onKeyframes(const nav_msgs::Path::ConstPtr& msg) {
+    auto keyframes = std::make_shared<std::vector<mapper::Keyframe>>();
+    for (const auto& p : msg->poses) {
+      mapper::Keyframe k;
+      k.stamp = p.header.stamp.toSec();
+      k.position = {p.pose.position.x, p.pose.position.y, p.pose.position.z};
+      const auto& o = p.pose.orientation;
+      k.orientation = Eigen::Quaterniond(o.w, o.x, o.y, o.z);
+      if (!k.position.allFinite() || !k.orientation.coeffs().allFinite() || k.orientation.norm() < 1e-9) {
+        skip("~keyframes: a pose is not finite or its quaternion is zero");
+        return;
+      }
+      k.orientation.normalize();
+      keyframes->push_back(k);
+    }
+    if (keyframes->empty()) keyframes.reset();
+    keyframes_ = std::move(keyframes);
   }
 
   void onCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
@@ -96,7 +118,7 @@ class HullmapNode {
       std::size_t non_finite = 0;
       mapper::Points points = cloudPoints(*msg, &non_finite);
       if (non_finite > 0) ROS_DEBUG("~cloud_in: %zu points with a non-finite coordinate skipped", non_finite);
-      submit({std::move(points), msg->header.stamp, received});
+      submit({std::move(points), msg->header.stamp, received, keyframes_});
     } catch (const Error& e) {
       skip(std::string("~cloud_in: ") + e.what());
     }
@@ -155,7 +177,10 @@ class HullmapNode {
     const std::size_t points = map.points.size();
     if (!map.points.empty()) {
       try {
-        pipeline::BuildResult result = pipeline::buildFromPoints(std::move(map.points), build_params_, "map");
+        pipeline::BuildResult result =
+            map.keyframes ? pipeline::buildFromPoints(std::move(map.points), *map.keyframes, build_params_, "map",
+                                                      "~keyframes")
+                          : pipeline::buildFromPoints(std::move(map.points), build_params_, "map");
         collision::HullChecker checker(result.obstacles);
         snapshot = std::make_shared<Snapshot>(Snapshot{std::move(result), std::move(checker)});
       } catch (const std::exception& e) {
@@ -230,6 +255,7 @@ class HullmapNode {
            {"pending", pending_ ? 1 : 0},
            {"busy", busy_},
            {"points", last_points_},
+           {"keyframes", latest_ ? latest_->result.report.keyframes : 0},
            {"voxels", latest_ ? latest_->result.voxels.size() : 0},
            {"obstacles", latest_ ? latest_->result.obstacles.size() : 0},
            {"rebuild_ms", last_rebuild_ms_},
@@ -299,6 +325,7 @@ class HullmapNode {
 
   bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
     orbslam_.clear();
+    keyframes_.reset();
     std::uint64_t generation = 0;
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -315,9 +342,10 @@ class HullmapNode {
   const pipeline::BuildParams build_params_;
   const NodeParams params_;
   OrbSlamMapMarkers orbslam_;  // callback thread only
+  std::shared_ptr<const std::vector<mapper::Keyframe>> keyframes_;  // callback thread only
 
   ::ros::Publisher obstacles_pub_, cells_pub_, grid_pub_, stats_pub_, path_check_pub_, path_markers_pub_;
-  ::ros::Subscriber marker_sub_, cloud_sub_, path_sub_;
+  ::ros::Subscriber marker_sub_, cloud_sub_, path_sub_, keyframes_sub_;
   ::ros::ServiceServer save_srv_, reset_srv_;
 
   std::mutex mutex_;  // guards what follows
