@@ -14,9 +14,6 @@
 #include <utility>
 
 #include <Eigen/Eigenvalues>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/convex_hull_3.h>
 #include <tbb/parallel_for.h>
 
 #include "hullmap/core/error.hpp"
@@ -25,9 +22,6 @@
 namespace hullmap::clustering {
 namespace {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point3 = Kernel::Point_3;
-using Mesh = CGAL::Surface_mesh<Point3>;
 using Cell = std::array<std::int64_t, 3>;
 using Members = std::vector<std::uint32_t>;  ///< sorted indices into the cluster's cells
 
@@ -50,39 +44,102 @@ Cell cross(const Cell& a, const Cell& b) {
 }
 std::int64_t dot(const Cell& a, const Cell& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-/// Hull of the cells' corners, exact on the lattice: its facet planes and volume do not depend on
-/// how CGAL triangulates it, so everything decided from them is deterministic.
-LatticeHull latticeHull(const std::vector<Cell>& cells) {
-  std::vector<Point3> points;
-  for (const auto& c : detail::candidateCorners(cells)) points.emplace_back(double(c[0]), double(c[1]), double(c[2]));
-  Mesh mesh;
-  CGAL::convex_hull_3(points.begin(), points.end(), mesh);
-  LatticeHull hull;
-  std::set<Plane> planes;
-  bool first = true;
-  Cell ref{0, 0, 0};
-  const auto lattice = [&](Mesh::Vertex_index v) {
-    const Point3& p = mesh.point(v);
-    return Cell{std::int64_t(p.x()), std::int64_t(p.y()), std::int64_t(p.z())};
+/// Hull of integer points (at least four of them not coplanar) as triangles (indices into `points`)
+/// oriented outwards, exact: incremental construction whose orientation tests are exact integer
+/// determinants (128-bit), so lattice degeneracies (many coplanar points) cost nothing extra. A
+/// point on a face's plane does not see that face, so coplanar triangles may remain, and no
+/// triangle is degenerate. O(n * faces); the inputs here are the few candidate corners of a part.
+/// `Wide` holds the orientation determinants: 128 bits in general, 64 when the points span less
+/// than 2^18 cells on every axis (|n . (p - a)| < 6 * 2^54).
+template <class Wide>
+std::vector<std::array<std::uint32_t, 3>> integerHull(const std::vector<Cell>& points) {
+  struct Face {
+    std::array<std::uint32_t, 3> v;
+    Cell n;  // outward normal, (b - a) x (c - a)
   };
-  for (const auto f : mesh.faces()) {
-    std::vector<Cell> ring;
-    for (const auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) ring.push_back(lattice(v));
-    if (first) {
-      ref = ring[0];
-      first = false;
-    }
-    for (std::size_t k = 1; k + 1 < ring.size(); ++k) {
-      const Cell a = sub(ring[0], ref), b = sub(ring[k], ref), c = sub(ring[k + 1], ref);
-      hull.volume6 += dot(a, cross(b, c));
-      Cell n = cross(sub(ring[k], ring[0]), sub(ring[k + 1], ring[0]));
-      const std::int64_t g = std::gcd(std::gcd(std::abs(n[0]), std::abs(n[1])), std::abs(n[2]));
-      if (g == 0) continue;
-      for (auto& x : n) x /= g;
-      planes.insert({n, dot(n, ring[0])});
-    }
+  const auto side = [&](const Face& f, const Cell& p) {  // > 0: p strictly outside the face's plane
+    const Cell& a = points[f.v[0]];
+    return Wide(f.n[0]) * (p[0] - a[0]) + Wide(f.n[1]) * (p[1] - a[1]) + Wide(f.n[2]) * (p[2] - a[2]);
+  };
+  std::vector<Face> faces;
+  const auto makeFace = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    return Face{{a, b, c}, cross(sub(points[b], points[a]), sub(points[c], points[a]))};
+  };
+  // A first tetrahedron.
+  const std::size_t n = points.size();
+  std::size_t i1 = 1, i2 = 0, i3 = 0;
+  while (i1 < n && points[i1] == points[0]) ++i1;
+  for (i2 = i1 + 1; i2 < n; ++i2)
+    if (cross(sub(points[i1], points[0]), sub(points[i2], points[0])) != Cell{0, 0, 0}) break;
+  for (i3 = i2 + 1; i3 < n; ++i3) {
+    const Face f = makeFace(0, std::uint32_t(i1), std::uint32_t(i2));
+    if (side(f, points[i3]) != 0) break;
   }
-  hull.planes.assign(planes.begin(), planes.end());
+  if (i3 >= n) throw Error("convex parts: internal error: the corners of a part are coplanar");
+  const std::array<std::uint32_t, 4> t{0, std::uint32_t(i1), std::uint32_t(i2), std::uint32_t(i3)};
+  for (const auto& [a, b, c, opposite] : {std::array<int, 4>{0, 1, 2, 3}, {0, 1, 3, 2}, {0, 2, 3, 1}, {1, 2, 3, 0}}) {
+    Face f = makeFace(t[std::size_t(a)], t[std::size_t(b)], t[std::size_t(c)]);
+    if (side(f, points[t[std::size_t(opposite)]]) > 0) f = makeFace(t[std::size_t(a)], t[std::size_t(c)], t[std::size_t(b)]);
+    faces.push_back(f);
+  }
+  // Each point sees the faces it is strictly outside of; the edges of those faces whose reverse
+  // edge is on no seen face form the horizon, which the point is joined to.
+  std::vector<Face> kept;
+  std::vector<char> sees;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> seen_edges, horizon;
+  for (std::size_t i = 1; i < n; ++i) {
+    if (i == i1 || i == i2 || i == i3) continue;
+    seen_edges.clear();
+    sees.resize(faces.size());
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      sees[f] = side(faces[f], points[i]) > 0;
+      if (sees[f])
+        for (int e = 0; e < 3; ++e) seen_edges.emplace_back(faces[f].v[std::size_t(e)], faces[f].v[std::size_t((e + 1) % 3)]);
+    }
+    if (seen_edges.empty()) continue;
+    horizon.clear();
+    for (const auto& [u, v] : seen_edges)
+      if (std::find(seen_edges.begin(), seen_edges.end(), std::make_pair(v, u)) == seen_edges.end())
+        horizon.emplace_back(u, v);
+    kept.clear();
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      if (!sees[f]) kept.push_back(faces[f]);
+    for (const auto& [u, v] : horizon) kept.push_back(makeFace(u, v, std::uint32_t(i)));
+    faces.swap(kept);
+  }
+  std::vector<std::array<std::uint32_t, 3>> out;
+  for (const auto& f : faces) out.push_back(f.v);
+  return out;
+}
+
+/// Hull of the cells' corners, exact on the lattice: its facet planes and volume do not depend on
+/// how it is triangulated, so everything decided from them is deterministic.
+LatticeHull latticeHull(const std::vector<Cell>& cells) {
+  const std::vector<Cell> corners = detail::candidateCorners(cells);
+  LatticeHull hull;
+  const Cell& ref = corners[0];
+  Cell lo = corners[0], hi = corners[0];
+  for (const auto& c : corners)
+    for (std::size_t a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], c[a]);
+      hi[a] = std::max(hi[a], c[a]);
+    }
+  const bool narrow = hi[0] - lo[0] < (1 << 18) && hi[1] - lo[1] < (1 << 18) && hi[2] - lo[2] < (1 << 18);
+  for (const auto& t : narrow ? integerHull<std::int64_t>(corners) : integerHull<__int128>(corners)) {
+    const Cell& p = corners[t[0]];
+    const Cell& q = corners[t[1]];
+    const Cell& r = corners[t[2]];
+    hull.volume6 += dot(sub(p, ref), cross(sub(q, ref), sub(r, ref)));
+    Cell n = cross(sub(q, p), sub(r, p));
+    const std::int64_t g = std::gcd(std::gcd(std::abs(n[0]), std::abs(n[1])), std::abs(n[2]));
+    for (auto& x : n) x /= g;
+    hull.planes.push_back({n, dot(n, p)});
+  }
+  std::sort(hull.planes.begin(), hull.planes.end());
+  hull.planes.erase(std::unique(hull.planes.begin(), hull.planes.end(), [](const Plane& a, const Plane& b) {
+                      return !(a < b) && !(b < a);
+                    }),
+                    hull.planes.end());
   return hull;
 }
 
@@ -95,9 +152,10 @@ bool inside(const LatticeHull& hull, const Eigen::Vector3d& x) {
 /// Squared Euclidean distance transform along one line (Felzenszwalb and Huttenlocher 2012).
 void distanceTransform1d(std::vector<double>& f, std::vector<double>& out, std::vector<int>& v, std::vector<double>& z) {
   const int n = int(f.size());
-  v.assign(std::size_t(n), 0);
-  z.assign(std::size_t(n) + 1, 0.0);
+  v.resize(std::size_t(n));
+  z.resize(std::size_t(n) + 1);
   int k = 0;
+  v[0] = 0;
   z[0] = -std::numeric_limits<double>::infinity();
   z[1] = std::numeric_limits<double>::infinity();
   const auto meet = [&](int q, int r) {
@@ -111,7 +169,7 @@ void distanceTransform1d(std::vector<double>& f, std::vector<double>& out, std::
     z[std::size_t(k)] = s;
     z[std::size_t(k) + 1] = std::numeric_limits<double>::infinity();
   }
-  out.assign(std::size_t(n), 0.0);
+  out.resize(std::size_t(n));
   k = 0;
   for (int q = 0; q < n; ++q) {
     while (z[std::size_t(k) + 1] < q) ++k;
@@ -139,7 +197,12 @@ class ClusterSplitter {
         t2_(t_cells * t_cells * (1.0 + 1e-12)),
         reach_(std::int64_t(std::floor(t_cells))),
         max_check_cells_(max_check_cells),
-        keyframes_(std::move(keyframes)) {}
+        keyframes_(std::move(keyframes)) {
+    for (std::int64_t i = -reach_; i <= reach_; ++i)
+      for (std::int64_t j = -reach_; j <= reach_; ++j)
+        for (std::int64_t k = -reach_; k <= reach_; ++k)
+          if (double(i * i + j * j + k * k) <= t2_) ball_.push_back({{i, j, k}, float(i * i + j * j + k * k)});
+  }
 
   /// Final parts with their checks.
   std::vector<std::pair<Members, Check>> run() {
@@ -180,10 +243,12 @@ class ClusterSplitter {
       }
   }
 
-  Check checkPart(const Members& part) const {
+  /// `need_split_point`: when false (the merge), a failed check only reports that it failed
+  /// (worst_d2 and split_point unset). `hull`: the part's lattice hull when already known.
+  Check checkPart(const Members& part, bool need_split_point = true, const LatticeHull* hull = nullptr) const {
     Check check;
     const std::vector<Cell> cells = gather(part);
-    check.hull = latticeHull(cells);
+    check.hull = hull ? *hull : latticeHull(cells);
     if (part.size() == 1) return check;
     Cell lo, hi;
     box(part, lo, hi);
@@ -195,29 +260,50 @@ class ClusterSplitter {
     }
     // Squared distance (cells^2) from each cell centre of the box to the nearest occupied centre.
     constexpr double kFar = 1e20;
-    std::vector<float> d2(std::size_t(nx * ny * nz), float(kFar));
+    const std::size_t box_cells = std::size_t(nx * ny * nz);
+    std::vector<float> d2(box_cells, float(kFar));
     const auto at = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
       return std::size_t(((k - lo[2]) * ny + (j - lo[1])) * nx + (i - lo[0]));
     };
     for (const auto& c : cells) d2[at(c[0], c[1], c[2])] = 0.0f;
-    std::vector<double> f, out, z;
-    std::vector<int> v;
     const std::array<std::int64_t, 3> dims{nx, ny, nz};
     const std::array<std::int64_t, 3> stride{1, nx, nx * ny};
-    for (int axis = 0; axis < 3; ++axis) {
-      const std::int64_t n = dims[std::size_t(axis)], s = stride[std::size_t(axis)];
-      f.resize(std::size_t(n));
-      for (std::int64_t base = 0; base < nx * ny * nz; ++base) {
-        if ((base / s) % n != 0) continue;  // only the first cell of each line along `axis`
-        for (std::int64_t q = 0; q < n; ++q) f[std::size_t(q)] = d2[std::size_t(base + q * s)];
-        distanceTransform1d(f, out, v, z);
-        for (std::int64_t q = 0; q < n; ++q) d2[std::size_t(base + q * s)] = float(std::min(out[std::size_t(q)], kFar));
+    // The exact transform over the whole box (Felzenszwalb-Huttenlocher, one pass per axis).
+    const auto transform = [&] {
+      std::vector<double> f, out, z;
+      std::vector<int> v;
+      for (int axis = 0; axis < 3; ++axis) {
+        const std::size_t a = std::size_t(axis), b = std::size_t((axis + 1) % 3), c = std::size_t((axis + 2) % 3);
+        const std::int64_t n = dims[a], s = stride[a];
+        f.resize(std::size_t(n));
+        // Every line along `axis`: its first cell runs over the other two axes.
+        for (std::int64_t ib = 0; ib < dims[b]; ++ib)
+          for (std::int64_t ic = 0; ic < dims[c]; ++ic) {
+            const std::int64_t base = ib * stride[b] + ic * stride[c];
+            for (std::int64_t q = 0; q < n; ++q) f[std::size_t(q)] = d2[std::size_t(base + q * s)];
+            distanceTransform1d(f, out, v, z);
+            for (std::int64_t q = 0; q < n; ++q) d2[std::size_t(base + q * s)] = float(std::min(out[std::size_t(q)], kFar));
+          }
       }
+    };
+    // Distances up to T are all a passing check needs (and a failing one when no split point is
+    // wanted): on a sparse part, the ball of radius T around each of its cells costs less than the
+    // transform. Values within T are the same exact integers; beyond T they stay kFar.
+    const bool bounded = part.size() * ball_.size() < 8 * box_cells;
+    if (bounded) {
+      for (const auto& c : cells)
+        for (const auto& [o, o2] : ball_) {
+          const std::int64_t i = c[0] + o[0], j = c[1] + o[1], k = c[2] + o[2];
+          if (i < lo[0] || i > hi[0] || j < lo[1] || j > hi[1] || k < lo[2] || k > hi[2]) continue;
+          float& d = d2[at(i, j, k)];
+          d = std::min(d, o2);
+        }
+    } else {
+      transform();
     }
     // Cells whose cube meets the hull: per column, the k range allowed by every facet plane, with
     // the cube's lowest value of n . x (exact integers).
-    std::int64_t worst = -1;
-    Cell worst_cell{0, 0, 0};
+    std::vector<std::pair<std::int64_t, std::int64_t>> columns(std::size_t(nx * ny));
     for (std::int64_t j = lo[1]; j <= hi[1]; ++j) {
       for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
         std::int64_t k0 = lo[2], k1 = hi[2];
@@ -233,14 +319,35 @@ class ClusterSplitter {
           }
           if (k1 < k0) break;
         }
-        for (std::int64_t k = k0; k <= k1; ++k) {
-          const auto d = std::int64_t(d2[at(i, j, k)]);
-          if (d > worst) {
-            worst = d;
-            worst_cell = {i, j, k};
+        columns[std::size_t((j - lo[1]) * nx + (i - lo[0]))] = {k0, k1};
+      }
+    }
+    constexpr std::int64_t kBeyond = std::numeric_limits<std::int64_t>::max();
+    std::int64_t worst = -1;
+    Cell worst_cell{0, 0, 0};
+    const auto scan = [&] {
+      worst = -1;
+      for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+        for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
+          const auto [k0, k1] = columns[std::size_t((j - lo[1]) * nx + (i - lo[0]))];
+          for (std::int64_t k = k0; k <= k1; ++k) {
+            const float x = d2[at(i, j, k)];
+            const std::int64_t d = x >= float(kFar) ? kBeyond : std::int64_t(x);
+            if (d > worst) {
+              worst = d;
+              worst_cell = {i, j, k};
+            }
           }
         }
-      }
+    };
+    scan();
+    if (worst == kBeyond) {
+      check.ok = false;
+      if (!need_split_point) return check;
+      std::fill(d2.begin(), d2.end(), float(kFar));
+      for (const auto& c : cells) d2[at(c[0], c[1], c[2])] = 0.0f;
+      transform();
+      scan();
     }
     check.worst_d2 = std::max<std::int64_t>(worst, 0);
     if (double(check.worst_d2) > t2_) {
@@ -402,6 +509,7 @@ class ClusterSplitter {
     std::sort(nodes.begin(), nodes.end(), [](const Node& a, const Node& b) { return a.members[0] < b.members[0]; });
     using Candidate = std::tuple<std::int64_t, std::size_t, std::size_t>;  // added volume, a, b
     std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue;
+    std::map<std::pair<std::size_t, std::size_t>, LatticeHull> union_hulls;  ///< of the queued pairs
     const auto near = [&](const Node& a, const Node& b) {
       for (std::size_t k = 0; k < 3; ++k)
         if (a.lo[k] - b.hi[k] - 1 > reach_ || b.lo[k] - a.hi[k] - 1 > reach_) return false;
@@ -418,14 +526,17 @@ class ClusterSplitter {
       std::vector<std::pair<std::size_t, std::size_t>> pairs;
       for (const auto& [a, b] : candidates)
         if (near(nodes[a], nodes[b])) pairs.emplace_back(a, b);
-      std::vector<std::int64_t> added(pairs.size());
+      std::vector<LatticeHull> hulls(pairs.size());
       tbb::parallel_for(std::size_t(0), pairs.size(), [&](std::size_t k) {
         const auto [a, b] = pairs[k];
-        added[k] = latticeHull(gather(unite(nodes[a].members, nodes[b].members))).volume6 -
-                   nodes[a].check.hull.volume6 - nodes[b].check.hull.volume6;
+        hulls[k] = latticeHull(gather(unite(nodes[a].members, nodes[b].members)));
       });
-      for (std::size_t k = 0; k < pairs.size(); ++k)
-        queue.emplace(added[k], std::min(pairs[k].first, pairs[k].second), std::max(pairs[k].first, pairs[k].second));
+      for (std::size_t k = 0; k < pairs.size(); ++k) {
+        const auto [a, b] = pairs[k];
+        const std::int64_t added = hulls[k].volume6 - nodes[a].check.hull.volume6 - nodes[b].check.hull.volume6;
+        queue.emplace(added, std::min(a, b), std::max(a, b));
+        union_hulls[{std::min(a, b), std::max(a, b)}] = std::move(hulls[k]);
+      }
     };
     std::vector<std::pair<std::size_t, std::size_t>> all_pairs;
     for (std::size_t a = 0; a < nodes.size(); ++a)
@@ -434,9 +545,12 @@ class ClusterSplitter {
     while (!queue.empty()) {
       const auto [added, a, b] = queue.top();
       queue.pop();
+      const auto hull = union_hulls.find({a, b});
+      const LatticeHull union_hull = std::move(hull->second);
+      union_hulls.erase(hull);
       if (!nodes[a].alive || !nodes[b].alive) continue;
       Members both = unite(nodes[a].members, nodes[b].members);
-      Check check = checkPart(both);
+      Check check = checkPart(both, false, &union_hull);
       if (!check.ok) continue;
       nodes[a].alive = nodes[b].alive = false;
       Node node{std::move(both), std::move(check), {}, {}, true};
@@ -458,6 +572,7 @@ class ClusterSplitter {
   std::vector<Cell> cells_;
   double t2_;
   std::int64_t reach_;
+  std::vector<std::pair<Cell, float>> ball_;  ///< offsets within T (squared length, cells^2)
   std::size_t max_check_cells_;
   std::vector<Eigen::Vector3d> keyframes_;  ///< lattice coordinates
 };

@@ -7,7 +7,6 @@
 #include <numeric>
 #include <set>
 #include <tuple>
-#include <unordered_map>
 #include <utility>
 
 #include <Eigen/Geometry>
@@ -27,55 +26,78 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point3 = Kernel::Point_3;
 using Mesh = CGAL::Surface_mesh<Point3>;
 
-/// Integer corner of the voxel lattice: corner (i, j, k) is at origin + (i, j, k) * voxel_size.
-struct CornerKey {
-  std::int64_t a;
-  std::int64_t b;
-  bool operator==(const CornerKey& o) const { return a == o.a && b == o.b; }
-};
-struct CornerKeyHash {
-  std::size_t operator()(const CornerKey& k) const {
-    return std::hash<std::int64_t>()(k.a * 73856093LL) ^ std::hash<std::int64_t>()(k.b * 19349663LL);
-  }
-};
 using Range = std::pair<std::int64_t, std::int64_t>;
-using ColumnExtremes = std::unordered_map<CornerKey, Range, CornerKeyHash>;
-
-void widen(ColumnExtremes& columns, CornerKey key, std::int64_t lo, std::int64_t hi) {
-  auto [it, inserted] = columns.try_emplace(key, lo, hi);
-  if (!inserted) {
-    it->second.first = std::min(it->second.first, lo);
-    it->second.second = std::max(it->second.second, hi);
-  }
-}
 
 }  // namespace
 
 namespace detail {
-/// Corners that can be vertices of the hull of all voxel corners: a corner strictly between two
-/// others on an axis-parallel line is not extreme, so only each line's two ends are kept, for the
-/// lines along x, y and z. Exact (integer lattice), never drops a hull vertex.
-std::vector<std::array<std::int64_t, 3>> candidateCorners(const std::vector<std::array<std::int64_t, 3>>& cells) {
-  ColumnExtremes along_x, along_y, along_z;
-  for (const auto& c : cells) {
-    for (int dy = 0; dy < 2; ++dy)
-      for (int dz = 0; dz < 2; ++dz) widen(along_x, {c[1] + dy, c[2] + dz}, c[0], c[0] + 1);
-    for (int dx = 0; dx < 2; ++dx)
-      for (int dz = 0; dz < 2; ++dz) widen(along_y, {c[0] + dx, c[2] + dz}, c[1], c[1] + 1);
-    for (int dx = 0; dx < 2; ++dx)
-      for (int dy = 0; dy < 2; ++dy) widen(along_z, {c[0] + dx, c[1] + dy}, c[2], c[2] + 1);
-  }
-  auto isEnd = [](const ColumnExtremes& columns, CornerKey key, std::int64_t v) {
-    const auto it = columns.find(key);
-    return it != columns.end() && (it->second.first == v || it->second.second == v);
+namespace {
+
+using Corner = std::array<std::int64_t, 3>;
+
+/// Keeps, in each plane of constant coordinate `axis`, only the vertices of the 2D convex hull of
+/// the points lying in that plane (Andrew's monotone chain, exact in integers; collinear points
+/// dropped). A point that is no vertex of its plane's hull is a convex combination of other points
+/// of the set, so it is no vertex of the 3D hull either: the 3D hull is unchanged.
+void keepPlaneHullVertices(std::vector<Corner>& points, int axis) {
+  const std::size_t a = std::size_t(axis), u = std::size_t((axis + 1) % 3), v = std::size_t((axis + 2) % 3);
+  std::sort(points.begin(), points.end(), [&](const Corner& p, const Corner& q) {
+    return std::tie(p[a], p[u], p[v]) < std::tie(q[a], q[u], q[v]);
+  });
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  // Turn of p -> q -> r in the (u, v) plane: > 0 counter-clockwise.
+  const auto turn = [&](const Corner& p, const Corner& q, const Corner& r) {
+    return (q[u] - p[u]) * (r[v] - p[v]) - (q[v] - p[v]) * (r[u] - p[u]);
   };
-  std::vector<std::array<std::int64_t, 3>> out;
-  for (const auto& [key, range] : along_z) {
-    for (const std::int64_t z : {range.first, range.second}) {
-      const std::int64_t x = key.a, y = key.b;
-      if (isEnd(along_x, {y, z}, x) && isEnd(along_y, {x, z}, y)) out.push_back({x, y, z});
+  std::vector<Corner> out, chain;
+  for (std::size_t begin = 0; begin < points.size();) {
+    std::size_t end = begin + 1;
+    while (end < points.size() && points[end][a] == points[begin][a]) ++end;
+    if (end - begin <= 2) {
+      out.insert(out.end(), points.begin() + std::ptrdiff_t(begin), points.begin() + std::ptrdiff_t(end));
+    } else {
+      chain.clear();
+      for (std::size_t k = begin; k < end; ++k) {  // lower chain
+        while (chain.size() >= 2 && turn(chain[chain.size() - 2], chain.back(), points[k]) <= 0) chain.pop_back();
+        chain.push_back(points[k]);
+      }
+      const std::size_t lower = chain.size();
+      for (std::size_t k = end - 1; k-- > begin;) {  // upper chain
+        while (chain.size() > lower && turn(chain[chain.size() - 2], chain.back(), points[k]) <= 0) chain.pop_back();
+        chain.push_back(points[k]);
+      }
+      chain.pop_back();  // the first point again
+      out.insert(out.end(), chain.begin(), chain.end());
     }
+    begin = end;
   }
+  points.swap(out);
+}
+
+}  // namespace
+
+/// Corners that can be vertices of the hull of all voxel corners. Of each line of cells along x only
+/// the first cell's lower corners and the last cell's upper ones can be extreme (the others lie
+/// between them); of those, only the vertices of the 2D hull of each plane z = c, then x = c, then
+/// y = c (keepPlaneHullVertices). Exact (integer lattice), never drops a hull vertex; O(n log n).
+std::vector<std::array<std::int64_t, 3>> candidateCorners(const std::vector<std::array<std::int64_t, 3>>& cells) {
+  std::vector<Corner> sorted = cells;
+  std::sort(sorted.begin(), sorted.end(), [](const Corner& p, const Corner& q) {
+    return std::tie(p[1], p[2], p[0]) < std::tie(q[1], q[2], q[0]);
+  });
+  std::vector<Corner> out;
+  for (std::size_t begin = 0; begin < sorted.size();) {
+    std::size_t end = begin + 1;
+    while (end < sorted.size() && sorted[end][1] == sorted[begin][1] && sorted[end][2] == sorted[begin][2]) ++end;
+    const std::int64_t first = sorted[begin][0], last = sorted[end - 1][0] + 1;
+    for (std::int64_t dy = 0; dy < 2; ++dy)
+      for (std::int64_t dz = 0; dz < 2; ++dz) {
+        out.push_back({first, sorted[begin][1] + dy, sorted[begin][2] + dz});
+        out.push_back({last, sorted[begin][1] + dy, sorted[begin][2] + dz});
+      }
+    begin = end;
+  }
+  for (const int axis : {2, 0, 1}) keepPlaneHullVertices(out, axis);
   return out;
 }
 
