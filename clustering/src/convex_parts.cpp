@@ -202,6 +202,7 @@ class ClusterSplitter {
       for (std::int64_t j = -reach_; j <= reach_; ++j)
         for (std::int64_t k = -reach_; k <= reach_; ++k)
           if (double(i * i + j * j + k * k) <= t2_) ball_.push_back({{i, j, k}, float(i * i + j * j + k * k)});
+    std::stable_sort(ball_.begin(), ball_.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
   }
 
   /// Final parts with their checks.
@@ -521,17 +522,71 @@ class ClusterSplitter {
       std::merge(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
       return out;
     };
+    // Which node owns each cell, on a grid over the cluster's box (none when the box is too big;
+    // then no pair is ruled out early).
+    constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+    Cell grid_lo{0, 0, 0}, grid_hi{0, 0, 0};
+    std::vector<std::uint32_t> owner;
+    {
+      Members all(cells_.size());
+      std::iota(all.begin(), all.end(), 0u);
+      box(all, grid_lo, grid_hi);
+      const double grid_cells = double(grid_hi[0] - grid_lo[0] + 1) * double(grid_hi[1] - grid_lo[1] + 1) *
+                                double(grid_hi[2] - grid_lo[2] + 1);
+      if (grid_cells <= double(max_check_cells_)) owner.assign(std::size_t(grid_cells), kNone);
+    }
+    const auto ownerAt = [&](const Cell& c) -> std::uint32_t {
+      for (std::size_t k = 0; k < 3; ++k)
+        if (c[k] < grid_lo[k] || c[k] > grid_hi[k]) return kNone;
+      return owner[std::size_t(((c[2] - grid_lo[2]) * (grid_hi[1] - grid_lo[1] + 1) + (c[1] - grid_lo[1])) *
+                                   (grid_hi[0] - grid_lo[0] + 1) +
+                               (c[0] - grid_lo[0]))];
+    };
+    const auto own = [&](std::size_t node) {
+      if (owner.empty()) return;
+      for (const auto i : nodes[node].members) {
+        const Cell& c = cells_[i];
+        owner[std::size_t(((c[2] - grid_lo[2]) * (grid_hi[1] - grid_lo[1] + 1) + (c[1] - grid_lo[1])) *
+                              (grid_hi[0] - grid_lo[0] + 1) +
+                          (c[0] - grid_lo[0]))] = std::uint32_t(node);
+      }
+    };
+    for (std::size_t node = 0; node < nodes.size(); ++node) own(node);
+    // A pair whose union surely fails its check: the midpoint of the centres of a cell of each lies
+    // in the union's hull, so the cell holding it is one the check scans; when no cell of the union
+    // is within T of it, the check fails. Such a pair would be popped and rejected, so leaving it
+    // out of the queue changes nothing but the time.
+    const auto surelyFails = [&](std::size_t a, std::size_t b) {
+      if (owner.empty()) return false;
+      const Members& ma = nodes[a].members;
+      const Members& mb = nodes[b].members;
+      for (const std::size_t pa : {std::size_t(0), ma.size() / 2, ma.size() - 1})
+        for (const std::size_t pb : {std::size_t(0), mb.size() / 2, mb.size() - 1}) {
+          const Cell& p = cells_[ma[pa]];
+          const Cell& q = cells_[mb[pb]];
+          const Cell m{floorDiv(p[0] + q[0] + 1, 2), floorDiv(p[1] + q[1] + 1, 2), floorDiv(p[2] + q[2] + 1, 2)};
+          const bool covered = std::any_of(ball_.begin(), ball_.end(), [&](const auto& offset) {
+            const std::uint32_t o = ownerAt({m[0] + offset.first[0], m[1] + offset.first[1], m[2] + offset.first[2]});
+            return o == a || o == b;
+          });
+          if (!covered) return true;
+        }
+      return false;
+    };
     // The added hull volume of each near pair, computed in parallel, queued in pair order.
     const auto consider = [&](const std::vector<std::pair<std::size_t, std::size_t>>& candidates) {
       std::vector<std::pair<std::size_t, std::size_t>> pairs;
       for (const auto& [a, b] : candidates)
         if (near(nodes[a], nodes[b])) pairs.emplace_back(a, b);
+      std::vector<char> fails(pairs.size());
       std::vector<LatticeHull> hulls(pairs.size());
       tbb::parallel_for(std::size_t(0), pairs.size(), [&](std::size_t k) {
         const auto [a, b] = pairs[k];
-        hulls[k] = latticeHull(gather(unite(nodes[a].members, nodes[b].members)));
+        fails[k] = surelyFails(a, b);
+        if (!fails[k]) hulls[k] = latticeHull(gather(unite(nodes[a].members, nodes[b].members)));
       });
       for (std::size_t k = 0; k < pairs.size(); ++k) {
+        if (fails[k]) continue;
         const auto [a, b] = pairs[k];
         const std::int64_t added = hulls[k].volume6 - nodes[a].check.hull.volume6 - nodes[b].check.hull.volume6;
         queue.emplace(added, std::min(a, b), std::max(a, b));
@@ -557,6 +612,7 @@ class ClusterSplitter {
       box(node.members, node.lo, node.hi);
       nodes.push_back(std::move(node));
       const std::size_t added_node = nodes.size() - 1;
+      own(added_node);
       std::vector<std::pair<std::size_t, std::size_t>> with_new;
       for (std::size_t c = 0; c < added_node; ++c)
         if (nodes[c].alive) with_new.emplace_back(c, added_node);
@@ -572,7 +628,7 @@ class ClusterSplitter {
   std::vector<Cell> cells_;
   double t2_;
   std::int64_t reach_;
-  std::vector<std::pair<Cell, float>> ball_;  ///< offsets within T (squared length, cells^2)
+  std::vector<std::pair<Cell, float>> ball_;  ///< offsets within T (squared length, cells^2), nearest first
   std::size_t max_check_cells_;
   std::vector<Eigen::Vector3d> keyframes_;  ///< lattice coordinates
 };

@@ -76,26 +76,89 @@ void keepPlaneHullVertices(std::vector<Corner>& points, int axis) {
 
 }  // namespace
 
-/// Corners that can be vertices of the hull of all voxel corners. Of each line of cells along x only
-/// the first cell's lower corners and the last cell's upper ones can be extreme (the others lie
-/// between them); of those, only the vertices of the 2D hull of each plane z = c, then x = c, then
-/// y = c (keepPlaneHullVertices). Exact (integer lattice), never drops a hull vertex; O(n log n).
+/// Corners that can be vertices of the hull of all voxel corners: each layer of cells z = k is a
+/// union of squares whose 2D hull comes from its rows' first and last cells (a sweep over the cells
+/// sorted by packed (k, j, i) keys); that hull's vertices at z = k and k + 1 are kept, then only
+/// the vertices of the 2D hull of each plane x = c, y = c and z = c (keepPlaneHullVertices). Exact
+/// (integer lattice), never drops a hull vertex; O(n log n).
 std::vector<std::array<std::int64_t, 3>> candidateCorners(const std::vector<std::array<std::int64_t, 3>>& cells) {
-  std::vector<Corner> sorted = cells;
-  std::sort(sorted.begin(), sorted.end(), [](const Corner& p, const Corner& q) {
-    return std::tie(p[1], p[2], p[0]) < std::tie(q[1], q[2], q[0]);
-  });
+  if (cells.empty()) return {};
+  Corner lo = cells[0], hi = cells[0];
+  for (const auto& c : cells)
+    for (std::size_t a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], c[a]);
+      hi[a] = std::max(hi[a], c[a]);
+    }
+  constexpr int kBits = 21;
   std::vector<Corner> out;
-  for (std::size_t begin = 0; begin < sorted.size();) {
-    std::size_t end = begin + 1;
-    while (end < sorted.size() && sorted[end][1] == sorted[begin][1] && sorted[end][2] == sorted[begin][2]) ++end;
-    const std::int64_t first = sorted[begin][0], last = sorted[end - 1][0] + 1;
-    for (std::int64_t dy = 0; dy < 2; ++dy)
-      for (std::int64_t dz = 0; dz < 2; ++dz) {
-        out.push_back({first, sorted[begin][1] + dy, sorted[begin][2] + dz});
-        out.push_back({last, sorted[begin][1] + dy, sorted[begin][2] + dz});
+  if (hi[0] - lo[0] >= (1 << kBits) || hi[1] - lo[1] >= (1 << kBits) || hi[2] - lo[2] >= (1 << kBits)) {
+    // Too wide to pack: every cell's corners.
+    for (const auto& c : cells)
+      for (int m = 0; m < 8; ++m) out.push_back({c[0] + (m & 1), c[1] + ((m >> 1) & 1), c[2] + ((m >> 2) & 1)});
+  } else {
+    std::vector<std::uint64_t> keys;
+    keys.reserve(cells.size());
+    for (const auto& c : cells)
+      keys.push_back(std::uint64_t(c[2] - lo[2]) << (2 * kBits) | std::uint64_t(c[1] - lo[1]) << kBits |
+                     std::uint64_t(c[0] - lo[0]));
+    std::sort(keys.begin(), keys.end());
+    constexpr std::uint64_t kMask = (std::uint64_t(1) << kBits) - 1;
+    // Per layer: for each line y = c, the smallest and largest x of the squares touching it.
+    struct Level {
+      std::int64_t y, x0, x1;
+    };
+    std::vector<Level> levels;
+    std::vector<std::array<std::int64_t, 2>> chain;  // (y, x)
+    const auto turn = [](const std::array<std::int64_t, 2>& p, const std::array<std::int64_t, 2>& q,
+                         const std::array<std::int64_t, 2>& r) {
+      return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+    };
+    for (std::size_t begin = 0; begin < keys.size();) {
+      const std::uint64_t layer = keys[begin] >> (2 * kBits);
+      levels.clear();
+      std::size_t end = begin;
+      while (end < keys.size() && keys[end] >> (2 * kBits) == layer) {
+        const std::uint64_t row = keys[end] >> kBits;
+        const std::int64_t j = std::int64_t(row & kMask), x0 = std::int64_t(keys[end] & kMask);
+        std::size_t row_end = end;
+        while (row_end + 1 < keys.size() && keys[row_end + 1] >> kBits == row) ++row_end;
+        const std::int64_t x1 = std::int64_t(keys[row_end] & kMask) + 1;
+        for (const std::int64_t y : {j, j + 1}) {
+          if (!levels.empty() && levels.back().y == y) {
+            levels.back().x0 = std::min(levels.back().x0, x0);
+            levels.back().x1 = std::max(levels.back().x1, x1);
+          } else {
+            levels.push_back({y, x0, x1});
+          }
+        }
+        end = row_end + 1;
       }
-    begin = end;
+      // The layer's 2D hull (Andrew's monotone chain over points sorted by (y, x)).
+      std::vector<std::array<std::int64_t, 2>> points;
+      for (const auto& l : levels) {
+        points.push_back({l.y, l.x0});
+        points.push_back({l.y, l.x1});
+      }
+      chain.clear();
+      if (points.size() <= 2) {
+        chain = points;
+      } else {
+        for (const auto& q : points) {
+          while (chain.size() >= 2 && turn(chain[chain.size() - 2], chain.back(), q) <= 0) chain.pop_back();
+          chain.push_back(q);
+        }
+        const std::size_t lower = chain.size();
+        for (std::size_t k = points.size() - 1; k-- > 0;) {
+          while (chain.size() > lower && turn(chain[chain.size() - 2], chain.back(), points[k]) <= 0) chain.pop_back();
+          chain.push_back(points[k]);
+        }
+        chain.pop_back();
+      }
+      const std::int64_t z = std::int64_t(layer) + lo[2];
+      for (const auto& q : chain)
+        for (const std::int64_t dz : {0, 1}) out.push_back({q[1] + lo[0], q[0] + lo[1], z + dz});
+      begin = end;
+    }
   }
   for (const int axis : {2, 0, 1}) keepPlaneHullVertices(out, axis);
   return out;
