@@ -210,18 +210,20 @@ class ClusterSplitter {
     Members all(cells_.size());
     std::iota(all.begin(), all.end(), 0u);
     std::vector<std::pair<Members, Check>> done;
-    std::vector<Members> work{all};
+    // Parts to check, with their hulls when the split already built them.
+    std::vector<std::pair<Members, std::optional<LatticeHull>>> work;
+    work.emplace_back(std::move(all), std::nullopt);
     while (!work.empty()) {
-      Members part = std::move(work.back());
+      auto [part, hull] = std::move(work.back());
       work.pop_back();
-      Check check = checkPart(part);
+      Check check = checkPart(part, true, hull ? &*hull : nullptr);
       if (check.ok || part.size() == 1) {
         done.emplace_back(std::move(part), std::move(check));
         continue;
       }
-      auto [left, right] = split(part, check);
-      work.push_back(std::move(right));
-      work.push_back(std::move(left));
+      Halves halves = split(part, check);
+      work.emplace_back(std::move(halves.right), std::move(halves.right_hull));
+      work.emplace_back(std::move(halves.left), std::move(halves.left_hull));
     }
     return merge(std::move(done));
   }
@@ -387,7 +389,11 @@ class ClusterSplitter {
   static std::int64_t ceilDiv(std::int64_t a, std::int64_t b) { return -floorDiv(-a, b); }
 
   /// Two non-empty halves of a part that failed its check.
-  std::pair<Members, Members> split(const Members& part, const Check& check) const {
+  struct Halves {
+    Members left, right;
+    std::optional<LatticeHull> left_hull, right_hull;
+  };
+  Halves split(const Members& part, const Check& check) const {
     Cell lo, hi;
     box(part, lo, hi);
     if (!check.too_big) {
@@ -417,15 +423,17 @@ class ClusterSplitter {
         if (std::any_of(cuts.begin(), cuts.end(), [&](const auto& cut) { return cut.first == left; })) continue;
         cuts.emplace_back(std::move(left), std::move(right));
       }
-      std::vector<std::int64_t> side_volumes(2 * cuts.size());
-      tbb::parallel_for(std::size_t(0), side_volumes.size(), [&](std::size_t k) {
-        side_volumes[k] = latticeHull(gather(k % 2 ? cuts[k / 2].second : cuts[k / 2].first)).volume6;
+      std::vector<LatticeHull> sides(2 * cuts.size());
+      tbb::parallel_for(std::size_t(0), sides.size(), [&](std::size_t k) {
+        sides[k] = latticeHull(gather(k % 2 ? cuts[k / 2].second : cuts[k / 2].first));
       });
+      const auto volume = [&](std::size_t c) { return sides[2 * c].volume6 + sides[2 * c + 1].volume6; };
       std::optional<std::size_t> best;
       for (std::size_t c = 0; c < cuts.size(); ++c)
-        if (!best || side_volumes[2 * c] + side_volumes[2 * c + 1] < side_volumes[2 * *best] + side_volumes[2 * *best + 1])
-          best = c;
-      if (best) return std::move(cuts[*best]);
+        if (!best || volume(c) < volume(*best)) best = c;
+      if (best)
+        return {std::move(cuts[*best].first), std::move(cuts[*best].second), std::move(sides[2 * *best]),
+                std::move(sides[2 * *best + 1])};
     }
     // At the median of the longest axis of the box.
     int axis = 0;
@@ -438,7 +446,7 @@ class ClusterSplitter {
     if (median == lo[std::size_t(axis)]) ++median;
     Members left, right;
     for (const auto i : part) (cells_[i][std::size_t(axis)] < median ? left : right).push_back(i);
-    return {std::move(left), std::move(right)};
+    return {std::move(left), std::move(right), std::nullopt, std::nullopt};
   }
 
   /// The cell index m along `axis` for which the cells below m and the others have the smallest

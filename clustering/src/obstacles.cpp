@@ -41,10 +41,36 @@ using Corner = std::array<std::int64_t, 3>;
 /// of the set, so it is no vertex of the 3D hull either: the 3D hull is unchanged.
 void keepPlaneHullVertices(std::vector<Corner>& points, int axis) {
   const std::size_t a = std::size_t(axis), u = std::size_t((axis + 1) % 3), v = std::size_t((axis + 2) % 3);
-  std::sort(points.begin(), points.end(), [&](const Corner& p, const Corner& q) {
-    return std::tie(p[a], p[u], p[v]) < std::tie(q[a], q[u], q[v]);
-  });
-  points.erase(std::unique(points.begin(), points.end()), points.end());
+  if (points.empty()) return;
+  Corner lo = points[0], hi = points[0];
+  for (const auto& p : points)
+    for (std::size_t k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], p[k]);
+      hi[k] = std::max(hi[k], p[k]);
+    }
+  constexpr int kBits = 21;
+  if (hi[0] - lo[0] < (1 << kBits) && hi[1] - lo[1] < (1 << kBits) && hi[2] - lo[2] < (1 << kBits)) {
+    // Sorted as packed (a, u, v) keys: the same order, faster.
+    constexpr std::uint64_t kMask = (std::uint64_t(1) << kBits) - 1;
+    std::vector<std::uint64_t> keys;
+    keys.reserve(points.size());
+    for (const auto& p : points)
+      keys.push_back(std::uint64_t(p[a] - lo[a]) << (2 * kBits) | std::uint64_t(p[u] - lo[u]) << kBits |
+                     std::uint64_t(p[v] - lo[v]));
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    points.resize(keys.size());
+    for (std::size_t k = 0; k < keys.size(); ++k) {
+      points[k][a] = std::int64_t(keys[k] >> (2 * kBits)) + lo[a];
+      points[k][u] = std::int64_t((keys[k] >> kBits) & kMask) + lo[u];
+      points[k][v] = std::int64_t(keys[k] & kMask) + lo[v];
+    }
+  } else {
+    std::sort(points.begin(), points.end(), [&](const Corner& p, const Corner& q) {
+      return std::tie(p[a], p[u], p[v]) < std::tie(q[a], q[u], q[v]);
+    });
+    points.erase(std::unique(points.begin(), points.end()), points.end());
+  }
   // Turn of p -> q -> r in the (u, v) plane: > 0 counter-clockwise.
   const auto turn = [&](const Corner& p, const Corner& q, const Corner& r) {
     return (q[u] - p[u]) * (r[v] - p[v]) - (q[v] - p[v]) * (r[u] - p[u]);
