@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <numeric>
 #include <optional>
 #include <queue>
@@ -15,6 +16,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_for_each.h>
 
 #include "hullmap/core/error.hpp"
 #include "lattice_hull.hpp"
@@ -86,7 +88,7 @@ std::vector<std::array<std::uint32_t, 3>> integerHull(const std::vector<Cell>& p
   // edge is on no seen face form the horizon, which the point is joined to.
   std::vector<Face> kept;
   std::vector<char> sees;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> seen_edges, horizon;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> seen_edges, sorted_edges, horizon;
   for (std::size_t i = 1; i < n; ++i) {
     if (i == i1 || i == i2 || i == i3) continue;
     seen_edges.clear();
@@ -98,9 +100,16 @@ std::vector<std::array<std::uint32_t, 3>> integerHull(const std::vector<Cell>& p
     }
     if (seen_edges.empty()) continue;
     horizon.clear();
-    for (const auto& [u, v] : seen_edges)
-      if (std::find(seen_edges.begin(), seen_edges.end(), std::make_pair(v, u)) == seen_edges.end())
-        horizon.emplace_back(u, v);
+    if (seen_edges.size() <= 48) {
+      for (const auto& [u, v] : seen_edges)
+        if (std::find(seen_edges.begin(), seen_edges.end(), std::make_pair(v, u)) == seen_edges.end())
+          horizon.emplace_back(u, v);
+    } else {
+      sorted_edges = seen_edges;
+      std::sort(sorted_edges.begin(), sorted_edges.end());
+      for (const auto& [u, v] : seen_edges)
+        if (!std::binary_search(sorted_edges.begin(), sorted_edges.end(), std::make_pair(v, u))) horizon.emplace_back(u, v);
+    }
     kept.clear();
     for (std::size_t f = 0; f < faces.size(); ++f)
       if (!sees[f]) kept.push_back(faces[f]);
@@ -210,21 +219,25 @@ class ClusterSplitter {
     Members all(cells_.size());
     std::iota(all.begin(), all.end(), 0u);
     std::vector<std::pair<Members, Check>> done;
-    // Parts to check, with their hulls when the split already built them.
-    std::vector<std::pair<Members, std::optional<LatticeHull>>> work;
-    work.emplace_back(std::move(all), std::nullopt);
-    while (!work.empty()) {
-      auto [part, hull] = std::move(work.back());
-      work.pop_back();
-      Check check = checkPart(part, true, hull ? &*hull : nullptr);
+    // Parts to check, with their hulls when the split already built them. The halves of a split
+    // are independent, so they are checked in parallel; the order in which parts are done does not
+    // matter (merge orders them by their first cell).
+    using Work = std::pair<Members, std::optional<LatticeHull>>;
+    std::vector<Work> start;
+    start.emplace_back(std::move(all), std::nullopt);
+    std::mutex done_mutex;
+    tbb::parallel_for_each(start.begin(), start.end(), [&](Work& work, tbb::feeder<Work>& feeder) {
+      Members& part = work.first;
+      Check check = checkPart(part, true, work.second ? &*work.second : nullptr);
       if (check.ok || part.size() == 1) {
+        const std::lock_guard<std::mutex> lock(done_mutex);
         done.emplace_back(std::move(part), std::move(check));
-        continue;
+        return;
       }
       Halves halves = split(part, check);
-      work.emplace_back(std::move(halves.right), std::move(halves.right_hull));
-      work.emplace_back(std::move(halves.left), std::move(halves.left_hull));
-    }
+      feeder.add(Work(std::move(halves.left), std::move(halves.left_hull)));
+      feeder.add(Work(std::move(halves.right), std::move(halves.right_hull)));
+    });
     return merge(std::move(done));
   }
 

@@ -134,7 +134,7 @@ std::vector<std::array<std::int64_t, 3>> candidateCorners(const std::vector<std:
       std::int64_t y, x0, x1;
     };
     std::vector<Level> levels;
-    std::vector<std::array<std::int64_t, 2>> chain;  // (y, x)
+    std::vector<std::array<std::int64_t, 2>> points, chain;  // (y, x)
     const auto turn = [](const std::array<std::int64_t, 2>& p, const std::array<std::int64_t, 2>& q,
                          const std::array<std::int64_t, 2>& r) {
       return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
@@ -160,7 +160,7 @@ std::vector<std::array<std::int64_t, 3>> candidateCorners(const std::vector<std:
         end = row_end + 1;
       }
       // The layer's 2D hull (Andrew's monotone chain over points sorted by (y, x)).
-      std::vector<std::array<std::int64_t, 2>> points;
+      points.clear();
       for (const auto& l : levels) {
         points.push_back({l.y, l.x0});
         points.push_back({l.y, l.x1});
