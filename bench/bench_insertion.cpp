@@ -30,7 +30,7 @@
 
 #include <octomap/OcTree.h>
 
-#include "../mapper/src/octree_keys.hpp"
+#include "hullmap/mapper/detail/octree_keys.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 

@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "../mapper/src/octree_keys.hpp"
+#include "hullmap/mapper/detail/octree_keys.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 #include "octree_oracle.hpp"

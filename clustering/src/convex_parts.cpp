@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <numeric>
 #include <optional>
 #include <queue>
@@ -14,10 +15,8 @@
 #include <utility>
 
 #include <Eigen/Eigenvalues>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/convex_hull_3.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_for_each.h>
 
 #include "hullmap/core/error.hpp"
 #include "lattice_hull.hpp"
@@ -25,9 +24,6 @@
 namespace hullmap::clustering {
 namespace {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point3 = Kernel::Point_3;
-using Mesh = CGAL::Surface_mesh<Point3>;
 using Cell = std::array<std::int64_t, 3>;
 using Members = std::vector<std::uint32_t>;  ///< sorted indices into the cluster's cells
 
@@ -50,39 +46,109 @@ Cell cross(const Cell& a, const Cell& b) {
 }
 std::int64_t dot(const Cell& a, const Cell& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-/// Hull of the cells' corners, exact on the lattice: its facet planes and volume do not depend on
-/// how CGAL triangulates it, so everything decided from them is deterministic.
-LatticeHull latticeHull(const std::vector<Cell>& cells) {
-  std::vector<Point3> points;
-  for (const auto& c : detail::candidateCorners(cells)) points.emplace_back(double(c[0]), double(c[1]), double(c[2]));
-  Mesh mesh;
-  CGAL::convex_hull_3(points.begin(), points.end(), mesh);
-  LatticeHull hull;
-  std::set<Plane> planes;
-  bool first = true;
-  Cell ref{0, 0, 0};
-  const auto lattice = [&](Mesh::Vertex_index v) {
-    const Point3& p = mesh.point(v);
-    return Cell{std::int64_t(p.x()), std::int64_t(p.y()), std::int64_t(p.z())};
+/// Hull of integer points (at least four of them not coplanar) as triangles (indices into `points`)
+/// oriented outwards, exact: incremental construction whose orientation tests are exact integer
+/// determinants (128-bit), so lattice degeneracies (many coplanar points) cost nothing extra. A
+/// point on a face's plane does not see that face, so coplanar triangles may remain, and no
+/// triangle is degenerate. O(n * faces); the inputs here are the few candidate corners of a part.
+/// `Wide` holds the orientation determinants: 128 bits in general, 64 when the points span less
+/// than 2^18 cells on every axis (|n . (p - a)| < 6 * 2^54).
+template <class Wide>
+std::vector<std::array<std::uint32_t, 3>> integerHull(const std::vector<Cell>& points) {
+  struct Face {
+    std::array<std::uint32_t, 3> v;
+    Cell n;  // outward normal, (b - a) x (c - a)
   };
-  for (const auto f : mesh.faces()) {
-    std::vector<Cell> ring;
-    for (const auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) ring.push_back(lattice(v));
-    if (first) {
-      ref = ring[0];
-      first = false;
-    }
-    for (std::size_t k = 1; k + 1 < ring.size(); ++k) {
-      const Cell a = sub(ring[0], ref), b = sub(ring[k], ref), c = sub(ring[k + 1], ref);
-      hull.volume6 += dot(a, cross(b, c));
-      Cell n = cross(sub(ring[k], ring[0]), sub(ring[k + 1], ring[0]));
-      const std::int64_t g = std::gcd(std::gcd(std::abs(n[0]), std::abs(n[1])), std::abs(n[2]));
-      if (g == 0) continue;
-      for (auto& x : n) x /= g;
-      planes.insert({n, dot(n, ring[0])});
-    }
+  const auto side = [&](const Face& f, const Cell& p) {  // > 0: p strictly outside the face's plane
+    const Cell& a = points[f.v[0]];
+    return Wide(f.n[0]) * (p[0] - a[0]) + Wide(f.n[1]) * (p[1] - a[1]) + Wide(f.n[2]) * (p[2] - a[2]);
+  };
+  std::vector<Face> faces;
+  const auto makeFace = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    return Face{{a, b, c}, cross(sub(points[b], points[a]), sub(points[c], points[a]))};
+  };
+  // A first tetrahedron.
+  const std::size_t n = points.size();
+  std::size_t i1 = 1, i2 = 0, i3 = 0;
+  while (i1 < n && points[i1] == points[0]) ++i1;
+  for (i2 = i1 + 1; i2 < n; ++i2)
+    if (cross(sub(points[i1], points[0]), sub(points[i2], points[0])) != Cell{0, 0, 0}) break;
+  for (i3 = i2 + 1; i3 < n; ++i3) {
+    const Face f = makeFace(0, std::uint32_t(i1), std::uint32_t(i2));
+    if (side(f, points[i3]) != 0) break;
   }
-  hull.planes.assign(planes.begin(), planes.end());
+  if (i3 >= n) throw Error("convex parts: internal error: the corners of a part are coplanar");
+  const std::array<std::uint32_t, 4> t{0, std::uint32_t(i1), std::uint32_t(i2), std::uint32_t(i3)};
+  for (const auto& [a, b, c, opposite] : {std::array<int, 4>{0, 1, 2, 3}, {0, 1, 3, 2}, {0, 2, 3, 1}, {1, 2, 3, 0}}) {
+    Face f = makeFace(t[std::size_t(a)], t[std::size_t(b)], t[std::size_t(c)]);
+    if (side(f, points[t[std::size_t(opposite)]]) > 0) f = makeFace(t[std::size_t(a)], t[std::size_t(c)], t[std::size_t(b)]);
+    faces.push_back(f);
+  }
+  // Each point sees the faces it is strictly outside of; the edges of those faces whose reverse
+  // edge is on no seen face form the horizon, which the point is joined to.
+  std::vector<Face> kept;
+  std::vector<char> sees;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> seen_edges, sorted_edges, horizon;
+  for (std::size_t i = 1; i < n; ++i) {
+    if (i == i1 || i == i2 || i == i3) continue;
+    seen_edges.clear();
+    sees.resize(faces.size());
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      sees[f] = side(faces[f], points[i]) > 0;
+      if (sees[f])
+        for (int e = 0; e < 3; ++e) seen_edges.emplace_back(faces[f].v[std::size_t(e)], faces[f].v[std::size_t((e + 1) % 3)]);
+    }
+    if (seen_edges.empty()) continue;
+    horizon.clear();
+    if (seen_edges.size() <= 48) {
+      for (const auto& [u, v] : seen_edges)
+        if (std::find(seen_edges.begin(), seen_edges.end(), std::make_pair(v, u)) == seen_edges.end())
+          horizon.emplace_back(u, v);
+    } else {
+      sorted_edges = seen_edges;
+      std::sort(sorted_edges.begin(), sorted_edges.end());
+      for (const auto& [u, v] : seen_edges)
+        if (!std::binary_search(sorted_edges.begin(), sorted_edges.end(), std::make_pair(v, u))) horizon.emplace_back(u, v);
+    }
+    kept.clear();
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      if (!sees[f]) kept.push_back(faces[f]);
+    for (const auto& [u, v] : horizon) kept.push_back(makeFace(u, v, std::uint32_t(i)));
+    faces.swap(kept);
+  }
+  std::vector<std::array<std::uint32_t, 3>> out;
+  for (const auto& f : faces) out.push_back(f.v);
+  return out;
+}
+
+/// Hull of the cells' corners, exact on the lattice: its facet planes and volume do not depend on
+/// how it is triangulated, so everything decided from them is deterministic.
+LatticeHull latticeHull(const std::vector<Cell>& cells) {
+  const std::vector<Cell> corners = detail::candidateCorners(cells);
+  LatticeHull hull;
+  const Cell& ref = corners[0];
+  Cell lo = corners[0], hi = corners[0];
+  for (const auto& c : corners)
+    for (std::size_t a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], c[a]);
+      hi[a] = std::max(hi[a], c[a]);
+    }
+  const bool narrow = hi[0] - lo[0] < (1 << 18) && hi[1] - lo[1] < (1 << 18) && hi[2] - lo[2] < (1 << 18);
+  for (const auto& t : narrow ? integerHull<std::int64_t>(corners) : integerHull<__int128>(corners)) {
+    const Cell& p = corners[t[0]];
+    const Cell& q = corners[t[1]];
+    const Cell& r = corners[t[2]];
+    hull.volume6 += dot(sub(p, ref), cross(sub(q, ref), sub(r, ref)));
+    Cell n = cross(sub(q, p), sub(r, p));
+    const std::int64_t g = std::gcd(std::gcd(std::abs(n[0]), std::abs(n[1])), std::abs(n[2]));
+    for (auto& x : n) x /= g;
+    hull.planes.push_back({n, dot(n, p)});
+  }
+  std::sort(hull.planes.begin(), hull.planes.end());
+  hull.planes.erase(std::unique(hull.planes.begin(), hull.planes.end(), [](const Plane& a, const Plane& b) {
+                      return !(a < b) && !(b < a);
+                    }),
+                    hull.planes.end());
   return hull;
 }
 
@@ -95,9 +161,10 @@ bool inside(const LatticeHull& hull, const Eigen::Vector3d& x) {
 /// Squared Euclidean distance transform along one line (Felzenszwalb and Huttenlocher 2012).
 void distanceTransform1d(std::vector<double>& f, std::vector<double>& out, std::vector<int>& v, std::vector<double>& z) {
   const int n = int(f.size());
-  v.assign(std::size_t(n), 0);
-  z.assign(std::size_t(n) + 1, 0.0);
+  v.resize(std::size_t(n));
+  z.resize(std::size_t(n) + 1);
   int k = 0;
+  v[0] = 0;
   z[0] = -std::numeric_limits<double>::infinity();
   z[1] = std::numeric_limits<double>::infinity();
   const auto meet = [&](int q, int r) {
@@ -111,7 +178,7 @@ void distanceTransform1d(std::vector<double>& f, std::vector<double>& out, std::
     z[std::size_t(k)] = s;
     z[std::size_t(k) + 1] = std::numeric_limits<double>::infinity();
   }
-  out.assign(std::size_t(n), 0.0);
+  out.resize(std::size_t(n));
   k = 0;
   for (int q = 0; q < n; ++q) {
     while (z[std::size_t(k) + 1] < q) ++k;
@@ -139,26 +206,38 @@ class ClusterSplitter {
         t2_(t_cells * t_cells * (1.0 + 1e-12)),
         reach_(std::int64_t(std::floor(t_cells))),
         max_check_cells_(max_check_cells),
-        keyframes_(std::move(keyframes)) {}
+        keyframes_(std::move(keyframes)) {
+    for (std::int64_t i = -reach_; i <= reach_; ++i)
+      for (std::int64_t j = -reach_; j <= reach_; ++j)
+        for (std::int64_t k = -reach_; k <= reach_; ++k)
+          if (double(i * i + j * j + k * k) <= t2_) ball_.push_back({{i, j, k}, float(i * i + j * j + k * k)});
+    std::stable_sort(ball_.begin(), ball_.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+  }
 
   /// Final parts with their checks.
   std::vector<std::pair<Members, Check>> run() {
     Members all(cells_.size());
     std::iota(all.begin(), all.end(), 0u);
     std::vector<std::pair<Members, Check>> done;
-    std::vector<Members> work{all};
-    while (!work.empty()) {
-      Members part = std::move(work.back());
-      work.pop_back();
-      Check check = checkPart(part);
+    // Parts to check, with their hulls when the split already built them. The halves of a split
+    // are independent, so they are checked in parallel; the order in which parts are done does not
+    // matter (merge orders them by their first cell).
+    using Work = std::pair<Members, std::optional<LatticeHull>>;
+    std::vector<Work> start;
+    start.emplace_back(std::move(all), std::nullopt);
+    std::mutex done_mutex;
+    tbb::parallel_for_each(start.begin(), start.end(), [&](Work& work, tbb::feeder<Work>& feeder) {
+      Members& part = work.first;
+      Check check = checkPart(part, true, work.second ? &*work.second : nullptr);
       if (check.ok || part.size() == 1) {
+        const std::lock_guard<std::mutex> lock(done_mutex);
         done.emplace_back(std::move(part), std::move(check));
-        continue;
+        return;
       }
-      auto [left, right] = split(part, check);
-      work.push_back(std::move(right));
-      work.push_back(std::move(left));
-    }
+      Halves halves = split(part, check);
+      feeder.add(Work(std::move(halves.left), std::move(halves.left_hull)));
+      feeder.add(Work(std::move(halves.right), std::move(halves.right_hull)));
+    });
     return merge(std::move(done));
   }
 
@@ -180,10 +259,12 @@ class ClusterSplitter {
       }
   }
 
-  Check checkPart(const Members& part) const {
+  /// `need_split_point`: when false (the merge), a failed check only reports that it failed
+  /// (worst_d2 and split_point unset). `hull`: the part's lattice hull when already known.
+  Check checkPart(const Members& part, bool need_split_point = true, const LatticeHull* hull = nullptr) const {
     Check check;
     const std::vector<Cell> cells = gather(part);
-    check.hull = latticeHull(cells);
+    check.hull = hull ? *hull : latticeHull(cells);
     if (part.size() == 1) return check;
     Cell lo, hi;
     box(part, lo, hi);
@@ -195,29 +276,50 @@ class ClusterSplitter {
     }
     // Squared distance (cells^2) from each cell centre of the box to the nearest occupied centre.
     constexpr double kFar = 1e20;
-    std::vector<float> d2(std::size_t(nx * ny * nz), float(kFar));
+    const std::size_t box_cells = std::size_t(nx * ny * nz);
+    std::vector<float> d2(box_cells, float(kFar));
     const auto at = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
       return std::size_t(((k - lo[2]) * ny + (j - lo[1])) * nx + (i - lo[0]));
     };
     for (const auto& c : cells) d2[at(c[0], c[1], c[2])] = 0.0f;
-    std::vector<double> f, out, z;
-    std::vector<int> v;
     const std::array<std::int64_t, 3> dims{nx, ny, nz};
     const std::array<std::int64_t, 3> stride{1, nx, nx * ny};
-    for (int axis = 0; axis < 3; ++axis) {
-      const std::int64_t n = dims[std::size_t(axis)], s = stride[std::size_t(axis)];
-      f.resize(std::size_t(n));
-      for (std::int64_t base = 0; base < nx * ny * nz; ++base) {
-        if ((base / s) % n != 0) continue;  // only the first cell of each line along `axis`
-        for (std::int64_t q = 0; q < n; ++q) f[std::size_t(q)] = d2[std::size_t(base + q * s)];
-        distanceTransform1d(f, out, v, z);
-        for (std::int64_t q = 0; q < n; ++q) d2[std::size_t(base + q * s)] = float(std::min(out[std::size_t(q)], kFar));
+    // The exact transform over the whole box (Felzenszwalb-Huttenlocher, one pass per axis).
+    const auto transform = [&] {
+      std::vector<double> f, out, z;
+      std::vector<int> v;
+      for (int axis = 0; axis < 3; ++axis) {
+        const std::size_t a = std::size_t(axis), b = std::size_t((axis + 1) % 3), c = std::size_t((axis + 2) % 3);
+        const std::int64_t n = dims[a], s = stride[a];
+        f.resize(std::size_t(n));
+        // Every line along `axis`: its first cell runs over the other two axes.
+        for (std::int64_t ib = 0; ib < dims[b]; ++ib)
+          for (std::int64_t ic = 0; ic < dims[c]; ++ic) {
+            const std::int64_t base = ib * stride[b] + ic * stride[c];
+            for (std::int64_t q = 0; q < n; ++q) f[std::size_t(q)] = d2[std::size_t(base + q * s)];
+            distanceTransform1d(f, out, v, z);
+            for (std::int64_t q = 0; q < n; ++q) d2[std::size_t(base + q * s)] = float(std::min(out[std::size_t(q)], kFar));
+          }
       }
+    };
+    // Distances up to T are all a passing check needs (and a failing one when no split point is
+    // wanted): on a sparse part, the ball of radius T around each of its cells costs less than the
+    // transform. Values within T are the same exact integers; beyond T they stay kFar.
+    const bool bounded = part.size() * ball_.size() < 8 * box_cells;
+    if (bounded) {
+      for (const auto& c : cells)
+        for (const auto& [o, o2] : ball_) {
+          const std::int64_t i = c[0] + o[0], j = c[1] + o[1], k = c[2] + o[2];
+          if (i < lo[0] || i > hi[0] || j < lo[1] || j > hi[1] || k < lo[2] || k > hi[2]) continue;
+          float& d = d2[at(i, j, k)];
+          d = std::min(d, o2);
+        }
+    } else {
+      transform();
     }
     // Cells whose cube meets the hull: per column, the k range allowed by every facet plane, with
     // the cube's lowest value of n . x (exact integers).
-    std::int64_t worst = -1;
-    Cell worst_cell{0, 0, 0};
+    std::vector<std::pair<std::int64_t, std::int64_t>> columns(std::size_t(nx * ny));
     for (std::int64_t j = lo[1]; j <= hi[1]; ++j) {
       for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
         std::int64_t k0 = lo[2], k1 = hi[2];
@@ -233,14 +335,35 @@ class ClusterSplitter {
           }
           if (k1 < k0) break;
         }
-        for (std::int64_t k = k0; k <= k1; ++k) {
-          const auto d = std::int64_t(d2[at(i, j, k)]);
-          if (d > worst) {
-            worst = d;
-            worst_cell = {i, j, k};
+        columns[std::size_t((j - lo[1]) * nx + (i - lo[0]))] = {k0, k1};
+      }
+    }
+    constexpr std::int64_t kBeyond = std::numeric_limits<std::int64_t>::max();
+    std::int64_t worst = -1;
+    Cell worst_cell{0, 0, 0};
+    const auto scan = [&] {
+      worst = -1;
+      for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+        for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
+          const auto [k0, k1] = columns[std::size_t((j - lo[1]) * nx + (i - lo[0]))];
+          for (std::int64_t k = k0; k <= k1; ++k) {
+            const float x = d2[at(i, j, k)];
+            const std::int64_t d = x >= float(kFar) ? kBeyond : std::int64_t(x);
+            if (d > worst) {
+              worst = d;
+              worst_cell = {i, j, k};
+            }
           }
         }
-      }
+    };
+    scan();
+    if (worst == kBeyond) {
+      check.ok = false;
+      if (!need_split_point) return check;
+      std::fill(d2.begin(), d2.end(), float(kFar));
+      for (const auto& c : cells) d2[at(c[0], c[1], c[2])] = 0.0f;
+      transform();
+      scan();
     }
     check.worst_d2 = std::max<std::int64_t>(worst, 0);
     if (double(check.worst_d2) > t2_) {
@@ -279,7 +402,11 @@ class ClusterSplitter {
   static std::int64_t ceilDiv(std::int64_t a, std::int64_t b) { return -floorDiv(-a, b); }
 
   /// Two non-empty halves of a part that failed its check.
-  std::pair<Members, Members> split(const Members& part, const Check& check) const {
+  struct Halves {
+    Members left, right;
+    std::optional<LatticeHull> left_hull, right_hull;
+  };
+  Halves split(const Members& part, const Check& check) const {
     Cell lo, hi;
     box(part, lo, hi);
     if (!check.too_big) {
@@ -309,15 +436,17 @@ class ClusterSplitter {
         if (std::any_of(cuts.begin(), cuts.end(), [&](const auto& cut) { return cut.first == left; })) continue;
         cuts.emplace_back(std::move(left), std::move(right));
       }
-      std::vector<std::int64_t> side_volumes(2 * cuts.size());
-      tbb::parallel_for(std::size_t(0), side_volumes.size(), [&](std::size_t k) {
-        side_volumes[k] = latticeHull(gather(k % 2 ? cuts[k / 2].second : cuts[k / 2].first)).volume6;
+      std::vector<LatticeHull> sides(2 * cuts.size());
+      tbb::parallel_for(std::size_t(0), sides.size(), [&](std::size_t k) {
+        sides[k] = latticeHull(gather(k % 2 ? cuts[k / 2].second : cuts[k / 2].first));
       });
+      const auto volume = [&](std::size_t c) { return sides[2 * c].volume6 + sides[2 * c + 1].volume6; };
       std::optional<std::size_t> best;
       for (std::size_t c = 0; c < cuts.size(); ++c)
-        if (!best || side_volumes[2 * c] + side_volumes[2 * c + 1] < side_volumes[2 * *best] + side_volumes[2 * *best + 1])
-          best = c;
-      if (best) return std::move(cuts[*best]);
+        if (!best || volume(c) < volume(*best)) best = c;
+      if (best)
+        return {std::move(cuts[*best].first), std::move(cuts[*best].second), std::move(sides[2 * *best]),
+                std::move(sides[2 * *best + 1])};
     }
     // At the median of the longest axis of the box.
     int axis = 0;
@@ -330,7 +459,7 @@ class ClusterSplitter {
     if (median == lo[std::size_t(axis)]) ++median;
     Members left, right;
     for (const auto i : part) (cells_[i][std::size_t(axis)] < median ? left : right).push_back(i);
-    return {std::move(left), std::move(right)};
+    return {std::move(left), std::move(right), std::nullopt, std::nullopt};
   }
 
   /// The cell index m along `axis` for which the cells below m and the others have the smallest
@@ -402,6 +531,7 @@ class ClusterSplitter {
     std::sort(nodes.begin(), nodes.end(), [](const Node& a, const Node& b) { return a.members[0] < b.members[0]; });
     using Candidate = std::tuple<std::int64_t, std::size_t, std::size_t>;  // added volume, a, b
     std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue;
+    std::map<std::pair<std::size_t, std::size_t>, LatticeHull> union_hulls;  ///< of the queued pairs
     const auto near = [&](const Node& a, const Node& b) {
       for (std::size_t k = 0; k < 3; ++k)
         if (a.lo[k] - b.hi[k] - 1 > reach_ || b.lo[k] - a.hi[k] - 1 > reach_) return false;
@@ -413,19 +543,76 @@ class ClusterSplitter {
       std::merge(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
       return out;
     };
+    // Which node owns each cell, on a grid over the cluster's box (none when the box is too big;
+    // then no pair is ruled out early).
+    constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+    Cell grid_lo{0, 0, 0}, grid_hi{0, 0, 0};
+    std::vector<std::uint32_t> owner;
+    {
+      Members all(cells_.size());
+      std::iota(all.begin(), all.end(), 0u);
+      box(all, grid_lo, grid_hi);
+      const double grid_cells = double(grid_hi[0] - grid_lo[0] + 1) * double(grid_hi[1] - grid_lo[1] + 1) *
+                                double(grid_hi[2] - grid_lo[2] + 1);
+      if (grid_cells <= double(max_check_cells_)) owner.assign(std::size_t(grid_cells), kNone);
+    }
+    const auto ownerAt = [&](const Cell& c) -> std::uint32_t {
+      for (std::size_t k = 0; k < 3; ++k)
+        if (c[k] < grid_lo[k] || c[k] > grid_hi[k]) return kNone;
+      return owner[std::size_t(((c[2] - grid_lo[2]) * (grid_hi[1] - grid_lo[1] + 1) + (c[1] - grid_lo[1])) *
+                                   (grid_hi[0] - grid_lo[0] + 1) +
+                               (c[0] - grid_lo[0]))];
+    };
+    const auto own = [&](std::size_t node) {
+      if (owner.empty()) return;
+      for (const auto i : nodes[node].members) {
+        const Cell& c = cells_[i];
+        owner[std::size_t(((c[2] - grid_lo[2]) * (grid_hi[1] - grid_lo[1] + 1) + (c[1] - grid_lo[1])) *
+                              (grid_hi[0] - grid_lo[0] + 1) +
+                          (c[0] - grid_lo[0]))] = std::uint32_t(node);
+      }
+    };
+    for (std::size_t node = 0; node < nodes.size(); ++node) own(node);
+    // A pair whose union surely fails its check: the midpoint of the centres of a cell of each lies
+    // in the union's hull, so the cell holding it is one the check scans; when no cell of the union
+    // is within T of it, the check fails. Such a pair would be popped and rejected, so leaving it
+    // out of the queue changes nothing but the time.
+    const auto surelyFails = [&](std::size_t a, std::size_t b) {
+      if (owner.empty()) return false;
+      const Members& ma = nodes[a].members;
+      const Members& mb = nodes[b].members;
+      for (const std::size_t pa : {std::size_t(0), ma.size() / 2, ma.size() - 1})
+        for (const std::size_t pb : {std::size_t(0), mb.size() / 2, mb.size() - 1}) {
+          const Cell& p = cells_[ma[pa]];
+          const Cell& q = cells_[mb[pb]];
+          const Cell m{floorDiv(p[0] + q[0] + 1, 2), floorDiv(p[1] + q[1] + 1, 2), floorDiv(p[2] + q[2] + 1, 2)};
+          const bool covered = std::any_of(ball_.begin(), ball_.end(), [&](const auto& offset) {
+            const std::uint32_t o = ownerAt({m[0] + offset.first[0], m[1] + offset.first[1], m[2] + offset.first[2]});
+            return o == a || o == b;
+          });
+          if (!covered) return true;
+        }
+      return false;
+    };
     // The added hull volume of each near pair, computed in parallel, queued in pair order.
     const auto consider = [&](const std::vector<std::pair<std::size_t, std::size_t>>& candidates) {
       std::vector<std::pair<std::size_t, std::size_t>> pairs;
       for (const auto& [a, b] : candidates)
         if (near(nodes[a], nodes[b])) pairs.emplace_back(a, b);
-      std::vector<std::int64_t> added(pairs.size());
+      std::vector<char> fails(pairs.size());
+      std::vector<LatticeHull> hulls(pairs.size());
       tbb::parallel_for(std::size_t(0), pairs.size(), [&](std::size_t k) {
         const auto [a, b] = pairs[k];
-        added[k] = latticeHull(gather(unite(nodes[a].members, nodes[b].members))).volume6 -
-                   nodes[a].check.hull.volume6 - nodes[b].check.hull.volume6;
+        fails[k] = surelyFails(a, b);
+        if (!fails[k]) hulls[k] = latticeHull(gather(unite(nodes[a].members, nodes[b].members)));
       });
-      for (std::size_t k = 0; k < pairs.size(); ++k)
-        queue.emplace(added[k], std::min(pairs[k].first, pairs[k].second), std::max(pairs[k].first, pairs[k].second));
+      for (std::size_t k = 0; k < pairs.size(); ++k) {
+        if (fails[k]) continue;
+        const auto [a, b] = pairs[k];
+        const std::int64_t added = hulls[k].volume6 - nodes[a].check.hull.volume6 - nodes[b].check.hull.volume6;
+        queue.emplace(added, std::min(a, b), std::max(a, b));
+        union_hulls[{std::min(a, b), std::max(a, b)}] = std::move(hulls[k]);
+      }
     };
     std::vector<std::pair<std::size_t, std::size_t>> all_pairs;
     for (std::size_t a = 0; a < nodes.size(); ++a)
@@ -434,15 +621,19 @@ class ClusterSplitter {
     while (!queue.empty()) {
       const auto [added, a, b] = queue.top();
       queue.pop();
+      const auto hull = union_hulls.find({a, b});
+      const LatticeHull union_hull = std::move(hull->second);
+      union_hulls.erase(hull);
       if (!nodes[a].alive || !nodes[b].alive) continue;
       Members both = unite(nodes[a].members, nodes[b].members);
-      Check check = checkPart(both);
+      Check check = checkPart(both, false, &union_hull);
       if (!check.ok) continue;
       nodes[a].alive = nodes[b].alive = false;
       Node node{std::move(both), std::move(check), {}, {}, true};
       box(node.members, node.lo, node.hi);
       nodes.push_back(std::move(node));
       const std::size_t added_node = nodes.size() - 1;
+      own(added_node);
       std::vector<std::pair<std::size_t, std::size_t>> with_new;
       for (std::size_t c = 0; c < added_node; ++c)
         if (nodes[c].alive) with_new.emplace_back(c, added_node);
@@ -458,6 +649,7 @@ class ClusterSplitter {
   std::vector<Cell> cells_;
   double t2_;
   std::int64_t reach_;
+  std::vector<std::pair<Cell, float>> ball_;  ///< offsets within T (squared length, cells^2), nearest first
   std::size_t max_check_cells_;
   std::vector<Eigen::Vector3d> keyframes_;  ///< lattice coordinates
 };

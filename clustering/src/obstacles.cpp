@@ -7,7 +7,6 @@
 #include <numeric>
 #include <set>
 #include <tuple>
-#include <unordered_map>
 #include <utility>
 
 #include <Eigen/Geometry>
@@ -27,55 +26,167 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point3 = Kernel::Point_3;
 using Mesh = CGAL::Surface_mesh<Point3>;
 
-/// Integer corner of the voxel lattice: corner (i, j, k) is at origin + (i, j, k) * voxel_size.
-struct CornerKey {
-  std::int64_t a;
-  std::int64_t b;
-  bool operator==(const CornerKey& o) const { return a == o.a && b == o.b; }
-};
-struct CornerKeyHash {
-  std::size_t operator()(const CornerKey& k) const {
-    return std::hash<std::int64_t>()(k.a * 73856093LL) ^ std::hash<std::int64_t>()(k.b * 19349663LL);
-  }
-};
 using Range = std::pair<std::int64_t, std::int64_t>;
-using ColumnExtremes = std::unordered_map<CornerKey, Range, CornerKeyHash>;
-
-void widen(ColumnExtremes& columns, CornerKey key, std::int64_t lo, std::int64_t hi) {
-  auto [it, inserted] = columns.try_emplace(key, lo, hi);
-  if (!inserted) {
-    it->second.first = std::min(it->second.first, lo);
-    it->second.second = std::max(it->second.second, hi);
-  }
-}
 
 }  // namespace
 
 namespace detail {
-/// Corners that can be vertices of the hull of all voxel corners: a corner strictly between two
-/// others on an axis-parallel line is not extreme, so only each line's two ends are kept, for the
-/// lines along x, y and z. Exact (integer lattice), never drops a hull vertex.
-std::vector<std::array<std::int64_t, 3>> candidateCorners(const std::vector<std::array<std::int64_t, 3>>& cells) {
-  ColumnExtremes along_x, along_y, along_z;
-  for (const auto& c : cells) {
-    for (int dy = 0; dy < 2; ++dy)
-      for (int dz = 0; dz < 2; ++dz) widen(along_x, {c[1] + dy, c[2] + dz}, c[0], c[0] + 1);
-    for (int dx = 0; dx < 2; ++dx)
-      for (int dz = 0; dz < 2; ++dz) widen(along_y, {c[0] + dx, c[2] + dz}, c[1], c[1] + 1);
-    for (int dx = 0; dx < 2; ++dx)
-      for (int dy = 0; dy < 2; ++dy) widen(along_z, {c[0] + dx, c[1] + dy}, c[2], c[2] + 1);
+namespace {
+
+using Corner = std::array<std::int64_t, 3>;
+
+/// Keeps, in each plane of constant coordinate `axis`, only the vertices of the 2D convex hull of
+/// the points lying in that plane (Andrew's monotone chain, exact in integers; collinear points
+/// dropped). A point that is no vertex of its plane's hull is a convex combination of other points
+/// of the set, so it is no vertex of the 3D hull either: the 3D hull is unchanged.
+void keepPlaneHullVertices(std::vector<Corner>& points, int axis) {
+  const std::size_t a = std::size_t(axis), u = std::size_t((axis + 1) % 3), v = std::size_t((axis + 2) % 3);
+  if (points.empty()) return;
+  Corner lo = points[0], hi = points[0];
+  for (const auto& p : points)
+    for (std::size_t k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], p[k]);
+      hi[k] = std::max(hi[k], p[k]);
+    }
+  constexpr int kBits = 21;
+  if (hi[0] - lo[0] < (1 << kBits) && hi[1] - lo[1] < (1 << kBits) && hi[2] - lo[2] < (1 << kBits)) {
+    // Sorted as packed (a, u, v) keys: the same order, faster.
+    constexpr std::uint64_t kMask = (std::uint64_t(1) << kBits) - 1;
+    std::vector<std::uint64_t> keys;
+    keys.reserve(points.size());
+    for (const auto& p : points)
+      keys.push_back(std::uint64_t(p[a] - lo[a]) << (2 * kBits) | std::uint64_t(p[u] - lo[u]) << kBits |
+                     std::uint64_t(p[v] - lo[v]));
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    points.resize(keys.size());
+    for (std::size_t k = 0; k < keys.size(); ++k) {
+      points[k][a] = std::int64_t(keys[k] >> (2 * kBits)) + lo[a];
+      points[k][u] = std::int64_t((keys[k] >> kBits) & kMask) + lo[u];
+      points[k][v] = std::int64_t(keys[k] & kMask) + lo[v];
+    }
+  } else {
+    std::sort(points.begin(), points.end(), [&](const Corner& p, const Corner& q) {
+      return std::tie(p[a], p[u], p[v]) < std::tie(q[a], q[u], q[v]);
+    });
+    points.erase(std::unique(points.begin(), points.end()), points.end());
   }
-  auto isEnd = [](const ColumnExtremes& columns, CornerKey key, std::int64_t v) {
-    const auto it = columns.find(key);
-    return it != columns.end() && (it->second.first == v || it->second.second == v);
+  // Turn of p -> q -> r in the (u, v) plane: > 0 counter-clockwise.
+  const auto turn = [&](const Corner& p, const Corner& q, const Corner& r) {
+    return (q[u] - p[u]) * (r[v] - p[v]) - (q[v] - p[v]) * (r[u] - p[u]);
   };
-  std::vector<std::array<std::int64_t, 3>> out;
-  for (const auto& [key, range] : along_z) {
-    for (const std::int64_t z : {range.first, range.second}) {
-      const std::int64_t x = key.a, y = key.b;
-      if (isEnd(along_x, {y, z}, x) && isEnd(along_y, {x, z}, y)) out.push_back({x, y, z});
+  std::vector<Corner> out, chain;
+  for (std::size_t begin = 0; begin < points.size();) {
+    std::size_t end = begin + 1;
+    while (end < points.size() && points[end][a] == points[begin][a]) ++end;
+    if (end - begin <= 2) {
+      out.insert(out.end(), points.begin() + std::ptrdiff_t(begin), points.begin() + std::ptrdiff_t(end));
+    } else {
+      chain.clear();
+      for (std::size_t k = begin; k < end; ++k) {  // lower chain
+        while (chain.size() >= 2 && turn(chain[chain.size() - 2], chain.back(), points[k]) <= 0) chain.pop_back();
+        chain.push_back(points[k]);
+      }
+      const std::size_t lower = chain.size();
+      for (std::size_t k = end - 1; k-- > begin;) {  // upper chain
+        while (chain.size() > lower && turn(chain[chain.size() - 2], chain.back(), points[k]) <= 0) chain.pop_back();
+        chain.push_back(points[k]);
+      }
+      chain.pop_back();  // the first point again
+      out.insert(out.end(), chain.begin(), chain.end());
+    }
+    begin = end;
+  }
+  points.swap(out);
+}
+
+}  // namespace
+
+/// Corners that can be vertices of the hull of all voxel corners: each layer of cells z = k is a
+/// union of squares whose 2D hull comes from its rows' first and last cells (a sweep over the cells
+/// sorted by packed (k, j, i) keys); that hull's vertices at z = k and k + 1 are kept, then only
+/// the vertices of the 2D hull of each plane x = c, y = c and z = c (keepPlaneHullVertices). Exact
+/// (integer lattice), never drops a hull vertex; O(n log n).
+std::vector<std::array<std::int64_t, 3>> candidateCorners(const std::vector<std::array<std::int64_t, 3>>& cells) {
+  if (cells.empty()) return {};
+  Corner lo = cells[0], hi = cells[0];
+  for (const auto& c : cells)
+    for (std::size_t a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], c[a]);
+      hi[a] = std::max(hi[a], c[a]);
+    }
+  constexpr int kBits = 21;
+  std::vector<Corner> out;
+  if (hi[0] - lo[0] >= (1 << kBits) || hi[1] - lo[1] >= (1 << kBits) || hi[2] - lo[2] >= (1 << kBits)) {
+    // Too wide to pack: every cell's corners.
+    for (const auto& c : cells)
+      for (int m = 0; m < 8; ++m) out.push_back({c[0] + (m & 1), c[1] + ((m >> 1) & 1), c[2] + ((m >> 2) & 1)});
+  } else {
+    std::vector<std::uint64_t> keys;
+    keys.reserve(cells.size());
+    for (const auto& c : cells)
+      keys.push_back(std::uint64_t(c[2] - lo[2]) << (2 * kBits) | std::uint64_t(c[1] - lo[1]) << kBits |
+                     std::uint64_t(c[0] - lo[0]));
+    std::sort(keys.begin(), keys.end());
+    constexpr std::uint64_t kMask = (std::uint64_t(1) << kBits) - 1;
+    // Per layer: for each line y = c, the smallest and largest x of the squares touching it.
+    struct Level {
+      std::int64_t y, x0, x1;
+    };
+    std::vector<Level> levels;
+    std::vector<std::array<std::int64_t, 2>> points, chain;  // (y, x)
+    const auto turn = [](const std::array<std::int64_t, 2>& p, const std::array<std::int64_t, 2>& q,
+                         const std::array<std::int64_t, 2>& r) {
+      return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+    };
+    for (std::size_t begin = 0; begin < keys.size();) {
+      const std::uint64_t layer = keys[begin] >> (2 * kBits);
+      levels.clear();
+      std::size_t end = begin;
+      while (end < keys.size() && keys[end] >> (2 * kBits) == layer) {
+        const std::uint64_t row = keys[end] >> kBits;
+        const std::int64_t j = std::int64_t(row & kMask), x0 = std::int64_t(keys[end] & kMask);
+        std::size_t row_end = end;
+        while (row_end + 1 < keys.size() && keys[row_end + 1] >> kBits == row) ++row_end;
+        const std::int64_t x1 = std::int64_t(keys[row_end] & kMask) + 1;
+        for (const std::int64_t y : {j, j + 1}) {
+          if (!levels.empty() && levels.back().y == y) {
+            levels.back().x0 = std::min(levels.back().x0, x0);
+            levels.back().x1 = std::max(levels.back().x1, x1);
+          } else {
+            levels.push_back({y, x0, x1});
+          }
+        }
+        end = row_end + 1;
+      }
+      // The layer's 2D hull (Andrew's monotone chain over points sorted by (y, x)).
+      points.clear();
+      for (const auto& l : levels) {
+        points.push_back({l.y, l.x0});
+        points.push_back({l.y, l.x1});
+      }
+      chain.clear();
+      if (points.size() <= 2) {
+        chain = points;
+      } else {
+        for (const auto& q : points) {
+          while (chain.size() >= 2 && turn(chain[chain.size() - 2], chain.back(), q) <= 0) chain.pop_back();
+          chain.push_back(q);
+        }
+        const std::size_t lower = chain.size();
+        for (std::size_t k = points.size() - 1; k-- > 0;) {
+          while (chain.size() > lower && turn(chain[chain.size() - 2], chain.back(), points[k]) <= 0) chain.pop_back();
+          chain.push_back(points[k]);
+        }
+        chain.pop_back();
+      }
+      const std::int64_t z = std::int64_t(layer) + lo[2];
+      for (const auto& q : chain)
+        for (const std::int64_t dz : {0, 1}) out.push_back({q[1] + lo[0], q[0] + lo[1], z + dz});
+      begin = end;
     }
   }
+  for (const int axis : {2, 0, 1}) keepPlaneHullVertices(out, axis);
   return out;
 }
 

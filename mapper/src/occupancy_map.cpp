@@ -18,9 +18,9 @@
 
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/mapper/detail/octree_keys.hpp"
 #include "keyframe_index.hpp"
 #include "octree_file.hpp"
-#include "octree_keys.hpp"
 
 namespace hullmap::mapper {
 namespace {

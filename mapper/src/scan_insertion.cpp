@@ -27,7 +27,7 @@
 #include <tbb/parallel_for.h>
 
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "octree_keys.hpp"
+#include "hullmap/mapper/detail/octree_keys.hpp"
 
 namespace hullmap::mapper {
 namespace detail {

@@ -1,6 +1,6 @@
 #pragma once
-// Internals of insertScan shared with the benchmarks: ray casting into key sets, Morton order,
-// the batched tree update. Not installed.
+// Internals of insertScan shared with the tests and benchmarks: ray casting into key sets, Morton
+// order, the batched tree update. Installed with the other headers, but detail: no stable API.
 
 #include <cmath>
 #include <cstdint>
