@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "hullmap/core/error.hpp"
 
@@ -82,6 +83,22 @@ CLI::Validator wholeNumberFrom(long low) {
         return "";
       },
       ">= " + std::to_string(low));
+}
+
+CLI::Validator wordOr(const std::vector<std::string>& words, CLI::Validator inner) {
+  std::string names;
+  for (const auto& w : words) names += (names.empty() ? "" : ", ") + w;
+  std::string description;
+  for (const auto& w : words) description += w + "|";
+  return CLI::Validator(
+      [words, names, inner](std::string& text) -> std::string {
+        for (const auto& w : words)
+          if (text == w) return "";
+        std::string copy = text;
+        const std::string bad = inner(copy);
+        return bad.empty() ? "" : "expected " + names + " or a number: " + bad;
+      },
+      description + "NUMBER");
 }
 
 CLI::Validator existingFileOrStdin() {

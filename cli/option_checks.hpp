@@ -21,6 +21,10 @@ CLI::Validator finiteNumber();
 /// A whole number >= low.
 CLI::Validator wholeNumberFrom(long low);
 
+/// One of `words` (e.g. "auto", "none"), or a value `inner` accepts: "expected auto, none or a
+/// number: must be > 0, got -1".
+CLI::Validator wordOr(const std::vector<std::string>& words, CLI::Validator inner);
+
 /// An existing file, or "-" for standard input.
 CLI::Validator existingFileOrStdin();
 

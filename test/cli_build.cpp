@@ -390,7 +390,7 @@ TEST(CliBuild, PointsOnlyStreamsTheOutputsOfReadingWhole) {
   options.frame.up = hullmap::mapper::UpAxis::kNegY;
   options.filters.crop = hullmap::mapper::Box{{-4, -4, -1}, {4, 4, 2.5}};
   options.filters.z_min = 0.02;
-  options.dbscan.min_pts = 5;
+  options.min_pts = 5;
   buildWholeFile(options, dir / "whole");
 
   const auto out = dir / "out";

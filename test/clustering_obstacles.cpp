@@ -298,7 +298,7 @@ TEST(Obstacles, HullsOfRealMapsContainEveryClusteredVoxel) {
     options.origin = Eigen::Vector3d::Zero();
     options.frame.up = mapper::UpAxis::kNegY;
     options.octree.resolution = 0.1;
-    options.dbscan.eps = 0.2;
+    options.eps = 0.2;
     expectBuildWrapsEveryCluster(options);
   }
 }
