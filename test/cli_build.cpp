@@ -330,7 +330,8 @@ namespace {
 
 /// `build` of points alone the way it was done before it streamed: every input read whole
 /// (readPointFiles), then the frame change, the filters and buildFromPoints on all points, then
-/// DBSCAN and the obstacles, written by writeBuild.
+/// DBSCAN and the obstacles, written by writeBuild. `params` gives eps and minPts, no floor and no
+/// convex parts.
 void buildWholeFile(const hullmap::pipeline::BuildParams& params, const fs::path& output_dir) {
   using namespace hullmap;
   pipeline::BuildResult result;
@@ -358,7 +359,12 @@ void buildWholeFile(const hullmap::pipeline::BuildParams& params, const fs::path
     centers.push_back(v.center);
     weights.push_back(v.weight);
   }
-  result.clusters = clustering::dbscan(centers, weights, params.dbscan);
+  clustering::DbscanParams dbscan;
+  dbscan.eps = *params.eps;
+  dbscan.min_pts = *params.min_pts;
+  dbscan.metric = params.metric;
+  result.report.cluster_params.used = dbscan;
+  result.clusters = clustering::dbscan(centers, weights, dbscan);
   result.obstacles = clustering::buildObstacles(centers, weights, result.clusters.labels, result.map.resolution());
   for (const char* stage : {"read", "frame_and_filters", "octree", "dbscan", "obstacles"}) {
     result.report.timings_ms.emplace_back(stage, 0.0);
@@ -390,12 +396,16 @@ TEST(CliBuild, PointsOnlyStreamsTheOutputsOfReadingWhole) {
   options.frame.up = hullmap::mapper::UpAxis::kNegY;
   options.filters.crop = hullmap::mapper::Box{{-4, -4, -1}, {4, 4, 2.5}};
   options.filters.z_min = 0.02;
+  options.eps = 0.1;
   options.min_pts = 5;
+  options.floor.mode = hullmap::mapper::PlaneSetting::Mode::kNone;
+  options.convex_parts.reset();
   buildWholeFile(options, dir / "whole");
 
   const auto out = dir / "out";
   const auto r = runHullmap("build " + options.inputs[0].string() + " " + options.inputs[1].string() +
-                            " --up -y --crop -4,-4,-1,4,4,2.5 --z-min 0.02 --min-pts 5 -o " + out.string());
+                            " --up -y --crop -4,-4,-1,4,4,2.5 --z-min 0.02 --eps 0.1 --min-pts 5 --floor none "
+                            "--concavity none -o " + out.string());
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(slurp(out / "map.bt"), slurp(dir / "whole" / "map.bt"));
   EXPECT_EQ(slurp(out / "voxels.csv"), slurp(dir / "whole" / "voxels.csv"));
