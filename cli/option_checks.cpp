@@ -96,7 +96,9 @@ CLI::Validator wordOr(const std::vector<std::string>& words, CLI::Validator inne
           if (text == w) return "";
         std::string copy = text;
         const std::string bad = inner(copy);
-        return bad.empty() ? "" : "expected " + names + " or a number: " + bad;
+        // A number's own complaint stays as it is; a word that is none of them is named with them.
+        if (bad.empty() || bad.rfind("expected a number", 0) != 0) return bad;
+        return "expected " + names + " or a number, got '" + text + "'";
       },
       description + "NUMBER");
 }

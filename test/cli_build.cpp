@@ -54,7 +54,7 @@ TEST(CliBuild, SampleSceneEndToEndAccountsForEveryPoint) {
   sampleScene(dir);
   const auto out = dir / "out";
   const auto r = runHullmap("build " + (dir / "map_points.txt").string() + " --trajectory " +
-                            (dir / "KeyFrameTrajectory.txt").string() + " --up -y -o " + out.string());
+                            (dir / "KeyFrameTrajectory.txt").string() + " --up -y --eps 0.1 --min-pts 10 --floor none --concavity none -o " + out.string());
   ASSERT_EQ(r.status, 0) << r.err;
   // stderr is for errors and warnings (octomap's own progress lines are muted); the default eps and
   // min-pts leave most voxels of this scene as noise, which build says.
@@ -243,7 +243,7 @@ TEST(CliBadInput, DegenerateClustersStillMakeSolidObstacles) {
     for (int k = 0; k < 10; ++k)
       text += "-3.025 " + std::to_string(0.025 + 0.05 * i) + " " + std::to_string(0.025 + 0.05 * k) + "\n";
   writeText(dir / "degenerate.txt", text);
-  const auto r = runHullmap("build " + (dir / "degenerate.txt").string() + " --min-pts 2 -o " +
+  const auto r = runHullmap("build " + (dir / "degenerate.txt").string() + " --min-pts 2 --eps 0.1 --floor none --concavity none -o " +
                             (dir / "out").string());
   ASSERT_EQ(r.status, 0) << r.err;
   const auto obstacles = readJson(dir / "out" / "obstacles.json");
@@ -255,10 +255,10 @@ TEST(CliBuild, FailedRunLeavesPreviousOutputIntact) {
   const auto dir = freshDir("cli_atomic");
   writeText(dir / "good.txt", "0 0 0\n0.01 0 0\n");
   const auto out = dir / "out";
-  ASSERT_EQ(runHullmap("build " + (dir / "good.txt").string() + " --min-pts 1 -o " + out.string()).status, 0);
+  ASSERT_EQ(runHullmap("build " + (dir / "good.txt").string() + " --min-pts 1 --eps 0.1 --floor none --concavity none -o " + out.string()).status, 0);
   const std::string before = slurp(out / "report.json");
   writeText(dir / "bad.txt", "0 0 0\nx y z w\n");
-  expectOneLineError(runHullmap("build " + (dir / "bad.txt").string() + " -o " + out.string()), "bad.txt:2");
+  expectOneLineError(runHullmap("build " + (dir / "bad.txt").string() + " --eps 0.1 --min-pts 10 --floor none --concavity none -o " + out.string()), "bad.txt:2");
   EXPECT_EQ(slurp(out / "report.json"), before);
   for (const auto& entry : fs::directory_iterator(dir))
     EXPECT_EQ(entry.path().filename().string().find(".out."), std::string::npos)

@@ -55,6 +55,8 @@ Built build(const mapper::SceneParams& params, const std::string& name, double e
   options.frame.up = mapper::UpAxis::kNegY;
   options.eps = eps;
   options.min_pts = min_pts;
+  options.floor.mode = mapper::PlaneSetting::Mode::kNone;  // one hull per cluster, as this test is about
+  options.convex_parts.reset();
   b.result = pipeline::build(options);
   return b;
 }

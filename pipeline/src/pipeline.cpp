@@ -221,7 +221,14 @@ void recordSurfaces(const Surfaces& surfaces, BuildResult& result) {
 mapper::Alignment alignKeyframes(const AlignSettings& align, const std::vector<mapper::Keyframe>& keyframes) {
   const auto reference = mapper::readReferenceTrajectory(align.reference.string(), align.format);
   if (reference.empty()) throw Error(align.reference.string() + ": no reference poses");
-  return mapper::alignTrajectory(keyframes, reference, align.params);
+  try {
+    return mapper::alignTrajectory(keyframes, reference, align.params);
+  } catch (const Error& e) {
+    // Named as the parameter, so that the CLI says --align.
+    const std::string text = e.what();
+    if (!e.parameter().empty() || text.rfind("align: ", 0) != 0) throw;
+    throw Error::inParameter("align", text.substr(7));
+  }
 }
 
 /// The octree of points already read whole (map frame after this), with the keyframes' rays
