@@ -635,7 +635,14 @@ BuildResult build(const BuildParams& params) {
     for (const auto& input : params.inputs)
       if (isOctomapFile(input))
         throw Error(input.string() + ": an octomap file can only be the single input of build");
-    if (!params.trajectory && !params.origin) {
+    // A floor found in the streamed points may need a second pass over the inputs to level the
+    // map: inputs that cannot be read twice (a FIFO, standard input) are then read whole.
+    const bool readable_twice = std::all_of(params.inputs.begin(), params.inputs.end(), [](const fs::path& p) {
+      std::error_code ec;
+      return fs::is_regular_file(p, ec);
+    });
+    const bool may_level = params.floor.mode == mapper::PlaneSetting::Mode::kAuto && !params.align;
+    if (!params.trajectory && !params.origin && (readable_twice || !may_level)) {
       buildStreamed(params, result, timer);
     } else {
       mapper::PointSet set = readInputPoints(pathStrings(params.inputs));
