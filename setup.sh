@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # hullmap set-up: installs what is missing (Debian 12 packages), builds, then
-#   ./setup.sh demo   runs `hullmap build` on the sample in maps/ and shows the result
+#   ./setup.sh demo   runs `hullmap build --align` on maps/office and prints `hullmap evaluate`'s verdict
 #   ./setup.sh test   runs the whole test suite (ctest)
 #   ./setup.sh bench  installs the peers (Open3D, scikit-learn) too and regenerates docs/BENCHMARKS.md
 # Environment: BUILD_DIR (default build), JOBS (default: number of cores).
@@ -66,13 +66,16 @@ cmake --build "$build_dir" -j"$jobs"
 
 if [ "$mode" = demo ]; then
   hullmap="$build_dir/cli/hullmap"
-  echo "== $hullmap build maps/room/map_points.txt --trajectory maps/room/KeyFrameTrajectory.txt --up -y -p -o out/room"
-  "$hullmap" build maps/room/map_points.txt --trajectory maps/room/KeyFrameTrajectory.txt --up -y -p -o out/room
-  echo "== $hullmap info out/room/map.bt"
-  "$hullmap" info out/room/map.bt
-  echo "== $hullmap check out/room --radius 0.3 --segments maps/room/segments.txt"
-  "$hullmap" check out/room --radius 0.3 --segments maps/room/segments.txt || [ $? -eq 1 ]
-  echo "== outputs in out/room: $(ls out/room | tr '\n' ' ')"
+  # maps/office: a realistic room in ORB-SLAM's frame at monocular scale, with a metric reference
+  # trajectory and the ground truth (maps/README.md); the build runs at its defaults.
+  m=maps/office
+  echo "== $hullmap build $m/map_points.txt --trajectory $m/KeyFrameTrajectory.txt --align $m/reference_trajectory.txt -p -o out/office"
+  "$hullmap" build $m/map_points.txt --trajectory $m/KeyFrameTrajectory.txt --align $m/reference_trajectory.txt -p -o out/office
+  echo "== $hullmap evaluate out/office --truth $m/ground_truth.json --radius 0.3"
+  "$hullmap" evaluate out/office --truth $m/ground_truth.json --radius 0.3
+  echo "== $hullmap check out/office --radius 0.3 --segments $m/segments.txt"
+  "$hullmap" check out/office --radius 0.3 --segments $m/segments.txt || [ $? -eq 1 ]
+  echo "== outputs in out/office: $(ls out/office | tr '\n' ' ')"
 else
   ctest --test-dir "$build_dir" --output-on-failure -j"$jobs"
 fi

@@ -1,5 +1,8 @@
 #include <filesystem>
+#include <cmath>
+#include <iomanip>
 #include <iostream>
+#include <sstream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -33,8 +36,18 @@ struct BuildOptions {
   std::string metric = "xyz";
   std::optional<std::string> topic;  ///< the input is a ROS1 bag: its map topic
   std::optional<std::string> trajectory_topic;  ///< and its keyframe poses' topic
+  std::optional<std::string> align;          ///< reference trajectory
+  std::string align_format = "tum";
+  double align_tolerance = mapper::AlignParams{}.stamp_tolerance;
+  std::string floor = "auto";
+  std::string ceiling = "none";
+  std::string eps = "auto";
+  std::string min_pts = "auto";
+  std::string concavity = "default";
   pipeline::BuildParams params;
 };
+
+double number(const std::string& text) { return std::stod(text); }  // validated by the option's check
 
 pipeline::BuildParams toParams(const BuildOptions& o) {
   pipeline::BuildParams params = o.params;
@@ -45,7 +58,23 @@ pipeline::BuildParams toParams(const BuildOptions& o) {
   if (o.crop) params.filters.crop = mapper::parseBox("--crop", *o.crop);
   params.filters.z_min = o.z_min;
   params.filters.z_max = o.z_max;
-  params.dbscan.metric = clustering::parseMetric(o.metric);
+  params.metric = clustering::parseMetric(o.metric);
+  if (o.align) {
+    pipeline::AlignSettings align;
+    align.reference = *o.align;
+    align.format = mapper::parseReferenceFormat(o.align_format);
+    align.params.stamp_tolerance = o.align_tolerance;
+    params.align = align;
+  }
+  params.floor = mapper::parsePlaneSetting("--floor", o.floor);
+  params.ceiling = mapper::parsePlaneSetting("--ceiling", o.ceiling);
+  if (o.eps != "auto") params.eps = number(o.eps);
+  if (o.min_pts != "auto") params.min_pts = std::stoi(o.min_pts);
+  if (o.concavity == "none") {
+    params.convex_parts.reset();
+  } else if (o.concavity != "default") {
+    params.convex_parts->concavity = number(o.concavity);
+  }
   return params;
 }
 
@@ -69,6 +98,16 @@ bool readsOctree(const BuildOptions& options) {
 }
 
 void refuseMisfits(const CLI::App& cmd, const BuildOptions& options) {
+  if (options.align && !options.trajectory)
+    throw Error("--align: needs --trajectory (the keyframes fitted to the reference trajectory)");
+  if (options.align) {
+    for (const char* name : {"--up", "--scale"})
+      if (cmd.count(name) > 0)
+        throw Error(std::string(name) + ": cannot apply with --align (the reference trajectory sets the frame and scale); leave it out");
+  } else {
+    for (const char* name : {"--align-format", "--align-tolerance"})
+      if (cmd.count(name) > 0) throw Error(std::string(name) + ": applies only with --align REF");
+  }
   if (!readsOctree(options)) {
     // Points alone are occupied updates only: nothing for a ray bound or P(miss) to act on.
     if (options.trajectory || options.origin || options.trajectory_topic) return;
@@ -83,7 +122,7 @@ void refuseMisfits(const CLI::App& cmd, const BuildOptions& options) {
   std::string given;
   for (const char* name : {"--trajectory", "--origin", "--up", "--scale", "--crop", "--z-min", "--z-max",
                            "--resolution", "--max-range", "--hit", "--miss", "--clamp-min", "--clamp-max",
-                           "--occupancy-threshold"}) {
+                           "--occupancy-threshold", "--align", "--floor", "--ceiling"}) {
     if (cmd.count(name) > 0) given += (given.empty() ? "" : ", ") + std::string(name);
   }
   if (given.empty()) return;
@@ -126,6 +165,55 @@ pipeline::BuildResult buildFromBag(const BuildOptions& options, const pipeline::
   throw Error("--topic: this hullmap was built without ROS1's rosbag_storage (install librosbag-storage-dev "
               "and pluginlib-dev, then rebuild)");
 #endif
+}
+
+std::string planeText(const pipeline::PlaneReport& r, const char* what) {
+  std::ostringstream s;
+  s << what << ": ";
+  using Mode = mapper::PlaneSetting::Mode;
+  if (r.setting.mode == Mode::kNone) return s.str() + "none (not searched)";
+  if (!r.plane) return s.str() + "none found (" + r.fit.reason + ")";
+  const auto& p = *r.plane;
+  s << std::setprecision(4);
+  if (r.setting.mode == Mode::kHeight) {
+    s << "z = " << r.setting.height << " (given)";
+  } else if (r.levelled) {
+    s << "found, tilt " << r.fit.tilt_deg << " deg, " << 100.0 * r.fit.inlier_share
+      << "% of the points; levelled to z = 0";
+  } else {
+    s << "found at " << p.offset / p.normal.z() << " (normal " << p.normal.x() << ' ' << p.normal.y() << ' '
+      << p.normal.z() << "), " << 100.0 * r.fit.inlier_share << "% of the points";
+  }
+  s << "; " << r.voxels << " voxels not clustered";
+  return s.str();
+}
+
+void printStages(const pipeline::BuildResult& result) {
+  const auto& report = result.report;
+  if (report.alignment) {
+    const auto& a = *report.alignment;
+    const Eigen::Vector3d& t = a.transform.translation;
+    std::cout << std::setprecision(6) << "align: scale " << a.transform.scale << ", rotation "
+              << Eigen::AngleAxisd(a.transform.rotation).angle() * 180.0 / M_PI << " deg, translation " << t.x()
+              << ' ' << t.y() << ' ' << t.z() << "; RMSE " << a.rmse << " (max " << a.max_error << "), "
+              << a.matched << " keyframes matched, " << a.unmatched << " unmatched\n";
+  }
+  if (pipeline::readsOctree(result.params)) return;
+  std::cout << planeText(report.floor, "floor") << "\n" << planeText(report.ceiling, "ceiling") << "\n";
+}
+
+void printClustering(const pipeline::BuildResult& result) {
+  const auto& report = result.report;
+  const auto& cp = report.cluster_params;
+  std::cout << std::setprecision(4) << "eps: " << cp.used.eps << (cp.eps_auto ? " (auto)" : " (given)")
+            << ", min-pts: " << cp.used.min_pts << (cp.min_pts_auto ? " (auto)" : " (given)") << "\n";
+  std::cout << "obstacles: " << result.obstacles.size();
+  if (report.parts) {
+    const auto& p = *report.parts;
+    std::cout << " in " << p.parts << " convex parts (concavity " << p.concavity << "); observed-free voxels inside hulls: "
+              << p.free_voxels_inside << ", keyframes inside hulls: " << report.keyframes_inside_hulls;
+  }
+  std::cout << "\n";
 }
 
 }  // namespace
@@ -172,11 +260,30 @@ void addBuildCommand(CLI::App& app, int& status) {
   cmd->add_option("--occupancy-threshold", octree.sensor.occupancy_threshold,
                   "Occupied when probability > this")
       ->check(numberIn(0.0, 1.0))->capture_default_str();
-  cmd->add_option("--eps", options->params.dbscan.eps, "DBSCAN radius, map units (>= --resolution, or voxels stand alone)")
-      ->check(numberAbove(0))->capture_default_str();
-  cmd->add_option("--min-pts", options->params.dbscan.min_pts,
-                  "DBSCAN core threshold, counted in map points (voxels weigh the points in them)")
-      ->check(wholeNumberFrom(1))->capture_default_str();
+  cmd->add_option("--align", options->align,
+                  "Metric reference trajectory of the keyframes (needs --trajectory): outputs in its frame, metres, z up")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--align-format", options->align_format, "Format of --align: tum (t x y z [q]) or gps (t lat lon alt)")
+      ->check(CLI::IsMember({"tum", "gps"}))->capture_default_str();
+  cmd->add_option("--align-tolerance", options->align_tolerance,
+                  "Seconds within which a keyframe matches a reference stamp")
+      ->check(numberAbove(0, true))->capture_default_str();
+  cmd->add_option("--floor", options->floor,
+                  "auto: find the floor (level it at z = 0 unless --align), none, or its height Z; "
+                  "floor voxels are not clustered")
+      ->check(wordOr({"auto", "none"}, finiteNumber()))->capture_default_str();
+  cmd->add_option("--ceiling", options->ceiling, "auto, none, or its height Z: ceiling voxels are not clustered")
+      ->check(wordOr({"auto", "none"}, finiteNumber()))->capture_default_str();
+  cmd->add_option("--eps", options->eps,
+                  "DBSCAN radius, map units (>= --resolution), or auto: chosen from the map")
+      ->check(wordOr({"auto"}, numberAbove(0)))->capture_default_str();
+  cmd->add_option("--min-pts", options->min_pts,
+                  "DBSCAN core threshold, counted in map points (voxels weigh the points in them), or auto")
+      ->check(wordOr({"auto"}, wholeNumberFrom(1)))->capture_default_str();
+  cmd->add_option("--concavity", options->concavity,
+                  "Split clusters into convex parts no farther than T (map units) from their voxels; "
+                  "default: 3 voxels; none: one hull per cluster")
+      ->check(wordOr({"default", "none"}, numberAbove(0)))->capture_default_str();
   cmd->add_option("--metric", options->metric, "DBSCAN distance: xyz or xy (top view)")
       ->check(CLI::IsMember({"xyz", "xy"}))->capture_default_str();
   cmd->add_flag("--ot", options->params.write_ot, "Also write map.ot (full probabilities)");
@@ -206,16 +313,19 @@ void addBuildCommand(CLI::App& app, int& status) {
       named.back().format = "tum";
     }
     auto& warnings = result.report.warnings;
-    if (auto hint = mapper::orbSlamUpHint(named, cmd->count("--up") > 0)) warnings.insert(warnings.begin(), *hint);
+    if (auto hint = mapper::orbSlamUpHint(named, cmd->count("--up") > 0 || options->align.has_value())) warnings.insert(warnings.begin(), *hint);
     for (const auto& warning : warnings) std::cerr << "hullmap: warning: " << warning << "\n";
     naming([&] { pipeline::write(result, options->output_dir, write_options); });
     const auto& a = result.report.points;
     std::cout << "points: " << a.read << " read, " << a.used << " used";
     for (const auto& [reason, count] : a.dropped) std::cout << ", " << count << " dropped (" << reason << ")";
-    std::cout << "\noctree: " << result.voxels.size() << " occupied voxels at "
+    std::cout << "\n";
+    printStages(result);
+    std::cout << "octree: " << result.voxels.size() << " occupied voxels at "
               << result.map.resolution() << "\nclusters: " << result.clusters.cluster_sizes.size()
-              << ", noise voxels: " << result.clusters.noise
-              << "\nobstacles: " << result.obstacles.size() << "\nwrote " << options->output_dir
+              << ", noise voxels: " << result.clusters.noise << "\n";
+    printClustering(result);
+    std::cout << "wrote " << options->output_dir
               << "/{map.bt" << (options->params.write_ot ? ",map.ot" : "")
               << ",voxels.csv,obstacles.json,obstacles.obj,report.json}\n";
     status = 0;

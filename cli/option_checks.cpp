@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "hullmap/core/error.hpp"
 
@@ -82,6 +83,24 @@ CLI::Validator wholeNumberFrom(long low) {
         return "";
       },
       ">= " + std::to_string(low));
+}
+
+CLI::Validator wordOr(const std::vector<std::string>& words, CLI::Validator inner) {
+  std::string names;
+  for (const auto& w : words) names += (names.empty() ? "" : ", ") + w;
+  std::string description;
+  for (const auto& w : words) description += w + "|";
+  return CLI::Validator(
+      [words, names, inner](std::string& text) -> std::string {
+        for (const auto& w : words)
+          if (text == w) return "";
+        std::string copy = text;
+        const std::string bad = inner(copy);
+        // A number's own complaint stays as it is; a word that is none of them is named with them.
+        if (bad.empty() || bad.rfind("expected a number", 0) != 0) return bad;
+        return "expected " + names + " or a number, got '" + text + "'";
+      },
+      description + "NUMBER");
 }
 
 CLI::Validator existingFileOrStdin() {

@@ -21,6 +21,10 @@ CLI::Validator finiteNumber();
 /// A whole number >= low.
 CLI::Validator wholeNumberFrom(long low);
 
+/// One of `words` (e.g. "auto", "none"), or a value `inner` accepts; inner's message for a bad
+/// number ("must be > 0, got -1"), "expected auto, none or a number, got 'x'" for anything else.
+CLI::Validator wordOr(const std::vector<std::string>& words, CLI::Validator inner);
+
 /// An existing file, or "-" for standard input.
 CLI::Validator existingFileOrStdin();
 

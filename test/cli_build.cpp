@@ -54,7 +54,7 @@ TEST(CliBuild, SampleSceneEndToEndAccountsForEveryPoint) {
   sampleScene(dir);
   const auto out = dir / "out";
   const auto r = runHullmap("build " + (dir / "map_points.txt").string() + " --trajectory " +
-                            (dir / "KeyFrameTrajectory.txt").string() + " --up -y -o " + out.string());
+                            (dir / "KeyFrameTrajectory.txt").string() + " --up -y --eps 0.1 --min-pts 10 --floor none --concavity none -o " + out.string());
   ASSERT_EQ(r.status, 0) << r.err;
   // stderr is for errors and warnings (octomap's own progress lines are muted); the default eps and
   // min-pts leave most voxels of this scene as noise, which build says.
@@ -243,7 +243,7 @@ TEST(CliBadInput, DegenerateClustersStillMakeSolidObstacles) {
     for (int k = 0; k < 10; ++k)
       text += "-3.025 " + std::to_string(0.025 + 0.05 * i) + " " + std::to_string(0.025 + 0.05 * k) + "\n";
   writeText(dir / "degenerate.txt", text);
-  const auto r = runHullmap("build " + (dir / "degenerate.txt").string() + " --min-pts 2 -o " +
+  const auto r = runHullmap("build " + (dir / "degenerate.txt").string() + " --min-pts 2 --eps 0.1 --floor none --concavity none -o " +
                             (dir / "out").string());
   ASSERT_EQ(r.status, 0) << r.err;
   const auto obstacles = readJson(dir / "out" / "obstacles.json");
@@ -255,10 +255,10 @@ TEST(CliBuild, FailedRunLeavesPreviousOutputIntact) {
   const auto dir = freshDir("cli_atomic");
   writeText(dir / "good.txt", "0 0 0\n0.01 0 0\n");
   const auto out = dir / "out";
-  ASSERT_EQ(runHullmap("build " + (dir / "good.txt").string() + " --min-pts 1 -o " + out.string()).status, 0);
+  ASSERT_EQ(runHullmap("build " + (dir / "good.txt").string() + " --min-pts 1 --eps 0.1 --floor none --concavity none -o " + out.string()).status, 0);
   const std::string before = slurp(out / "report.json");
   writeText(dir / "bad.txt", "0 0 0\nx y z w\n");
-  expectOneLineError(runHullmap("build " + (dir / "bad.txt").string() + " -o " + out.string()), "bad.txt:2");
+  expectOneLineError(runHullmap("build " + (dir / "bad.txt").string() + " --eps 0.1 --min-pts 10 --floor none --concavity none -o " + out.string()), "bad.txt:2");
   EXPECT_EQ(slurp(out / "report.json"), before);
   for (const auto& entry : fs::directory_iterator(dir))
     EXPECT_EQ(entry.path().filename().string().find(".out."), std::string::npos)
@@ -330,7 +330,8 @@ namespace {
 
 /// `build` of points alone the way it was done before it streamed: every input read whole
 /// (readPointFiles), then the frame change, the filters and buildFromPoints on all points, then
-/// DBSCAN and the obstacles, written by writeBuild.
+/// DBSCAN and the obstacles, written by writeBuild. `params` gives eps and minPts, no floor and no
+/// convex parts.
 void buildWholeFile(const hullmap::pipeline::BuildParams& params, const fs::path& output_dir) {
   using namespace hullmap;
   pipeline::BuildResult result;
@@ -358,7 +359,12 @@ void buildWholeFile(const hullmap::pipeline::BuildParams& params, const fs::path
     centers.push_back(v.center);
     weights.push_back(v.weight);
   }
-  result.clusters = clustering::dbscan(centers, weights, params.dbscan);
+  clustering::DbscanParams dbscan;
+  dbscan.eps = *params.eps;
+  dbscan.min_pts = *params.min_pts;
+  dbscan.metric = params.metric;
+  result.report.cluster_params.used = dbscan;
+  result.clusters = clustering::dbscan(centers, weights, dbscan);
   result.obstacles = clustering::buildObstacles(centers, weights, result.clusters.labels, result.map.resolution());
   for (const char* stage : {"read", "frame_and_filters", "octree", "dbscan", "obstacles"}) {
     result.report.timings_ms.emplace_back(stage, 0.0);
@@ -390,12 +396,16 @@ TEST(CliBuild, PointsOnlyStreamsTheOutputsOfReadingWhole) {
   options.frame.up = hullmap::mapper::UpAxis::kNegY;
   options.filters.crop = hullmap::mapper::Box{{-4, -4, -1}, {4, 4, 2.5}};
   options.filters.z_min = 0.02;
-  options.dbscan.min_pts = 5;
+  options.eps = 0.1;
+  options.min_pts = 5;
+  options.floor.mode = hullmap::mapper::PlaneSetting::Mode::kNone;
+  options.convex_parts.reset();
   buildWholeFile(options, dir / "whole");
 
   const auto out = dir / "out";
   const auto r = runHullmap("build " + options.inputs[0].string() + " " + options.inputs[1].string() +
-                            " --up -y --crop -4,-4,-1,4,4,2.5 --z-min 0.02 --min-pts 5 -o " + out.string());
+                            " --up -y --crop -4,-4,-1,4,4,2.5 --z-min 0.02 --eps 0.1 --min-pts 5 --floor none "
+                            "--concavity none -o " + out.string());
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(slurp(out / "map.bt"), slurp(dir / "whole" / "map.bt"));
   EXPECT_EQ(slurp(out / "voxels.csv"), slurp(dir / "whole" / "voxels.csv"));

@@ -333,8 +333,10 @@ RealMap buildRealMap(const std::string& path) {
   hullmap::pipeline::BuildParams params;
   params.inputs = {path};
   params.frame.up = hullmap::mapper::parseUpAxis("-y");
-  params.dbscan.eps = 0.2;
-  params.dbscan.min_pts = 3;
+  params.eps = 0.2;
+  params.min_pts = 3;
+  params.floor.mode = hullmap::mapper::PlaneSetting::Mode::kNone;  // whole clusters, split below
+  params.convex_parts.reset();
   RealMap real{hullmap::pipeline::build(params), {}, {}};
   for (const auto& v : real.result.voxels) {
     real.centers.push_back(v.center);

@@ -251,7 +251,8 @@ void expectBuildWrapsEveryCluster(const pipeline::BuildParams& params) {
     expectWraps(o, v, r.map.resolution());
     clustered += o.voxel_count;
   }
-  EXPECT_EQ(clustered + r.clusters.noise, r.voxels.size());
+  // Floor and ceiling voxels are in no cluster and not noise (their rims next to a cluster joined it).
+  EXPECT_EQ(clustered + r.clusters.noise + r.report.floor.voxels + r.report.ceiling.voxels, r.voxels.size());
 }
 
 TEST(Obstacles, HullsOfGeneratedMapsContainEveryClusteredVoxel) {
@@ -262,6 +263,8 @@ TEST(Obstacles, HullsOfGeneratedMapsContainEveryClusteredVoxel) {
     const auto dir = test::freshDir("scene_" + std::to_string(seed));
     mapper::writeScene(mapper::generateScene(params), params, dir.string());
     pipeline::BuildParams options;
+    options.eps = 0.1;  // the classic setting: many clusters to check
+    options.min_pts = 10;
     options.inputs = {dir / "map_points.txt"};
     options.trajectory = dir / "KeyFrameTrajectory.txt";
     options.frame.up = mapper::UpAxis::kNegY;
@@ -279,6 +282,8 @@ TEST(Obstacles, HullsOfRealMapsContainEveryClusteredVoxel) {
   {
     SCOPED_TRACE("ORB-SLAM2 EuRoC V1_01, points only");
     pipeline::BuildParams options;
+    options.eps = 0.1;  // the classic setting: many clusters to check
+    options.min_pts = 10;
     options.inputs = {v1};
     options.frame.up = mapper::UpAxis::kNegY;
     expectBuildWrapsEveryCluster(options);
@@ -286,6 +291,8 @@ TEST(Obstacles, HullsOfRealMapsContainEveryClusteredVoxel) {
   {
     SCOPED_TRACE("ORB-SLAM3 EuRoC MH_01, both files, with the keyframes");
     pipeline::BuildParams options;
+    options.eps = 0.1;  // the classic setting: many clusters to check
+    options.min_pts = 10;
     options.inputs = {mh, mh_ref};
     options.trajectory = mh_traj;
     options.frame.up = mapper::UpAxis::kNegY;
@@ -294,11 +301,12 @@ TEST(Obstacles, HullsOfRealMapsContainEveryClusteredVoxel) {
   {
     SCOPED_TRACE("PCL five people (Kinect), from the camera at the origin, 0.1 m voxels");
     pipeline::BuildParams options;
+    options.min_pts = 10;
     options.inputs = {people};
     options.origin = Eigen::Vector3d::Zero();
     options.frame.up = mapper::UpAxis::kNegY;
     options.octree.resolution = 0.1;
-    options.dbscan.eps = 0.2;
+    options.eps = 0.2;
     expectBuildWrapsEveryCluster(options);
   }
 }

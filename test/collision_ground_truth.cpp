@@ -53,8 +53,10 @@ Built build(const mapper::SceneParams& params, const std::string& name, double e
   options.inputs = {dir / "map_points.txt"};
   options.trajectory = dir / "KeyFrameTrajectory.txt";
   options.frame.up = mapper::UpAxis::kNegY;
-  options.dbscan.eps = eps;
-  options.dbscan.min_pts = min_pts;
+  options.eps = eps;
+  options.min_pts = min_pts;
+  options.floor.mode = mapper::PlaneSetting::Mode::kNone;  // one hull per cluster, as this test is about
+  options.convex_parts.reset();
   b.result = pipeline::build(options);
   return b;
 }

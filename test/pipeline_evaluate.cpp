@@ -194,8 +194,10 @@ TEST(Evaluate, PartsStopSwallowingTheRoom) {
   hullmap::pipeline::BuildParams build;
   build.inputs = {std::string(HULLMAP_SOURCE_DIR) + "/maps/room/map_points.txt"};
   build.frame.up = hullmap::mapper::parseUpAxis("-y");
-  build.dbscan.eps = 0.2;
-  build.dbscan.min_pts = 3;
+  build.eps = 0.2;
+  build.min_pts = 3;
+  build.floor.mode = hullmap::mapper::PlaneSetting::Mode::kNone;  // whole clusters, split below
+  build.convex_parts.reset();
   hullmap::pipeline::BuildResult r = hullmap::pipeline::build(build);
   const GroundTruth truth = readGroundTruth(std::string(HULLMAP_SOURCE_DIR) + "/maps/room/ground_truth.json");
   std::vector<V3> centers;

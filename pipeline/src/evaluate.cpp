@@ -97,6 +97,15 @@ std::vector<HullPlanes> hullsOf(const std::vector<clustering::Obstacle>& obstacl
 }
 
 void finishShape(TruthShape& s) {
+  if (s.kind == TruthShape::Kind::kUnion) {
+    s.aabb_min = V3::Constant(kInf);
+    s.aabb_max = V3::Constant(-kInf);
+    for (const auto& part : s.parts) {
+      s.aabb_min = s.aabb_min.cwiseMin(part.aabb_min);
+      s.aabb_max = s.aabb_max.cwiseMax(part.aabb_max);
+    }
+    return;
+  }
   if (s.kind == TruthShape::Kind::kMesh) {
     s.aabb_min = V3::Constant(kInf);
     s.aabb_max = V3::Constant(-kInf);
@@ -141,24 +150,42 @@ GroundTruth readJsonTruth(const std::string& path, std::istream& in) {
     const std::string at = "obstacles[" + std::to_string(k) + "]";
     const auto& j = list[k];
     if (!j.is_object()) fail(at, "expected an object");
+    const auto primitive = [&](const nlohmann::json& j, const std::string& at) {
+      TruthShape s;
+      const std::string shape = j.contains("shape") && j["shape"].is_string() ? j["shape"].get<std::string>() : "";
+      if (shape == "box") {
+        s.kind = TruthShape::Kind::kBox;
+      } else if (shape == "cylinder") {
+        s.kind = TruthShape::Kind::kCylinder;
+      } else {
+        fail(at + ".shape", "expected \"box\" or \"cylinder\"");
+      }
+      if (!j.contains("center")) fail(at, "missing \"center\"");
+      if (!j.contains("size")) fail(at, "missing \"size\"");
+      s.center = vec3(j["center"], at + ".center");
+      s.size = vec3(j["size"], at + ".size");
+      if (!(s.size.array() > 0).all()) fail(at + ".size", "extents must be positive");
+      if (j.contains("yaw")) {
+        if (!j["yaw"].is_number() || !std::isfinite(j["yaw"].get<double>())) fail(at + ".yaw", "expected a number");
+        s.yaw = j["yaw"].get<double>();
+      }
+      s.label = shape;
+      finishShape(s);
+      return s;
+    };
     TruthShape s;
-    const std::string shape = j.contains("shape") && j["shape"].is_string() ? j["shape"].get<std::string>() : "";
-    if (shape == "box") {
-      s.kind = TruthShape::Kind::kBox;
-    } else if (shape == "cylinder") {
-      s.kind = TruthShape::Kind::kCylinder;
+    if (j.contains("shape") && j["shape"] == "union") {
+      if (!j.contains("parts") || !j["parts"].is_array() || j["parts"].empty())
+        fail(at + ".parts", "a union needs a non-empty \"parts\" array");
+      s.kind = TruthShape::Kind::kUnion;
+      for (std::size_t p = 0; p < j["parts"].size(); ++p)
+        s.parts.push_back(primitive(j["parts"][p], at + ".parts[" + std::to_string(p) + "]"));
+      s.label = "union";
     } else {
-      fail(at + ".shape", "expected \"box\" or \"cylinder\"");
+      s = primitive(j, at);
     }
-    if (!j.contains("center")) fail(at, "missing \"center\"");
-    if (!j.contains("size")) fail(at, "missing \"size\"");
-    s.center = vec3(j["center"], at + ".center");
-    s.size = vec3(j["size"], at + ".size");
-    if (!(s.size.array() > 0).all()) fail(at + ".size", "extents must be positive");
-    if (j.contains("yaw")) {
-      if (!j["yaw"].is_number() || !std::isfinite(j["yaw"].get<double>())) fail(at + ".yaw", "expected a number");
-      s.yaw = j["yaw"].get<double>();
-    }
+    const std::string shape = j.contains("kind") && j["kind"].is_string() ? j["kind"].get<std::string>() : s.label;
+    s.surface = shape == "floor" || shape == "ceiling";
     s.label = shape + " " + std::to_string(k);
     finishShape(s);
     truth.shapes.push_back(std::move(s));
@@ -233,6 +260,11 @@ double TruthShape::signedDistance(const V3& p) const {
       const Eigen::Vector2d q(std::hypot(d.x(), d.y()) - 0.5 * size.x(), std::abs(d.z()) - 0.5 * size.z());
       return boxDistance<Eigen::Vector2d>(q);
     }
+    case Kind::kUnion: {
+      double best = kInf;
+      for (const auto& part : parts) best = std::min(best, part.signedDistance(p));
+      return best;
+    }
     case Kind::kMesh: {
       double best = kInf;
       double winding = 0.0;
@@ -282,7 +314,10 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
 
   // Observed points per true obstacle.
   e.truth.resize(truth.shapes.size());
-  for (std::size_t s = 0; s < truth.shapes.size(); ++s) e.truth[s].label = truth.shapes[s].label;
+  for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
+    e.truth[s].label = truth.shapes[s].label;
+    e.truth[s].surface = truth.shapes[s].surface;
+  }
   for (std::size_t i = 0; i < points.size(); ++i) {
     const double w = weights.empty() ? 1.0 : double(weights[i]);
     bool inside = false, decided = false;
@@ -357,6 +392,14 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
   lo -= V3::Constant(params.radius + params.clear_margin + 0.5);
   hi += V3::Constant(params.radius + params.clear_margin + 0.5);
   const double free_distance = params.radius + params.clear_margin;
+  // Segments stay on the map's side of its floors and ceilings: nothing flies through a floor.
+  double above = -kInf, below = kInf;
+  for (const auto& s : truth.shapes) {
+    if (!s.surface) continue;
+    if (s.label.rfind("floor", 0) == 0) above = std::max(above, s.aabb_max.z() + free_distance);
+    else below = std::min(below, s.aabb_min.z() - free_distance);
+  }
+  const auto onMapSide = [&](const V3& p) { return p.z() >= above && p.z() <= below; };
   std::vector<collision::Segment> segments;
   std::vector<int> verdict;  // 1 deep, 2 clear, 0 neither
   for (std::size_t tries = 0; segments.size() < params.segments && tries < 1000 * params.segments; ++tries) {
@@ -366,6 +409,7 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
     const double length = 0.2 + (params.segment_length - 0.2) * uniform(rng);
     const V3 b = a + length * V3(r * std::cos(phi), r * std::sin(phi), z);
     if (truth.signedDistance(a) < free_distance || truth.signedDistance(b) < free_distance) continue;
+    if (!onMapSide(a) || !onMapSide(b)) continue;
     const std::size_t steps = std::size_t(std::ceil(length / params.sample_step));
     const double spacing = length / double(steps);
     double nearest = kInf;
@@ -398,7 +442,7 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
   for (const auto& t : e.truth) {
     json touching = json::array();
     for (const auto& [o, part] : t.parts_touching) touching.push_back({{"obstacle", o}, {"part", part}});
-    truth.push_back({{"label", t.label},
+    truth.push_back({{"label", t.label}, {"surface", t.surface},
                      {"points_near", t.points_near},
                      {"points_inside", t.points_inside},
                      {"share_inside", t.points_near > 0 ? json(t.points_inside / t.points_near) : json(nullptr)},

@@ -16,6 +16,7 @@
 #include <optional>
 #include <sstream>
 #include <sys/file.h>
+#include <unordered_map>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -98,6 +99,138 @@ void accountForInputs(BuildResult& result) {
   }
 }
 
+/// Map frame -> output frame: x -> levelling * x.
+void applyIsometry(const Eigen::Isometry3d& t, mapper::Points& points) {
+  for (auto& p : points) p = t * p;
+}
+
+void applyIsometry(const Eigen::Isometry3d& t, std::vector<mapper::Keyframe>& keyframes) {
+  const Eigen::Quaterniond q(t.linear());
+  for (auto& k : keyframes) {
+    k.position = t * k.position;
+    k.orientation = q * k.orientation;
+  }
+}
+
+bool isIdentity(const Eigen::Isometry3d& t) { return t.matrix().isIdentity(0.0); }
+
+/// A deterministic sample of a point stream in input order, whatever its batches: every
+/// stride-th point, the stride doubling (and every second kept point dropped) whenever
+/// kSamplePoints are held. The floor search runs on it.
+class PointSample {
+ public:
+  static constexpr std::size_t kSamplePoints = std::size_t(1) << 18;
+  void add(const mapper::Points& batch) {
+    for (const auto& p : batch) {
+      if (seen_++ % stride_ != 0) continue;
+      points_.push_back(p);
+      if (points_.size() == kSamplePoints) {
+        for (std::size_t i = 0; 2 * i < points_.size(); ++i) points_[i] = points_[2 * i];
+        points_.resize((points_.size() + 1) / 2);
+        stride_ *= 2;
+      }
+    }
+  }
+  const mapper::Points& points() const { return points_; }
+
+ private:
+  mapper::Points points_;
+  std::size_t seen_ = 0;
+  std::size_t stride_ = 1;
+};
+
+/// Identity when `levelling` moves no corner of the points' bounding box by more than 5% of a
+/// voxel (a map already level with its floor at z = 0): the points are then left as they are.
+Eigen::Isometry3d negligibleAsIdentity(const Eigen::Isometry3d& levelling, const mapper::Points& points,
+                                       double resolution) {
+  if (points.empty() || isIdentity(levelling)) return levelling;
+  if (!levelling.matrix().allFinite()) return Eigen::Isometry3d::Identity();
+  Eigen::AlignedBox3d box;
+  for (const auto& p : points) box.extend(p);
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d corner = box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c));
+    if ((levelling * corner - corner).norm() > 0.05 * resolution) return levelling;
+  }
+  return Eigen::Isometry3d::Identity();
+}
+
+/// The floor and ceiling stage on (a sample of) the points in the map frame: what was found, and
+/// the levelling that puts a found floor at z = 0 (identity when aligned: REF defines up).
+struct Surfaces {
+  PlaneReport floor;
+  PlaneReport ceiling;
+  Eigen::Isometry3d levelling = Eigen::Isometry3d::Identity();
+};
+
+Surfaces searchSurfaces(const BuildParams& params, const mapper::Points& sample) {
+  Surfaces out;
+  const bool aligned = params.align.has_value();
+  mapper::PlaneSearchParams search;
+  search.band = params.octree.resolution;
+  search.fit_tilt = !aligned;
+  out.floor.setting = params.floor;
+  out.ceiling.setting = params.ceiling;
+  using Mode = mapper::PlaneSetting::Mode;
+  if (params.floor.mode == Mode::kHeight) {
+    out.floor.plane = mapper::horizontalPlane(params.floor.height, mapper::PlaneSide::kFloor);
+  } else if (params.floor.mode == Mode::kAuto) {
+    out.floor.fit = mapper::findBoundingPlane(sample, mapper::PlaneSide::kFloor, search);
+    if (out.floor.fit.found) {
+      if (aligned) {
+        out.floor.plane = out.floor.fit.plane;
+      } else {
+        out.levelling = mapper::levelingTransform(out.floor.fit.plane);
+        out.floor.plane = mapper::horizontalPlane(0.0, mapper::PlaneSide::kFloor);
+        out.floor.levelled = true;
+      }
+    }
+  }
+  if (params.ceiling.mode == Mode::kHeight) {
+    out.ceiling.plane = mapper::horizontalPlane(params.ceiling.height, mapper::PlaneSide::kCeiling);
+  } else if (params.ceiling.mode == Mode::kAuto) {
+    mapper::Points levelled;
+    const mapper::Points* points = &sample;
+    if (!isIdentity(out.levelling)) {
+      levelled = sample;
+      applyIsometry(out.levelling, levelled);
+      points = &levelled;
+    }
+    out.ceiling.fit = mapper::findBoundingPlane(*points, mapper::PlaneSide::kCeiling, search);
+    if (out.ceiling.fit.found) out.ceiling.plane = out.ceiling.fit.plane;
+  }
+  return out;
+}
+
+Surfaces findSurfaces(const BuildParams& params, const mapper::Points& sample) {
+  Surfaces out = searchSurfaces(params, sample);
+  out.levelling = negligibleAsIdentity(out.levelling, sample, params.octree.resolution);
+  if (out.floor.levelled && isIdentity(out.levelling)) {  // already level at z = 0
+    out.floor.levelled = false;
+    out.floor.plane = out.floor.fit.plane;
+  }
+  return out;
+}
+
+void recordSurfaces(const Surfaces& surfaces, BuildResult& result) {
+  result.report.floor = surfaces.floor;
+  result.report.ceiling = surfaces.ceiling;
+  result.report.levelling = surfaces.levelling;
+}
+
+/// Reads the reference trajectory and fits the keyframes (input frame) to it.
+mapper::Alignment alignKeyframes(const AlignSettings& align, const std::vector<mapper::Keyframe>& keyframes) {
+  const auto reference = mapper::readReferenceTrajectory(align.reference.string(), align.format);
+  if (reference.empty()) throw Error(align.reference.string() + ": no reference poses");
+  try {
+    return mapper::alignTrajectory(keyframes, reference, align.params);
+  } catch (const Error& e) {
+    // Named as the parameter, so that the CLI says --align.
+    const std::string text = e.what();
+    if (!e.parameter().empty() || text.rfind("align: ", 0) != 0) throw;
+    throw Error::inParameter("align", text.substr(7));
+  }
+}
+
 /// The octree of points already read whole (map frame after this), with the keyframes' rays
 /// (trajectory), one scan's rays (origin), or points alone.
 /// `given` (keyframes in memory, input frame) stands for the trajectory file when not null.
@@ -115,9 +248,29 @@ void buildWhole(const BuildParams& params, mapper::Points points, BuildResult& r
   } else if (params.trajectory) {
     keyframes = mapper::readTumTrajectory(params.trajectory->string());
     if (keyframes.empty()) throw Error(params.trajectory->string() + ": no keyframes");
-    mapper::toMapFrame(params.frame, keyframes);
   }
-  mapper::toMapFrame(params.frame, points);
+  std::vector<Eigen::Vector3d> origin;
+  if (params.origin) origin.push_back(*params.origin);
+  if (params.align) {
+    result.report.alignment = alignKeyframes(*params.align, keyframes);
+    mapper::applySimilarity(result.report.alignment->transform, points);
+    mapper::applySimilarity(result.report.alignment->transform, keyframes);
+    timer.stage("align");
+  } else {
+    mapper::toMapFrame(params.frame, keyframes);
+    mapper::toMapFrame(params.frame, points);
+    mapper::toMapFrame(params.frame, origin);
+  }
+  PointSample sample;
+  sample.add(points);
+  const Surfaces surfaces = findSurfaces(params, sample.points());
+  if (!isIdentity(surfaces.levelling)) {
+    applyIsometry(surfaces.levelling, points);
+    applyIsometry(surfaces.levelling, keyframes);
+    applyIsometry(surfaces.levelling, origin);
+  }
+  recordSurfaces(surfaces, result);
+  timer.stage("floor");
   mapper::InputStats filtered;
   mapper::applyFilters(params.filters, points, filtered);
   addDropped(result.report.points, filtered);
@@ -129,9 +282,8 @@ void buildWhole(const BuildParams& params, mapper::Points points, BuildResult& r
   if (params.trajectory) {
     result.map = mapper::buildWithTrajectory(points, keyframes, params.octree, built);
     result.report.keyframes = keyframes.size();
+    result.keyframes = std::move(keyframes);
   } else if (params.origin) {
-    std::vector<Eigen::Vector3d> origin{*params.origin};
-    mapper::toMapFrame(params.frame, origin);
     result.map = mapper::buildFromScan(points, origin.front(), params.octree, built);
   } else {
     result.map = mapper::buildFromPoints(points, params.octree, built);
@@ -140,52 +292,91 @@ void buildWhole(const BuildParams& params, mapper::Points points, BuildResult& r
   timer.stage("octree");
 }
 
-/// Points only: read -> frame -> filters -> octree batch by batch, so neither the input files nor
-/// their points are ever whole in memory; the same tree, counts, account and errors as reading
-/// everything first. Times are summed over the batches per stage.
-void buildStreamed(const BuildParams& params, BuildResult& result, StageTimer& timer) {
-  // The whole-input path meets bad octree parameters when it builds, after the input's errors,
-  // "no points" and the filters' error: they are reported in that order here too.
-  std::optional<mapper::PointMapBuilder> builder;
-  std::exception_ptr bad_octree_params;
-  try {
-    builder.emplace(params.octree);
-  } catch (const Error&) {
-    bad_octree_params = std::current_exception();
-  }
+/// One pass of the streamed build: read -> frame -> levelling -> filters -> octree batch by batch.
+struct StreamPass {
+  std::vector<mapper::InputStats> inputs;
   mapper::InputStats filtered;
   mapper::InputStats built;
   std::size_t delivered = 0;
   std::size_t kept = 0;
+  double read_ms = 0.0;
   double frame_ms = 0.0;
   double octree_ms = 0.0;
+  std::optional<mapper::OccupancyMap> map;
+  std::exception_ptr bad_octree_params;
+};
+
+StreamPass streamPass(const BuildParams& params, const Eigen::Isometry3d& levelling, PointSample* sample) {
+  StreamPass pass;
+  // The whole-input path meets bad octree parameters when it builds, after the input's errors,
+  // "no points" and the filters' error: they are reported in that order here too.
+  std::optional<mapper::PointMapBuilder> builder;
+  try {
+    builder.emplace(params.octree);
+  } catch (const Error&) {
+    pass.bad_octree_params = std::current_exception();
+  }
+  const bool level = !isIdentity(levelling);
   const auto consume = [&](mapper::Points& batch) {
     const auto start = Clock::now();
-    delivered += batch.size();
+    pass.delivered += batch.size();
     mapper::toMapFrame(params.frame, batch);
-    mapper::applyFilters(params.filters, batch, filtered);
-    kept += batch.size();
+    if (sample) sample->add(batch);
+    if (level) applyIsometry(levelling, batch);
+    mapper::applyFilters(params.filters, batch, pass.filtered);
+    pass.kept += batch.size();
     const auto filtered_at = Clock::now();
-    frame_ms += std::chrono::duration<double, std::milli>(filtered_at - start).count();
-    if (builder) builder->add(batch, built);
-    octree_ms += msSince(filtered_at);
+    pass.frame_ms += std::chrono::duration<double, std::milli>(filtered_at - start).count();
+    if (builder) builder->add(batch, pass.built);
+    pass.octree_ms += msSince(filtered_at);
   };
   const auto start = Clock::now();
+  pass.inputs = mapper::streamPointFiles(pathStrings(params.inputs), mapper::PointStreamParams{}, consume);
+  pass.read_ms = msSince(start) - pass.frame_ms - pass.octree_ms;
+  if (builder && pass.kept > 0) {
+    const auto finish_start = Clock::now();
+    pass.map.emplace(builder->finish());
+    pass.octree_ms += msSince(finish_start);
+  }
+  return pass;
+}
+
+/// Points only: read -> frame -> filters -> octree batch by batch, so neither the input files nor
+/// their points are ever whole in memory; the same tree, counts, account and errors as reading
+/// everything first. Times are summed over the batches per stage. The floor is searched on the
+/// sample the first pass keeps; when it must be levelled, a second pass builds the levelled tree.
+void buildStreamed(const BuildParams& params, BuildResult& result, StageTimer& timer) {
+  PointSample sample;
+  StreamPass pass = streamPass(params, Eigen::Isometry3d::Identity(), &sample);
   const std::vector<std::string> inputs = pathStrings(params.inputs);
-  result.report.inputs = mapper::streamPointFiles(inputs, mapper::PointStreamParams{}, consume);
-  const double stream_ms = msSince(start);
+  double read_ms = pass.read_ms, frame_ms = pass.frame_ms, octree_ms = pass.octree_ms;
+  if (pass.delivered == 0) {
+    result.report.inputs = pass.inputs;
+    accountForInputs(result);
+    throw noPoints(inputs);
+  }
+  const auto floor_start = Clock::now();
+  const Surfaces surfaces = findSurfaces(params, sample.points());
+  recordSurfaces(surfaces, result);
+  const double floor_ms = msSince(floor_start);
+  if (!isIdentity(surfaces.levelling)) {
+    pass = streamPass(params, surfaces.levelling, nullptr);
+    read_ms += pass.read_ms;
+    frame_ms += pass.frame_ms;
+    octree_ms += pass.octree_ms;
+  }
+  result.report.inputs = pass.inputs;
   accountForInputs(result);
-  if (delivered == 0) throw noPoints(inputs);
-  addDropped(result.report.points, filtered);
-  if (kept == 0) throw noPointsInBounds();
-  if (bad_octree_params) std::rethrow_exception(bad_octree_params);
-  timer.stage("read", stream_ms - frame_ms - octree_ms);
+  addDropped(result.report.points, pass.filtered);
+  if (pass.kept == 0) throw noPointsInBounds();
+  if (pass.bad_octree_params) std::rethrow_exception(pass.bad_octree_params);
+  timer.stage("read", read_ms);
+  timer.stage("floor", floor_ms);
   timer.stage("frame_and_filters", frame_ms);
   runStage("octree");
-  const auto finish_start = Clock::now();
-  result.map = builder->finish();
-  timer.stage("octree", octree_ms + msSince(finish_start));
-  addDropped(result.report.points, built);
+  result.map = std::move(*pass.map);
+  timer.stage("octree", octree_ms);
+  addDropped(result.report.points, pass.built);
 }
 
 void checkParams(const BuildParams& params) {
@@ -195,6 +386,21 @@ void checkParams(const BuildParams& params) {
     throw Error::inParameter("trajectory/origin", "give one or the other");
   if (params.origin && !params.origin->allFinite())
     throw Error::inParameter("origin", "must be finite");
+  if (params.align) {
+    if (!params.trajectory)
+      throw Error::inParameter("align", "needs the keyframe trajectory (trajectory) to fit to the reference");
+    if (params.frame.up != mapper::UpAxis::kPosZ || params.frame.scale != 1.0)
+      throw Error::inParameter("align", "the reference trajectory sets the frame and scale: leave up and scale out");
+  }
+  if (params.eps && !(*params.eps > 0.0 && std::isfinite(*params.eps)))
+    throw Error::inParameter("eps", "must be a positive finite number");
+  if (params.min_pts && *params.min_pts < 1) throw Error::inParameter("min_pts", "must be at least 1");
+  if (params.convex_parts &&
+      !(params.convex_parts->concavity >= 0.0 && std::isfinite(params.convex_parts->concavity)))
+    throw Error::inParameter("concavity", "must be a finite number >= 0 (0: the default)");
+  for (const auto* plane : {&params.floor, &params.ceiling})
+    if (plane->mode == mapper::PlaneSetting::Mode::kHeight && !std::isfinite(plane->height))
+      throw Error::inParameter(plane == &params.floor ? "floor" : "ceiling", "height must be finite");
 }
 
 /// Every point used, or none the octree can address: an error.
@@ -233,26 +439,145 @@ ClusteredVoxels clusterStages(const mapper::OccupancyMap& map, const clustering:
   return out;
 }
 
+/// Voxel lattice key of a centre (map units / resolution, rounded).
+std::uint64_t latticeKey(const Eigen::Vector3d& c, double resolution) {
+  // Centres lie at (k + 1/2) * resolution: floor() gives k without ties.
+  const auto cell = [&](double v) {
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / resolution)) + (1 << 20)) & 0x1fffff;
+  };
+  return cell(c.x()) << 42 | cell(c.y()) << 21 | cell(c.z());
+}
+
+/// Floor/ceiling voxels next to a cluster (26-neighbours, two layers) join it: the foot of a box or
+/// of a wall lies in the floor's band, and its points belong to the obstacle.
+void attachSurfaceRims(const std::vector<Eigen::Vector3d>& centers, double resolution,
+                       std::vector<std::int32_t>& labels) {
+  for (int layer = 0; layer < 2; ++layer) {
+    std::unordered_map<std::uint64_t, std::int32_t> clustered;
+    for (std::size_t i = 0; i < centers.size(); ++i)
+      if (labels[i] >= 0) clustered.emplace(latticeKey(centers[i], resolution), labels[i]);
+    std::vector<std::pair<std::size_t, std::int32_t>> joins;
+    for (std::size_t i = 0; i < centers.size(); ++i) {
+      if (labels[i] != kFloorLabel && labels[i] != kCeilingLabel) continue;
+      std::int32_t best = -1;
+      for (int dx = -1; dx <= 1 && best < 0; ++dx)
+        for (int dy = -1; dy <= 1 && best < 0; ++dy)
+          for (int dz = -1; dz <= 1 && best < 0; ++dz) {
+            const auto hit = clustered.find(
+                latticeKey(centers[i] + resolution * Eigen::Vector3d(dx, dy, dz), resolution));
+            if (hit != clustered.end()) best = hit->second;
+          }
+      if (best >= 0) joins.emplace_back(i, best);
+    }
+    for (const auto& [i, label] : joins) labels[i] = label;
+  }
+}
+
+/// Centres of the observed-free leaves of the map (each pruned leaf once).
+std::vector<Eigen::Vector3d> freeVoxelCentres(const mapper::OccupancyMap& map) {
+  std::vector<Eigen::Vector3d> free;
+  const auto& tree = map.tree();
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+    if (tree.isNodeOccupied(*it)) continue;
+    const auto c = it.getCoordinate();
+    free.emplace_back(c.x(), c.y(), c.z());
+  }
+  return free;
+}
+
 void clusterInto(BuildResult& result, StageTimer& timer) {
+  const BuildParams& params = result.params;
+  BuildReport& report = result.report;
+  const double resolution = result.map.resolution();
+  result.voxels = result.map.occupiedVoxels();
+  const std::size_t n = result.voxels.size();
+  std::vector<Eigen::Vector3d> centers;
+  std::vector<std::uint32_t> weights;
+  centers.reserve(n);
+  weights.reserve(n);
+  for (const auto& v : result.voxels) {
+    centers.push_back(v.center);
+    weights.push_back(v.weight);
+  }
+
+  // Floor and ceiling voxels stay in the map but are not clustered. The band covers the plane's
+  // noise (about a voxel) and half a voxel: a voxel holding floor points has its centre within it.
+  runStage("surfaces");
+  std::vector<std::int32_t> labels(n, clustering::kNoise);
+  if (report.floor.plane || report.ceiling.plane) {
+    const auto classes = mapper::classifySurfaces(centers, report.floor.plane, report.ceiling.plane, 1.25 * resolution);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (classes[i] == mapper::SurfaceClass::kFloor) labels[i] = kFloorLabel;
+      if (classes[i] == mapper::SurfaceClass::kCeiling) labels[i] = kCeilingLabel;
+    }
+  }
+  std::vector<std::size_t> obstacle_index;
+  obstacle_index.reserve(n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (labels[i] == clustering::kNoise) obstacle_index.push_back(i);
+  std::vector<Eigen::Vector3d> obstacle_centers;
+  std::vector<std::uint32_t> obstacle_weights;
+  obstacle_centers.reserve(obstacle_index.size());
+  obstacle_weights.reserve(obstacle_index.size());
+  for (std::size_t i : obstacle_index) {
+    obstacle_centers.push_back(centers[i]);
+    obstacle_weights.push_back(weights[i]);
+  }
+  timer.stage("surfaces");
+
+  runStage("auto_params");
+  ClusterParamsReport& chosen = report.cluster_params;
+  chosen.used.metric = params.metric;
+  chosen.eps_auto = !params.eps;
+  chosen.min_pts_auto = !params.min_pts;
+  if (chosen.eps_auto || chosen.min_pts_auto) {
+    chosen.chosen = clustering::chooseDbscanParams(obstacle_centers, obstacle_weights, resolution, params.metric,
+                                                   params.auto_rule);
+  }
+  chosen.used.eps = params.eps ? *params.eps : chosen.chosen->eps;
+  chosen.used.min_pts = params.min_pts ? *params.min_pts : chosen.chosen->min_pts;
+  timer.stage("auto_params");
+
   runStage("dbscan");
-  ClusteredVoxels clustered = clusterStages(result.map, result.params.dbscan, [&] {
-    timer.stage("dbscan");
-    runStage("obstacles");
-  });
+  const clustering::DbscanResult sub = clustering::dbscan(obstacle_centers, obstacle_weights, chosen.used);
+  timer.stage("dbscan");
+
+  runStage("obstacles");
+  result.clusters.cluster_sizes = sub.cluster_sizes;
+  result.clusters.noise = sub.noise;
+  result.clusters.core.assign(n, 0);
+  for (std::size_t k = 0; k < obstacle_index.size(); ++k) {
+    labels[obstacle_index[k]] = sub.labels[k];
+    result.clusters.core[obstacle_index[k]] = sub.core[k];
+  }
+  attachSurfaceRims(centers, resolution, labels);
+  std::vector<std::int32_t> cluster_labels(labels);
+  for (auto& l : cluster_labels) l = std::max(l, clustering::kNoise);
+  result.obstacles = clustering::buildObstacles(centers, weights, cluster_labels, resolution);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (labels[i] == kFloorLabel) ++report.floor.voxels;
+    if (labels[i] == kCeilingLabel) ++report.ceiling.voxels;
+  }
   timer.stage("obstacles");
-  result.voxels = std::move(clustered.voxels);
-  result.clusters = std::move(clustered.clusters);
-  result.obstacles = std::move(clustered.obstacles);
-  const clustering::DbscanParams& dbscan = result.params.dbscan;
-  result.report.warnings = clustering::buildWarnings(
-      {result.voxels.size(), result.clusters.noise, result.obstacles.size(), dbscan.eps, dbscan.min_pts,
-       dbscan.metric, result.map.resolution()});
-  if (!readsOctree(result.params)) {
-    std::vector<Eigen::Vector3d> centers;
-    centers.reserve(result.voxels.size());
-    for (const auto& v : result.voxels) centers.push_back(v.center);
-    if (auto tilted = mapper::levelWarning(centers, result.map.resolution(), upAxisText(result.params.frame.up)))
-      result.report.warnings.push_back(*tilted);
+
+  if (params.convex_parts) {
+    runStage("convex_parts");
+    clustering::KnownFreeSpace known;
+    for (const auto& k : result.keyframes) known.keyframes.push_back(k.position);
+    if (params.trajectory || params.origin) known.free_voxels = freeVoxelCentres(result.map);
+    report.parts = clustering::addConvexParts(result.obstacles, centers, weights, cluster_labels, resolution,
+                                              *params.convex_parts, known);
+    report.keyframes_inside_hulls = report.parts->keyframes_in_voxels;
+    timer.stage("convex_parts");
+  }
+  result.clusters.labels = std::move(labels);
+
+  const clustering::DbscanParams& used = chosen.used;
+  report.warnings = clustering::buildWarnings({obstacle_index.size(), result.clusters.noise, result.obstacles.size(),
+                                               used.eps, used.min_pts, used.metric, resolution});
+  if (!readsOctree(params) && !params.align && !report.floor.levelled) {
+    if (auto tilted = mapper::levelWarning(centers, resolution, upAxisText(params.frame.up)))
+      report.warnings.push_back(*tilted);
   }
 }
 
@@ -316,7 +641,14 @@ BuildResult build(const BuildParams& params) {
     for (const auto& input : params.inputs)
       if (isOctomapFile(input))
         throw Error(input.string() + ": an octomap file can only be the single input of build");
-    if (!params.trajectory && !params.origin) {
+    // A floor found in the streamed points may need a second pass over the inputs to level the
+    // map: inputs that cannot be read twice (a FIFO, standard input) are then read whole.
+    const bool readable_twice = std::all_of(params.inputs.begin(), params.inputs.end(), [](const fs::path& p) {
+      std::error_code ec;
+      return fs::is_regular_file(p, ec);
+    });
+    const bool may_level = params.floor.mode == mapper::PlaneSetting::Mode::kAuto && !params.align;
+    if (!params.trajectory && !params.origin && (readable_twice || !may_level)) {
       buildStreamed(params, result, timer);
     } else {
       mapper::PointSet set = readInputPoints(pathStrings(params.inputs));
@@ -367,6 +699,60 @@ std::vector<clustering::Obstacle> readObstacles(const fs::path& obstacles_json) 
   return readObstaclesJson(obstacles_json.string());
 }
 
+namespace {
+
+nlohmann::json planeSettingJson(const mapper::PlaneSetting& setting) {
+  switch (setting.mode) {
+    case mapper::PlaneSetting::Mode::kAuto: return "auto";
+    case mapper::PlaneSetting::Mode::kNone: return "none";
+    case mapper::PlaneSetting::Mode::kHeight: break;
+  }
+  return setting.height;
+}
+
+nlohmann::json planeJson(const mapper::Plane& plane) {
+  return {{"normal", {plane.normal.x(), plane.normal.y(), plane.normal.z()}}, {"offset", plane.offset}};
+}
+
+nlohmann::json planeReportJson(const PlaneReport& r) {
+  using nlohmann::json;
+  json out = {{"setting", planeSettingJson(r.setting)},
+              {"found", r.plane.has_value()},
+              {"plane", r.plane ? planeJson(*r.plane) : json(nullptr)},
+              {"levelled", r.levelled},
+              {"voxels", r.voxels}};
+  if (r.setting.mode == mapper::PlaneSetting::Mode::kAuto) {
+    out["search"] = {{"found", r.fit.found},
+                     {"reason", r.fit.found ? json(nullptr) : json(r.fit.reason)},
+                     {"candidate", planeJson(r.fit.plane)},
+                     {"tilt_deg", r.fit.tilt_deg},
+                     {"inliers", r.fit.inliers},
+                     {"inlier_share", r.fit.inlier_share},
+                     {"beyond_share", r.fit.beyond_share},
+                     {"coverage", r.fit.coverage}};
+  }
+  return out;
+}
+
+nlohmann::json matrixRows(const Eigen::Matrix3d& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int r = 0; r < 3; ++r) rows.push_back({m(r, 0), m(r, 1), m(r, 2)});
+  return rows;
+}
+
+nlohmann::json alignmentJson(const mapper::Alignment& a) {
+  const auto& t = a.transform;
+  return {{"scale", t.scale},
+          {"rotation", matrixRows(t.rotation)},
+          {"translation", {t.translation.x(), t.translation.y(), t.translation.z()}},
+          {"rmse", a.rmse},
+          {"max_error", a.max_error},
+          {"matched", a.matched},
+          {"unmatched", a.unmatched}};
+}
+
+}  // namespace
+
 nlohmann::json parametersJson(const BuildParams& params) {
   using nlohmann::json;
   const auto numbers = [](std::initializer_list<double> values) {
@@ -400,9 +786,17 @@ nlohmann::json parametersJson(const BuildParams& params) {
       {"clamp_max", params.octree.sensor.clamp_max},
       {"occupancy_threshold", params.octree.sensor.occupancy_threshold},
       {"max_range", params.octree.max_range},
-      {"eps", params.dbscan.eps},
-      {"min_pts", params.dbscan.min_pts},
-      {"metric", clustering::toString(params.dbscan.metric)},
+      {"align", params.align ? json(params.align->reference.string()) : json(nullptr)},
+      {"align_format", params.align ? json(mapper::toString(params.align->format)) : json(nullptr)},
+      {"align_tolerance", params.align ? json(params.align->params.stamp_tolerance) : json(nullptr)},
+      {"floor", planeSettingJson(params.floor)},
+      {"ceiling", planeSettingJson(params.ceiling)},
+      {"eps", params.eps ? json(*params.eps) : json("auto")},
+      {"min_pts", params.min_pts ? json(*params.min_pts) : json("auto")},
+      {"metric", clustering::toString(params.metric)},
+      {"concavity", !params.convex_parts ? json("none")
+                    : params.convex_parts->concavity > 0.0 ? json(params.convex_parts->concavity)
+                                                           : json("default")},
       {"ot", params.write_ot},
   };
 }
@@ -432,6 +826,41 @@ nlohmann::json reportJson(const BuildResult& result) {
   for (auto c : result.clusters.core) core += c;
 
   json parameters = parametersJson(result.params);
+  const ClusterParamsReport& cp = report.cluster_params;
+  parameters["eps"] = cp.used.eps;
+  parameters["min_pts"] = cp.used.min_pts;
+  parameters["eps_auto"] = cp.eps_auto;
+  parameters["min_pts_auto"] = cp.min_pts_auto;
+  json clustering_params = {{"eps", cp.used.eps}, {"eps_auto", cp.eps_auto},
+                            {"min_pts", cp.used.min_pts}, {"min_pts_auto", cp.min_pts_auto}};
+  if (cp.chosen) {
+    const auto& c = *cp.chosen;
+    clustering_params["auto"] = {{"knn", std::isfinite(c.knn) ? json(c.knn) : json(nullptr)},
+                                 {"eps_unclamped", std::isfinite(c.eps_unclamped) ? json(c.eps_unclamped) : json(nullptr)},
+                                 {"sampled", c.sampled},
+                                 {"structured", c.structured},
+                                 {"eps", c.eps},
+                                 {"min_pts", c.min_pts}};
+  }
+  json parts = nullptr;
+  if (report.parts) {
+    const auto& p = *report.parts;
+    std::size_t split = 0, largest = 0;
+    for (const auto& o : result.obstacles) {
+      split += o.parts.size() > 1;
+      largest = std::max(largest, o.parts.size());
+    }
+    parts = {{"count", p.parts},
+             {"concavity", p.concavity},
+             {"per_obstacle", result.obstacles.empty() ? 0.0 : double(p.parts) / double(result.obstacles.size())},
+             {"obstacles_split", split},
+             {"most_parts_of_one_obstacle", largest},
+             {"hull_volume_before", p.hull_volume_before},
+             {"hull_volume_after", p.hull_volume_after},
+             {"voxel_volume", p.voxel_volume},
+             {"free_voxels_inside", p.free_voxels_inside},
+             {"keyframes_inside_hulls", report.keyframes_inside_hulls}};
+  }
   if (readsOctree(result.params)) {
     // A finished octree is read as it is: record what it holds, not parameters that were not applied.
     const auto& tree = result.map.tree();
@@ -454,6 +883,12 @@ nlohmann::json reportJson(const BuildResult& result) {
                   {"dropped", report.points.dropped},
                   {"used", report.points.used}}},
       {"keyframes", report.keyframes},
+      {"alignment", report.alignment ? alignmentJson(*report.alignment) : json(nullptr)},
+      {"floor", readsOctree(result.params) ? json(nullptr) : planeReportJson(report.floor)},
+      {"ceiling", readsOctree(result.params) ? json(nullptr) : planeReportJson(report.ceiling)},
+      {"levelling", {{"rotation", matrixRows(report.levelling.linear())},
+                     {"translation", {report.levelling.translation().x(), report.levelling.translation().y(),
+                                      report.levelling.translation().z()}}}},
       {"octree", {{"resolution", info.resolution},
                   {"bounds", {{"min", {info.min.x(), info.min.y(), info.min.z()}},
                               {"max", {info.max.x(), info.max.y(), info.max.z()}}}},
@@ -466,7 +901,9 @@ nlohmann::json reportJson(const BuildResult& result) {
                     {"noise_voxels", result.clusters.noise},
                     {"core_voxels", core},
                     {"largest_voxel_counts", largest}}},
+      {"clustering", clustering_params},
       {"obstacles", result.obstacles.size()},
+      {"parts", parts},
       {"timings_ms", timings},
       {"peak_rss_mb", peak},
   };

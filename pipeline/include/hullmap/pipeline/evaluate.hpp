@@ -15,8 +15,13 @@ namespace hullmap::pipeline {
 
 /// One true obstacle, z-up map frame, map units (metres for a metric map).
 struct TruthShape {
-  enum class Kind { kBox, kCylinder, kMesh } kind = Kind::kBox;
-  std::string label;                                   ///< "box 3", or the OBJ object's name
+  enum class Kind { kBox, kCylinder, kMesh, kUnion } kind = Kind::kBox;
+  std::string label;                                   ///< "box 3", "table 6", or the OBJ object's name
+  /// A floor or ceiling ("kind": "floor" / "ceiling" in the JSON): the bound of the map, which the
+  /// build leaves out of its obstacles. Random segments stay above every floor and below every
+  /// ceiling; its observed points are reported but are not expected inside hulls.
+  bool surface = false;
+  std::vector<TruthShape> parts;                       ///< kUnion: the primitives (boxes, cylinders)
   Eigen::Vector3d center = Eigen::Vector3d::Zero();    ///< box centre; cylinder axis centre
   Eigen::Vector3d size = Eigen::Vector3d::Ones();      ///< box extents; cylinder (2r, 2r, height)
   double yaw = 0.0;                                    ///< box rotation about z, radians
@@ -37,7 +42,9 @@ struct GroundTruth {
 };
 
 /// Reads ground truth: a JSON file as maps/room/ground_truth.json ({"obstacles": [{"shape": "box" |
-/// "cylinder", "center": [x,y,z], "size": [sx,sy,sz], optional "yaw"}]}), or an OBJ mesh (`v` and
+/// "cylinder", "center": [x,y,z], "size": [sx,sy,sz], optional "yaw"}]}; "shape": "union" with
+/// "parts": [primitives] for an object made of several (maps/README.md); optional "kind", where
+/// "floor" and "ceiling" mark a bounding surface), or an OBJ mesh (`v` and
 /// `f` lines; each `o` object one true obstacle, the whole file one when it has none; polygons are
 /// fanned). Throws hullmap::Error "<path>: <what>" (line numbers for OBJ).
 GroundTruth readGroundTruth(const std::string& path);
@@ -61,6 +68,7 @@ struct EvaluateParams {
 /// Per true obstacle.
 struct TruthScore {
   std::string label;
+  bool surface = false;            ///< a floor or ceiling (TruthShape::surface)
   double points_near = 0;          ///< weight of map points within surface_margin of its surface
   double points_inside = 0;        ///< of those, inside some hull
   std::vector<std::pair<int, int>> parts_touching;  ///< (obstacle id, part index; -1 whole hull)

@@ -11,18 +11,36 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "hullmap/clustering/auto_params.hpp"
+#include "hullmap/clustering/convex_parts.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/mapper/align.hpp"
+#include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/mapper/readers.hpp"
 
 /// The whole build of `hullmap build` as a library: point files (or points in memory, or one .bt/.ot)
-/// -> map frame -> filters -> OctoMap octree -> exact DBSCAN of the occupied voxels -> convex obstacles,
-/// and the output directory it writes. Everything in the z-up map frame, map units (metres for a
+/// -> map frame (a reference trajectory's, or an up axis and scale) -> floor found and levelled ->
+/// filters -> OctoMap octree -> floor/ceiling voxels set aside -> eps/minPts chosen from the map ->
+/// exact DBSCAN of the obstacle voxels -> convex obstacles split into convex parts, and the output
+/// directory it writes. Everything in the z-up map frame, map units (metres for a
 /// metric SLAM map). Functions are reentrant: two builds may run at once on different params; each
 /// build uses all cores (TBB) in the caller's arena.
 namespace hullmap::pipeline {
+
+/// Label written into voxels.csv (BuildResult::clusters.labels) for voxels of the floor and of the
+/// ceiling: they stay in the map but are not clustered (clustering::kNoise is -1).
+inline constexpr std::int32_t kFloorLabel = -2;
+inline constexpr std::int32_t kCeilingLabel = -3;
+
+/// `--align REF`: a metric reference trajectory of the keyframes (see mapper::alignTrajectory).
+struct AlignSettings {
+  std::filesystem::path reference;                                ///< TUM or GPS file
+  mapper::ReferenceFormat format = mapper::ReferenceFormat::kTum;
+  mapper::AlignParams params;                                     ///< timestamp tolerance, seconds
+};
 
 /// Everything a build can be asked, typed. Defaults are `hullmap build`'s.
 struct BuildParams {
@@ -35,11 +53,48 @@ struct BuildParams {
   /// Sensor origin, input frame: the points are inserted as one scan from there (free space along
   /// the rays). Not with `trajectory`.
   std::optional<Eigen::Vector3d> origin;
-  mapper::FrameParams frame;         ///< input -> z-up map frame (up axis, scale)
-  mapper::FilterParams filters;      ///< crop box, z bounds, map frame
+  /// Similarity from the keyframes to a metric reference trajectory (needs `trajectory`): points
+  /// and keyframes are moved into the reference's frame (metres, z up), and `frame` does not apply.
+  std::optional<AlignSettings> align;
+  mapper::FrameParams frame;         ///< input -> z-up map frame (up axis, scale); not with `align`
+  /// The floor: kAuto (default) searches it (mapper::findBoundingPlane on the points, band = the
+  /// resolution); found, it is levelled to z = 0 (rotation and shift) unless `align` gave the frame,
+  /// which then only sets its height. kHeight: the plane z = height (map frame, after align/frame).
+  /// Voxels within floor_band of it (or under it) are not clustered.
+  mapper::PlaneSetting floor;
+  /// The ceiling, likewise (never moves the map); default kNone.
+  mapper::PlaneSetting ceiling{mapper::PlaneSetting::Mode::kNone, 0.0};
+  mapper::FilterParams filters;      ///< crop box, z bounds, map frame (after levelling)
   mapper::OctreeParams octree;       ///< resolution 0.05, octomap's sensor model, unbounded rays
-  clustering::DbscanParams dbscan;   ///< eps 0.1, min_pts 10 (map points: voxels weigh their points), xyz
+  /// DBSCAN radius, map units; nullopt (default): chosen from the map (clustering::chooseDbscanParams
+  /// with `auto_rule`). A given value wins.
+  std::optional<double> eps;
+  /// DBSCAN core threshold, in map points (voxels weigh their points); nullopt (default): auto.
+  std::optional<int> min_pts;
+  clustering::Metric metric = clustering::Metric::kXyz;  ///< DBSCAN distance (xy: top view)
+  clustering::AutoParamsRule auto_rule;                  ///< the rule behind auto eps / minPts
+  /// Convex parts of each cluster (clustering::addConvexParts) with concavity bound
+  /// `convex_parts->concavity` (0: clustering::defaultConcavity, 3 voxels); nullopt: one hull per
+  /// cluster. The keyframes (with `trajectory`) are kept out of every part's hull.
+  std::optional<clustering::ConvexPartsParams> convex_parts = clustering::ConvexPartsParams{};
   bool write_ot = false;             ///< write() also writes map.ot (full probabilities)
+};
+
+/// What the floor or ceiling stage found.
+struct PlaneReport {
+  mapper::PlaneSetting setting;
+  std::optional<mapper::Plane> plane;  ///< the plane used (map frame after levelling); nullopt: none
+  mapper::PlaneFit fit;                ///< the search's result (kAuto only)
+  bool levelled = false;               ///< the map was rotated/shifted to put this floor at z = 0
+  std::size_t voxels = 0;              ///< occupied voxels set aside as this surface
+};
+
+/// The DBSCAN parameters a build used and where they came from.
+struct ClusterParamsReport {
+  clustering::DbscanParams used;                 ///< eps, min_pts, metric
+  bool eps_auto = false;
+  bool min_pts_auto = false;
+  std::optional<clustering::AutoParams> chosen;  ///< what the auto rule measured (when either is auto)
 };
 
 /// Account of what happened to the input points, stage by stage.
@@ -54,6 +109,14 @@ struct BuildReport {
   std::vector<mapper::InputStats> inputs;                    ///< per input file, in order
   PointAccount points;
   std::size_t keyframes = 0;                                 ///< keyframes read (0 without a trajectory)
+  std::optional<mapper::Alignment> alignment;                ///< with params.align
+  /// Map frame (after align/frame, before levelling) -> output frame: the floor's levelling.
+  Eigen::Isometry3d levelling = Eigen::Isometry3d::Identity();
+  PlaneReport floor;
+  PlaneReport ceiling;
+  ClusterParamsReport cluster_params;
+  std::optional<clustering::ConvexPartsSummary> parts;       ///< with params.convex_parts
+  std::size_t keyframes_inside_hulls = 0;                    ///< keyframes inside some part's hull
   std::vector<std::pair<std::string, double>> timings_ms;    ///< stage -> wall time, ms, in order
   std::vector<std::pair<std::string, double>> peak_rss_mb;   ///< stage -> process peak RSS at its end, MB
   /// One line each about what the outputs leave out or misstate (most voxels noise, no obstacle,
@@ -73,20 +136,28 @@ struct BuildResult {
   BuildParams params;                              ///< as given (inputs included)
   mapper::OccupancyMap map{mapper::OctreeParams{}};
   std::vector<mapper::OccupiedVoxel> voxels;       ///< see ClusteredVoxels
-  clustering::DbscanResult clusters;               ///< voxel labels: clusters.labels[i] is voxels[i]'s
-  std::vector<clustering::Obstacle> obstacles;     ///< what collision::HullChecker takes
+  /// Voxel labels: clusters.labels[i] is voxels[i]'s (kFloorLabel / kCeilingLabel for the floor's
+  /// and ceiling's voxels, which are counted in neither noise nor clusters).
+  clustering::DbscanResult clusters;
+  std::vector<clustering::Obstacle> obstacles;     ///< what collision::HullChecker takes (with parts)
+  std::vector<mapper::Keyframe> keyframes;         ///< output frame (with params.trajectory)
   BuildReport report;
 };
 
 /// Clusters the map's occupied voxels (each weighted by its map points) with `dbscan` and wraps each
-/// cluster in a convex obstacle. Throws hullmap::Error naming the parameter at fault.
+/// cluster in a convex obstacle (no floor, no parts). Throws hullmap::Error naming the parameter at fault.
 ClusteredVoxels clusterMap(const mapper::OccupancyMap& map, const clustering::DbscanParams& dbscan);
 
-/// Runs read -> frame -> filters -> octree -> DBSCAN -> obstacles on params.inputs. Point files
-/// without trajectory and origin are streamed batch by batch (never whole in memory); the timings of
-/// read, frame_and_filters and octree are then each summed over the batches. Throws hullmap::Error
-/// naming the file (and line) or the parameter at fault (parameter names are BuildParams' fields:
-/// "scale", "crop/z_min/z_max", "trajectory/origin").
+/// Runs read -> align or frame -> floor (level) -> filters -> octree -> surfaces -> auto eps/minPts
+/// -> DBSCAN -> obstacles -> convex parts on params.inputs; each stage is timed in
+/// report.timings_ms ("read", "align", "frame_and_filters", "floor", "octree", "surfaces",
+/// "auto_params", "dbscan", "obstacles", "convex_parts"). Point files without trajectory and origin
+/// are streamed batch by batch (never whole in memory; the timings of read, frame_and_filters and
+/// octree are then each summed over the batches): the floor is then searched on a sample of the
+/// points kept while streaming (every k-th point, k chosen from the file sizes), and when it must
+/// be levelled the files are streamed a second time. Throws hullmap::Error naming the file (and
+/// line) or the parameter at fault (parameter names are BuildParams' fields: "scale",
+/// "crop/z_min/z_max", "trajectory/origin", "align", "eps", "min_pts", "concavity").
 BuildResult build(const BuildParams& params);
 
 /// The same build from points already in memory, input frame (a live node has no file): `points`
