@@ -706,10 +706,16 @@ TEST(PlotCommand, RoadmapAndSeveralPathsOneColourEach) {
   EXPECT_GT(count("class=\"roadmap-node\""), 0u);
   EXPECT_EQ(count("<g class=\"path\""), 2u);
   // One colour per path: the first blue, the second orange; b.txt's three timed waypoints drawn.
-  const std::regex path_re(R"re(<g class="path" data-index="(\d)">\n<polyline class="path-band" points="[^"]*" fill="none" stroke="(#[0-9a-f]{6})")re");
   std::vector<std::string> colours;
-  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), path_re); it != std::sregex_iterator(); ++it)
-    colours.push_back((*it)[2]);
+  const std::string band = "<polyline class=\"path-band\" points=\"";
+  for (std::size_t at = svg.find("<g class=\"path\" data-index=\""); at != std::string::npos;
+       at = svg.find("<g class=\"path\" data-index=\"", at + 1)) {
+    const std::size_t line = svg.find('\n', at);
+    ASSERT_EQ(svg.compare(line + 1, band.size(), band), 0) << svg.substr(at, 120);
+    const std::size_t stroke = svg.find("\" fill=\"none\" stroke=\"", line + 1 + band.size());
+    ASSERT_NE(stroke, std::string::npos);
+    colours.push_back(svg.substr(stroke + 22, 7));
+  }
   ASSERT_EQ(colours.size(), 2u);
   EXPECT_EQ(colours[0], hullmap::plot::toHex(hullmap::plot::pathColour(0)));
   EXPECT_EQ(colours[1], hullmap::plot::toHex(hullmap::plot::pathColour(1)));
