@@ -13,6 +13,7 @@
 #include "hullmap/mapper/readers.hpp"
 #include "hullmap/pipeline/evaluate.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
+#include "option_checks.hpp"
 
 namespace hullmap::cli {
 namespace {
@@ -102,6 +103,9 @@ void addEvaluateCommand(CLI::App& app, int& status) {
                   "Map points in the map frame (any point format); default: the build's voxels.csv, weighted");
   cmd->add_option("--segments", options->params.segments, "Random segments in the free volume (default 2000)");
   cmd->add_option("--seed", options->params.seed, "Seed of every random draw (default 1)");
+  cmd->add_option("--segments-above", options->params.segments_above,
+                  "Draw segments only above this z (a known floor: none crosses it), map units")
+      ->check(finiteNumber());
   cmd->add_flag("--json", options->json, "Print the result as JSON");
   cmd->callback([options, &status] {
     runEvaluate(*options);

@@ -97,6 +97,15 @@ std::vector<HullPlanes> hullsOf(const std::vector<clustering::Obstacle>& obstacl
 }
 
 void finishShape(TruthShape& s) {
+  if (s.kind == TruthShape::Kind::kUnion) {
+    s.aabb_min = V3::Constant(kInf);
+    s.aabb_max = V3::Constant(-kInf);
+    for (const auto& part : s.parts) {
+      s.aabb_min = s.aabb_min.cwiseMin(part.aabb_min);
+      s.aabb_max = s.aabb_max.cwiseMax(part.aabb_max);
+    }
+    return;
+  }
   if (s.kind == TruthShape::Kind::kMesh) {
     s.aabb_min = V3::Constant(kInf);
     s.aabb_max = V3::Constant(-kInf);
@@ -135,11 +144,8 @@ GroundTruth readJsonTruth(const std::string& path, std::istream& in) {
     if (!v.allFinite()) fail(where, "non-finite number");
     return v;
   };
-  GroundTruth truth;
-  const auto& list = doc["obstacles"];
-  for (std::size_t k = 0; k < list.size(); ++k) {
-    const std::string at = "obstacles[" + std::to_string(k) + "]";
-    const auto& j = list[k];
+  // One primitive (a box or a cylinder) at j, reported as `at`.
+  const auto primitive = [&](const nlohmann::json& j, const std::string& at) {
     if (!j.is_object()) fail(at, "expected an object");
     TruthShape s;
     const std::string shape = j.contains("shape") && j["shape"].is_string() ? j["shape"].get<std::string>() : "";
@@ -148,7 +154,7 @@ GroundTruth readJsonTruth(const std::string& path, std::istream& in) {
     } else if (shape == "cylinder") {
       s.kind = TruthShape::Kind::kCylinder;
     } else {
-      fail(at + ".shape", "expected \"box\" or \"cylinder\"");
+      fail(at + ".shape", "expected \"box\" or \"cylinder\" (or, for a whole obstacle, \"union\")");
     }
     if (!j.contains("center")) fail(at, "missing \"center\"");
     if (!j.contains("size")) fail(at, "missing \"size\"");
@@ -159,8 +165,29 @@ GroundTruth readJsonTruth(const std::string& path, std::istream& in) {
       if (!j["yaw"].is_number() || !std::isfinite(j["yaw"].get<double>())) fail(at + ".yaw", "expected a number");
       s.yaw = j["yaw"].get<double>();
     }
-    s.label = shape + " " + std::to_string(k);
+    s.label = shape;
     finishShape(s);
+    return s;
+  };
+  GroundTruth truth;
+  const auto& list = doc["obstacles"];
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const std::string at = "obstacles[" + std::to_string(k) + "]";
+    const auto& j = list[k];
+    TruthShape s;
+    if (j.is_object() && j.contains("shape") && j["shape"] == "union") {
+      if (!j.contains("parts") || !j["parts"].is_array() || j["parts"].empty())
+        fail(at + ".parts", "a union needs a non-empty \"parts\" array");
+      s.kind = TruthShape::Kind::kUnion;
+      for (std::size_t p = 0; p < j["parts"].size(); ++p)
+        s.parts.push_back(primitive(j["parts"][p], at + ".parts[" + std::to_string(p) + "]"));
+      s.label = "union";
+      finishShape(s);
+    } else {
+      s = primitive(j, at);
+    }
+    if (j.contains("kind") && j["kind"].is_string()) s.label = j["kind"].get<std::string>();
+    s.label += " " + std::to_string(k);
     truth.shapes.push_back(std::move(s));
   }
   return truth;
@@ -232,6 +259,11 @@ double TruthShape::signedDistance(const V3& p) const {
       const V3 d = p - center;
       const Eigen::Vector2d q(std::hypot(d.x(), d.y()) - 0.5 * size.x(), std::abs(d.z()) - 0.5 * size.z());
       return boxDistance<Eigen::Vector2d>(q);
+    }
+    case Kind::kUnion: {
+      double best = kInf;
+      for (const auto& part : parts) best = std::min(best, part.signedDistance(p));
+      return best;
     }
     case Kind::kMesh: {
       double best = kInf;
@@ -365,6 +397,7 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
     const double z = 2 * uniform(rng) - 1, phi = 2 * kPi * uniform(rng), r = std::sqrt(1 - z * z);
     const double length = 0.2 + (params.segment_length - 0.2) * uniform(rng);
     const V3 b = a + length * V3(r * std::cos(phi), r * std::sin(phi), z);
+    if (a.z() < params.segments_above + free_distance || b.z() < params.segments_above + free_distance) continue;
     if (truth.signedDistance(a) < free_distance || truth.signedDistance(b) < free_distance) continue;
     const std::size_t steps = std::size_t(std::ceil(length / params.sample_step));
     const double spacing = length / double(steps);
@@ -411,7 +444,8 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
            {{"radius", p.radius}, {"surface_margin", p.surface_margin}, {"touch_margin", p.touch_margin},
             {"far_margin", p.far_margin}, {"depth_margin", p.depth_margin}, {"clear_margin", p.clear_margin},
             {"volume_samples", p.volume_samples}, {"segments", p.segments}, {"segment_length", p.segment_length},
-            {"sample_step", p.sample_step}, {"seed", p.seed}}},
+            {"sample_step", p.sample_step}, {"seed", p.seed},
+            {"segments_above", std::isfinite(p.segments_above) ? json(p.segments_above) : json(nullptr)}}},
           {"truth", truth},
           {"parts", e.parts},
           {"false_parts", false_parts},

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,17 +16,19 @@ namespace hullmap::pipeline {
 
 /// One true obstacle, z-up map frame, map units (metres for a metric map).
 struct TruthShape {
-  enum class Kind { kBox, kCylinder, kMesh } kind = Kind::kBox;
-  std::string label;                                   ///< "box 3", or the OBJ object's name
+  enum class Kind { kBox, kCylinder, kMesh, kUnion } kind = Kind::kBox;
+  std::string label;                                   ///< "box 3" (the JSON's `kind` when given: "table 5"), or the OBJ object's name
   Eigen::Vector3d center = Eigen::Vector3d::Zero();    ///< box centre; cylinder axis centre
   Eigen::Vector3d size = Eigen::Vector3d::Ones();      ///< box extents; cylinder (2r, 2r, height)
   double yaw = 0.0;                                    ///< box rotation about z, radians
   std::vector<std::array<Eigen::Vector3d, 3>> triangles;  ///< mesh: a closed surface
+  std::vector<TruthShape> parts;                       ///< union: boxes and cylinders that do not overlap
   Eigen::Vector3d aabb_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d aabb_max = Eigen::Vector3d::Zero();
 
   /// Exact signed distance: negative inside, positive outside. A mesh is inside by its winding
-  /// number (>= 1/2), its distance the exact point-triangle minimum.
+  /// number (>= 1/2), its distance the exact point-triangle minimum. A union takes the smallest over
+  /// its parts: exact outside; inside, the depth is at most the true one near a face two parts share.
   double signedDistance(const Eigen::Vector3d& p) const;
 };
 
@@ -37,7 +40,9 @@ struct GroundTruth {
 };
 
 /// Reads ground truth: a JSON file as maps/room/ground_truth.json ({"obstacles": [{"shape": "box" |
-/// "cylinder", "center": [x,y,z], "size": [sx,sy,sz], optional "yaw"}]}), or an OBJ mesh (`v` and
+/// "cylinder", "center": [x,y,z], "size": [sx,sy,sz], optional "yaw"}]}; `"shape": "union"` with
+/// `"parts": [...]` of boxes and cylinders is one obstacle made of several, as `generate --layout
+/// room` writes for L-shaped shelves and tables), or an OBJ mesh (`v` and
 /// `f` lines; each `o` object one true obstacle, the whole file one when it has none; polygons are
 /// fanned). Throws hullmap::Error "<path>: <what>" (line numbers for OBJ).
 GroundTruth readGroundTruth(const std::string& path);
@@ -54,6 +59,10 @@ struct EvaluateParams {
   std::size_t volume_samples = 4000;  ///< Monte Carlo points per part hull
   std::size_t segments = 2000;        ///< random segments in the free volume
   double segment_length = 2.0;        ///< segments are 0.2 .. this long
+  /// Segments only above a known floor at this height: both endpoints at least radius +
+  /// clear_margin above it, so no capsule comes within clear_margin of the floor (a build that takes
+  /// the floor out of its obstacles is not blamed for it). -infinity: everywhere.
+  double segments_above = -std::numeric_limits<double>::infinity();
   double sample_step = 0.01;          ///< spacing of the truth's distance samples along a segment
   std::uint64_t seed = 1;
 };
