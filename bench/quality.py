@@ -415,8 +415,9 @@ def write_doc(out, rows, template, why, real, densities, args, seconds, hullmap)
     for name, n, v, d in densities:
         w(f"| {name} | {n} | {v} | {d:.0f} |")
     w("")
-    w("The 20 cm figure overestimates the density (most real surface voxels at 5 cm hold one point, and")
-    w("V1_01's room, about 200 m² of visible surface for 8,704 points, is nearer 45 points per m²): the")
+    w("Counting occupied voxels underestimates the area of a surface this sparse (its empty voxels are not")
+    w("counted), so these are upper bounds: V1_01's room, about 200 m² of visible surface for 8,704 points, is")
+    w("nearer 45 points per m² (maps/README.md). The")
     w(f"sparse scenes ({DENSITIES[0]} per m²) are as sparse as V1_01's whole room or sparser, the dense ones "
       f"({DENSITIES[1]}) about as dense as its 20 cm figure.")
     w("")
