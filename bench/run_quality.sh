@@ -15,7 +15,9 @@ set -eu
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build-quality}
 
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DHULLMAP_BUILD_TESTS=OFF >/dev/null
+launcher=""
+if command -v ccache >/dev/null 2>&1; then launcher=-DCMAKE_CXX_COMPILER_LAUNCHER=ccache; fi
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DHULLMAP_BUILD_TESTS=OFF $launcher >/dev/null
 cmake --build "$build" -j"$(nproc)" --target hullmap >/dev/null
 /usr/bin/python3 "$root/bench/quality.py" --hullmap "$build/cli/hullmap" --out "$root/docs/QUALITY.md" \
   --img "$root/docs/img/quality"
