@@ -3,12 +3,13 @@
 #   ./setup.sh demo   runs `hullmap build --align` on maps/office and prints `hullmap evaluate`'s verdict
 #   ./setup.sh test   runs the whole test suite (ctest)
 #   ./setup.sh bench  installs the peers (Open3D, scikit-learn) too and regenerates docs/BENCHMARKS.md
+#   ./setup.sh quality  installs Open3D and SciPy too and regenerates docs/QUALITY.md (bench/run_quality.sh)
 # Environment: BUILD_DIR (default build), JOBS (default: number of cores).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")"
 
 mode=${1:-demo}
-case "$mode" in demo|test|bench) ;; *) echo "usage: $0 demo|test|bench" >&2; exit 2 ;; esac
+case "$mode" in demo|test|bench|quality) ;; *) echo "usage: $0 demo|test|bench|quality" >&2; exit 2 ;; esac
 build_dir=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc)}
 
@@ -32,6 +33,11 @@ if [ "$mode" = bench ]; then
   # The peers a user would pick instead (Open3D's and scikit-learn's DBSCAN), and /usr/bin/time.
   # python3-venv: a venv for the PyPI peer `dbscan` (Wang, Gu and Shun's exact parallel DBSCAN).
   packages+=(python3 python3-numpy python3-sklearn python3-open3d python3-venv time bc)
+fi
+if [ "$mode" = quality ]; then
+  # The Open3D pipeline a user would assemble, numpy/scipy for the alignment and footprints, and
+  # rsvg-convert for the pictures.
+  packages+=(python3 python3-numpy python3-scipy python3-open3d librsvg2-bin)
 fi
 
 missing=()
@@ -58,6 +64,10 @@ if [ "$mode" = bench ]; then
   fi
   export HULLMAP_DBSCAN_VENV="$venv"
   exec bench/run_benchmarks.sh  # builds its own Release tree with the benchmarks
+fi
+
+if [ "$mode" = quality ]; then
+  exec bench/run_quality.sh  # builds its own Release tree
 fi
 
 echo "== building in $build_dir"

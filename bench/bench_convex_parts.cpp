@@ -47,9 +47,9 @@ int main(int argc, char** argv) try {
     if (arg == "--up") {
       params.frame.up = hullmap::mapper::parseUpAxis(value());
     } else if (arg == "--eps") {
-      params.dbscan.eps = std::stod(value());
+      params.eps = std::stod(value());
     } else if (arg == "--min-pts") {
-      params.dbscan.min_pts = std::stoi(value());
+      params.min_pts = std::stoi(value());
     } else if (arg == "--trajectory") {
       params.trajectory = value();
     } else if (arg == "--concavity") {

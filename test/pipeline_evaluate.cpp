@@ -135,6 +135,73 @@ std::vector<V3> boxSurface(const V3& lo, const V3& hi) {
   return out;
 }
 
+TEST(TruthGeometry, UnionIsExactOutsideAndInsideWhereItsPartsAre) {
+  // An L of two touching boxes, read from JSON as `generate --layout room` writes it; the oracle is
+  // the brute-force distance to the L's surface samples (exact outside; inside only the sign is
+  // promised, the depth may be smaller near the face the arms share).
+  const auto dir = test::freshDir("union");
+  std::ofstream(dir / "l.json") << R"({"obstacles": [{"kind": "l_shelf", "shape": "union", "parts": [
+      {"shape": "box", "center": [0, 0, 0], "size": [2, 1, 1]},
+      {"shape": "box", "center": [0.5, 1, 0], "size": [1, 1, 1]}]}]})";
+  const GroundTruth truth = readGroundTruth((dir / "l.json").string());
+  ASSERT_EQ(truth.shapes.size(), 1u);
+  const TruthShape& l = truth.shapes[0];
+  EXPECT_EQ(l.kind, TruthShape::Kind::kUnion);
+  EXPECT_EQ(l.label, "l_shelf 0");
+  EXPECT_TRUE(l.aabb_min.isApprox(V3(-1, -0.5, -0.5)));
+  EXPECT_TRUE(l.aabb_max.isApprox(V3(1, 1.5, 0.5)));
+  const auto inside = [](const V3& p) {
+    const bool a = std::abs(p.x()) <= 1 && std::abs(p.y()) <= 0.5 && std::abs(p.z()) <= 0.5;
+    const bool b = std::abs(p.x() - 0.5) <= 0.5 && std::abs(p.y() - 1) <= 0.5 && std::abs(p.z()) <= 0.5;
+    return a || b;
+  };
+  const double step = 0.05;
+  const std::vector<V3> surface = surfaceSamples(inside, V3(-1.5, -1, -1), V3(1.5, 2, 1), step);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1.4, 1.9);
+  int outside = 0;
+  for (int k = 0; k < 400; ++k) {
+    const V3 p(u(rng), u(rng), u(rng) * 0.6);
+    const double d = l.signedDistance(p);
+    if (inside(p)) {
+      EXPECT_LE(d, 0.0) << p.transpose();
+      continue;
+    }
+    ++outside;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& s : surface) nearest = std::min(nearest, (p - s).norm());
+    EXPECT_NEAR(d, nearest, 2.0 * step) << p.transpose();
+  }
+  EXPECT_GT(outside, 100);
+
+  std::ofstream(dir / "empty.json") << R"({"obstacles": [{"shape": "union", "parts": []}]})";
+  EXPECT_THROW(readGroundTruth((dir / "empty.json").string()), Error);
+  std::ofstream(dir / "nested.json") << R"({"obstacles": [{"shape": "union", "parts": [{"shape": "union"}]}]})";
+  EXPECT_THROW(readGroundTruth((dir / "nested.json").string()), Error);
+}
+
+TEST(Evaluate, SegmentsStayAboveATrueFloor) {
+  // Truth: a floor slab (top z = 0) and a pillar on it; the hulls hold the pillar only, as a build
+  // that takes the floor out of its obstacles. Segments everywhere cross the floor (missed); with the
+  // slab marked as the floor ("kind": "floor") they keep r + clear_margin above it, not even beside
+  // its edge coming near it.
+  GroundTruth truth;
+  truth.shapes.push_back(box(V3(0.5, 0.5, -0.05), V3(2, 2, 0.1)));
+  truth.shapes.push_back(box(V3(0.5, 0.5, 1), V3(1, 1, 2)));
+  const std::vector<clustering::Obstacle> obstacles{filled(V3(0, 0, 0), V3(1, 1, 2), 0)};
+  EvaluateParams params;
+  params.segments = 6000;
+  const Evaluation everywhere = evaluate(obstacles, truth, {}, {}, params);
+  EXPECT_GT(everywhere.missed, 0u);
+  truth.shapes[0].surface = true;
+  truth.shapes[0].label = "floor 0";
+  const Evaluation above = evaluate(obstacles, truth, {}, {}, params);
+  EXPECT_EQ(above.segments, 6000u);
+  EXPECT_GE(above.deep, 5u);
+  EXPECT_EQ(above.missed, 0u);
+  EXPECT_EQ(above.false_alarms, 0u);
+}
+
 TEST(Evaluate, ExactHullHasNothingToReport) {
   GroundTruth truth;
   truth.shapes.push_back(box(V3(0.5, 0.5, 0.5), V3(1, 1, 1)));
@@ -259,6 +326,9 @@ TEST(EvaluateCli, ScoresABuildAndRefusesBadTruth) {
                      "none.json: cannot open");
   expectOneLineError(test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + truth + " --radius -1"),
                      "--radius");
+  std::ofstream(dir / "union.json") << "{\"obstacles\": [{\"shape\": \"union\", \"parts\": [{\"shape\": \"cone\"}]}]}";
+  expectOneLineError(test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + (dir / "union.json").string()),
+                     "union.json: obstacles[0].parts[0].shape: expected \"box\" or \"cylinder\"");
 }
 
 }  // namespace

@@ -1,6 +1,9 @@
 #include "hullmap/ros1/node_params.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
 
 #include "hullmap/core/error.hpp"
 
@@ -22,6 +25,35 @@ void optionalParam(const ::ros::NodeHandle& nh, const std::string& name, std::op
   if (nh.getParam(name, v)) value = v;
 }
 
+/// A parameter that is a number or one of `words` (as "auto"): the word, or the number as text;
+/// `fallback` when the parameter is not set.
+std::string wordOrNumber(const ::ros::NodeHandle& nh, const std::string& name, const std::string& fallback) {
+  if (!nh.hasParam(name)) return fallback;
+  std::string text;
+  if (nh.getParam(name, text)) return text;
+  double number = 0.0;
+  if (nh.getParam(name, number)) {
+    char text_of[32];
+    std::snprintf(text_of, sizeof text_of, "%.17g", number);  // exact: read back by std::stod
+    return text_of;
+  }
+  int whole = 0;
+  if (nh.getParam(name, whole)) return std::to_string(whole);
+  throw Error::inParameter("~" + name, "expected a number or a word such as auto");
+}
+
+double numberParam(const std::string& name, const std::string& text) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(value)) throw Error::inParameter("~" + name, "expected a number, got '" + text + "'");
+  return value;
+}
+
 }  // namespace
 
 pipeline::BuildParams readBuildParams(const ::ros::NodeHandle& nh) {
@@ -33,15 +65,33 @@ pipeline::BuildParams readBuildParams(const ::ros::NodeHandle& nh) {
   nh.param("clamp_min", p.octree.sensor.clamp_min, p.octree.sensor.clamp_min);
   nh.param("clamp_max", p.octree.sensor.clamp_max, p.octree.sensor.clamp_max);
   nh.param("occupancy_threshold", p.octree.sensor.occupancy_threshold, p.octree.sensor.occupancy_threshold);
-  nh.param("eps", p.dbscan.eps, p.dbscan.eps);
-  nh.param("min_pts", p.dbscan.min_pts, p.dbscan.min_pts);
+  // eps and min_pts: a number, or "auto" (the default: chosen from the map, as hullmap build).
+  const std::string eps = wordOrNumber(nh, "eps", "auto");
+  if (eps != "auto") p.eps = numberParam("eps", eps);
+  const std::string min_pts = wordOrNumber(nh, "min_pts", "auto");
+  if (min_pts != "auto") {
+    const double n = numberParam("min_pts", min_pts);
+    if (n != std::floor(n) || n < 1 || n > 1e9) throw Error::inParameter("~min_pts", "expected a whole number >= 1 or auto");
+    p.min_pts = int(n);
+  }
+  // floor / ceiling: auto, none or a height; concavity: default, none or a length (map units).
+  p.floor = mapper::parsePlaneSetting("~floor", wordOrNumber(nh, "floor", "auto"));
+  p.ceiling = mapper::parsePlaneSetting("~ceiling", wordOrNumber(nh, "ceiling", "none"));
+  const std::string concavity = wordOrNumber(nh, "concavity", "default");
+  if (concavity == "none") {
+    p.convex_parts.reset();
+  } else if (concavity != "default") {
+    const double t = numberParam("concavity", concavity);
+    if (!(t > 0.0)) throw Error::inParameter("~concavity", "must be > 0, default or none");
+    p.convex_parts->concavity = t;
+  }
   std::string up = pipeline::upAxisText(p.frame.up);
   nh.param("up", up, up);
   p.frame.up = parsed("up", up, mapper::parseUpAxis);
   nh.param("scale", p.frame.scale, p.frame.scale);
-  std::string metric = clustering::toString(p.dbscan.metric);
+  std::string metric = clustering::toString(p.metric);
   nh.param("metric", metric, metric);
-  p.dbscan.metric = parsed("metric", metric, clustering::parseMetric);
+  p.metric = parsed("metric", metric, clustering::parseMetric);
   optionalParam(nh, "z_min", p.filters.z_min);
   optionalParam(nh, "z_max", p.filters.z_max);
   return p;
