@@ -127,8 +127,12 @@ def hullmap_build(inputs, out, args):
 
 
 def expected_triangles(obstacles):
-    """id -> the hull's triangles as the TRIANGLE_LIST points the node must publish, in order."""
-    return {o["id"]: [tuple(o["hull"]["vertices"][k]) for t in o["hull"]["triangles"] for k in t] for o in obstacles}
+    """id -> the hull's triangles (its convex parts' hulls' when it has parts) as the TRIANGLE_LIST points
+    the node must publish, in order."""
+    def triangles(hull):
+        return [tuple(hull["vertices"][k]) for t in hull["triangles"] for k in t]
+    return {o["id"]: ([p for part in o["parts"] for p in triangles(part["hull"])] if o.get("parts") else
+                      triangles(o["hull"])) for o in obstacles}
 
 
 class Node:
@@ -274,6 +278,34 @@ class EchoDumpAsMarkers(unittest.TestCase):
             self.assertTrue(answer.success, answer.message)
             with open(os.path.join(saved, "map.bt"), "rb") as a, open(os.path.join(cli_out, "map.bt"), "rb") as b:
                 self.assertEqual(a.read(), b.read())  # the same free space was cast from the keyframes
+        finally:
+            node.stop()
+
+
+class Defaults(unittest.TestCase):
+    def test_at_its_defaults_the_node_publishes_the_convex_parts_of_hullmap_build_at_its_defaults(self):
+        # A generated room, metric and z-up: at the defaults the floor is found and left out, eps and
+        # minPts are chosen from the map and the clusters are split into convex parts; the node's
+        # parameters default to build's, and its hull markers hold the parts (what checks use).
+        scene = os.path.join(TMP, "defaults_scene")
+        subprocess.run([HULLMAP, "generate", "--layout", "room", "--z-up", "--seed", "3", "--obstacles", "3",
+                        "--room", "5", "-o", scene], check=True, capture_output=True)
+        points_file = os.path.join(scene, "map_points.txt")
+        obstacles = hullmap_build([points_file], os.path.join(TMP, "defaults_build"), [])
+        self.assertTrue(any(o.get("parts") for o in obstacles), "the defaults split into convex parts")
+        expected = expected_triangles(obstacles)
+        points = []
+        with open(points_file) as f:
+            for line in f:
+                fields = line.split()
+                if len(fields) == 3 and not line.startswith("#"):
+                    points.append(tuple(float(v) for v in fields))
+        node = Node({})
+        try:
+            node.publisher("/%s/cloud_in" % node.name, PointCloud2).publish(cloud(points))
+            node.wait_idle(1)
+            wait_for("~obstacles equal to hullmap build's at the defaults",
+                     lambda: same_triangles(node.hull_triangles(), expected))
         finally:
             node.stop()
 

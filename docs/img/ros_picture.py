@@ -112,15 +112,21 @@ for m in got["obstacles"].markers:
             pts = " ".join("%.3f,%.3f" % (t[0], t[1]) for t in tri)
             shapes.append((d, '<polygon points="%s" fill="%s" fill-opacity="0.55" stroke="%s" stroke-width="0.01"/>'
                            % (pts, colour, colour)))
-    elif m.ns == "footprints" and m.type == Marker.LINE_STRIP:
+    elif m.ns == "footprints" and m.type in (Marker.LINE_STRIP, Marker.LINE_LIST):
         footprints += 1
         pts = [view(p) for p in m.points]
-        shapes.append((max(t[2] for t in pts) + 100, '<polyline points="%s" fill="none" stroke="#222" stroke-width="0.02"/>'
-                       % " ".join("%.3f,%.3f" % (t[0], t[1]) for t in pts)))
-cells = 0
+        runs = [pts] if m.type == Marker.LINE_STRIP else [pts[k:k + 2] for k in range(0, len(pts) - 1, 2)]
+        for run in runs:
+            shapes.append((max(t[2] for t in run) + 100,
+                           '<polyline points="%s" fill="none" stroke="#222" stroke-width="0.02"/>'
+                           % " ".join("%.3f,%.3f" % (t[0], t[1]) for t in run)))
+cells = floor_cells = 0
 for m in got["cells"].markers:
     for p in m.points:
         cells += 1
+        if p.z < m.scale.z:  # the floor (levelled to z = 0): left out of the picture for clarity
+            floor_cells += 1
+            continue
         u, v, d = view(p)
         shapes.append((d, '<circle cx="%.3f" cy="%.3f" r="0.012" fill="#999"/>' % (u, v)))
 shapes.sort(key=lambda s: -s[0])  # far first
@@ -132,8 +138,8 @@ for _, e in shapes:
         ys.append(float(parts[3]))
 x0, x1, y0, y1 = min(xs) - 0.5, max(xs) + 0.5, min(ys) - 0.8, max(ys) + 0.5
 caption = ("hullmap_node at its defaults on a generated room (%d map points, one PointCloud2): %d hulls (ns hulls), "
-           "%d footprints, %d occupied cells (octomap_server's CUBE_LIST), drawn from the published markers"
-           % (len(points), hulls, footprints, cells))
+           "%d footprints, %d occupied cells (octomap_server's CUBE_LIST; the %d floor cells not drawn), drawn from "
+           "the published markers" % (len(points), hulls, footprints, cells, floor_cells))
 svg = os.path.join(work, "markers.svg")
 with open(svg, "w") as f:
     f.write('<svg xmlns="http://www.w3.org/2000/svg" viewBox="%.3f %.3f %.3f %.3f" width="900" height="%d">\n'
@@ -142,7 +148,7 @@ with open(svg, "w") as f:
     for _, e in shapes:
         f.write(e + "\n")
     f.write('<text x="%.3f" y="%.3f" font-size="%.3f" fill="#eee" font-family="sans-serif">%s</text>\n'
-            % (x0 + 0.2, y0 + 0.4, (x1 - x0) / 110, caption))
+            % (x0 + 0.2, y0 + 0.4, (x1 - x0) / 135, caption))
     f.write("</svg>\n")
 subprocess.run(["rsvg-convert", "-w", "900", svg, "-o", out + ".tmp"], check=True)
 os.replace(out + ".tmp", out)

@@ -169,6 +169,21 @@ mapper::Points cloudPoints(const sensor_msgs::PointCloud2& cloud, std::size_t* n
   return points;
 }
 
+namespace {
+
+/// The footprints an obstacle stands on: its convex parts' when it has parts, else its own.
+std::vector<const clustering::Footprint*> footprintsOf(const clustering::Obstacle& o) {
+  std::vector<const clustering::Footprint*> prints;
+  if (o.parts.empty()) {
+    prints.push_back(&o.footprint);
+  } else {
+    for (const auto& part : o.parts) prints.push_back(&part.footprint);
+  }
+  return prints;
+}
+
+}  // namespace
+
 visualization_msgs::MarkerArray obstacleMarkers(const std::vector<clustering::Obstacle>& obstacles,
                                                 const std::vector<int>& previous_ids,
                                                 const std_msgs::Header& header) {
@@ -176,19 +191,44 @@ visualization_msgs::MarkerArray obstacleMarkers(const std::vector<clustering::Ob
   std::set<int> ids;
   for (const auto& o : obstacles) {
     ids.insert(o.id);
+    // An obstacle in convex parts is drawn as its parts (what the path checks use): the hull of the
+    // whole cluster can cover free space the parts leave open.
     auto hull = marker(header, "hulls", o.id, visualization_msgs::Marker::TRIANGLE_LIST);
     hull.color = color(0.9f, 0.5f, 0.1f, 0.6f);
-    hull.points.reserve(3 * o.hull.triangles.size());
-    for (const auto& t : o.hull.triangles) {
-      for (int k : t) hull.points.push_back(toPoint(o.hull.vertices[k]));
+    const auto add_hull = [&hull](const clustering::ConvexHull& h) {
+      for (const auto& t : h.triangles) {
+        for (int k : t) hull.points.push_back(toPoint(h.vertices[k]));
+      }
+    };
+    if (o.parts.empty()) {
+      add_hull(o.hull);
+    } else {
+      for (const auto& part : o.parts) add_hull(part.hull);
     }
     array.markers.push_back(std::move(hull));
 
-    auto footprint = marker(header, "footprints", o.id, visualization_msgs::Marker::LINE_STRIP);
+    // One polygon: a closed LINE_STRIP; the polygons of several parts: a LINE_LIST of their edges.
+    const auto prints = footprintsOf(o);
+    auto footprint = marker(header, "footprints", o.id,
+                            prints.size() == 1 ? visualization_msgs::Marker::LINE_STRIP
+                                               : visualization_msgs::Marker::LINE_LIST);
     footprint.scale.x = 0.02;
     footprint.color = color(0.1f, 0.1f, 0.1f, 1.0f);
-    for (const auto& p : o.footprint.polygon) footprint.points.push_back(toPoint(p.x(), p.y(), o.footprint.z_min));
-    if (!o.footprint.polygon.empty()) footprint.points.push_back(footprint.points.front());
+    for (const auto* f : prints) {
+      const auto& poly = f->polygon;
+      if (poly.empty()) continue;
+      if (prints.size() == 1) {
+        for (const auto& p : poly) footprint.points.push_back(toPoint(p.x(), p.y(), f->z_min));
+        footprint.points.push_back(footprint.points.front());
+      } else {
+        for (std::size_t i = 0; i < poly.size(); ++i) {
+          const auto& a = poly[i];
+          const auto& b = poly[(i + 1) % poly.size()];
+          footprint.points.push_back(toPoint(a.x(), a.y(), f->z_min));
+          footprint.points.push_back(toPoint(b.x(), b.y(), f->z_min));
+        }
+      }
+    }
     array.markers.push_back(std::move(footprint));
 
     auto label = marker(header, "labels", o.id, visualization_msgs::Marker::TEXT_VIEW_FACING);
@@ -254,15 +294,17 @@ nav_msgs::OccupancyGrid projectedMap(const std::vector<clustering::Obstacle>& ob
   if (!(resolution > 0.0) || !std::isfinite(resolution)) {
     throw Error::inParameter("resolution", "must be finite and > 0, got " + std::to_string(resolution));
   }
-  std::vector<const clustering::Obstacle*> in_band;
+  std::vector<const clustering::Footprint*> in_band;
   Eigen::Vector2d lo(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
   Eigen::Vector2d hi = -lo;
   for (const auto& o : obstacles) {
-    if (o.footprint.polygon.empty() || o.footprint.z_max < min_z || o.footprint.z_min > max_z) continue;
-    in_band.push_back(&o);
-    for (const auto& p : o.footprint.polygon) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
+    for (const auto* f : footprintsOf(o)) {
+      if (f->polygon.empty() || f->z_max < min_z || f->z_min > max_z) continue;
+      in_band.push_back(f);
+      for (const auto& p : f->polygon) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
     }
   }
   nav_msgs::OccupancyGrid grid;
@@ -285,9 +327,9 @@ nav_msgs::OccupancyGrid projectedMap(const std::vector<clustering::Obstacle>& ob
   grid.info.height = height;
   grid.info.origin.position = toPoint(lo.x(), lo.y(), 0.0);
   grid.data.assign(std::size_t{width} * height, 0);
-  for (const auto* o : in_band) {
-    Eigen::Vector2d pmin = o->footprint.polygon.front(), pmax = pmin;
-    for (const auto& p : o->footprint.polygon) {
+  for (const auto* f : in_band) {
+    Eigen::Vector2d pmin = f->polygon.front(), pmax = pmin;
+    for (const auto& p : f->polygon) {
       pmin = pmin.cwiseMin(p);
       pmax = pmax.cwiseMax(p);
     }
@@ -297,7 +339,7 @@ nav_msgs::OccupancyGrid projectedMap(const std::vector<clustering::Obstacle>& ob
     for (std::uint32_t r = cell(pmin.y(), lo.y(), height); r <= cell(pmax.y(), lo.y(), height); ++r) {
       for (std::uint32_t c = cell(pmin.x(), lo.x(), width); c <= cell(pmax.x(), lo.x(), width); ++c) {
         const Eigen::Vector2d cmin(lo.x() + c * resolution, lo.y() + r * resolution);
-        if (polygonTouchesSquare(o->footprint.polygon, cmin, cmin + Eigen::Vector2d::Constant(resolution))) {
+        if (polygonTouchesSquare(f->polygon, cmin, cmin + Eigen::Vector2d::Constant(resolution))) {
           grid.data[std::size_t{r} * width + c] = 100;
         }
       }

@@ -51,8 +51,10 @@ class OrbSlamMapMarkers {
 mapper::Points cloudPoints(const sensor_msgs::PointCloud2& cloud, std::size_t* non_finite = nullptr);
 
 /// The obstacles as RViz markers, frame and stamp from `header`: ns "hulls" one TRIANGLE_LIST per
-/// obstacle (id = obstacle id, outward triangles), ns "footprints" a closed LINE_STRIP of the
-/// footprint at its z_min, ns "labels" a TEXT_VIEW_FACING "id" above the hull. Ids in
+/// obstacle (id = obstacle id, outward triangles; an obstacle in convex parts holds the triangles of
+/// its parts' hulls, what path checks test, not the whole cluster's hull), ns "footprints" a closed
+/// LINE_STRIP of the footprint at its z_min (with parts: a LINE_LIST of every part's polygon edges),
+/// ns "labels" a TEXT_VIEW_FACING "id" above the hull. Ids in
 /// `previous_ids` that are no longer obstacles get a DELETE in each namespace (stale markers go away
 /// when the obstacle set shrinks).
 visualization_msgs::MarkerArray obstacleMarkers(const std::vector<clustering::Obstacle>& obstacles,
@@ -65,7 +67,8 @@ visualization_msgs::MarkerArray obstacleMarkers(const std::vector<clustering::Ob
 visualization_msgs::MarkerArray occupiedCellMarkers(const std::vector<mapper::OccupiedVoxel>& voxels,
                                                     double resolution, const std_msgs::Header& header);
 
-/// The footprints of the obstacles whose z range meets [min_z, max_z] (map frame) rasterised into
+/// The footprints (of the convex parts, for an obstacle in parts) whose z range meets [min_z, max_z]
+/// (map frame) rasterised into
 /// an OccupancyGrid of `resolution` cells: 100 in every cell that the footprint polygon touches,
 /// 0 elsewhere (free as far as the hulls know), over the footprints' bounding box plus `margin`
 /// (map units) on each side. An empty map gives a 1x1 grid at the origin.
