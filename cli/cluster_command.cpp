@@ -1,5 +1,4 @@
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <future>
@@ -18,6 +17,7 @@
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/core/number_text.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/mapper/readers.hpp"
@@ -46,13 +46,13 @@ mapper::Points loadMapPoints(const ClusterOptions& o) {
 
 // Shortest text that reads back to the same double.
 void appendNumber(std::string& line, double value) {
-  char buffer[32];
-  const auto end = std::to_chars(buffer, buffer + sizeof buffer, value).ptr;
+  char buffer[core::kShortestTextMax];
+  char* const end = core::writeShortest(buffer, value);
   line.append(buffer, end);
 }
 
 /// One labels.csv row per point, in input order. Rows are formatted in parallel, a block of points at
-/// a time (shortest round-trip text for each coordinate costs more than the clustering), and written
+/// a time (shortest round-trip text for each coordinate, core::writeShortest, is most of the time), and written
 /// in order; memory stays at one block of text.
 void writeLabelsTo(std::ostream& out, const mapper::Points& points, const clustering::DbscanResult& result) {
   out << "x,y,z,label,core\n";
