@@ -880,6 +880,45 @@ TEST(MapperReadersStream, BatchesHoldWhatParsePointsReadsInOrderWithTheSameError
   }
 }
 
+// A text file read whole (memory, mapped) is parsed in parallel, in chunks cut at line ends; a pipe
+// is read front to back. Both give the same points, counts and first error, its line counted over
+// the chunks before it: bad lines are put at, just before and just after chunk cuts (every 256 KiB)
+// and in a later window of chunks (8 MiB).
+TEST(MapperReadersStream, TextReadInParallelChunksIsTheFrontToBackRead) {
+  const std::string text = textCloud(260000);
+  ASSERT_GT(text.size(), std::size_t(34) << 18);  // past the first window
+  std::vector<std::pair<std::string, std::string>> cases = {{"whole.txt", text}};
+  std::vector<std::size_t> offsets;
+  for (const std::size_t at : {std::size_t(1) << 18, std::size_t(5) << 18, std::size_t(33) << 18, text.size() - 10}) {
+    for (const std::size_t delta : {std::size_t(0), std::size_t(1), std::size_t(39), std::size_t(41)}) {
+      offsets.push_back(at - delta);
+    }
+  }
+  for (const std::size_t offset : offsets) {
+    const std::size_t start = text.rfind('\n', offset) + 1;  // the line holding `offset`
+    const std::size_t line = 1 + std::size_t(std::count(text.begin(), text.begin() + std::ptrdiff_t(start), '\n'));
+    for (const std::string bad : {"1 2 x 0 0 1\n", "1 2 3\n", "1,,3 0 0 1\n"}) {
+      std::string bytes = text;
+      bytes.insert(start, bad);
+      const std::string name = "bad_" + std::to_string(offset) + ".txt";
+      const ReadOutcome got = hullmap::test::parseOutcome(bytes, name);
+      EXPECT_EQ(got.error.rfind(":" + std::to_string(line) + ": ", 0), 0u) << got.error;  // after the name
+      cases.emplace_back(name, bytes);
+    }
+  }
+  for (const auto& [name, bytes] : cases) {
+    SCOPED_TRACE(name);
+    const hullmap::test::FedPipe pipe(bytes);
+    const ReadOutcome want = hullmap::test::fileOutcome(pipe.path(), 65536, 65536);
+    const ReadOutcome got = hullmap::test::streamOutcome(bytes, name, 65536);
+    EXPECT_TRUE(sameOutcome(want, got));
+    if (name == "whole.txt") {
+      EXPECT_EQ(got.stats.read, 260000u);
+      EXPECT_EQ(got.stats.dropped.at("non_finite"), 2681u);
+    }
+  }
+}
+
 TEST(MapperReadersStream, SeveralFilesStreamInOrderAndStopAtTheFirstError) {
   const auto dir = hullmap::test::freshDir("readers_stream_files");
   const std::string a = writeFile(dir, "a.txt", textCloud(3000));
