@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <future>
@@ -67,12 +68,17 @@ void writeLabelsTo(std::ostream& out, const mapper::Points& points, const cluste
       text.clear();
       const std::size_t end = std::min(block_end, block + (c + 1) * kChunk);
       for (std::size_t i = block + c * kChunk; i < end; ++i) {
+        char row[3 * (core::kShortestTextMax + 1) + 24];  // three numbers, a label, the core flag
+        char* out = row;
         for (int k = 0; k < 3; ++k) {
-          appendNumber(text, points[i][k]);
-          text += ',';
+          out = core::writeShortest(out, points[i][k]);
+          *out++ = ',';
         }
-        text += std::to_string(result.labels[i]);
-        text += result.core[i] ? ",1\n" : ",0\n";
+        out = std::to_chars(out, out + 20, result.labels[i]).ptr;
+        *out++ = ',';
+        *out++ = result.core[i] ? '1' : '0';
+        *out++ = '\n';
+        text.append(row, out);
       }
     });
     for (std::size_t c = 0; c < count; ++c) out << chunks[c];
