@@ -54,7 +54,7 @@ GRID_EPS = (0.05, 0.1, 0.2, 0.3)  # Open3D grid, metres
 GRID_MIN_PTS = (3, 5, 10)
 SEED_RECIPE = (0.1, 10)
 CONVEX_KINDS = ("box", "cylinder", "wall")
-OLD_DEFAULTS = "--eps 0.1 --min-pts 10"
+OLD_DEFAULTS = "--eps 0.1 --min-pts 10 --floor none --concavity none"
 
 TARGETS = {"missed": 0, "false_alarms": 5.0, "min_share": 98.0, "swallowed": 5.0, "parts": 1.5}
 
@@ -299,7 +299,7 @@ def real_part(hullmap, work, img, data, log):
              [f"{data}/orbslam3_euroc_MH_01_mono_pointcloud.txt", f"{data}/orbslam3_euroc_MH_01_mono_ref_pointcloud.txt"],
              f"{data}/orbslam3_euroc_MH_01_mono_KeyFrameTrajectory.txt")]
     after = os.environ.get("HULLMAP_REAL_AFTER_ARGS", "")
-    runs = [("before", OLD_DEFAULTS)]
+    runs = [("before", OLD_DEFAULTS if has_new_defaults(hullmap) else "--eps 0.1 --min-pts 10")]
     if after or has_new_defaults(hullmap):
         runs.append(("after", after))
     rows, densities = [], []
@@ -324,7 +324,10 @@ def real_part(hullmap, work, img, data, log):
             parts = [p for o in obstacles for p in (o.get("parts") or [o])]
             ratios = sorted(p["volume"] / (p["voxel_count"] * res ** 3) for p in parts)
             inside = "-"
-            if traj:
+            counted = (report.get("parts") or {}).get("keyframes_inside_hulls")
+            if traj and counted is not None:  # hullmap's own count, in its output frame (levelled too)
+                inside = f"{counted} of {report['keyframes']}"
+            elif traj:
                 frame = map_frame(report)
                 if frame is None:
                     inside = "n/a (frame not an up axis and scale)"
@@ -345,7 +348,7 @@ def real_part(hullmap, work, img, data, log):
                              (["--trajectory", os.path.basename(traj)] if traj else []) + shlex.split(extra)),
                          "obstacles": len(obstacles), "parts": len(parts),
                          "noise": 100.0 * report["clusters"]["noise_voxels"] / max(1, report["octree"]["occupied_voxels"]),
-                         "voxels": report["octree"]["occupied_voxels"], "eps": report["parameters"].get("eps"),
+                         "voxels": report["octree"]["occupied_voxels"], "eps": report["clustering"]["eps"] if isinstance(report.get("clustering"), dict) and "eps" in report["clustering"] else report["parameters"].get("eps"),
                          "min_pts": report["parameters"].get("min_pts"),
                          "ratio_median": statistics.median(ratios) if ratios else float("nan"),
                          "ratio_max": ratios[-1] if ratios else float("nan"),
@@ -355,6 +358,10 @@ def real_part(hullmap, work, img, data, log):
 
 
 # ---------------------------------------------------------------- the document
+
+def fmt_eps(x):
+    return f"{x:.4g}" if isinstance(x, float) else str(x)
+
 
 def fmt(x, digits=1):
     return "-" if x is None or (isinstance(x, float) and np.isnan(x)) else f"{x:.{digits}f}"
@@ -510,7 +517,7 @@ def write_doc(out, rows, template, why, real, densities, args, seconds, hullmap)
     w("The real ORB-SLAM maps of the shared data directory (read from there; they are GPL and not copied into")
     w("this repository; see its SOURCES.md), built with `--up -y` (ORB-SLAM's y-down first-camera frame). They")
     w("have no metric reference trajectory, so no `--align`. **Before**: the old defaults, `--eps 0.1 --min-pts 10`")
-    w("(the seed report's recipe on the voxels). **After**: this hullmap's defaults"
+    w("(the seed report's recipe on the voxels; no floor search, one hull per cluster: `--floor none --concavity none`). **After**: this hullmap's defaults"
       + (f" plus `{os.environ.get('HULLMAP_REAL_AFTER_ARGS')}`" if os.environ.get("HULLMAP_REAL_AFTER_ARGS") else "")
       + ("." if any(r["when"] == "after" for r in real) else
          ": **not in this run**, whose hullmap has not got the new defaults (they would be the old ones)."))
@@ -524,7 +531,7 @@ def write_doc(out, rows, template, why, real, densities, args, seconds, hullmap)
     w("| map | run | command | eps / minPts | obstacles | parts | noise % | hull / voxels median | largest | keyframes inside | time s |")
     w("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in real:
-        w(f"| {r['map']} | {r['when']} | `{r['command']}` | {r['eps']} / {r['min_pts']} | {r['obstacles']} | {r['parts']} | "
+        w(f"| {r['map']} | {r['when']} | `{r['command']}` | {fmt_eps(r['eps'])} / {r['min_pts']} | {r['obstacles']} | {r['parts']} | "
           f"{fmt(r['noise'])} | {fmt(r['ratio_median'])} | {fmt(r['ratio_max'])} | {r['inside']} | {fmt(r['time'], 2)} |")
     w("")
     for name in dict.fromkeys(r["map"] for r in real):

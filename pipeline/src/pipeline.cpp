@@ -608,7 +608,17 @@ std::string outputFrame(const BuildResult& result) {
     return "the octree's own frame (" + result.params.inputs.front().string() +
            " read as it is: no up axis or scale applied)";
   }
-  return frameDescription(result.params.frame);
+  std::ostringstream s;
+  if (result.report.alignment && result.params.align) {
+    s << "the reference trajectory's frame (" << result.params.align->reference.string()
+      << ": keyframes fitted by a similarity, scale " << result.report.alignment->transform.scale << ")";
+  } else {
+    s << frameDescription(result.params.frame);
+  }
+  if (result.report.floor.levelled) {
+    s << ", then levelled: the floor rotated level and moved to z = 0 (report.json \"levelling\")";
+  }
+  return s.str();
 }
 
 mapper::PointSet readInputPoints(const std::vector<std::string>& inputs) {
