@@ -23,8 +23,8 @@ namespace hullmap::planning {
 namespace {
 
 // Filtered traits: every predicate is exact (interval arithmetic, falling back to exact numbers);
-// Field_with_sqrt_tag lets the constructions (Voronoi vertices) use sqrt in double. Footprints that
-// meet are merged first (mergeMeeting), so no two sites intersect.
+// Field_with_sqrt_tag lets the constructions (Voronoi vertices) use sqrt in double. Footprints
+// that meet are replaced by their exact union first, so sites meet only at shared ends.
 using Kernel = CGAL::Simple_cartesian<double>;
 using Traits = CGAL::Segment_Delaunay_graph_filtered_traits_without_intersections_2<Kernel, CGAL::Field_with_sqrt_tag>;
 using Sdg = CGAL::Segment_Delaunay_graph_hierarchy_2<Traits>;  // hierarchy: fast point location
@@ -187,6 +187,36 @@ bool polygonsMeet(const std::vector<Eigen::Vector2d>& P, const std::vector<Eigen
   return false;
 }
 
+/// Some two segments of `rings` (closed polygons) cross or touch other than at a shared end: the
+/// union's vertices rounded to double may do that, which the SDG traits without intersections forbid.
+bool selfIntersecting(const std::vector<std::vector<Eigen::Vector2d>>& rings) {
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> segs;
+  for (const auto& ring : rings)
+    for (std::size_t k = 0; k < ring.size(); ++k) {
+      Eigen::Vector2d a = ring[k], b = ring[(k + 1) % ring.size()];
+      if (b.x() < a.x()) std::swap(a, b);
+      segs.emplace_back(a, b);
+    }
+  std::sort(segs.begin(), segs.end(), [](const auto& s, const auto& t) { return s.first.x() < t.first.x(); });
+  for (std::size_t i = 0; i < segs.size(); ++i) {
+    const auto& [a, b] = segs[i];
+    for (std::size_t j = i + 1; j < segs.size() && segs[j].first.x() <= b.x(); ++j) {
+      const auto& [c, d] = segs[j];
+      if (a == c || a == d || b == c || b == d) continue;  // shared ends are fine
+      if (std::max(c.y(), d.y()) < std::min(a.y(), b.y()) || std::min(c.y(), d.y()) > std::max(a.y(), b.y())) continue;
+      const double c1 = cross(a, b, c), c2 = cross(a, b, d), c3 = cross(c, d, a), c4 = cross(c, d, b);
+      if (c1 * c2 <= 0 && c3 * c4 <= 0 && !(c1 == 0 && c2 == 0 && c3 == 0 && c4 == 0)) return true;
+      if (c1 == 0 && c2 == 0) {  // collinear: overlapping along x (or y for vertical ones)?
+        const int axis = a.x() == b.x() ? 1 : 0;
+        const double lo = std::max(std::min(a[axis], b[axis]), std::min(c[axis], d[axis]));
+        const double hi = std::min(std::max(a[axis], b[axis]), std::max(c[axis], d[axis]));
+        if (lo <= hi) return true;
+      }
+    }
+  }
+  return false;
+}
+
 /// Clips a convex polygon to the box (Sutherland-Hodgman); empty when nothing is left.
 std::vector<Eigen::Vector2d> clipToBox(std::vector<Eigen::Vector2d> poly, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
   for (int side = 0; side < 4 && !poly.empty(); ++side) {
@@ -299,13 +329,41 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   std::map<int, std::vector<int>> groups;  // root -> members, in input order
   for (std::size_t i = 0; i < clipped.size(); ++i) groups[meeting.find(static_cast<int>(i))].push_back(static_cast<int>(i));
   auto toDouble = [](const ExactPolygon& poly) {
+    // Vertices exactly between their neighbours are dropped (the same polygon): chains of collinear
+    // sites make degenerate SDG faces whose Voronoi vertex cannot be constructed in double.
+    std::vector<ExactKernel::Point_2> kept;
+    for (auto v = poly.vertices_begin(); v != poly.vertices_end(); ++v) kept.push_back(*v);
+    for (bool changed = true; changed && kept.size() > 3;) {
+      changed = false;
+      for (std::size_t i = 0; i < kept.size() && kept.size() > 3; ++i) {
+        const auto& prev = kept[(i + kept.size() - 1) % kept.size()];
+        const auto& next = kept[(i + 1) % kept.size()];
+        if (CGAL::collinear(prev, kept[i], next) && CGAL::collinear_are_ordered_along_line(prev, kept[i], next)) {
+          kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(i));
+          changed = true;
+          --i;
+        }
+      }
+    }
     std::vector<Eigen::Vector2d> out;
-    for (auto v = poly.vertices_begin(); v != poly.vertices_end(); ++v) {
-      const Eigen::Vector2d p(CGAL::to_double(v->x()), CGAL::to_double(v->y()));
+    for (auto v = kept.begin(); v != kept.end(); ++v) {
+      // Rounded from the exact value (the lazy approximation depends on what was evaluated before).
+      const Eigen::Vector2d p(CGAL::to_double(CGAL::exact(v->x())), CGAL::to_double(CGAL::exact(v->y())));
       if (out.empty() || p != out.back()) out.push_back(p);
     }
     while (out.size() > 1 && out.front() == out.back()) out.pop_back();
+    // Start at the lexicographically least vertex: CGAL's output order varies from run to run, and
+    // the SDG's insertion order decides how degenerate (co-circular) faces are split.
+    const auto least = std::min_element(out.begin(), out.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+      return std::make_pair(a.x(), a.y()) < std::make_pair(b.x(), b.y());
+    });
+    std::rotate(out.begin(), least, out.end());
     return out;
+  };
+  auto ringLess = [](const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b) {
+    return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end(), [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+      return std::make_pair(p.x(), p.y()) < std::make_pair(q.x(), q.y());
+    });
   };
   std::vector<std::vector<std::vector<Eigen::Vector2d>>> rings;  // per footprint: outer, then holes
   for (const auto& [root, members] : groups) {
@@ -329,6 +387,7 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     }
     std::vector<ExactPolygonWithHoles> pieces;
     set.polygons_with_holes(std::back_inserter(pieces));
+    const std::size_t first = rings.size();
     for (const auto& piece : pieces) {
       if (piece.is_unbounded()) throw Error("roadmap: the union of footprints is unbounded");
       auto outer = toDouble(piece.outer_boundary());
@@ -338,11 +397,33 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
         auto hole = toDouble(*h);
         if (hole.size() >= 3) holes.push_back(std::move(hole));
       }
+      std::sort(holes.begin(), holes.end(), ringLess);
       rings.push_back({outer});
       for (const auto& hole : holes) rings.back().push_back(hole);
-      map.footprints.push_back(std::move(outer));
-      map.holes.push_back(std::move(holes));
+    }
+    std::sort(rings.begin() + static_cast<std::ptrdiff_t>(first), rings.end(),
+              [&](const auto& a, const auto& b) { return ringLess(a.front(), b.front()); });
+    for (std::size_t i = first; i < rings.size(); ++i) {
+      map.footprints.push_back(rings[i].front());
+      map.holes.emplace_back(rings[i].begin() + 1, rings[i].end());
       map.obstacle_groups.push_back(ids);
+    }
+    std::vector<std::vector<Eigen::Vector2d>> all;
+    for (std::size_t i = first; i < rings.size(); ++i) all.insert(all.end(), rings[i].begin(), rings[i].end());
+    if (selfIntersecting(all)) {
+      // Rounding made the union's boundary cross itself: fall back to the convex hull of the group
+      // (conservative: it covers the union, holes included).
+      std::vector<Eigen::Vector2d> points;
+      for (int m : members) points.insert(points.end(), clipped[m].begin(), clipped[m].end());
+      const auto at = static_cast<std::ptrdiff_t>(first);
+      rings.erase(rings.begin() + at, rings.end());
+      map.footprints.erase(map.footprints.begin() + at, map.footprints.end());
+      map.holes.erase(map.holes.begin() + at, map.holes.end());
+      map.obstacle_groups.erase(map.obstacle_groups.begin() + at, map.obstacle_groups.end());
+      map.footprints.push_back(clustering::convexHull2d(points));
+      map.holes.emplace_back();
+      map.obstacle_groups.push_back(ids);
+      rings.push_back({map.footprints.back()});
     }
   }
   boxes.clear();
