@@ -595,7 +595,10 @@ TEST(PlotCommand, GenerateBuildPlotEndToEnd) {
   }
   if (havePython()) {
     const auto elements = parseSvg(svg, "e2e");
-    EXPECT_EQ(countClass(elements, "footprint"), obstacles.size());
+    std::size_t outlines = 0;  // one per convex part (one for an obstacle without parts)
+    for (const auto& o : obstacles) outlines += std::max<std::size_t>(o.parts.size(), 1);
+    EXPECT_EQ(countClass(elements, "footprint"), outlines);
+    EXPECT_EQ(countClass(elements, "obstacle-id"), obstacles.size());
     for (const auto& e : elements) {
       if (e.cls == "cells") {
         EXPECT_EQ(e.fill, toHex(clusterColour(std::stoi(e.label))));

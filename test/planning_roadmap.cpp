@@ -7,7 +7,9 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/planning/path_planner.hpp"
 #include "hullmap/planning/roadmap.hpp"
 #include "planning_support.hpp"
 
@@ -36,19 +38,46 @@ std::vector<clustering::Obstacle> randomPolygons(std::mt19937& rng, int per_side
   return out;
 }
 
-/// Brute-force distance from p to every footprint edge and every bounds edge.
+/// Brute-force distance from p to the region covered by the footprints (those of an obstacle's
+/// parts when it has parts): 0 inside one, else to the nearest footprint or bounds edge.
 double nearestSite(const std::vector<clustering::Obstacle>& obstacles, const Roadmap& map, const Vector2d& p) {
   double best = std::min({p.x() - map.bounds.x0, map.bounds.x1 - p.x(), p.y() - map.bounds.y0, map.bounds.y1 - p.y()});
-  for (const auto& o : obstacles) {
-    const auto& poly = o.footprint.polygon;
+  auto visit = [&](const std::vector<Vector2d>& poly) {
+    bool inside = true;  // counter-clockwise convex: strictly left of every edge
     for (std::size_t k = 0; k < poly.size(); ++k) {
       planning::SiteRef s;
       s.a = poly[k];
       s.b = poly[(k + 1) % poly.size()];
       best = std::min(best, planning::siteDistance(s, p));
+      const Vector2d e = s.b - s.a, q = p - s.a;
+      inside = inside && e.x() * q.y() - e.y() * q.x() > 0;
     }
+    if (inside) best = 0;
+  };
+  for (const auto& o : obstacles) {
+    if (o.parts.empty()) visit(o.footprint.polygon);
+    for (const auto& part : o.parts) visit(part.footprint.polygon);
   }
   return best;
+}
+
+/// Axis-aligned rectangle [x0, x1] x [y0, y1], counter-clockwise.
+std::vector<Vector2d> rect(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
+
+/// The walls of a room [0, 6]^2, 0.2 thick, as ONE obstacle (id 1) whose four convex parts touch
+/// along their ends (its whole hull and footprint cover the room), and a box (id 2) in the middle.
+std::vector<clustering::Obstacle> ringRoom() {
+  auto ring = test::prism(1, rect(-0.2, -0.2, 6.2, 6.2), 0, 2);
+  for (const auto& r : {rect(-0.2, -0.2, 6.2, 0), rect(-0.2, 6, 6.2, 6.2), rect(-0.2, 0, 0, 6), rect(6, 0, 6.2, 6)}) {
+    const auto wall = test::prism(1, r, 0, 2);
+    clustering::ObstaclePart part;
+    part.hull = wall.hull;
+    part.footprint = wall.footprint;
+    part.aabb_min = wall.aabb_min;
+    part.aabb_max = wall.aabb_max;
+    ring.parts.push_back(part);
+  }
+  return {ring, test::prism(2, rect(2.5, 2.5, 3.5, 3.5), 0, 2)};
 }
 
 TEST(Roadmap, EdgesAreEquidistantToTheirSitesAndNoObstacleIsNearer) {
@@ -175,6 +204,50 @@ TEST(Roadmap, TouchingAndOverlappingFootprintsKeepTheRoadmapConnected) {
     }
   std::mt19937 rng(7);
   for (int round = 0; round < 5; ++round) EXPECT_EQ(components(planning::buildRoadmap(randomPolygons(rng, 6, 1.5), {})), 1u);
+}
+
+TEST(Roadmap, ARingOfWallPartsLeavesTheRoomInsideFree) {
+  const auto obstacles = ringRoom();
+  const Roadmap map = planning::buildRoadmap(obstacles, {});
+  // The walls' parts meet: their exact union is one footprint with the room as its hole.
+  ASSERT_EQ(map.footprints.size(), 2u);
+  ASSERT_EQ(map.holes.size(), 2u);
+  std::size_t with_hole = 0;
+  for (std::size_t i = 0; i < map.footprints.size(); ++i) with_hole += map.holes[i].size();
+  EXPECT_EQ(with_hole, 1u);
+  const auto json = nlohmann::json::parse(planning::roadmapJson(map));
+  std::size_t json_holes = 0;
+  for (const auto& o : json.at("obstacles")) json_holes += o.value("holes", nlohmann::json::array()).size();
+  EXPECT_EQ(json_holes, 1u);
+  std::size_t inside = 0;
+  for (const auto& e : map.edges) {
+    bool in_room = true;
+    for (const auto& p : e.polyline) {
+      in_room = in_room && p.x() > 0 && p.x() < 6 && p.y() > 0 && p.y() < 6;
+      const double da = planning::siteDistance(e.site_a, p), db = planning::siteDistance(e.site_b, p);
+      EXPECT_NEAR(da, db, 1e-6) << p.transpose();
+      EXPECT_GE(nearestSite(obstacles, map, p), std::min(da, db) - 1e-6) << "a site nearer at " << p.transpose();
+      EXPECT_GT(nearestSite(obstacles, map, p), 0) << "edge inside an obstacle at " << p.transpose();
+    }
+    inside += in_room;
+  }
+  EXPECT_GE(inside, 4u) << "no roadmap around the box inside the room";
+
+  // A flight from one side of the box to the other, inside the room, which the hull checker accepts.
+  planning::PlanRequest request;
+  request.start = {1, 3, 1};
+  request.goal = {5, 3, 1};
+  request.radius = 0.3;
+  const auto result = planning::planPath(obstacles, request);
+  ASSERT_TRUE(result.path) << result.blocked;
+  for (const auto& p : *result.path) {
+    EXPECT_GT(p.x(), 0);
+    EXPECT_LT(p.x(), 6);
+    EXPECT_GT(p.y(), 0);
+    EXPECT_LT(p.y(), 6);
+  }
+  const collision::HullChecker checker(obstacles);
+  EXPECT_FALSE(checker.checkPath(*result.path, request.radius).first_colliding_segment);
 }
 
 TEST(Roadmap, RejectsBadParameters) {

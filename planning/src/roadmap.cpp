@@ -7,6 +7,8 @@
 #include <numeric>
 #include <utility>
 
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Polygon_set_2.h>
 #include <CGAL/Segment_Delaunay_graph_hierarchy_2.h>
 #include <Eigen/Geometry>
 #include <CGAL/Segment_Delaunay_graph_filtered_traits_2.h>
@@ -21,8 +23,8 @@ namespace hullmap::planning {
 namespace {
 
 // Filtered traits: every predicate is exact (interval arithmetic, falling back to exact numbers);
-// Field_with_sqrt_tag lets the constructions (Voronoi vertices) use sqrt in double. Footprints that
-// meet are merged first (mergeMeeting), so no two sites intersect.
+// Field_with_sqrt_tag lets the constructions (Voronoi vertices) use sqrt in double. Footprints
+// that meet are replaced by their exact union first, so sites meet only at shared ends.
 using Kernel = CGAL::Simple_cartesian<double>;
 using Traits = CGAL::Segment_Delaunay_graph_filtered_traits_without_intersections_2<Kernel, CGAL::Field_with_sqrt_tag>;
 using Sdg = CGAL::Segment_Delaunay_graph_hierarchy_2<Traits>;  // hierarchy: fast point location
@@ -30,6 +32,11 @@ using Sdg = CGAL::Segment_Delaunay_graph_hierarchy_2<Traits>;  // hierarchy: fas
 // ring construction that divides by zero on some degenerate faces (collinear sites, which voxel
 // footprints have plenty of); a non-finite result marks the face unusable instead.
 using DoubleTraits = CGAL::Segment_Delaunay_graph_traits_without_intersections_2<Kernel, CGAL::Field_with_sqrt_tag>;
+// Exact union of footprints that meet (a ring of wall parts becomes a polygon with a hole).
+using ExactKernel = CGAL::Exact_predicates_exact_constructions_kernel;
+using ExactPolygon = CGAL::Polygon_2<ExactKernel>;
+using ExactPolygonWithHoles = CGAL::Polygon_with_holes_2<ExactKernel>;
+using ExactPolygonSet = CGAL::Polygon_set_2<ExactKernel>;
 
 Eigen::Vector2d toEigen(const Kernel::Point_2& p) { return {CGAL::to_double(p.x()), CGAL::to_double(p.y())}; }
 
@@ -40,14 +47,17 @@ double segmentDistance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const
   return (a + t * ab - p).norm();
 }
 
-bool insideConvex(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p) {
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const Eigen::Vector2d& a = polygon[i];
-    const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
-    const double cross = (b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x());
-    if (cross <= 0) return false;  // counter-clockwise: strictly inside is strictly left of every edge
-  }
-  return true;
+/// `p` strictly inside the region bounded by `rings` (outer boundary and holes; even-odd rule).
+bool insideRings(const std::vector<std::vector<Eigen::Vector2d>>& rings, const Eigen::Vector2d& p) {
+  bool inside = false;
+  for (const auto& ring : rings)
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+      const Eigen::Vector2d& a = ring[i];
+      const Eigen::Vector2d& b = ring[j];
+      if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+        inside = !inside;
+    }
+  return inside;
 }
 
 struct UnionFind {
@@ -64,7 +74,7 @@ struct UnionFind {
 /// Geometric, because CGAL splits overlapping collinear edges of different obstacles into pieces
 /// whose ends come from different input segments.
 struct Boundaries {
-  std::vector<const std::vector<Eigen::Vector2d>*> polygons;
+  std::vector<std::vector<std::vector<Eigen::Vector2d>>> polygons;  ///< per footprint: outer, holes
   std::vector<Eigen::AlignedBox<double, 2>> boxes;
   Eigen::AlignedBox<double, 2> bounds;
   double eps = 0.0;
@@ -73,12 +83,11 @@ struct Boundaries {
     std::vector<int> out;
     for (std::size_t i = 0; i < polygons.size(); ++i) {
       if (boxes[i].exteriorDistance(p) > eps) continue;
-      const auto& poly = *polygons[i];
-      for (std::size_t k = 0; k < poly.size(); ++k)
-        if (segmentDistance(poly[k], poly[(k + 1) % poly.size()], p) <= eps) {
-          out.push_back(static_cast<int>(i));
-          break;
-        }
+      bool on = false;
+      for (const auto& poly : polygons[i])
+        for (std::size_t k = 0; k < poly.size() && !on; ++k)
+          on = segmentDistance(poly[k], poly[(k + 1) % poly.size()], p) <= eps;
+      if (on) out.push_back(static_cast<int>(i));
     }
     const Eigen::Vector2d lo = bounds.min(), hi = bounds.max();
     if (std::min({std::abs(p.x() - lo.x()), std::abs(p.x() - hi.x()), std::abs(p.y() - lo.y()), std::abs(p.y() - hi.y())}) <= eps)
@@ -178,6 +187,36 @@ bool polygonsMeet(const std::vector<Eigen::Vector2d>& P, const std::vector<Eigen
   return false;
 }
 
+/// Some two segments of `rings` (closed polygons) cross or touch other than at a shared end: the
+/// union's vertices rounded to double may do that, which the SDG traits without intersections forbid.
+bool selfIntersecting(const std::vector<std::vector<Eigen::Vector2d>>& rings) {
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> segs;
+  for (const auto& ring : rings)
+    for (std::size_t k = 0; k < ring.size(); ++k) {
+      Eigen::Vector2d a = ring[k], b = ring[(k + 1) % ring.size()];
+      if (b.x() < a.x()) std::swap(a, b);
+      segs.emplace_back(a, b);
+    }
+  std::sort(segs.begin(), segs.end(), [](const auto& s, const auto& t) { return s.first.x() < t.first.x(); });
+  for (std::size_t i = 0; i < segs.size(); ++i) {
+    const auto& [a, b] = segs[i];
+    for (std::size_t j = i + 1; j < segs.size() && segs[j].first.x() <= b.x(); ++j) {
+      const auto& [c, d] = segs[j];
+      if (a == c || a == d || b == c || b == d) continue;  // shared ends are fine
+      if (std::max(c.y(), d.y()) < std::min(a.y(), b.y()) || std::min(c.y(), d.y()) > std::max(a.y(), b.y())) continue;
+      const double c1 = cross(a, b, c), c2 = cross(a, b, d), c3 = cross(c, d, a), c4 = cross(c, d, b);
+      if (c1 * c2 <= 0 && c3 * c4 <= 0 && !(c1 == 0 && c2 == 0 && c3 == 0 && c4 == 0)) return true;
+      if (c1 == 0 && c2 == 0) {  // collinear: overlapping along x (or y for vertical ones)?
+        const int axis = a.x() == b.x() ? 1 : 0;
+        const double lo = std::max(std::min(a[axis], b[axis]), std::min(c[axis], d[axis]));
+        const double hi = std::min(std::max(a[axis], b[axis]), std::max(c[axis], d[axis]));
+        if (lo <= hi) return true;
+      }
+    }
+  }
+  return false;
+}
+
 /// Clips a convex polygon to the box (Sutherland-Hodgman); empty when nothing is left.
 std::vector<Eigen::Vector2d> clipToBox(std::vector<Eigen::Vector2d> poly, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
   for (int side = 0; side < 4 && !poly.empty(); ++side) {
@@ -221,13 +260,19 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   map.min_clearance = params.min_clearance;
   map.tolerance = params.tolerance;
 
-  std::vector<const clustering::Obstacle*> band;
+  // The sites: the footprints of the obstacles' convex parts (an obstacle without parts: its own
+  // footprint), each in the band on its own, tagged with its obstacle's id.
+  std::vector<std::pair<const std::vector<Eigen::Vector2d>*, int>> band;
+  auto addFootprint = [&](const clustering::Footprint& f, int id) {
+    if (f.z_max < params.z0 || f.z_min > params.z1) return;
+    if (f.polygon.size() < 3)
+      throw Error("obstacle " + std::to_string(id) + ": footprint has " + std::to_string(f.polygon.size()) +
+                  " vertices, expected >= 3");
+    band.emplace_back(&f.polygon, id);
+  };
   for (const auto& o : obstacles) {
-    if (o.footprint.z_max < params.z0 || o.footprint.z_min > params.z1) continue;
-    if (o.footprint.polygon.size() < 3)
-      throw Error("obstacle " + std::to_string(o.id) + ": footprint has " +
-                  std::to_string(o.footprint.polygon.size()) + " vertices, expected >= 3");
-    band.push_back(&o);
+    if (o.parts.empty()) addFootprint(o.footprint, o.id);
+    for (const auto& part : o.parts) addFootprint(part.footprint, o.id);
   }
 
   if (params.bounds) {
@@ -235,8 +280,8 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   } else {
     if (!(params.margin > 0)) throw Error("roadmap margin: must be > 0");
     double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
-    for (const auto* o : band)
-      for (const auto& p : o->footprint.polygon) {
+    for (const auto& [polygon, id] : band)
+      for (const auto& p : *polygon) {
         x0 = std::min(x0, p.x()); y0 = std::min(y0, p.y());
         x1 = std::max(x1, p.x()); y1 = std::max(y1, p.y());
       }
@@ -250,14 +295,18 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   const double scale = std::max({std::abs(bb.x0), std::abs(bb.x1), std::abs(bb.y0), std::abs(bb.y1), 1.0});
 
   // Footprints clipped to the bounds (shrunk by a hair, so none touches them), then every group of
-  // footprints that meet replaced by the convex hull of their union until none meet: conservative
-  // (a notch between touching fragments is filled) and it leaves CGAL only disjoint sites.
+  // footprints that meet (touch, overlap or come within a hair) replaced by the exact union of its
+  // members (a polygon with holes: a ring of wall parts keeps the room inside it free). The union is
+  // computed with exact constructions and rounded to double once; it leaves CGAL only sites that
+  // meet at shared ends.
   const double hair = 1e-6 * scale;
-  for (const auto* o : band) {
-    auto clipped = clipToBox(o->footprint.polygon, {bb.x0 + hair, bb.y0 + hair}, {bb.x1 - hair, bb.y1 - hair});
-    if (clipped.empty()) continue;
-    map.footprints.push_back(std::move(clipped));
-    map.obstacle_groups.push_back({o->id});
+  std::vector<std::vector<Eigen::Vector2d>> clipped;
+  std::vector<int> clipped_id;
+  for (const auto& [polygon, id] : band) {
+    auto c = clipToBox(*polygon, {bb.x0 + hair, bb.y0 + hair}, {bb.x1 - hair, bb.y1 - hair});
+    if (c.empty()) continue;
+    clipped.push_back(std::move(c));
+    clipped_id.push_back(id);
   }
   auto box = [](const std::vector<Eigen::Vector2d>& poly) {
     Eigen::AlignedBox<double, 2> b(poly.front(), poly.front());
@@ -265,28 +314,120 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     return b;
   };
   std::vector<Eigen::AlignedBox<double, 2>> boxes;
-  for (const auto& poly : map.footprints) boxes.push_back(box(poly));
-  for (bool changed = true; changed;) {
-    changed = false;
-    for (std::size_t i = 0; i < map.footprints.size(); ++i) {
-      for (std::size_t j = i + 1; j < map.footprints.size(); ++j) {
-        if (boxes[i].exteriorDistance(boxes[j]) > hair || !polygonsMeet(map.footprints[i], map.footprints[j], hair))
-          continue;
-        auto points = map.footprints[i];
-        points.insert(points.end(), map.footprints[j].begin(), map.footprints[j].end());
-        map.footprints[i] = clustering::convexHull2d(points);
-        auto& ids = map.obstacle_groups[i];
-        ids.insert(ids.end(), map.obstacle_groups[j].begin(), map.obstacle_groups[j].end());
-        const auto at = static_cast<std::ptrdiff_t>(j);
-        map.footprints.erase(map.footprints.begin() + at);
-        map.obstacle_groups.erase(map.obstacle_groups.begin() + at);
-        boxes.erase(boxes.begin() + at);
-        boxes[i] = box(map.footprints[i]);
-        changed = true;
-        j = i;  // the grown hull may now meet footprints already passed
+  for (const auto& poly : clipped) boxes.push_back(box(poly));
+  UnionFind meeting(clipped.size());
+  {
+    std::vector<int> by_x(clipped.size());
+    std::iota(by_x.begin(), by_x.end(), 0);
+    std::sort(by_x.begin(), by_x.end(), [&](int i, int j) { return boxes[i].min().x() < boxes[j].min().x(); });
+    for (std::size_t k = 0; k < by_x.size(); ++k)
+      for (std::size_t l = k + 1; l < by_x.size() && boxes[by_x[l]].min().x() <= boxes[by_x[k]].max().x() + hair; ++l) {
+        const int i = by_x[k], j = by_x[l];
+        if (boxes[i].exteriorDistance(boxes[j]) <= hair && polygonsMeet(clipped[i], clipped[j], hair)) meeting.unite(i, j);
+      }
+  }
+  std::map<int, std::vector<int>> groups;  // root -> members, in input order
+  for (std::size_t i = 0; i < clipped.size(); ++i) groups[meeting.find(static_cast<int>(i))].push_back(static_cast<int>(i));
+  auto toDouble = [](const ExactPolygon& poly) {
+    // Vertices exactly between their neighbours are dropped (the same polygon): chains of collinear
+    // sites make degenerate SDG faces whose Voronoi vertex cannot be constructed in double.
+    std::vector<ExactKernel::Point_2> kept;
+    for (auto v = poly.vertices_begin(); v != poly.vertices_end(); ++v) kept.push_back(*v);
+    for (bool changed = true; changed && kept.size() > 3;) {
+      changed = false;
+      for (std::size_t i = 0; i < kept.size() && kept.size() > 3; ++i) {
+        const auto& prev = kept[(i + kept.size() - 1) % kept.size()];
+        const auto& next = kept[(i + 1) % kept.size()];
+        if (CGAL::collinear(prev, kept[i], next) && CGAL::collinear_are_ordered_along_line(prev, kept[i], next)) {
+          kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(i));
+          changed = true;
+          --i;
+        }
       }
     }
+    std::vector<Eigen::Vector2d> out;
+    for (auto v = kept.begin(); v != kept.end(); ++v) {
+      // Rounded from the exact value (the lazy approximation depends on what was evaluated before).
+      const Eigen::Vector2d p(CGAL::to_double(CGAL::exact(v->x())), CGAL::to_double(CGAL::exact(v->y())));
+      if (out.empty() || p != out.back()) out.push_back(p);
+    }
+    while (out.size() > 1 && out.front() == out.back()) out.pop_back();
+    // Start at the lexicographically least vertex: CGAL's output order varies from run to run, and
+    // the SDG's insertion order decides how degenerate (co-circular) faces are split.
+    const auto least = std::min_element(out.begin(), out.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+      return std::make_pair(a.x(), a.y()) < std::make_pair(b.x(), b.y());
+    });
+    std::rotate(out.begin(), least, out.end());
+    return out;
+  };
+  auto ringLess = [](const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b) {
+    return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end(), [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+      return std::make_pair(p.x(), p.y()) < std::make_pair(q.x(), q.y());
+    });
+  };
+  std::vector<std::vector<std::vector<Eigen::Vector2d>>> rings;  // per footprint: outer, then holes
+  for (const auto& [root, members] : groups) {
+    std::vector<int> ids;
+    for (int m : members) ids.push_back(clipped_id[m]);
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    if (members.size() == 1) {
+      map.footprints.push_back(clipped[members.front()]);
+      map.holes.emplace_back();
+      map.obstacle_groups.push_back(ids);
+      rings.push_back({clipped[members.front()]});
+      continue;
+    }
+    ExactPolygonSet set;
+    for (int m : members) {
+      ExactPolygon poly;
+      for (const auto& p : clipped[m]) poly.push_back(ExactKernel::Point_2(p.x(), p.y()));
+      if (poly.orientation() == CGAL::CLOCKWISE) poly.reverse_orientation();
+      set.join(poly);
+    }
+    std::vector<ExactPolygonWithHoles> pieces;
+    set.polygons_with_holes(std::back_inserter(pieces));
+    const std::size_t first = rings.size();
+    for (const auto& piece : pieces) {
+      if (piece.is_unbounded()) throw Error("roadmap: the union of footprints is unbounded");
+      auto outer = toDouble(piece.outer_boundary());
+      if (outer.size() < 3) continue;
+      std::vector<std::vector<Eigen::Vector2d>> holes;
+      for (auto h = piece.holes_begin(); h != piece.holes_end(); ++h) {
+        auto hole = toDouble(*h);
+        if (hole.size() >= 3) holes.push_back(std::move(hole));
+      }
+      std::sort(holes.begin(), holes.end(), ringLess);
+      rings.push_back({outer});
+      for (const auto& hole : holes) rings.back().push_back(hole);
+    }
+    std::sort(rings.begin() + static_cast<std::ptrdiff_t>(first), rings.end(),
+              [&](const auto& a, const auto& b) { return ringLess(a.front(), b.front()); });
+    for (std::size_t i = first; i < rings.size(); ++i) {
+      map.footprints.push_back(rings[i].front());
+      map.holes.emplace_back(rings[i].begin() + 1, rings[i].end());
+      map.obstacle_groups.push_back(ids);
+    }
+    std::vector<std::vector<Eigen::Vector2d>> all;
+    for (std::size_t i = first; i < rings.size(); ++i) all.insert(all.end(), rings[i].begin(), rings[i].end());
+    if (selfIntersecting(all)) {
+      // Rounding made the union's boundary cross itself: fall back to the convex hull of the group
+      // (conservative: it covers the union, holes included).
+      std::vector<Eigen::Vector2d> points;
+      for (int m : members) points.insert(points.end(), clipped[m].begin(), clipped[m].end());
+      const auto at = static_cast<std::ptrdiff_t>(first);
+      rings.erase(rings.begin() + at, rings.end());
+      map.footprints.erase(map.footprints.begin() + at, map.footprints.end());
+      map.holes.erase(map.holes.begin() + at, map.holes.end());
+      map.obstacle_groups.erase(map.obstacle_groups.begin() + at, map.obstacle_groups.end());
+      map.footprints.push_back(clustering::convexHull2d(points));
+      map.holes.emplace_back();
+      map.obstacle_groups.push_back(ids);
+      rings.push_back({map.footprints.back()});
+    }
   }
+  boxes.clear();
+  for (const auto& poly : map.footprints) boxes.push_back(box(poly));
 
   const int bounds_owner = static_cast<int>(map.footprints.size());
   Boundaries boundaries;
@@ -297,14 +438,12 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     const Kernel::Point_2 pa(a.x(), a.y()), pb(b.x(), b.y());
     if (pa != pb) sdg.insert(pa, pb);
   };
-  for (const auto& poly : map.footprints) {
-    boundaries.polygons.push_back(&poly);
-    boundaries.boxes.emplace_back(poly.front(), poly.front());
-    for (std::size_t k = 0; k < poly.size(); ++k) {
-      boundaries.boxes.back().extend(poly[k]);
-      addSegment(poly[k], poly[(k + 1) % poly.size()]);
-    }
+  for (std::size_t i = 0; i < rings.size(); ++i) {
+    boundaries.boxes.push_back(boxes[i]);
+    for (const auto& poly : rings[i])
+      for (std::size_t k = 0; k < poly.size(); ++k) addSegment(poly[k], poly[(k + 1) % poly.size()]);
   }
+  boundaries.polygons = rings;
   const Eigen::Vector2d corners[4] = {{bb.x0, bb.y0}, {bb.x1, bb.y0}, {bb.x1, bb.y1}, {bb.x0, bb.y1}};
   for (int k = 0; k < 4; ++k) addSegment(corners[k], corners[(k + 1) % 4]);
   std::map<Sdg::Vertex_handle, std::vector<int>> owner_cache;
@@ -375,7 +514,7 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
                                 edge.polyline[(edge.polyline.size() - 1) / 2] * 0.5;
     bool inside = false;
     for (std::size_t i = 0; i < map.footprints.size() && !inside; ++i)
-      inside = boxes[i].contains(mid) && insideConvex(map.footprints[i], mid);
+      inside = boxes[i].contains(mid) && insideRings(rings[i], mid);
     if (inside) continue;
     for (std::size_t k = 1; k < edge.polyline.size(); ++k) edge.length += (edge.polyline[k] - edge.polyline[k - 1]).norm();
     edge.from = nodeOf(fi);
@@ -407,6 +546,14 @@ std::string roadmapJson(const Roadmap& roadmap) {
   for (std::size_t i = 0; i < roadmap.footprints.size(); ++i) {
     json o{{"ids", roadmap.obstacle_groups[i]}, {"footprint", json::array()}};
     for (const auto& p : roadmap.footprints[i]) o["footprint"].push_back(xy(p));
+    if (i < roadmap.holes.size() && !roadmap.holes[i].empty()) {
+      o["holes"] = json::array();
+      for (const auto& hole : roadmap.holes[i]) {
+        json h = json::array();
+        for (const auto& p : hole) h.push_back(xy(p));
+        o["holes"].push_back(std::move(h));
+      }
+    }
     j["obstacles"].push_back(std::move(o));
   }
   j["nodes"] = json::array();

@@ -38,6 +38,12 @@ Roadmap readRoadmapJson(const std::string& path) {
       map.obstacle_groups.push_back(o.at("ids").get<std::vector<int>>());
       map.footprints.emplace_back();
       for (const auto& p : o.at("footprint")) map.footprints.back().push_back(xy(p));
+      map.holes.emplace_back();
+      if (o.contains("holes"))
+        for (const auto& h : o.at("holes")) {
+          map.holes.back().emplace_back();
+          for (const auto& p : h) map.holes.back().back().push_back(xy(p));
+        }
     }
     for (const auto& n : j.at("nodes")) map.nodes.push_back({xy(n)});
     const int nodes = static_cast<int>(map.nodes.size());

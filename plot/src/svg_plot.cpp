@@ -127,44 +127,69 @@ double writeScaleBar(std::ostream& svg, const Viewport& vp, double y, double fon
   return 6 + font;
 }
 
-std::vector<Eigen::Vector2d> outline(const clustering::Obstacle& o, PlotView view) {
+/// The outline of a hull in the view: its footprint (top) or its projected hull (side), else the box.
+std::vector<Eigen::Vector2d> outline(const clustering::ConvexHull& hull, const clustering::Footprint& footprint,
+                                     const Eigen::Vector3d& aabb_min, const Eigen::Vector3d& aabb_max, PlotView view) {
   if (view == PlotView::kTop) {
-    if (o.footprint.polygon.size() >= 3) return o.footprint.polygon;
-    return {{o.aabb_min.x(), o.aabb_min.y()}, {o.aabb_max.x(), o.aabb_min.y()},
-            {o.aabb_max.x(), o.aabb_max.y()}, {o.aabb_min.x(), o.aabb_max.y()}};
+    if (footprint.polygon.size() >= 3) return footprint.polygon;
+    return {{aabb_min.x(), aabb_min.y()}, {aabb_max.x(), aabb_min.y()},
+            {aabb_max.x(), aabb_max.y()}, {aabb_min.x(), aabb_max.y()}};
   }
   std::vector<Eigen::Vector2d> projected;
-  projected.reserve(o.hull.vertices.size());
-  for (const auto& v : o.hull.vertices) projected.push_back(project(v, view));
-  auto hull = clustering::convexHull2d(std::move(projected));
-  if (hull.size() >= 3) return hull;
-  return {{o.aabb_min.x(), o.aabb_min.z()}, {o.aabb_max.x(), o.aabb_min.z()},
-          {o.aabb_max.x(), o.aabb_max.z()}, {o.aabb_min.x(), o.aabb_max.z()}};
+  projected.reserve(hull.vertices.size());
+  for (const auto& v : hull.vertices) projected.push_back(project(v, view));
+  auto outer = clustering::convexHull2d(std::move(projected));
+  if (outer.size() >= 3) return outer;
+  return {{aabb_min.x(), aabb_min.z()}, {aabb_max.x(), aabb_min.z()},
+          {aabb_max.x(), aabb_max.z()}, {aabb_min.x(), aabb_max.z()}};
+}
+
+/// One outline per convex part of the obstacle (its whole outline when it has no parts): the whole
+/// hull of a ring of walls would cover the room inside it.
+std::vector<std::vector<Eigen::Vector2d>> outlines(const clustering::Obstacle& o, PlotView view) {
+  if (o.parts.empty()) return {outline(o.hull, o.footprint, o.aabb_min, o.aabb_max, view)};
+  std::vector<std::vector<Eigen::Vector2d>> out;
+  for (const auto& part : o.parts) out.push_back(outline(part.hull, part.footprint, part.aabb_min, part.aabb_max, view));
+  return out;
 }
 
 void writeObstacles(std::ostream& svg, const std::vector<clustering::Obstacle>& obstacles, PlotView view,
                     const Viewport& vp) {
   svg << "<g class=\"obstacles\" font-family=\"sans-serif\" font-size=\"12\" font-weight=\"bold\">\n";
   for (const auto& o : obstacles) {
-    const auto polygon = outline(o, view);
-    std::string points;
+    // The id is written once per obstacle, inside its largest outline; every part's outline is
+    // drawn (the first carries the element id "obstacle-<id>", all carry data-obstacle).
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (const auto& p : polygon) {
-      points += num(vp.px(p.x())) + ',' + num(vp.py(p.y())) + ' ';
-      mean += p;
+    double size = 7.0, largest = -1.0;
+    bool first = true;
+    for (const auto& polygon : outlines(o, view)) {
+      std::string points;
+      Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+      for (const auto& p : polygon) {
+        points += num(vp.px(p.x())) + ',' + num(vp.py(p.y())) + ' ';
+        centre += p;
+      }
+      centre /= static_cast<double>(std::max<std::size_t>(polygon.size(), 1));
+      if (!points.empty()) points.pop_back();
+      Box2 extent;
+      for (const auto& p : polygon) extent.add(p);
+      const double area = (extent.x1 - extent.x0) * (extent.y1 - extent.y0);
+      if (area > largest) {
+        largest = area;
+        mean = centre;
+        // Numbers shrink with their outline (12 px down to 7 px), so crowded small obstacles stay legible.
+        size = std::clamp(0.6 * std::min(extent.x1 - extent.x0, extent.y1 - extent.y0) * vp.scale, 7.0, 12.0);
+      }
+      // A white halo under the dark outline keeps it visible on any cluster colour.
+      svg << "<polygon class=\"footprint-halo\" points=\"" << points
+          << "\" fill=\"none\" stroke=\"#fff\" stroke-width=\"3.5\" stroke-linejoin=\"round\"/>\n"
+          << "<polygon class=\"footprint\"";
+      if (first) svg << " id=\"obstacle-" << o.id << '"';
+      svg << " data-obstacle=\"" << o.id << "\" points=\"" << points
+          << "\" fill=\"none\" stroke=\"#111\" stroke-width=\"1.5\" stroke-linejoin=\"round\"/>\n";
+      first = false;
     }
-    mean /= static_cast<double>(polygon.size());
-    if (!points.empty()) points.pop_back();
-    // Numbers shrink with their outline (12 px down to 7 px), so crowded small obstacles stay legible.
-    Box2 extent;
-    for (const auto& p : polygon) extent.add(p);
-    const double size = std::clamp(0.6 * std::min(extent.x1 - extent.x0, extent.y1 - extent.y0) * vp.scale, 7.0, 12.0);
-    // A white halo under the dark outline keeps it visible on any cluster colour.
-    svg << "<polygon class=\"footprint-halo\" points=\"" << points
-        << "\" fill=\"none\" stroke=\"#fff\" stroke-width=\"3.5\" stroke-linejoin=\"round\"/>\n"
-        << "<polygon class=\"footprint\" id=\"obstacle-" << o.id << "\" points=\"" << points
-        << "\" fill=\"none\" stroke=\"#111\" stroke-width=\"1.5\" stroke-linejoin=\"round\"/>\n"
-        << "<text class=\"obstacle-id\" x=\"" << num(vp.px(mean.x())) << "\" y=\"" << num(vp.py(mean.y()) + size / 3)
+    svg << "<text class=\"obstacle-id\" x=\"" << num(vp.px(mean.x())) << "\" y=\"" << num(vp.py(mean.y()) + size / 3)
         << "\" font-size=\"" << num(size) << "\" text-anchor=\"middle\" fill=\"#111\" stroke=\"#fff\" stroke-width=\""
         << num(size / 4) << "\" paint-order=\"stroke\">"
         << o.id << "</text>\n";
@@ -309,7 +334,8 @@ SvgPicture renderMapSvg(const MapPlot& plot) {
     box.add({bulk.x1, bulk.y1});
   }
   for (const auto& o : plot.obstacles) {
-    for (const auto& p : outline(o, view)) box.add(p);
+    for (const auto& polygon : outlines(o, view))
+      for (const auto& p : polygon) box.add(p);
   }
   for (const auto& path : plot.paths) {
     for (const auto& p : path.waypoints) box.add(project(p, view), path.radius);

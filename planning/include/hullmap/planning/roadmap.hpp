@@ -57,9 +57,13 @@ struct Roadmap {
   double z0 = 0.0, z1 = 0.0;
   double min_clearance = 0.0;
   double tolerance = 0.0;
-  /// The sites' polygons: the footprints in the band, clipped to the bounds, those that meet
-  /// merged into the convex hull of their union (counter-clockwise).
+  /// The sites' polygons: the footprints of the obstacles' convex parts (an obstacle without
+  /// parts: its footprint) in the band, clipped to the bounds, those that meet merged into the
+  /// exact union of their members (rounded to double): the outer boundary, counter-clockwise.
   std::vector<std::vector<Eigen::Vector2d>> footprints;
+  /// The holes of each footprint (free space enclosed by it, e.g. a room inside a ring of walls);
+  /// empty for most; parallel to footprints.
+  std::vector<std::vector<std::vector<Eigen::Vector2d>>> holes;
   std::vector<std::vector<int>> obstacle_groups;  ///< Obstacle::id of each footprint's members
   std::vector<RoadmapNode> nodes;
   std::vector<RoadmapEdge> edges;
@@ -67,8 +71,11 @@ struct Roadmap {
 
 /// Exact generalized Voronoi diagram of the footprints in the band, inside the bounds, with CGAL's
 /// segment Delaunay graph (filtered exact predicates; sites: every footprint edge plus the four
-/// bounds edges). Footprints are clipped to the bounds, and footprints that touch or overlap are
-/// replaced by the convex hull of their union (conservative: it closes the notches between them). Keeps the Voronoi edges between sites of
+/// bounds edges). The sites are the footprints of the obstacles' convex parts (an obstacle without
+/// parts: its footprint), each kept if its own z range meets the band. Footprints are clipped to the
+/// bounds, and footprints that touch or overlap are replaced by the exact union of the group (a
+/// polygon that may have holes: a ring of walls leaves the room inside free), its outer boundary and
+/// hole boundaries inserted as sites. Keeps the Voronoi edges between sites of
 /// different obstacles or an obstacle and the bounds, drops edges touching the outside of the
 /// bounds, inside a footprint, or with clearance < min_clearance. The clearance of an edge is its
 /// exact minimum along the arc (closed form per bisector type: point-point, point-segment parabola,
