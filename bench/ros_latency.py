@@ -11,7 +11,7 @@ The map: a 10 x 8 x 3 m room holding 8 boxes (furniture) whose surfaces carry 90
 ORB-SLAM2/3 wrappers send it. end-to-end: publish() to the ~obstacles message with the same stamp
 received here (serialisation and transport both ways included); node: the node's own latency_ms
 (message callback to obstacles published). Parameters are hullmap build's defaults (resolution 0.05,
-eps 0.1, min_pts 10). Medians of `repeats` messages per size.
+eps and min_pts chosen from the map, floor search, convex parts). Medians of `repeats` messages per size.
 """
 import json
 import os

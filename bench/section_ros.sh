@@ -32,7 +32,7 @@ is the work octomap_server does on every such message, octomap's `insertPointClo
 from one keyframe (the room's centre) into its tree, timed on the same points in the same run
 (`hullmap_bench_octomap_cloud`, median of the repeats). The map: a 10 x 8 x 3 m room, 8 boxes whose
 surfaces carry 90% of the points, 10% scattered (outliers); `hullmap build`'s defaults (resolution
-0.05, eps 0.1, min_pts 10). **End-to-end**: from `publish()` in a rospy client to the `~obstacles`
+0.05, eps and min_pts chosen from the map, floor search, convex parts). **End-to-end**: from `publish()` in a rospy client to the `~obstacles`
 message with the same stamp arriving back in it (serialisation and transport both ways included);
 **node latency_ms**: the node's own `~stats` (callback to obstacles published); **rebuild_ms**: the
 build alone. Medians of 3 messages per size. `bench/ros_latency.py`, `bench/section_ros.sh`.
