@@ -195,22 +195,26 @@ struct Check {
   Eigen::Vector3d split_point = Eigen::Vector3d::Zero();  ///< where to cut, lattice coordinates
   LatticeHull hull;
   std::size_t keyframes_in_voxels = 0;
+  bool flat = false;               ///< passed as a flat part (hull width <= T, distances within G)
 };
 
 /// One cluster on its lattice, and the work on it.
 class ClusterSplitter {
  public:
-  ClusterSplitter(std::vector<Cell> cells, double t_cells, std::size_t max_check_cells,
+  /// `t_cells`: T; `g_cells`: G >= T, the distance allowed in a flat part (G = T: no relaxation).
+  ClusterSplitter(std::vector<Cell> cells, double t_cells, double g_cells, std::size_t max_check_cells,
                   std::vector<Eigen::Vector3d> keyframes)
       : cells_(std::move(cells)),
+        t_(t_cells),
         t2_(t_cells * t_cells * (1.0 + 1e-12)),
-        reach_(std::int64_t(std::floor(t_cells))),
+        g2_(std::max(g_cells, t_cells) * std::max(g_cells, t_cells) * (1.0 + 1e-12)),
+        reach_(std::int64_t(std::floor(std::max(g_cells, t_cells)))),
         max_check_cells_(max_check_cells),
         keyframes_(std::move(keyframes)) {
     for (std::int64_t i = -reach_; i <= reach_; ++i)
       for (std::int64_t j = -reach_; j <= reach_; ++j)
         for (std::int64_t k = -reach_; k <= reach_; ++k)
-          if (double(i * i + j * j + k * k) <= t2_) ball_.push_back({{i, j, k}, float(i * i + j * j + k * k)});
+          if (double(i * i + j * j + k * k) <= g2_) ball_.push_back({{i, j, k}, float(i * i + j * j + k * k)});
     std::stable_sort(ball_.begin(), ball_.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
   }
 
@@ -302,9 +306,9 @@ class ClusterSplitter {
           }
       }
     };
-    // Distances up to T are all a passing check needs (and a failing one when no split point is
+    // Distances up to max(T, G) are all a passing check needs (and a failing one when no split point is
     // wanted): on a sparse part, the ball of radius T around each of its cells costs less than the
-    // transform. Values within T are the same exact integers; beyond T they stay kFar.
+    // transform. Values within T are the same exact integers; beyond max(T, G) they stay kFar.
     const bool bounded = part.size() * ball_.size() < 8 * box_cells;
     if (bounded) {
       for (const auto& c : cells)
@@ -366,7 +370,8 @@ class ClusterSplitter {
       scan();
     }
     check.worst_d2 = std::max<std::int64_t>(worst, 0);
-    if (double(check.worst_d2) > t2_) {
+    if (double(check.worst_d2) > t2_ && double(check.worst_d2) <= g2_ && flat(check.hull, cells)) check.flat = true;
+    if (double(check.worst_d2) > (check.flat ? g2_ : t2_)) {
       check.ok = false;
       check.split_point = Eigen::Vector3d(double(worst_cell[0]) + 0.5, double(worst_cell[1]) + 0.5,
                                           double(worst_cell[2]) + 0.5);
@@ -392,6 +397,27 @@ class ClusterSplitter {
       return check;
     }
     return check;
+  }
+
+  /// Whether the hull is at most T wide along one of its facet normals (so it is at most T thick:
+  /// the width along a facet normal bounds the hull's least width from above). A facet's width is
+  /// its plane's value minus the least value of n . x over the cells' cubes (exact integers).
+  bool flat(const LatticeHull& hull, const std::vector<Cell>& cells) const {
+    for (const auto& p : hull.planes) {
+      const double norm = std::sqrt(double(dot(p.n, p.n)));
+      // Wider than T once some cube reaches below d - T |n|.
+      const double limit = double(p.d) - t_ * norm * (1.0 + 1e-12);
+      const std::int64_t corner = std::min<std::int64_t>(p.n[0], 0) + std::min<std::int64_t>(p.n[1], 0) +
+                                  std::min<std::int64_t>(p.n[2], 0);
+      bool wide = false;
+      for (const auto& c : cells)
+        if (double(dot(p.n, c) + corner) < limit) {
+          wide = true;
+          break;
+        }
+      if (!wide) return true;
+    }
+    return false;
   }
 
   static std::int64_t floorDiv(std::int64_t a, std::int64_t b) {
@@ -512,7 +538,7 @@ class ClusterSplitter {
     return Eigen::Vector3d(double(cells_[i][0]) + 0.5, double(cells_[i][1]) + 0.5, double(cells_[i][2]) + 0.5);
   }
 
-  /// Greedy merge of parts whose boxes come within T, the pair whose union's hull adds the least
+  /// Greedy merge of parts whose boxes come within max(T, G), the pair whose union's hull adds the least
   /// volume first, while the union passes the check.
   std::vector<std::pair<Members, Check>> merge(std::vector<std::pair<Members, Check>> parts) const {
     struct Node {
@@ -647,9 +673,11 @@ class ClusterSplitter {
   }
 
   std::vector<Cell> cells_;
-  double t2_;
-  std::int64_t reach_;
-  std::vector<std::pair<Cell, float>> ball_;  ///< offsets within T (squared length, cells^2), nearest first
+  double t_;    ///< T, cells
+  double t2_;   ///< T^2, cells^2 (with a relative 1e-12 for rounding)
+  double g2_;   ///< G^2 >= T^2: the bound of a flat part
+  std::int64_t reach_;  ///< floor(max(T, G))
+  std::vector<std::pair<Cell, float>> ball_;  ///< offsets within max(T, G) (squared length, cells^2), nearest first
   std::size_t max_check_cells_;
   std::vector<Eigen::Vector3d> keyframes_;  ///< lattice coordinates
 };
@@ -682,12 +710,19 @@ double resolveConcavity(const ConvexPartsParams& params, double voxel_size) {
   return params.concavity > 0 ? params.concavity : defaultConcavity(voxel_size);
 }
 
+/// G: the flat parts' bound, at least T (T when unset: no relaxation).
+double resolveFlatGap(const ConvexPartsParams& params, double t) {
+  if (params.flat_gap && (!(*params.flat_gap >= 0) || !std::isfinite(*params.flat_gap)))
+    throw Error("convex parts: flat_gap must be >= 0, got " + std::to_string(*params.flat_gap));
+  return std::max(t, params.flat_gap.value_or(t));
+}
+
 struct SplitResult {
   ClusterLattice lattice;
   std::vector<std::pair<Members, Check>> parts;
 };
 
-SplitResult splitCluster(const std::vector<Eigen::Vector3d>& centers, double voxel_size, double t,
+SplitResult splitCluster(const std::vector<Eigen::Vector3d>& centers, double voxel_size, double t, double g,
                          std::size_t max_check_cells, const std::vector<Eigen::Vector3d>& keyframes) {
   SplitResult result;
   if (centers.empty()) return result;
@@ -705,7 +740,7 @@ SplitResult splitCluster(const std::vector<Eigen::Vector3d>& centers, double vox
     if ((k.array() >= lo.array() - voxel_size).all() && (k.array() <= hi.array() + voxel_size).all())
       near.push_back((k - result.lattice.origin) / voxel_size);
   }
-  ClusterSplitter splitter(result.lattice.cells, t / voxel_size, max_check_cells, std::move(near));
+  ClusterSplitter splitter(result.lattice.cells, t / voxel_size, g / voxel_size, max_check_cells, std::move(near));
   result.parts = splitter.run();
   return result;
 }
@@ -718,7 +753,8 @@ std::vector<std::vector<std::size_t>> splitConvexParts(const std::vector<Eigen::
                                                        double voxel_size, const ConvexPartsParams& params,
                                                        const std::vector<Eigen::Vector3d>& keyframes) {
   const double t = resolveConcavity(params, voxel_size);
-  const SplitResult result = splitCluster(centers, voxel_size, t, params.max_check_cells, keyframes);
+  const double g = resolveFlatGap(params, t);
+  const SplitResult result = splitCluster(centers, voxel_size, t, g, params.max_check_cells, keyframes);
   std::vector<std::vector<std::size_t>> out;
   for (const auto& [members, check] : result.parts) out.emplace_back(members.begin(), members.end());
   return out;
@@ -729,6 +765,7 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
                                   const std::vector<std::int32_t>& labels, double voxel_size,
                                   const ConvexPartsParams& params, const KnownFreeSpace& known) {
   const double t = resolveConcavity(params, voxel_size);
+  const double g = resolveFlatGap(params, t);
   if (labels.size() != centers.size())
     throw Error("addConvexParts: " + std::to_string(labels.size()) + " labels for " +
                 std::to_string(centers.size()) + " voxels");
@@ -745,14 +782,14 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
   std::sort(free.begin(), free.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z());
   });
-  std::vector<std::size_t> keyframes_in_voxels(obstacles.size(), 0);
+  std::vector<std::size_t> keyframes_in_voxels(obstacles.size(), 0), flat_parts(obstacles.size(), 0);
   tbb::parallel_for(std::size_t(0), obstacles.size(), [&](std::size_t o) {
     Obstacle& obstacle = obstacles[o];
     const std::vector<std::size_t>& members = clusters.at(obstacle.id);
     std::vector<Eigen::Vector3d> local;
     local.reserve(members.size());
     for (const auto i : members) local.push_back(centers[i]);
-    const SplitResult result = splitCluster(local, voxel_size, t, params.max_check_cells, known.keyframes);
+    const SplitResult result = splitCluster(local, voxel_size, t, g, params.max_check_cells, known.keyframes);
     obstacle.parts.clear();
     for (const auto& [part_members, check] : result.parts) {
       std::vector<std::size_t> global;
@@ -769,6 +806,8 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
       part.hull = whole.hull;
       part.footprint = whole.footprint;
       part.concavity_bound = std::sqrt(double(check.worst_d2)) * voxel_size;
+      part.flat = check.flat;
+      if (check.flat) ++flat_parts[o];
       keyframes_in_voxels[o] += check.keyframes_in_voxels;
       const auto first = std::lower_bound(free.begin(), free.end(), part.aabb_min.x(),
                                           [](const Eigen::Vector3d& p, double x) { return p.x() < x; });
@@ -781,12 +820,14 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
   });
   ConvexPartsSummary summary;
   summary.concavity = t;
+  summary.flat_gap = g;
   for (std::size_t o = 0; o < obstacles.size(); ++o) {
     const auto& obstacle = obstacles[o];
     summary.parts += obstacle.parts.size();
     summary.hull_volume_before += obstacle.volume;
     summary.voxel_volume += double(obstacle.voxel_count) * voxel_size * voxel_size * voxel_size;
     summary.keyframes_in_voxels += keyframes_in_voxels[o];
+    summary.flat_parts += flat_parts[o];
     for (const auto& part : obstacle.parts) {
       summary.hull_volume_after += part.volume;
       summary.free_voxels_inside += part.free_voxels_inside;

@@ -398,6 +398,9 @@ void checkParams(const BuildParams& params) {
   if (params.convex_parts &&
       !(params.convex_parts->concavity >= 0.0 && std::isfinite(params.convex_parts->concavity)))
     throw Error::inParameter("concavity", "must be a finite number >= 0 (0: the default)");
+  if (params.convex_parts && params.convex_parts->flat_gap &&
+      !(*params.convex_parts->flat_gap >= 0.0 && std::isfinite(*params.convex_parts->flat_gap)))
+    throw Error::inParameter("flat_gap", "must be a finite number >= 0 (0: off)");
   for (const auto* plane : {&params.floor, &params.ceiling})
     if (plane->mode == mapper::PlaneSetting::Mode::kHeight && !std::isfinite(plane->height))
       throw Error::inParameter(plane == &params.floor ? "floor" : "ceiling", "height must be finite");
@@ -565,8 +568,11 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
     clustering::KnownFreeSpace known;
     for (const auto& k : result.keyframes) known.keyframes.push_back(k.position);
     if (params.trajectory || params.origin) known.free_voxels = freeVoxelCentres(result.map);
+    // G unset: the eps used, the distance at which this map's sampling connects a surface.
+    clustering::ConvexPartsParams parts_params = *params.convex_parts;
+    if (!parts_params.flat_gap) parts_params.flat_gap = chosen.used.eps;
     report.parts = clustering::addConvexParts(result.obstacles, centers, weights, cluster_labels, resolution,
-                                              *params.convex_parts, known);
+                                              parts_params, known);
     report.keyframes_inside_hulls = report.parts->keyframes_in_voxels;
     timer.stage("convex_parts");
   }
@@ -807,6 +813,8 @@ nlohmann::json parametersJson(const BuildParams& params) {
       {"concavity", !params.convex_parts ? json("none")
                     : params.convex_parts->concavity > 0.0 ? json(params.convex_parts->concavity)
                                                            : json("default")},
+      {"flat_gap", !params.convex_parts || !params.convex_parts->flat_gap ? json("auto")
+                                                                           : json(*params.convex_parts->flat_gap)},
       {"ot", params.write_ot},
   };
 }
@@ -862,6 +870,8 @@ nlohmann::json reportJson(const BuildResult& result) {
     }
     parts = {{"count", p.parts},
              {"concavity", p.concavity},
+             {"flat_gap", p.flat_gap},
+             {"flat_parts", p.flat_parts},
              {"per_obstacle", result.obstacles.empty() ? 0.0 : double(p.parts) / double(result.obstacles.size())},
              {"obstacles_split", split},
              {"most_parts_of_one_obstacle", largest},

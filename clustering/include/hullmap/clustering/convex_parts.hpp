@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -15,6 +16,12 @@ struct ConvexPartsParams {
   /// T, map units: no point of a part's hull may be farther than T from the part's own occupied voxel
   /// cubes, so T bounds the free space a hull may swallow. 0 means the default, defaultConcavity().
   double concavity = 0.0;
+  /// G, map units: a part whose hull is at most T thick (along one of its facet normals) is flat, a
+  /// patch of surface, and for it the bound is G instead of T: a sparse wall or table top, whose map
+  /// points leave holes wider than T in it, stays one part, while its hull still swallows no more
+  /// than a slab T thick. Unset (or below T): G = T, no relaxation. hullmap build sets it to the
+  /// DBSCAN eps, the distance at which the map's sampling connects a surface.
+  std::optional<double> flat_gap;
   /// A part whose bounding box holds more voxel cells than this is split in two at the median of
   /// its longest axis without being checked (the check holds one 4-byte distance per cell of the
   /// box: 2^23 cells is 32 MiB). Parts are merged back only when their union is checked.
@@ -76,6 +83,8 @@ std::vector<std::vector<std::size_t>> splitConvexParts(const std::vector<Eigen::
 struct ConvexPartsSummary {
   std::size_t parts = 0;
   double concavity = 0.0;                 ///< the T used, map units
+  double flat_gap = 0.0;                  ///< the G used (>= T), map units
+  std::size_t flat_parts = 0;             ///< parts that passed as flat (bound G)
   double hull_volume_before = 0.0;        ///< summed whole-cluster hull volume, map units^3
   double hull_volume_after = 0.0;         ///< summed part hull volume
   double voxel_volume = 0.0;              ///< clustered voxels times voxel_size^3

@@ -35,8 +35,12 @@ struct ObstaclePart {
   ConvexHull hull;                     ///< contains every voxel of the part completely
   Footprint footprint;
   /// Certified upper bound on the distance from any point of the hull to the part's own voxel
-  /// cubes (map units); at most the concavity asked for, unless the part is a single voxel.
+  /// cubes (map units); at most the concavity T asked for, unless the part is a single voxel or
+  /// `flat` (then at most the flat gap G).
   double concavity_bound = 0.0;
+  /// The part passed as flat: its hull is at most T thick (a wall, a table top), so the gaps in its
+  /// surface, up to G, swallow no more than that slab (see ConvexPartsParams::flat_gap).
+  bool flat = false;
   std::size_t free_voxels_inside = 0;  ///< observed-free voxel centres given that lie in the hull
 };
 

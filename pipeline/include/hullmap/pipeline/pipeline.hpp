@@ -76,6 +76,7 @@ struct BuildParams {
   /// Convex parts of each cluster (clustering::addConvexParts) with concavity bound
   /// `convex_parts->concavity` (0: clustering::defaultConcavity, 3 voxels); nullopt: one hull per
   /// cluster. The keyframes (with `trajectory`) are kept out of every part's hull.
+  /// `convex_parts->flat_gap` (G of flat parts) unset: the DBSCAN eps used; 0: off (G = T).
   std::optional<clustering::ConvexPartsParams> convex_parts = clustering::ConvexPartsParams{};
   bool write_ot = false;             ///< write() also writes map.ot (full probabilities)
 };
