@@ -56,6 +56,23 @@ bool inHull(const ConvexHull& hull, const V3& p) {
   return true;
 }
 
+/// The hull's least width over its facet normals (brute force over its vertices): an upper bound on
+/// its least width, and the measure the split calls flat when at most T.
+double hullWidth(const ConvexHull& hull) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& t : hull.triangles) {
+    const V3 a = hull.vertices[std::size_t(t[0])];
+    const V3 n = (hull.vertices[std::size_t(t[1])] - a).cross(hull.vertices[std::size_t(t[2])] - a).normalized();
+    double lo = 0, hi = 0;
+    for (const auto& v : hull.vertices) {
+      lo = std::min(lo, n.dot(v - a));
+      hi = std::max(hi, n.dot(v - a));
+    }
+    best = std::min(best, hi - lo);
+  }
+  return best;
+}
+
 /// Points of the hull: its vertices, points on its triangles, and points inside (rejection in its box).
 std::vector<V3> sampleHull(const ConvexHull& hull, std::size_t inside_count, std::mt19937& rng) {
   std::vector<V3> out(hull.vertices.begin(), hull.vertices.end());
@@ -122,7 +139,14 @@ void expectWithinConcavity(const std::vector<V3>& centers, double t, const Conve
     for (const auto i : groups[p]) own.push_back(centers[i]);
     const ObstaclePart& part = s.obstacles[0].parts[p];
     EXPECT_EQ(part.voxel_count, own.size());
-    EXPECT_LE(part.concavity_bound, t + 1e-12);
+    // A flat part: its hull at most T thick (the oracle: its least width over its facet normals,
+    // from its vertices), and bounded by the flat gap G instead of T.
+    const double g = std::max(t, params.flat_gap.value_or(t));
+    if (part.flat) {
+      EXPECT_GT(g, t) << "flat part without a flat gap";
+      EXPECT_LE(hullWidth(part.hull), t + 1e-9);
+    }
+    EXPECT_LE(part.concavity_bound, (part.flat ? g : t) + 1e-12);
     double worst = 0.0;
     for (const auto& x : sampleHull(part.hull, 400, rng)) worst = std::max(worst, distanceToCubes(x, own));
     EXPECT_LE(worst, part.concavity_bound + 1e-9);
@@ -182,6 +206,84 @@ TEST(ConvexParts, SlantedSparseWallStaysOnePart) {
   const Split s = splitOne(c);
   EXPECT_EQ(s.obstacles[0].parts.size(), 1u);
   expectWithinConcavity(c, 0.15);
+}
+
+/// A sparse wall as SLAM leaves it: one cell in 12 of a 3 m x 2 m slab two voxels thick (holes up to
+/// about 0.3 m across), seeded.
+std::vector<V3> sparseWall(unsigned seed, int i0 = 0, int j0 = 0, bool along_x = true) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> pick(0, 11);
+  std::vector<V3> c;
+  for (int a = 0; a < 60; ++a)
+    for (int b = 0; b < 2; ++b)
+      for (int k = 0; k < 40; ++k)
+        if (pick(rng) == 0) c.push_back(along_x ? center(i0 + a, j0 + b, k) : center(i0 + b, j0 + a, k));
+  return c;
+}
+
+TEST(ConvexParts, SparseWallShattersWithoutAFlatGap) {
+  const auto c = sparseWall(3);
+  const Split s = splitOne(c);
+  EXPECT_GT(s.obstacles[0].parts.size(), 10u);
+  EXPECT_EQ(s.summary.flat_parts, 0u);
+  EXPECT_DOUBLE_EQ(s.summary.flat_gap, 0.15);
+  expectWithinConcavity(c, 0.15);
+}
+
+TEST(ConvexParts, SparseWallStaysOnePartWithAFlatGap) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const auto c = sparseWall(seed);
+    ConvexPartsParams params;
+    params.flat_gap = 0.4;
+    const Split s = splitOne(c, params);
+    ASSERT_EQ(s.obstacles[0].parts.size(), 1u);
+    EXPECT_TRUE(s.obstacles[0].parts[0].flat);
+    EXPECT_GT(s.obstacles[0].parts[0].concavity_bound, 0.15);
+    EXPECT_EQ(s.summary.flat_parts, 1u);
+    EXPECT_DOUBLE_EQ(s.summary.flat_gap, 0.4);
+    expectWithinConcavity(c, 0.15, params);
+  }
+}
+
+TEST(ConvexParts, FlatGapKeepsOutliersOffTheWall) {
+  // Two outlier voxels 0.3 m in front of the wall: a part holding one is no longer flat, so it
+  // must pass T; the wall's part stays within a voxel or two of its slab.
+  auto c = sparseWall(4);
+  c.push_back(center(20, 8, 20));
+  c.push_back(center(45, 8, 10));
+  ConvexPartsParams params;
+  params.flat_gap = 0.4;
+  const Split s = splitOne(c, params);
+  std::size_t flat = 0;
+  for (const auto& part : s.obstacles[0].parts)
+    if (part.flat) {
+      ++flat;
+      EXPECT_LE(part.aabb_max.y(), 2 * kVoxel + 1e-9) << "a flat part reaches an outlier";
+    }
+  EXPECT_GE(flat, 1u);
+  expectWithinConcavity(c, 0.15, params);
+}
+
+TEST(ConvexParts, SparseRingBecomesItsWallsWithAFlatGap) {
+  // Four sparse 3 m walls around a square: the flat gap must not join them into a ring's hull.
+  std::vector<V3> c;
+  for (const auto& w : {sparseWall(5, 0, 0, true), sparseWall(6, 0, 58, true), sparseWall(7, 0, 0, false),
+                        sparseWall(8, 58, 0, false)})
+    c.insert(c.end(), w.begin(), w.end());
+  std::sort(c.begin(), c.end(), [](const V3& a, const V3& b) { return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z()); });
+  c.erase(std::unique(c.begin(), c.end()), c.end());
+  ConvexPartsParams params;
+  params.flat_gap = 0.4;
+  const Split s = splitOne(c, params);
+  EXPECT_GE(s.obstacles[0].parts.size(), 4u);
+  EXPECT_LE(s.obstacles[0].parts.size(), 16u);
+  // Nothing swallows the room: every part's hull is thin in x or y.
+  for (const auto& part : s.obstacles[0].parts) {
+    const V3 size = part.aabb_max - part.aabb_min;
+    EXPECT_LE(std::min(size.x(), size.y()), 0.6) << "a part spans the room";
+  }
+  expectWithinConcavity(c, 0.15, params);
 }
 
 TEST(ConvexParts, RingOfWallsBecomesItsWalls) {
@@ -319,6 +421,16 @@ TEST(ConvexParts, BadInputThrowsNamingTheParameter) {
   }
   std::vector<Obstacle> none;
   EXPECT_THROW(addConvexParts(none, c, {}, {0, 0}, kVoxel, {}), Error);
+  for (const double g : {-0.1, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    ConvexPartsParams bad_gap;
+    bad_gap.flat_gap = g;
+    try {
+      splitConvexParts(c, kVoxel, bad_gap);
+      ADD_FAILURE() << "flat_gap " << g << " accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("flat_gap"), std::string::npos) << e.what();
+    }
+  }
 }
 
 /// A real ORB-SLAM map built as `hullmap build MAP --up -y --eps 0.2 --min-pts 3` would, with its
