@@ -143,9 +143,26 @@ AutoParams chooseDbscanParams(const std::vector<Eigen::Vector3d>& centres, const
     });
     if (heap.size() == k1) knn[j] = std::sqrt(heap.front());
   }
-  const auto at = static_cast<std::size_t>(std::floor(rule.knn_quantile * static_cast<double>(knn.size() - 1)));
-  std::nth_element(knn.begin(), knn.begin() + static_cast<std::ptrdiff_t>(at), knn.end());
-  out.knn = knn[at];
+  // The quantile weighted by the voxels' map points: the spacing around the typical map point. A
+  // dense map's outliers occupy a voxel each, one point in it, and can be most of the voxels; counted
+  // per voxel they would set eps to their own spacing.
+  std::vector<std::pair<double, double>> by_distance(sample.size());
+  double total = 0.0;
+  for (std::size_t j = 0; j < sample.size(); ++j) {
+    const double w = weights.empty() ? 1.0 : static_cast<double>(weights[sample[j]]);
+    by_distance[j] = {knn[j], w};
+    total += w;
+  }
+  std::sort(by_distance.begin(), by_distance.end());
+  double below = 0.0;
+  out.knn = by_distance.back().first;
+  for (const auto& [d, w] : by_distance) {
+    below += w;
+    if (below >= rule.knn_quantile * total * (1.0 - 1e-12)) {
+      out.knn = d;
+      break;
+    }
+  }
   out.eps_unclamped = rule.eps_factor * out.knn;
   out.eps = std::clamp(out.eps_unclamped, min_eps, max_eps);
 

@@ -18,9 +18,11 @@ namespace hullmap::clustering {
 /// 1. Spacing: for a sample of voxels (every voxel when there are at most `sample` of them, else
 ///    `sample` voxels drawn with a fixed seed), the distance to the k-th nearest other occupied
 ///    voxel, looked for up to max_eps_voxels * resolution (farther counts as infinite). d = the
-///    `knn_quantile` quantile of those distances: a high one, because ORB-SLAM's points crowd on
-///    edges and corners and the sparse faces between them must connect too. On a surface seen
-///    with one map point per few voxels, d is the typical gap between the points; on a dense
+///    `knn_quantile` quantile of those distances, each sampled voxel weighing its map points (so it
+///    is the spacing around the typical map point: a dense map's outliers, one point in a voxel each,
+///    may be most of its voxels but few of its points): a high quantile, because ORB-SLAM's points
+///    crowd on edges and corners and the sparse faces between them must connect too. On a surface
+///    seen with one map point per few voxels, d is the typical gap between the points; on a dense
 ///    surface it is about one voxel.
 /// 2. eps = eps_factor * d, clamped to [min_eps_voxels, max_eps_voxels] * resolution. The lower
 ///    bound (> sqrt(3)) makes face-, edge- and corner-adjacent voxels neighbours; the upper bound
