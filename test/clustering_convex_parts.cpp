@@ -147,6 +147,8 @@ void expectWithinConcavity(const std::vector<V3>& centers, double t, const Conve
       EXPECT_LE(hullWidth(part.hull), t + 1e-9);
     }
     EXPECT_LE(part.concavity_bound, (part.flat ? g : t) + 1e-12);
+    // A filled part's bound counts the inside of its shell (expectWithinSolidBox is its oracle).
+    if (part.filled) continue;
     double worst = 0.0;
     for (const auto& x : sampleHull(part.hull, 400, rng)) worst = std::max(worst, distanceToCubes(x, own));
     EXPECT_LE(worst, part.concavity_bound + 1e-9);
@@ -284,6 +286,62 @@ TEST(ConvexParts, SparseRingBecomesItsWallsWithAFlatGap) {
     EXPECT_LE(std::min(size.x(), size.y()), 0.6) << "a part spans the room";
   }
   expectWithinConcavity(c, 0.15, params);
+}
+
+/// The surface cells of the box [i0, i1) x [j0, j1) x [k0, k1) (one cell thick), without its bottom
+/// face when `open_bottom`, and keeping one cell in `keep_one_in` (1: all) to make it sparse.
+std::vector<V3> shell(int i0, int i1, int j0, int j1, int k0, int k1, bool open_bottom, int keep_one_in = 1,
+                      unsigned seed = 1) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> pick(0, keep_one_in - 1);
+  std::vector<V3> c;
+  for (int i = i0; i < i1; ++i)
+    for (int j = j0; j < j1; ++j)
+      for (int k = k0; k < k1; ++k) {
+        const bool surface = i == i0 || i == i1 - 1 || j == j0 || j == j1 - 1 || k == k1 - 1 || (k == k0 && !open_bottom);
+        if (surface && pick(rng) == 0) c.push_back(center(i, j, k));
+      }
+  return c;
+}
+
+/// The oracle for filled parts: every sampled hull point within T of the solid box (brute force).
+void expectWithinSolidBox(const Split& s, const V3& lo, const V3& hi, double t) {
+  std::mt19937 rng(3);
+  for (const auto& part : s.obstacles[0].parts)
+    for (const auto& x : sampleHull(part.hull, 400, rng)) {
+      const V3 gap = (lo - x).cwiseMax(x - hi).cwiseMax(0.0);
+      EXPECT_LE(gap.norm(), t + 1e-9) << x.transpose();
+    }
+}
+
+TEST(ConvexParts, ClosedShellStaysOnePart) {
+  // A 0.8 x 0.6 x 1 m box seen only on its surface: its inside, never observed, is enclosed.
+  const auto c = shell(0, 16, 0, 12, 0, 20, false);
+  const Split s = splitOne(c);
+  ASSERT_EQ(s.obstacles[0].parts.size(), 1u);
+  EXPECT_TRUE(s.obstacles[0].parts[0].filled);
+  expectWithinSolidBox(s, V3::Zero(), V3(16, 12, 20) * kVoxel, 0.15);
+  // Without the fill it is cut into its faces.
+  ConvexPartsParams off;
+  off.fill_enclosed = false;
+  EXPECT_GT(splitOne(c, off).obstacles[0].parts.size(), 3u);
+}
+
+TEST(ConvexParts, SparseShellOnTheFloorStaysOnePart) {
+  // A 1.2 x 1 x 1 m box standing on the floor z = 0, its bottom never seen, one surface cell in 8
+  // kept: the floor closes it below, the flat gap closes its holes.
+  const auto c = shell(0, 24, 0, 20, 0, 20, true, 8);
+  ConvexPartsParams params;
+  params.flat_gap = 0.3;
+  params.floor_z = 0.0;
+  const Split s = splitOne(c, params);
+  ASSERT_EQ(s.obstacles[0].parts.size(), 1u);
+  EXPECT_TRUE(s.obstacles[0].parts[0].filled);
+  expectWithinSolidBox(s, V3::Zero(), V3(24, 20, 20) * kVoxel, 0.15);
+  // Far above the floor, the open bottom (wider than 2 G) lets the outside in: a cup, whose inside
+  // is not enclosed (only the closing's fillets along its inner edges are), is split.
+  params.floor_z = -1.0;
+  EXPECT_GT(splitOne(c, params).obstacles[0].parts.size(), 1u);
 }
 
 TEST(ConvexParts, RingOfWallsBecomesItsWalls) {
@@ -516,6 +574,7 @@ TEST(ConvexParts, RealV101MapRespectsTheBound) {
   ASSERT_EQ(groups.size(), biggest->parts.size());
   std::mt19937 rng(11);
   for (std::size_t p = 0; p < groups.size(); ++p) {
+    if (biggest->parts[p].filled) continue;  // its bound counts the space its cluster encloses
     std::vector<V3> own;
     for (const auto i : groups[p]) own.push_back(cluster[i]);
     double worst = 0.0;

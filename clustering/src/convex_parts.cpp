@@ -187,6 +187,29 @@ void distanceTransform1d(std::vector<double>& f, std::vector<double>& out, std::
   }
 }
 
+/// Exact squared Euclidean distance transform in place (Felzenszwalb-Huttenlocher, one pass per
+/// axis) over a box of `dims` cells stored x fastest: `d2` holds 0 at the sites and a large value
+/// elsewhere (kept below 1e20).
+void exactTransform(std::vector<float>& d2, const std::array<std::int64_t, 3>& dims) {
+  constexpr double kFar = 1e20;
+  const std::array<std::int64_t, 3> stride{1, dims[0], dims[0] * dims[1]};
+  std::vector<double> f, out, z;
+  std::vector<int> v;
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::size_t a = std::size_t(axis), b = std::size_t((axis + 1) % 3), c = std::size_t((axis + 2) % 3);
+    const std::int64_t n = dims[a], s = stride[a];
+    f.resize(std::size_t(n));
+    // Every line along `axis`: its first cell runs over the other two axes.
+    for (std::int64_t ib = 0; ib < dims[b]; ++ib)
+      for (std::int64_t ic = 0; ic < dims[c]; ++ic) {
+        const std::int64_t base = ib * stride[b] + ic * stride[c];
+        for (std::int64_t q = 0; q < n; ++q) f[std::size_t(q)] = d2[std::size_t(base + q * s)];
+        distanceTransform1d(f, out, v, z);
+        for (std::int64_t q = 0; q < n; ++q) d2[std::size_t(base + q * s)] = float(std::min(out[std::size_t(q)], kFar));
+      }
+  }
+}
+
 /// The check of one part against T (see splitConvexParts).
 struct Check {
   bool ok = true;
@@ -196,6 +219,7 @@ struct Check {
   LatticeHull hull;
   std::size_t keyframes_in_voxels = 0;
   bool flat = false;               ///< passed as a flat part (hull width <= T, distances within G)
+  bool filled = false;             ///< enclosed cells counted as the part's own
 };
 
 /// One cluster on its lattice, and the work on it.
@@ -203,8 +227,11 @@ class ClusterSplitter {
  public:
   /// `t_cells`: T; `g_cells`: G >= T, the distance allowed in a flat part (G = T: no relaxation).
   ClusterSplitter(std::vector<Cell> cells, double t_cells, double g_cells, std::size_t max_check_cells,
-                  std::vector<Eigen::Vector3d> keyframes)
+                  std::vector<Eigen::Vector3d> keyframes, bool fill_enclosed, std::optional<double> floor_k)
       : cells_(std::move(cells)),
+        fill_enclosed_(fill_enclosed),
+        floor_k_(floor_k),
+        rho2_(std::max(g_cells, t_cells) * std::max(g_cells, t_cells) * (1.0 + 1e-12)),
         t_(t_cells),
         t2_(t_cells * t_cells * (1.0 + 1e-12)),
         g2_(std::max(g_cells, t_cells) * std::max(g_cells, t_cells) * (1.0 + 1e-12)),
@@ -222,6 +249,7 @@ class ClusterSplitter {
   std::vector<std::pair<Members, Check>> run() {
     Members all(cells_.size());
     std::iota(all.begin(), all.end(), 0u);
+    if (fill_enclosed_) findEnclosed(all);
     std::vector<std::pair<Members, Check>> done;
     // Parts to check, with their hulls when the split already built them. The halves of a split
     // are independent, so they are checked in parallel; the order in which parts are done does not
@@ -285,31 +313,30 @@ class ClusterSplitter {
     const auto at = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
       return std::size_t(((k - lo[2]) * ny + (j - lo[1])) * nx + (i - lo[0]));
     };
-    for (const auto& c : cells) d2[at(c[0], c[1], c[2])] = 0.0f;
-    const std::array<std::int64_t, 3> dims{nx, ny, nz};
-    const std::array<std::int64_t, 3> stride{1, nx, nx * ny};
-    // The exact transform over the whole box (Felzenszwalb-Huttenlocher, one pass per axis).
-    const auto transform = [&] {
-      std::vector<double> f, out, z;
-      std::vector<int> v;
-      for (int axis = 0; axis < 3; ++axis) {
-        const std::size_t a = std::size_t(axis), b = std::size_t((axis + 1) % 3), c = std::size_t((axis + 2) % 3);
-        const std::int64_t n = dims[a], s = stride[a];
-        f.resize(std::size_t(n));
-        // Every line along `axis`: its first cell runs over the other two axes.
-        for (std::int64_t ib = 0; ib < dims[b]; ++ib)
-          for (std::int64_t ic = 0; ic < dims[c]; ++ic) {
-            const std::int64_t base = ib * stride[b] + ic * stride[c];
-            for (std::int64_t q = 0; q < n; ++q) f[std::size_t(q)] = d2[std::size_t(base + q * s)];
-            distanceTransform1d(f, out, v, z);
-            for (std::int64_t q = 0; q < n; ++q) d2[std::size_t(base + q * s)] = float(std::min(out[std::size_t(q)], kFar));
-          }
-      }
+    // The sites: the part's cells, and the cells of its box that its cluster encloses (the inside
+    // of a closed shell is no free space for a hull to swallow).
+    const auto seed = [&] {
+      std::fill(d2.begin(), d2.end(), float(kFar));
+      for (const auto& c : cells) d2[at(c[0], c[1], c[2])] = 0.0f;
+      std::size_t filled = 0;
+      if (enclosed_count_ == 0) return filled;
+      for (std::int64_t k = std::max(lo[2], enc_lo_[2]); k <= std::min(hi[2], enc_hi_[2]); ++k)
+        for (std::int64_t j = std::max(lo[1], enc_lo_[1]); j <= std::min(hi[1], enc_hi_[1]); ++j)
+          for (std::int64_t i = std::max(lo[0], enc_lo_[0]); i <= std::min(hi[0], enc_hi_[0]); ++i)
+            if (enclosed_[encAt(i, j, k)]) {
+              d2[at(i, j, k)] = 0.0f;
+              ++filled;
+            }
+      return filled;
     };
+    check.filled = seed() > 0;
+    const std::array<std::int64_t, 3> dims{nx, ny, nz};
+    // The exact transform over the whole box (Felzenszwalb-Huttenlocher, one pass per axis).
+    const auto transform = [&] { exactTransform(d2, dims); };
     // Distances up to max(T, G) are all a passing check needs (and a failing one when no split point is
     // wanted): on a sparse part, the ball of radius T around each of its cells costs less than the
     // transform. Values within T are the same exact integers; beyond max(T, G) they stay kFar.
-    const bool bounded = part.size() * ball_.size() < 8 * box_cells;
+    const bool bounded = !check.filled && part.size() * ball_.size() < 8 * box_cells;
     if (bounded) {
       for (const auto& c : cells)
         for (const auto& [o, o2] : ball_) {
@@ -364,8 +391,7 @@ class ClusterSplitter {
     if (worst == kBeyond) {
       check.ok = false;
       if (!need_split_point) return check;
-      std::fill(d2.begin(), d2.end(), float(kFar));
-      for (const auto& c : cells) d2[at(c[0], c[1], c[2])] = 0.0f;
+      seed();
       transform();
       scan();
     }
@@ -385,8 +411,7 @@ class ClusterSplitter {
         const std::int64_t i = std::int64_t(std::floor(x.x() + (m & 1 ? 1e-9 : -1e-9)));
         const std::int64_t j = std::int64_t(std::floor(x.y() + (m & 2 ? 1e-9 : -1e-9)));
         const std::int64_t k = std::int64_t(std::floor(x.z() + (m & 4 ? 1e-9 : -1e-9)));
-        in_voxel = i >= lo[0] && i <= hi[0] && j >= lo[1] && j <= hi[1] && k >= lo[2] && k <= hi[2] &&
-                   d2[at(i, j, k)] == 0.0f;
+        in_voxel = std::find(cells.begin(), cells.end(), Cell{i, j, k}) != cells.end();
       }
       if (in_voxel) {
         ++check.keyframes_in_voxels;
@@ -397,6 +422,95 @@ class ClusterSplitter {
       return check;
     }
     return check;
+  }
+
+  /// The cells the whole cluster encloses (enclosedCells over its box, closed below when its
+  /// lowest cell is within two voxels of the floor); none when its box is over max_check_cells.
+  void findEnclosed(const Members& all) {
+    Cell lo, hi;
+    box(all, lo, hi);
+    const std::int64_t m = reach_ + 1;
+    const std::int64_t nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1, nz = hi[2] - lo[2] + 1;
+    if (double(nx + 2 * m) * double(ny + 2 * m) * double(nz + 2 * m) > double(max_check_cells_)) return;
+    std::vector<float> d2(std::size_t(nx * ny * nz), 1e20f);
+    for (const auto& c : cells_) d2[std::size_t(((c[2] - lo[2]) * ny + (c[1] - lo[1])) * nx + (c[0] - lo[0]))] = 0.0f;
+    exactTransform(d2, {nx, ny, nz});
+    const bool closed_below = floor_k_ && double(lo[2]) <= *floor_k_ + 2.0;
+    enclosed_ = enclosedCells(d2, nx, ny, nz, closed_below);
+    enclosed_count_ = std::size_t(std::count(enclosed_.begin(), enclosed_.end(), char(1)));
+    enc_lo_ = lo;
+    enc_hi_ = hi;
+  }
+
+  std::size_t encAt(std::int64_t i, std::int64_t j, std::int64_t k) const {
+    const std::int64_t nx = enc_hi_[0] - enc_lo_[0] + 1, ny = enc_hi_[1] - enc_lo_[1] + 1;
+    return std::size_t(((k - enc_lo_[2]) * ny + (j - enc_lo_[1])) * nx + (i - enc_lo_[0]));
+  }
+
+  /// Cells of the box (nx * ny * nz, as `d2`) enclosed by the part: farther than rho from every cell
+  /// that the outside reaches, where the outside spreads from around the box through the cells
+  /// farther than rho from the part's cells (6-connected), so holes narrower than about 2 rho do not
+  /// let it in. A closing of the part's shell: its inside is filled, and a concave corner only within
+  /// about 0.3 rho of its apex. `closed_below`: nothing enters through the box's bottom face (the
+  /// floor closes it).
+  std::vector<char> enclosedCells(const std::vector<float>& d2, std::int64_t nx, std::int64_t ny, std::int64_t nz,
+                                  bool closed_below) const {
+    // A margin wider than rho around the box, so that the outside holds cells beyond rho of the part.
+    const std::int64_t m = reach_ + 1;
+    const std::int64_t px = nx + 2 * m, py = ny + 2 * m, pz = nz + 2 * m;
+    // 0: open, not reached; 1: blocked; 2: reached from outside.
+    std::vector<char> state(std::size_t(px * py * pz), 0);
+    const auto padded = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return std::size_t((k * py + j) * px + i); };
+    for (std::int64_t k = 0; k < nz; ++k)
+      for (std::int64_t j = 0; j < ny; ++j)
+        for (std::int64_t i = 0; i < nx; ++i)
+          if (double(d2[std::size_t((k * ny + j) * nx + i)]) <= rho2_) state[padded(i + m, j + m, k + m)] = 1;
+    // The margin within rho of the part is blocked too: the ball around each cell of the part.
+    for (std::int64_t k = 0; k < nz; ++k)
+      for (std::int64_t j = 0; j < ny; ++j)
+        for (std::int64_t i = 0; i < nx; ++i) {
+          if (d2[std::size_t((k * ny + j) * nx + i)] != 0.0f) continue;
+          const bool near_face = i < m || j < m || k < m || i >= nx - m || j >= ny - m || k >= nz - m;
+          if (!near_face) continue;
+          for (const auto& [o, o2] : ball_)
+            if (double(o2) <= rho2_) state[padded(i + m + o[0], j + m + o[1], k + m + o[2])] = 1;
+        }
+    if (closed_below)  // the floor: everything below the box's lowest layer
+      for (std::int64_t k = 0; k < m; ++k)
+        for (std::int64_t j = 0; j < py; ++j)
+          for (std::int64_t i = 0; i < px; ++i) state[padded(i, j, k)] = 1;
+    std::vector<std::size_t> queue;
+    for (std::int64_t k = 0; k < pz; ++k)
+      for (std::int64_t j = 0; j < py; ++j)
+        for (std::int64_t i = 0; i < px; ++i) {
+          const bool border = i == 0 || j == 0 || k == 0 || i == px - 1 || j == py - 1 || k == pz - 1;
+          if (border && state[padded(i, j, k)] == 0) {
+            state[padded(i, j, k)] = 2;
+            queue.push_back(padded(i, j, k));
+          }
+        }
+    const std::array<std::int64_t, 6> steps{1, -1, px, -px, px * py, -px * py};
+    while (!queue.empty()) {
+      const std::size_t x = queue.back();
+      queue.pop_back();
+      for (const auto step : steps) {
+        const std::int64_t y = std::int64_t(x) + step;
+        if (y < 0 || y >= std::int64_t(state.size()) || state[std::size_t(y)] != 0) continue;
+        state[std::size_t(y)] = 2;
+        queue.push_back(std::size_t(y));
+      }
+    }
+    // Distance to the reached cells (the blocked bottom layer is no reached cell: the floor).
+    std::vector<float> outside(state.size());
+    for (std::size_t x = 0; x < state.size(); ++x) outside[x] = state[x] == 2 ? 0.0f : 1e20f;
+    exactTransform(outside, {px, py, pz});
+    std::vector<char> enclosed(std::size_t(nx * ny * nz), 0);
+    for (std::int64_t k = 0; k < nz; ++k)
+      for (std::int64_t j = 0; j < ny; ++j)
+        for (std::int64_t i = 0; i < nx; ++i)
+          enclosed[std::size_t((k * ny + j) * nx + i)] =
+              double(outside[padded(i + m, j + m, k + m)]) > rho2_ && d2[std::size_t((k * ny + j) * nx + i)] > 0.0f;
+    return enclosed;
   }
 
   /// Whether the hull is at most T wide along one of its facet normals (so it is at most T thick:
@@ -673,6 +787,12 @@ class ClusterSplitter {
   }
 
   std::vector<Cell> cells_;
+  bool fill_enclosed_;
+  std::optional<double> floor_k_;  ///< the floor's height, lattice units (k of the corner lattice)
+  double rho2_;  ///< max(T, G)^2, cells^2: the closing radius when finding enclosed cells
+  std::vector<char> enclosed_;     ///< over the cluster's box [enc_lo_, enc_hi_], x fastest
+  std::size_t enclosed_count_ = 0;
+  Cell enc_lo_{0, 0, 0}, enc_hi_{0, 0, 0};
   double t_;    ///< T, cells
   double t2_;   ///< T^2, cells^2 (with a relative 1e-12 for rounding)
   double g2_;   ///< G^2 >= T^2: the bound of a flat part
@@ -717,13 +837,18 @@ double resolveFlatGap(const ConvexPartsParams& params, double t) {
   return std::max(t, params.flat_gap.value_or(t));
 }
 
+void checkFloor(const ConvexPartsParams& params) {
+  if (params.floor_z && !std::isfinite(*params.floor_z))
+    throw Error("convex parts: floor_z must be finite, got " + std::to_string(*params.floor_z));
+}
+
 struct SplitResult {
   ClusterLattice lattice;
   std::vector<std::pair<Members, Check>> parts;
 };
 
 SplitResult splitCluster(const std::vector<Eigen::Vector3d>& centers, double voxel_size, double t, double g,
-                         std::size_t max_check_cells, const std::vector<Eigen::Vector3d>& keyframes) {
+                         const ConvexPartsParams& params, const std::vector<Eigen::Vector3d>& keyframes) {
   SplitResult result;
   if (centers.empty()) return result;
   for (std::size_t i = 0; i < centers.size(); ++i)
@@ -740,7 +865,10 @@ SplitResult splitCluster(const std::vector<Eigen::Vector3d>& centers, double vox
     if ((k.array() >= lo.array() - voxel_size).all() && (k.array() <= hi.array() + voxel_size).all())
       near.push_back((k - result.lattice.origin) / voxel_size);
   }
-  ClusterSplitter splitter(result.lattice.cells, t / voxel_size, g / voxel_size, max_check_cells, std::move(near));
+  std::optional<double> floor_k;
+  if (params.floor_z) floor_k = (*params.floor_z - result.lattice.origin.z()) / voxel_size;
+  ClusterSplitter splitter(result.lattice.cells, t / voxel_size, g / voxel_size, params.max_check_cells, std::move(near),
+                           params.fill_enclosed, floor_k);
   result.parts = splitter.run();
   return result;
 }
@@ -754,7 +882,8 @@ std::vector<std::vector<std::size_t>> splitConvexParts(const std::vector<Eigen::
                                                        const std::vector<Eigen::Vector3d>& keyframes) {
   const double t = resolveConcavity(params, voxel_size);
   const double g = resolveFlatGap(params, t);
-  const SplitResult result = splitCluster(centers, voxel_size, t, g, params.max_check_cells, keyframes);
+  checkFloor(params);
+  const SplitResult result = splitCluster(centers, voxel_size, t, g, params, keyframes);
   std::vector<std::vector<std::size_t>> out;
   for (const auto& [members, check] : result.parts) out.emplace_back(members.begin(), members.end());
   return out;
@@ -766,6 +895,7 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
                                   const ConvexPartsParams& params, const KnownFreeSpace& known) {
   const double t = resolveConcavity(params, voxel_size);
   const double g = resolveFlatGap(params, t);
+  checkFloor(params);
   if (labels.size() != centers.size())
     throw Error("addConvexParts: " + std::to_string(labels.size()) + " labels for " +
                 std::to_string(centers.size()) + " voxels");
@@ -789,7 +919,7 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
     std::vector<Eigen::Vector3d> local;
     local.reserve(members.size());
     for (const auto i : members) local.push_back(centers[i]);
-    const SplitResult result = splitCluster(local, voxel_size, t, g, params.max_check_cells, known.keyframes);
+    const SplitResult result = splitCluster(local, voxel_size, t, g, params, known.keyframes);
     obstacle.parts.clear();
     for (const auto& [part_members, check] : result.parts) {
       std::vector<std::size_t> global;
@@ -807,6 +937,7 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
       part.footprint = whole.footprint;
       part.concavity_bound = std::sqrt(double(check.worst_d2)) * voxel_size;
       part.flat = check.flat;
+      part.filled = check.filled;
       if (check.flat) ++flat_parts[o];
       keyframes_in_voxels[o] += check.keyframes_in_voxels;
       const auto first = std::lower_bound(free.begin(), free.end(), part.aabb_min.x(),

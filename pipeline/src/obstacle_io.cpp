@@ -137,6 +137,7 @@ json obstaclesToJson(const std::vector<clustering::Obstacle>& obstacles, const O
       part["concavity_bound"] = p.concavity_bound;
       part["free_voxels_inside"] = p.free_voxels_inside;
       part["flat"] = p.flat;
+      part["filled"] = p.filled;
       parts.push_back(std::move(part));
     }
     entry["parts"] = std::move(parts);
@@ -185,6 +186,10 @@ std::vector<clustering::Obstacle> obstaclesFromJson(const json& doc, const std::
         if (const auto flat = parts[p].find("flat"); flat != parts[p].end()) {
           if (!flat->is_boolean()) r.fail(where + ".flat", "expected true or false");
           part.flat = flat->get<bool>();
+        }
+        if (const auto filled = parts[p].find("filled"); filled != parts[p].end()) {
+          if (!filled->is_boolean()) r.fail(where + ".filled", "expected true or false");
+          part.filled = filled->get<bool>();
         }
         o.parts.push_back(std::move(part));
       }

@@ -571,6 +571,9 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
     // G unset: the eps used, the distance at which this map's sampling connects a surface.
     clustering::ConvexPartsParams parts_params = *params.convex_parts;
     if (!parts_params.flat_gap) parts_params.flat_gap = chosen.used.eps;
+    // A level floor closes the shells standing on it from below (their bottom is never seen).
+    if (report.floor.plane && std::abs(report.floor.plane->normal.z()) > 0.99 && !parts_params.floor_z)
+      parts_params.floor_z = report.floor.plane->offset / report.floor.plane->normal.z();
     report.parts = clustering::addConvexParts(result.obstacles, centers, weights, cluster_labels, resolution,
                                               parts_params, known);
     report.keyframes_inside_hulls = report.parts->keyframes_in_voxels;

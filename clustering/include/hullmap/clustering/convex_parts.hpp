@@ -22,6 +22,18 @@ struct ConvexPartsParams {
   /// than a slab T thick. Unset (or below T): G = T, no relaxation. hullmap build sets it to the
   /// DBSCAN eps, the distance at which the map's sampling connects a surface.
   std::optional<double> flat_gap;
+  /// Count the inside of a closed shell as the part's own voxels in the bound: the cells of its box
+  /// farther than rho = max(T, G) from all space reached from outside the box, where the outside
+  /// spreads (6-connected) only through cells farther than rho from the part's voxels, so holes
+  /// narrower than about 2 rho do not let it in. It is a closing of the shell: a concave corner is
+  /// filled only within about 0.3 rho of its apex. A box or a cylinder sampled
+  /// only on its surface (its inside is never observed) stays one part; a ring of walls, open at
+  /// the top, does not enclose the room. Off: only the voxels count.
+  bool fill_enclosed = true;
+  /// The floor's height (map frame z of its top), when known: a part whose lowest voxel is within two
+  /// voxels of it is closed below by it (nothing enters the shell through its bottom face, which
+  /// stands on the floor and is never seen). Unset: shells must be closed on every side.
+  std::optional<double> floor_z;
   /// A part whose bounding box holds more voxel cells than this is split in two at the median of
   /// its longest axis without being checked (the check holds one 4-byte distance per cell of the
   /// box: 2^23 cells is 32 MiB). Parts are merged back only when their union is checked.

@@ -41,6 +41,8 @@ struct ObstaclePart {
   /// The part passed as flat: its hull is at most T thick (a wall, a table top), so the gaps in its
   /// surface, up to G, swallow no more than that slab (see ConvexPartsParams::flat_gap).
   bool flat = false;
+  /// The part's bound counted the inside of its closed shell as its own (ConvexPartsParams::fill_enclosed).
+  bool filled = false;
   std::size_t free_voxels_inside = 0;  ///< observed-free voxel centres given that lie in the hull
 };
 
