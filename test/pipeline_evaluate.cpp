@@ -293,6 +293,38 @@ TEST(Evaluate, PartsStopSwallowingTheRoom) {
   EXPECT_GT(inside, 0.95 * near);  // splitting keeps every clustered voxel in some part
 }
 
+TruthShape aabb(const V3& lo, const V3& hi) { return box(0.5 * (lo + hi), hi - lo); }
+
+TEST(Evaluate, APointBelongsToItsNearestShapeOnly) {
+  // A floor slab (top z = 0) and a wall standing on it (x in [0, 0.25]). Floor points 3 cm in front
+  // of the wall lie on the floor (distance 0) though within surface_margin of the wall: they are the
+  // floor's, not the wall's; the wall's own points 3 cm above the floor are the wall's. The hull
+  // holds the wall exactly, so the wall's share is 100% (it was 50% when points counted for every
+  // shape within the margin). A point exactly as far from both goes to the lower index.
+  GroundTruth truth;
+  truth.shapes.push_back(aabb(V3(-1, -1, -0.125), V3(1, 1, 0)));
+  truth.shapes.push_back(aabb(V3(0, -1, 0), V3(0.25, 1, 1)));
+  const std::vector<clustering::Obstacle> obstacles{filled(V3(0, -1, 0), V3(0.3, 1, 1), 0)};
+  std::vector<V3> points;
+  for (double y = -0.95; y < 1; y += 0.1) {
+    points.emplace_back(-0.03, y, 0.0);   // floor, in front of the wall's foot
+    points.emplace_back(0.0, y, 0.03);    // wall face, just above the floor
+  }
+  const std::size_t pairs = points.size() / 2;
+  points.emplace_back(-0.03125, 0.0, 0.03125);  // 0.03125 from both, exactly
+  EvaluateParams params;
+  params.segments = 0;
+  Evaluation e = evaluate(obstacles, truth, points, {}, params);
+  EXPECT_EQ(e.truth[0].points_near, double(pairs + 1));
+  EXPECT_EQ(e.truth[0].points_inside, 0.0);
+  EXPECT_EQ(e.truth[1].points_near, double(pairs));
+  EXPECT_EQ(e.truth[1].points_inside, double(pairs));
+  std::swap(truth.shapes[0], truth.shapes[1]);  // the tie follows the index
+  e = evaluate(obstacles, truth, points, {}, params);
+  EXPECT_EQ(e.truth[0].points_near, double(pairs + 1));
+  EXPECT_EQ(e.truth[1].points_near, double(pairs));
+}
+
 void expectOneLineError(const test::CommandResult& r, const std::string& needle) {
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

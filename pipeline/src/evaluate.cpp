@@ -312,7 +312,9 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
   const std::vector<HullPlanes> hulls = hullsOf(obstacles);
   e.parts = hulls.size();
 
-  // Observed points per true obstacle.
+  // Observed points: each belongs to the one shape whose surface is nearest (|signed distance|
+  // smallest, ties to the lower index), when that is within surface_margin. A floor point at the
+  // foot of a wall lies on the floor, not on the wall 3 cm away.
   e.truth.resize(truth.shapes.size());
   for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
     e.truth[s].label = truth.shapes[s].label;
@@ -320,16 +322,19 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
   }
   for (std::size_t i = 0; i < points.size(); ++i) {
     const double w = weights.empty() ? 1.0 : double(weights[i]);
-    bool inside = false, decided = false;
+    std::size_t owner = truth.shapes.size();
+    double nearest = kInf;
     for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
-      if (std::abs(truth.shapes[s].signedDistance(points[i])) > params.surface_margin) continue;
-      if (!decided) {
-        inside = std::any_of(hulls.begin(), hulls.end(), [&](const HullPlanes& h) { return h.contains(points[i]); });
-        decided = true;
+      const double d = std::abs(truth.shapes[s].signedDistance(points[i]));
+      if (d < nearest) {
+        nearest = d;
+        owner = s;
       }
-      e.truth[s].points_near += w;
-      if (inside) e.truth[s].points_inside += w;
     }
+    if (owner == truth.shapes.size() || nearest > params.surface_margin) continue;
+    const bool inside = std::any_of(hulls.begin(), hulls.end(), [&](const HullPlanes& h) { return h.contains(points[i]); });
+    e.truth[owner].points_near += w;
+    if (inside) e.truth[owner].points_inside += w;
   }
 
   // Volumes and touching, by Monte Carlo in each hull.
