@@ -320,6 +320,8 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
     e.truth[s].label = truth.shapes[s].label;
     e.truth[s].surface = truth.shapes[s].surface;
   }
+  // Per hull, the weight of the observed points inside it by the shape they belong to.
+  std::vector<std::vector<double>> held(hulls.size(), std::vector<double>(truth.shapes.size(), 0.0));
   for (std::size_t i = 0; i < points.size(); ++i) {
     const double w = weights.empty() ? 1.0 : double(weights[i]);
     std::size_t owner = truth.shapes.size();
@@ -332,9 +334,20 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
       }
     }
     if (owner == truth.shapes.size() || nearest > params.surface_margin) continue;
-    const bool inside = std::any_of(hulls.begin(), hulls.end(), [&](const HullPlanes& h) { return h.contains(points[i]); });
+    bool inside = false;
+    for (std::size_t h = 0; h < hulls.size(); ++h) {
+      if (!hulls[h].contains(points[i])) continue;
+      inside = true;
+      held[h][owner] += w;
+    }
     e.truth[owner].points_near += w;
     if (inside) e.truth[owner].points_inside += w;
+  }
+  // A part represents the shape that owns the largest weight of the observed points it holds.
+  for (std::size_t h = 0; h < hulls.size(); ++h) {
+    const auto most = std::max_element(held[h].begin(), held[h].end());  // the first of equals
+    if (most == held[h].end() || !(*most > 0)) continue;
+    e.truth[std::size_t(most - held[h].begin())].parts.emplace_back(hulls[h].obstacle, hulls[h].part);
   }
 
   // Volumes and touching, by Monte Carlo in each hull.
@@ -447,10 +460,13 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
   for (const auto& t : e.truth) {
     json touching = json::array();
     for (const auto& [o, part] : t.parts_touching) touching.push_back({{"obstacle", o}, {"part", part}});
+    json representing = json::array();
+    for (const auto& [o, part] : t.parts) representing.push_back({{"obstacle", o}, {"part", part}});
     truth.push_back({{"label", t.label}, {"surface", t.surface},
                      {"points_near", t.points_near},
                      {"points_inside", t.points_inside},
                      {"share_inside", t.points_near > 0 ? json(t.points_inside / t.points_near) : json(nullptr)},
+                     {"parts", representing},
                      {"parts_touching", touching}});
   }
   json false_parts = json::array();

@@ -75,7 +75,14 @@ struct TruthScore {
   /// surface_margin (each point counts for one shape only).
   double points_near = 0;
   double points_inside = 0;        ///< of those, inside some hull
-  std::vector<std::pair<int, int>> parts_touching;  ///< (obstacle id, part index; -1 whole hull)
+  /// The hulls that represent it: (obstacle id, part index; -1 whole hull) of each hull whose held
+  /// observed points weigh most for this shape (ties to the lower shape index; a hull holding no
+  /// observed point represents nothing). Every hull represents at most one shape, so a perfect
+  /// output has one per convex true obstacle.
+  std::vector<std::pair<int, int>> parts;
+  /// The hulls coming within touch_margin of it, whatever they represent: at a corner of two walls
+  /// the end parts of both touch both walls, so this counts neighbours too.
+  std::vector<std::pair<int, int>> parts_touching;
 };
 
 /// What evaluate() measures. Volumes in map units^3, each with its Monte Carlo standard error.
@@ -97,7 +104,8 @@ struct Evaluation {
 /// Scores the obstacles (their parts when they have some, else their whole hulls) against the
 /// truth. `points` (map frame) with `weights` (empty: 1 each) are the map's points; each one within
 /// surface_margin of some shape is an observed point of the nearest shape only (see
-/// EvaluateParams::surface_margin).
+/// EvaluateParams::surface_margin), and each hull represents the shape owning most of the observed
+/// points inside it (TruthScore::parts).
 /// Segments: endpoints drawn uniformly in the box of the truth grown by radius + clear_margin + 0.5
 /// until both keep radius + clear_margin from the truth (from their own random stream: the same
 /// segments whatever the obstacles, so two builds are scored on the same ones); the truth's smallest distance along a segment is taken
