@@ -77,7 +77,8 @@ void runEvaluate(const EvaluateOptions& o) {
             << e.false_parts.size() << " touching no true obstacle within " << o.params.touch_margin << ")\n";
   for (const auto& t : e.truth)
     std::cout << "  " << t.label << ": " << percent(t.points_inside, t.points_near) << " of its "
-              << t.points_near << " observed points inside hulls, " << t.parts_touching.size() << " hulls touching"
+              << t.points_near << " observed points inside hulls, " << t.parts.size() << " hulls representing it, "
+              << t.parts_touching.size() << " touching"
               << (t.surface ? " (a bounding surface: left out of the obstacles)" : "") << "\n";
   std::cout << std::setprecision(4) << "volume: hulls " << e.hull_volume << ", union " << e.union_volume
             << ", outside the truth " << e.outside_volume << " +- " << e.outside_volume_se << ", farther than "

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <sstream>
 
@@ -293,6 +294,200 @@ TEST(Evaluate, PartsStopSwallowingTheRoom) {
   EXPECT_GT(inside, 0.95 * near);  // splitting keeps every clustered voxel in some part
 }
 
+/// Points on the six faces of the box [lo, hi] at the centres of a grid of cells of about `step`.
+std::vector<V3> faceSamples(const V3& lo, const V3& hi, double step) {
+  std::vector<V3> out;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    const int nu = std::max(1, int(std::lround((hi[u] - lo[u]) / step)));
+    const int nv = std::max(1, int(std::lround((hi[v] - lo[v]) / step)));
+    for (const double side : {lo[axis], hi[axis]})
+      for (int a = 0; a < nu; ++a)
+        for (int b = 0; b < nv; ++b) {
+          V3 p;
+          p[axis] = side;
+          p[u] = lo[u] + (a + 0.5) * (hi[u] - lo[u]) / nu;
+          p[v] = lo[v] + (b + 0.5) * (hi[v] - lo[v]) / nv;
+          out.push_back(p);
+        }
+  }
+  return out;
+}
+
+TruthShape aabb(const V3& lo, const V3& hi) { return box(0.5 * (lo + hi), hi - lo); }
+
+TEST(Evaluate, APointBelongsToItsNearestShapeOnly) {
+  // A floor slab (top z = 0) and a wall standing on it (x in [0, 0.25]). Floor points 3 cm in front
+  // of the wall lie on the floor (distance 0) though within surface_margin of the wall: they are the
+  // floor's, not the wall's; the wall's own points 3 cm above the floor are the wall's. The hull
+  // holds the wall exactly, so the wall's share is 100% (it was 50% when points counted for every
+  // shape within the margin). A point exactly as far from both goes to the lower index.
+  GroundTruth truth;
+  truth.shapes.push_back(aabb(V3(-1, -1, -0.125), V3(1, 1, 0)));
+  truth.shapes.push_back(aabb(V3(0, -1, 0), V3(0.25, 1, 1)));
+  const std::vector<clustering::Obstacle> obstacles{filled(V3(0, -1, 0), V3(0.3, 1, 1), 0)};
+  std::vector<V3> points;
+  for (double y = -0.95; y < 1; y += 0.1) {
+    points.emplace_back(-0.03, y, 0.0);   // floor, in front of the wall's foot
+    points.emplace_back(0.0, y, 0.03);    // wall face, just above the floor
+  }
+  const std::size_t pairs = points.size() / 2;
+  points.emplace_back(-0.03125, 0.0, 0.03125);  // 0.03125 from both, exactly
+  EvaluateParams params;
+  params.segments = 0;
+  Evaluation e = evaluate(obstacles, truth, points, {}, params);
+  EXPECT_EQ(e.truth[0].points_near, double(pairs + 1));
+  EXPECT_EQ(e.truth[0].points_inside, 0.0);
+  EXPECT_EQ(e.truth[1].points_near, double(pairs));
+  EXPECT_EQ(e.truth[1].points_inside, double(pairs));
+  std::swap(truth.shapes[0], truth.shapes[1]);  // the tie follows the index
+  e = evaluate(obstacles, truth, points, {}, params);
+  EXPECT_EQ(e.truth[0].points_near, double(pairs + 1));
+  EXPECT_EQ(e.truth[1].points_near, double(pairs));
+}
+
+TEST(Evaluate, AttributionAndRepresentationMatchBruteForce) {
+  // Overlapping and touching axis-aligned boxes, points scattered within 8 cm of their surfaces with
+  // integer weights, hulls that are boxes on the 0.1 lattice. The oracle: the axis-aligned box
+  // distance written out, the nearest shape by a plain scan, the hull by its bounds, the sums and the
+  // representing shape of each hull recomputed from scratch.
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(0, 1);
+  const auto lattice = [&](double lo, double hi) { return 0.1 * std::floor((lo + (hi - lo) * u(rng)) * 10); };
+  for (int trial = 0; trial < 6; ++trial) {
+    GroundTruth truth;
+    std::vector<std::pair<V3, V3>> boxes;
+    for (int k = 0; k < 5; ++k) {
+      const V3 lo(2 * u(rng), 2 * u(rng), u(rng));
+      const V3 hi = lo + V3(0.1 + 0.7 * u(rng), 0.1 + 0.7 * u(rng), 0.1 + 0.7 * u(rng));
+      boxes.emplace_back(lo, hi);
+      truth.shapes.push_back(aabb(lo, hi));
+    }
+    std::vector<clustering::Obstacle> obstacles;
+    std::vector<std::pair<V3, V3>> hull_boxes;
+    for (int h = 0; h < 7; ++h) {
+      const V3 lo(lattice(0, 2), lattice(0, 2), lattice(0, 1));
+      const V3 hi = lo + V3(lattice(0.1, 1.0), lattice(0.1, 1.0), lattice(0.1, 1.0)) + V3::Constant(0.1);
+      obstacles.push_back(filled(lo, hi, h));
+      hull_boxes.emplace_back(lo, hi);
+    }
+    std::vector<V3> points;
+    std::vector<std::uint32_t> weights;
+    for (int i = 0; i < 3000; ++i) {
+      const auto& [lo, hi] = boxes[std::size_t(i) % boxes.size()];
+      V3 p(lo.x() + (hi.x() - lo.x()) * u(rng), lo.y() + (hi.y() - lo.y()) * u(rng), lo.z() + (hi.z() - lo.z()) * u(rng));
+      const int axis = int(rng() % 3);
+      p[axis] = (rng() % 2) ? lo[axis] : hi[axis];
+      p += 0.08 * V3(2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1);
+      points.push_back(p);
+      weights.push_back(1 + std::uint32_t(rng() % 4));
+    }
+    EvaluateParams params;
+    params.segments = 0;
+    params.volume_samples = 10;
+    const Evaluation e = evaluate(obstacles, truth, points, weights, params);
+
+    const auto distance = [](const V3& p, const V3& lo, const V3& hi) {
+      double outside = 0, inside = -std::numeric_limits<double>::infinity();
+      for (int a = 0; a < 3; ++a) {
+        const double gap = std::max(lo[a] - p[a], p[a] - hi[a]);  // > 0 outside along a
+        if (gap > 0) outside += gap * gap;
+        inside = std::max(inside, gap);
+      }
+      return outside > 0 ? std::sqrt(outside) : inside;
+    };
+    std::vector<double> near(boxes.size(), 0), in(boxes.size(), 0);
+    std::vector<std::vector<double>> held(hull_boxes.size(), std::vector<double>(boxes.size(), 0));
+    std::size_t owned = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      int owner = -1;
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t s = 0; s < boxes.size(); ++s) {
+        const double d = std::abs(distance(points[i], boxes[s].first, boxes[s].second));
+        if (d < best) {
+          best = d;
+          owner = int(s);
+        }
+      }
+      if (best > params.surface_margin) continue;
+      ++owned;
+      near[std::size_t(owner)] += weights[i];
+      bool inside = false;
+      for (std::size_t h = 0; h < hull_boxes.size(); ++h) {
+        const auto& [lo, hi] = hull_boxes[h];
+        if ((points[i].array() >= lo.array() - 1e-9).all() && (points[i].array() <= hi.array() + 1e-9).all()) {
+          inside = true;
+          held[h][std::size_t(owner)] += weights[i];
+        }
+      }
+      if (inside) in[std::size_t(owner)] += weights[i];
+    }
+    ASSERT_GT(owned, 1000u);
+    std::vector<std::vector<std::pair<int, int>>> represents(boxes.size());
+    std::size_t representing = 0;
+    for (std::size_t h = 0; h < hull_boxes.size(); ++h) {
+      int most = -1;
+      for (std::size_t s = 0; s < boxes.size(); ++s)
+        if (held[h][s] > 0 && (most < 0 || held[h][s] > held[h][std::size_t(most)])) most = int(s);
+      if (most >= 0) {
+        represents[std::size_t(most)].emplace_back(int(h), -1);
+        ++representing;
+      }
+    }
+    EXPECT_GE(representing, 3u);
+    for (std::size_t s = 0; s < boxes.size(); ++s) {
+      EXPECT_EQ(e.truth[s].points_near, near[s]) << "trial " << trial << " shape " << s;
+      EXPECT_EQ(e.truth[s].points_inside, in[s]) << "trial " << trial << " shape " << s;
+      EXPECT_EQ(e.truth[s].parts, represents[s]) << "trial " << trial << " shape " << s;
+    }
+  }
+}
+
+TEST(Evaluate, EachHullRepresentsOneTrueObstacle) {
+  // A closed ring of four walls, each held exactly by one hull, and a crate standing against the
+  // south wall with its own hull; a hull far away holds no point. Touching counts the neighbours at
+  // the corners (3 per wall, 4 for the south wall with the crate on it); representing counts one
+  // hull per obstacle, and the empty hull represents nothing.
+  GroundTruth truth;
+  const std::vector<std::pair<V3, V3>> walls{{V3(0, 0, 0), V3(4, 0.2, 1)},    // south
+                                             {V3(0, 3.8, 0), V3(4, 4, 1)},    // north
+                                             {V3(0, 0.2, 0), V3(0.2, 3.8, 1)},  // west
+                                             {V3(3.8, 0.2, 0), V3(4, 3.8, 1)}};  // east
+  const std::pair<V3, V3> crate{V3(1, 0.2, 0), V3(1.6, 0.6, 0.5)};
+  std::vector<clustering::Obstacle> obstacles;
+  std::vector<V3> points;
+  for (const auto& [lo, hi] : walls) {
+    truth.shapes.push_back(aabb(lo, hi));
+    obstacles.push_back(filled(lo, hi, int(obstacles.size())));
+    for (const V3& p : faceSamples(lo, hi, 0.1)) points.push_back(p);
+  }
+  truth.shapes.push_back(aabb(crate.first, crate.second));
+  obstacles.push_back(filled(crate.first, crate.second, 4));
+  for (const V3& p : faceSamples(crate.first, crate.second, 0.1)) points.push_back(p);
+  obstacles.push_back(filled(V3(10, 10, 0), V3(10.5, 10.5, 0.5), 5));
+  EvaluateParams params;
+  params.segments = 0;
+  const Evaluation e = evaluate(obstacles, truth, points, {}, params);
+  ASSERT_EQ(e.truth.size(), 5u);
+  for (std::size_t s = 0; s < 5; ++s) {
+    ASSERT_EQ(e.truth[s].parts.size(), 1u) << s;
+    EXPECT_EQ(e.truth[s].parts[0], std::make_pair(int(s), -1)) << s;
+    EXPECT_EQ(e.truth[s].points_inside, e.truth[s].points_near) << s;
+  }
+  EXPECT_EQ(e.truth[0].parts_touching.size(), 4u);  // east, west, the crate and itself
+  EXPECT_EQ(e.truth[1].parts_touching.size(), 3u);
+  EXPECT_EQ(e.truth[2].parts_touching.size(), 3u);
+  EXPECT_EQ(e.truth[3].parts_touching.size(), 3u);
+  EXPECT_EQ(e.truth[4].parts_touching.size(), 2u);  // the crate's and the south wall's
+  ASSERT_EQ(e.false_parts.size(), 1u);
+  EXPECT_EQ(e.false_parts[0].first, 5);
+  const auto json = evaluationToJson(e, params);
+  ASSERT_EQ(json["truth"][0]["parts"].size(), 1u);
+  EXPECT_EQ(json["truth"][0]["parts"][0]["obstacle"], 0);
+  EXPECT_EQ(json["truth"][0]["parts"][0]["part"], -1);
+  EXPECT_EQ(json["truth"][0]["parts_touching"].size(), 4u);
+}
+
 void expectOneLineError(const test::CommandResult& r, const std::string& needle) {
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -312,6 +507,14 @@ TEST(EvaluateCli, ScoresABuildAndRefusesBadTruth) {
   EXPECT_EQ(doc["truth"].size(), 8u);
   EXPECT_EQ(doc["segments"]["count"], 300);
   EXPECT_EQ(doc["segments"]["missed"], 0);
+  // Each hull represents at most one true obstacle.
+  std::size_t representing = 0;
+  for (const auto& t : doc["truth"]) {
+    ASSERT_TRUE(t["parts"].is_array());
+    representing += t["parts"].size();
+  }
+  EXPECT_GT(representing, 0u);
+  EXPECT_LE(representing, doc["parts"].get<std::size_t>());
 
   std::ofstream(dir / "bad.json") << "{\"obstacles\": [{\"shape\": \"cone\", \"center\": [0,0,0], \"size\": [1,1,1]}]}";
   expectOneLineError(test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + (dir / "bad.json").string()),

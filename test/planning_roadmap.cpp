@@ -1,4 +1,5 @@
 #include <cmath>
+#include <limits>
 #include <functional>
 #include <random>
 #include <vector>
@@ -204,6 +205,28 @@ TEST(Roadmap, TouchingAndOverlappingFootprintsKeepTheRoadmapConnected) {
     }
   std::mt19937 rng(7);
   for (int round = 0; round < 5; ++round) EXPECT_EQ(components(planning::buildRoadmap(randomPolygons(rng, 6, 1.5), {})), 1u);
+}
+
+TEST(Roadmap, AVertexOfTwoParallelSegmentsAndAPointKeepsTheRoadmapConnected) {
+  // The Voronoi vertex equidistant to the bounds' side x = 5.1, the side x = 1.2 of one footprint and
+  // the corner (3.1, 0.5) of another (x = 3.15, y = 0.5 - sqrt(1.95^2 - 0.05^2)): its construction in
+  // double divides by zero (parallel segments) and gave NaN; the face was dropped and with it the
+  // only link between the roadmap's two halves on a built scene (CliPlan found no path).
+  const std::vector<clustering::Obstacle> obstacles{
+      test::prism(5, rect(1.0, -1.45, 1.2, -1.25), 0, 1),
+      test::prism(7, rect(3.05, 0.5, 3.1, 0.6), 0, 1),
+  };
+  RoadmapParams params;
+  params.bounds = planning::Bounds2d{-5.1, -5.1, 5.1, 5.1};
+  const Roadmap map = planning::buildRoadmap(obstacles, params);
+  const Vector2d expected(3.15, 0.5 - std::sqrt(1.95 * 1.95 - 0.05 * 0.05));
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto& n : map.nodes) {
+    ASSERT_TRUE(n.position.allFinite());
+    nearest = std::min(nearest, (n.position - expected).norm());
+  }
+  EXPECT_LT(nearest, 1e-6);
+  EXPECT_EQ(components(map), 1u);
 }
 
 TEST(Roadmap, ARingOfWallPartsLeavesTheRoomInsideFree) {

@@ -312,24 +312,42 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
   const std::vector<HullPlanes> hulls = hullsOf(obstacles);
   e.parts = hulls.size();
 
-  // Observed points per true obstacle.
+  // Observed points: each belongs to the one shape whose surface is nearest (|signed distance|
+  // smallest, ties to the lower index), when that is within surface_margin. A floor point at the
+  // foot of a wall lies on the floor, not on the wall 3 cm away.
   e.truth.resize(truth.shapes.size());
   for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
     e.truth[s].label = truth.shapes[s].label;
     e.truth[s].surface = truth.shapes[s].surface;
   }
+  // Per hull, the weight of the observed points inside it by the shape they belong to.
+  std::vector<std::vector<double>> held(hulls.size(), std::vector<double>(truth.shapes.size(), 0.0));
   for (std::size_t i = 0; i < points.size(); ++i) {
     const double w = weights.empty() ? 1.0 : double(weights[i]);
-    bool inside = false, decided = false;
+    std::size_t owner = truth.shapes.size();
+    double nearest = kInf;
     for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
-      if (std::abs(truth.shapes[s].signedDistance(points[i])) > params.surface_margin) continue;
-      if (!decided) {
-        inside = std::any_of(hulls.begin(), hulls.end(), [&](const HullPlanes& h) { return h.contains(points[i]); });
-        decided = true;
+      const double d = std::abs(truth.shapes[s].signedDistance(points[i]));
+      if (d < nearest) {
+        nearest = d;
+        owner = s;
       }
-      e.truth[s].points_near += w;
-      if (inside) e.truth[s].points_inside += w;
     }
+    if (owner == truth.shapes.size() || nearest > params.surface_margin) continue;
+    bool inside = false;
+    for (std::size_t h = 0; h < hulls.size(); ++h) {
+      if (!hulls[h].contains(points[i])) continue;
+      inside = true;
+      held[h][owner] += w;
+    }
+    e.truth[owner].points_near += w;
+    if (inside) e.truth[owner].points_inside += w;
+  }
+  // A part represents the shape that owns the largest weight of the observed points it holds.
+  for (std::size_t h = 0; h < hulls.size(); ++h) {
+    const auto most = std::max_element(held[h].begin(), held[h].end());  // the first of equals
+    if (most == held[h].end() || !(*most > 0)) continue;
+    e.truth[std::size_t(most - held[h].begin())].parts.emplace_back(hulls[h].obstacle, hulls[h].part);
   }
 
   // Volumes and touching, by Monte Carlo in each hull.
@@ -442,10 +460,13 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
   for (const auto& t : e.truth) {
     json touching = json::array();
     for (const auto& [o, part] : t.parts_touching) touching.push_back({{"obstacle", o}, {"part", part}});
+    json representing = json::array();
+    for (const auto& [o, part] : t.parts) representing.push_back({{"obstacle", o}, {"part", part}});
     truth.push_back({{"label", t.label}, {"surface", t.surface},
                      {"points_near", t.points_near},
                      {"points_inside", t.points_inside},
                      {"share_inside", t.points_near > 0 ? json(t.points_inside / t.points_near) : json(nullptr)},
+                     {"parts", representing},
                      {"parts_touching", touching}});
   }
   json false_parts = json::array();

@@ -465,6 +465,48 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     face_index.emplace(f, static_cast<int>(vertex.size()));
     vertex.push_back(toEigen(construct(f->vertex(0)->site(), f->vertex(1)->site(), f->vertex(2)->site())));
   }
+  // A face whose construction failed in double (two parallel segments and a point: the division
+  // has no finite result) gets its vertex by Newton's method on the two equal-distance conditions,
+  // from the mean of its neighbours' vertices, and keeps it only when the three distances agree.
+  // Dropping the face cut the roadmap in two where it is the only link (a build's scene, seed 7).
+  const auto distanceToSite = [](const Sdg::Site_2& s, const Eigen::Vector2d& x) {
+    return s.is_point() ? (x - toEigen(s.point())).norm()
+                        : segmentDistance(toEigen(s.segment().source()), toEigen(s.segment().target()), x);
+  };
+  for (auto f = sdg.finite_faces_begin(); f != sdg.finite_faces_end(); ++f) {
+    Eigen::Vector2d& v = vertex[static_cast<std::size_t>(face_index.at(f))];
+    if (v.allFinite()) continue;
+    Eigen::Vector2d x = Eigen::Vector2d::Zero();
+    int from = 0;
+    for (int k = 0; k < 3; ++k) {
+      const auto g = f->neighbor(k);
+      if (sdg.is_infinite(g)) continue;
+      const Eigen::Vector2d& w = vertex[static_cast<std::size_t>(face_index.at(g))];
+      if (w.allFinite()) {
+        x += w;
+        ++from;
+      }
+    }
+    if (from == 0) continue;
+    x /= from;
+    const Sdg::Site_2 s0 = f->vertex(0)->site(), s1 = f->vertex(1)->site(), s2 = f->vertex(2)->site();
+    const auto residual = [&](const Eigen::Vector2d& p) {
+      const double d0 = distanceToSite(s0, p);
+      return Eigen::Vector2d(d0 - distanceToSite(s1, p), d0 - distanceToSite(s2, p));
+    };
+    const double h = 1e-7 * scale;
+    for (int iteration = 0; iteration < 50; ++iteration) {
+      const Eigen::Vector2d r = residual(x);
+      if (r.norm() <= 1e-12 * scale) break;
+      Eigen::Matrix2d jacobian;
+      jacobian.col(0) = (residual(x + Eigen::Vector2d(h, 0)) - residual(x - Eigen::Vector2d(h, 0))) / (2 * h);
+      jacobian.col(1) = (residual(x + Eigen::Vector2d(0, h)) - residual(x - Eigen::Vector2d(0, h))) / (2 * h);
+      if (!(std::abs(jacobian.determinant()) > 0)) break;
+      x -= jacobian.inverse() * r;
+      if (!x.allFinite()) break;
+    }
+    if (x.allFinite() && residual(x).cwiseAbs().maxCoeff() <= 1e-9 * scale) v = x;
+  }
   // Constructions are in double: one vertex computed from different faces differs by ~1e-8 m.
   const double same = 1e-6 * scale;
   UnionFind merged(vertex.size());

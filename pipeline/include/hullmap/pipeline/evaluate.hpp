@@ -53,7 +53,9 @@ GroundTruth readGroundTruth(const std::string& path);
 /// transforms, so the numbers are the same on every machine.
 struct EvaluateParams {
   double radius = 0.3;             ///< drone radius R for the segment checks
-  double surface_margin = 0.05;    ///< a map point within this of a shape's surface is one of its observed points
+  /// A map point is an observed point of the one shape whose surface is nearest (smallest |signed
+  /// distance|, ties to the lower index) when that distance is at most this.
+  double surface_margin = 0.05;
   double touch_margin = 0.1;       ///< a part touches a shape when part of its hull comes within this
   double far_margin = 0.1;         ///< swallowed volume: hull volume farther than this from every shape
   double depth_margin = 0.1;       ///< deep collision: the capsule penetrates a shape by more than this
@@ -69,9 +71,18 @@ struct EvaluateParams {
 struct TruthScore {
   std::string label;
   bool surface = false;            ///< a floor or ceiling (TruthShape::surface)
-  double points_near = 0;          ///< weight of map points within surface_margin of its surface
+  /// Weight of its observed points: map points whose nearest shape surface is this one's, within
+  /// surface_margin (each point counts for one shape only).
+  double points_near = 0;
   double points_inside = 0;        ///< of those, inside some hull
-  std::vector<std::pair<int, int>> parts_touching;  ///< (obstacle id, part index; -1 whole hull)
+  /// The hulls that represent it: (obstacle id, part index; -1 whole hull) of each hull whose held
+  /// observed points weigh most for this shape (ties to the lower shape index; a hull holding no
+  /// observed point represents nothing). Every hull represents at most one shape, so a perfect
+  /// output has one per convex true obstacle.
+  std::vector<std::pair<int, int>> parts;
+  /// The hulls coming within touch_margin of it, whatever they represent: at a corner of two walls
+  /// the end parts of both touch both walls, so this counts neighbours too.
+  std::vector<std::pair<int, int>> parts_touching;
 };
 
 /// What evaluate() measures. Volumes in map units^3, each with its Monte Carlo standard error.
@@ -91,7 +102,10 @@ struct Evaluation {
 };
 
 /// Scores the obstacles (their parts when they have some, else their whole hulls) against the
-/// truth. `points` (map frame) with `weights` (empty: 1 each) are the map's observed points.
+/// truth. `points` (map frame) with `weights` (empty: 1 each) are the map's points; each one within
+/// surface_margin of some shape is an observed point of the nearest shape only (see
+/// EvaluateParams::surface_margin), and each hull represents the shape owning most of the observed
+/// points inside it (TruthScore::parts).
 /// Segments: endpoints drawn uniformly in the box of the truth grown by radius + clear_margin + 0.5
 /// until both keep radius + clear_margin from the truth (from their own random stream: the same
 /// segments whatever the obstacles, so two builds are scored on the same ones); the truth's smallest distance along a segment is taken
