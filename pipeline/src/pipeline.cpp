@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <sys/file.h>
@@ -442,39 +443,68 @@ ClusteredVoxels clusterStages(const mapper::OccupancyMap& map, const clustering:
   return out;
 }
 
-/// Voxel lattice key of a centre (map units / resolution, rounded).
-std::uint64_t latticeKey(const Eigen::Vector3d& c, double resolution) {
-  // Centres lie at (k + 1/2) * resolution: floor() gives k without ties.
-  const auto cell = [&](double v) {
-    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / resolution)) + (1 << 20)) & 0x1fffff;
+}  // namespace
+
+namespace detail {
+
+void attachSurfaceRims(const std::vector<Eigen::Vector3d>& centers, double resolution, double reach,
+                       std::vector<std::int32_t>& labels) {
+  if (centers.size() != labels.size())
+    throw Error::inParameter("labels", "one label per voxel centre expected");
+  // Lattice cells: centres lie at (k + 1/2) * resolution, so floor() gives k without ties.
+  const auto cell = [&](double v) { return static_cast<std::int64_t>(std::floor(v / resolution)); };
+  const auto columnKey = [](std::int64_t i, std::int64_t j) {
+    return static_cast<std::uint64_t>(i + (std::int64_t(1) << 31)) << 32 |
+           (static_cast<std::uint64_t>(j + (std::int64_t(1) << 31)) & 0xffffffffu);
   };
-  return cell(c.x()) << 42 | cell(c.y()) << 21 | cell(c.z());
+  const std::int64_t layers = static_cast<std::int64_t>(std::floor(std::max(2.0, reach / resolution) + 1e-9));
+  // The clustered voxels of each column, by layer.
+  std::unordered_map<std::uint64_t, std::vector<std::pair<std::int64_t, std::int32_t>>> columns;
+  for (std::size_t i = 0; i < centers.size(); ++i)
+    if (labels[i] >= 0)
+      columns[columnKey(cell(centers[i].x()), cell(centers[i].y()))].emplace_back(cell(centers[i].z()), labels[i]);
+  for (auto& [key, column] : columns) std::sort(column.begin(), column.end());
+  std::vector<std::pair<std::size_t, std::int32_t>> joins;
+  for (std::size_t v = 0; v < centers.size(); ++v) {
+    if (labels[v] != kFloorLabel && labels[v] != kCeilingLabel) continue;
+    const bool floor = labels[v] == kFloorLabel;
+    const std::int64_t ci = cell(centers[v].x()), cj = cell(centers[v].y()), ck = cell(centers[v].z());
+    std::int64_t best_distance = std::numeric_limits<std::int64_t>::max();
+    std::int32_t best = -1;
+    for (std::int64_t di = -1; di <= 1; ++di)
+      for (std::int64_t dj = -1; dj <= 1; ++dj) {
+        const auto hit = columns.find(columnKey(ci + di, cj + dj));
+        if (hit == columns.end()) continue;
+        const auto& column = hit->second;
+        // The column's nearest clustered voxel on the far side of the surface (a floor's: at its
+        // layer or above; a ceiling's: at its layer or below).
+        std::pair<std::int64_t, std::int32_t> found;
+        if (floor) {
+          const auto it = std::lower_bound(column.begin(), column.end(), std::make_pair(ck, std::int32_t(-1)));
+          if (it == column.end()) continue;
+          found = *it;
+        } else {
+          auto it = std::upper_bound(column.begin(), column.end(),
+                                     std::make_pair(ck, std::numeric_limits<std::int32_t>::max()));
+          if (it == column.begin()) continue;
+          found = *--it;
+        }
+        const std::int64_t dk = found.first - ck;
+        if (std::abs(dk) > layers) continue;
+        const std::int64_t distance = di * di + dj * dj + dk * dk;
+        if (distance < best_distance || (distance == best_distance && found.second < best)) {
+          best_distance = distance;
+          best = found.second;
+        }
+      }
+    if (best >= 0) joins.emplace_back(v, best);
+  }
+  for (const auto& [v, label] : joins) labels[v] = label;
 }
 
-/// Floor/ceiling voxels next to a cluster (26-neighbours, two layers) join it: the foot of a box or
-/// of a wall lies in the floor's band, and its points belong to the obstacle.
-void attachSurfaceRims(const std::vector<Eigen::Vector3d>& centers, double resolution,
-                       std::vector<std::int32_t>& labels) {
-  for (int layer = 0; layer < 2; ++layer) {
-    std::unordered_map<std::uint64_t, std::int32_t> clustered;
-    for (std::size_t i = 0; i < centers.size(); ++i)
-      if (labels[i] >= 0) clustered.emplace(latticeKey(centers[i], resolution), labels[i]);
-    std::vector<std::pair<std::size_t, std::int32_t>> joins;
-    for (std::size_t i = 0; i < centers.size(); ++i) {
-      if (labels[i] != kFloorLabel && labels[i] != kCeilingLabel) continue;
-      std::int32_t best = -1;
-      for (int dx = -1; dx <= 1 && best < 0; ++dx)
-        for (int dy = -1; dy <= 1 && best < 0; ++dy)
-          for (int dz = -1; dz <= 1 && best < 0; ++dz) {
-            const auto hit = clustered.find(
-                latticeKey(centers[i] + resolution * Eigen::Vector3d(dx, dy, dz), resolution));
-            if (hit != clustered.end()) best = hit->second;
-          }
-      if (best >= 0) joins.emplace_back(i, best);
-    }
-    for (const auto& [i, label] : joins) labels[i] = label;
-  }
-}
+}  // namespace detail
+
+namespace {
 
 /// Centres of the observed-free leaves of the map (each pruned leaf once).
 std::vector<Eigen::Vector3d> freeVoxelCentres(const mapper::OccupancyMap& map) {
@@ -553,7 +583,7 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
     labels[obstacle_index[k]] = sub.labels[k];
     result.clusters.core[obstacle_index[k]] = sub.core[k];
   }
-  attachSurfaceRims(centers, resolution, labels);
+  detail::attachSurfaceRims(centers, resolution, chosen.used.eps, labels);
   std::vector<std::int32_t> cluster_labels(labels);
   for (auto& l : cluster_labels) l = std::max(l, clustering::kNoise);
   result.obstacles = clustering::buildObstacles(centers, weights, cluster_labels, resolution);

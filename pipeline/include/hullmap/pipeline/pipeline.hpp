@@ -254,6 +254,17 @@ namespace detail {
 /// (every file written, the directory not yet in place); a test stops the run there (throw, or kill the process) to see what a run interrupted at
 /// that stage leaves behind. Not thread-safe; nullptr (the default) does nothing.
 extern void (*stage_hook)(const char* stage);
+
+/// The build's rims step, exposed for its tests: after DBSCAN, each floor voxel (kFloorLabel) joins
+/// the cluster of the nearest clustered voxel (labels >= 0 on entry; squared lattice distance, ties
+/// to the lower label) in its column neighbourhood (|di|, |dj| <= 1 cell) at its layer or above,
+/// at most max(2 voxels, `reach`) higher (centre to centre); each ceiling voxel likewise at its layer or
+/// below. The foot of a wall or box lies in the floor's band, and on a sparse map the voxel right
+/// above a foot voxel is usually empty. `centers` are voxel centres on the lattice of `resolution`
+/// (map frame, z up); `reach` (map units) is the DBSCAN eps used. Voxels join clusters as they
+/// were on entry (no chains). Throws hullmap::Error when the sizes differ.
+void attachSurfaceRims(const std::vector<Eigen::Vector3d>& centers, double resolution, double reach,
+                       std::vector<std::int32_t>& labels);
 }  // namespace detail
 
 }  // namespace hullmap::pipeline
