@@ -216,9 +216,12 @@ void printClustering(const pipeline::BuildResult& result) {
   if (report.parts) {
     const auto& p = *report.parts;
     std::cout << " in " << p.parts << " convex parts (concavity " << p.concavity;
-    // G <= T: no relaxation, no part passes as flat.
+    // G <= T: no relaxation, no part passes as flat; an auto G (the eps) may land there too.
+    const double asked = result.params.convex_parts->flat_gap.value_or(cp.used.eps);
     if (p.flat_gap > p.concavity) {
       std::cout << ", flat gap " << p.flat_gap << ": " << p.flat_parts << " flat part" << (p.flat_parts == 1 ? "" : "s");
+    } else if (asked > 0.0) {
+      std::cout << ", flat gap " << asked << " <= T: off";
     } else {
       std::cout << ", flat gap off";
     }
