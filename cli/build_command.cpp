@@ -44,6 +44,7 @@ struct BuildOptions {
   std::string eps = "auto";
   std::string min_pts = "auto";
   std::string concavity = "default";
+  std::string flat_gap = "auto";  ///< G of flat parts: auto (the eps used), 0 (off) or a length
   pipeline::BuildParams params;
 };
 
@@ -75,6 +76,7 @@ pipeline::BuildParams toParams(const BuildOptions& o) {
   } else if (o.concavity != "default") {
     params.convex_parts->concavity = number(o.concavity);
   }
+  if (params.convex_parts && o.flat_gap != "auto") params.convex_parts->flat_gap = number(o.flat_gap);
   return params;
 }
 
@@ -108,6 +110,9 @@ void refuseMisfits(const CLI::App& cmd, const BuildOptions& options) {
     for (const char* name : {"--align-format", "--align-tolerance"})
       if (cmd.count(name) > 0) throw Error(std::string(name) + ": applies only with --align REF");
   }
+  if (options.concavity == "none" && cmd.count("--flat-gap") > 0)
+    throw Error("--flat-gap: applies only to convex parts, and --concavity none makes one hull per cluster; "
+                "leave it out");
   if (!readsOctree(options)) {
     // Points alone are occupied updates only: nothing for a ray bound or P(miss) to act on.
     if (options.trajectory || options.origin || options.trajectory_topic) return;
@@ -210,7 +215,17 @@ void printClustering(const pipeline::BuildResult& result) {
   std::cout << "obstacles: " << result.obstacles.size();
   if (report.parts) {
     const auto& p = *report.parts;
-    std::cout << " in " << p.parts << " convex parts (concavity " << p.concavity << "); observed-free voxels inside hulls: "
+    std::cout << " in " << p.parts << " convex parts (concavity " << p.concavity;
+    // G <= T: no relaxation, no part passes as flat; an auto G (the eps) may land there too.
+    const double asked = result.params.convex_parts->flat_gap.value_or(cp.used.eps);
+    if (p.flat_gap > p.concavity) {
+      std::cout << ", flat gap " << p.flat_gap << ": " << p.flat_parts << " flat part" << (p.flat_parts == 1 ? "" : "s");
+    } else if (asked > 0.0) {
+      std::cout << ", flat gap " << asked << " <= T: off";
+    } else {
+      std::cout << ", flat gap off";
+    }
+    std::cout << "); observed-free voxels inside hulls: "
               << p.free_voxels_inside << ", keyframes inside hulls: " << report.keyframes_inside_hulls;
   }
   std::cout << "\n";
@@ -284,6 +299,10 @@ void addBuildCommand(CLI::App& app, int& status) {
                   "Split clusters into convex parts no farther than T (map units) from their voxels; "
                   "default: 3 voxels; none: one hull per cluster")
       ->check(wordOr({"default", "none"}, numberAbove(0)))->capture_default_str();
+  cmd->add_option("--flat-gap", options->flat_gap,
+                  "Convex parts at most T thick (walls, table tops) may span gaps up to G (map units) instead "
+                  "of T; auto: the eps used; 0: off")
+      ->check(wordOr({"auto"}, numberAbove(0, true)))->capture_default_str();
   cmd->add_option("--metric", options->metric, "DBSCAN distance: xyz or xy (top view)")
       ->check(CLI::IsMember({"xyz", "xy"}))->capture_default_str();
   cmd->add_flag("--ot", options->params.write_ot, "Also write map.ot (full probabilities)");

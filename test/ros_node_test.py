@@ -310,6 +310,40 @@ class Defaults(unittest.TestCase):
             node.stop()
 
 
+class FlatGap(unittest.TestCase):
+    def test_flat_gap_0_publishes_hullmap_build_flat_gap_0_and_bad_values_stop_the_node(self):
+        # The generated room's walls are flat parts at the default (auto: the eps used); ~flat_gap 0
+        # turns that off, as --flat-gap 0 does, and the parts differ.
+        scene = os.path.join(TMP, "flat_gap_scene")
+        subprocess.run([HULLMAP, "generate", "--layout", "room", "--z-up", "--seed", "3", "--obstacles", "3",
+                        "--room", "5", "-o", scene], check=True, capture_output=True)
+        points_file = os.path.join(scene, "map_points.txt")
+        at_defaults = expected_triangles(hullmap_build([points_file], os.path.join(TMP, "flat_gap_auto"), []))
+        off = expected_triangles(hullmap_build([points_file], os.path.join(TMP, "flat_gap_off"), ["--flat-gap", "0"]))
+        self.assertFalse(same_triangles(off, at_defaults), "--flat-gap 0 should change this room's parts")
+        points = []
+        with open(points_file) as f:
+            for line in f:
+                fields = line.split()
+                if len(fields) == 3 and not line.startswith("#"):
+                    points.append(tuple(float(v) for v in fields))
+        node = Node({"flat_gap": 0})
+        try:
+            node.publisher("/%s/cloud_in" % node.name, PointCloud2).publish(cloud(points))
+            node.wait_idle(1)
+            wait_for("~obstacles equal to hullmap build --flat-gap 0's",
+                     lambda: same_triangles(node.hull_triangles(), off))
+        finally:
+            node.stop()
+        for params in ({"flat_gap": "x"}, {"flat_gap": -1}, {"flat_gap": "nan"},
+                       {"flat_gap": 0.2, "concavity": "none"}):
+            Node.count += 1
+            args = [NODE, "__name:=hullmap%d" % Node.count] + ["_%s:=%s" % kv for kv in params.items()]
+            r = subprocess.run(args, capture_output=True, text=True, timeout=TIMEOUT)
+            self.assertEqual(r.returncode, 2, "%s: %s" % (params, r.stdout + r.stderr))
+            self.assertIn("~flat_gap", r.stdout + r.stderr, params)
+
+
 class CloudInput(unittest.TestCase):
     """~cloud_in: equality with hullmap build, ~save then hullmap check, malformed messages, a burst."""
 

@@ -85,6 +85,16 @@ pipeline::BuildParams readBuildParams(const ::ros::NodeHandle& nh) {
     if (!(t > 0.0)) throw Error::inParameter("~concavity", "must be > 0, default or none");
     p.convex_parts->concavity = t;
   }
+  // flat_gap: auto (the eps used), 0 (off) or a length; a number cannot apply without convex parts.
+  const std::string flat_gap = wordOrNumber(nh, "flat_gap", "auto");
+  if (flat_gap != "auto") {
+    const double g = numberParam("flat_gap", flat_gap);
+    if (!(g >= 0.0)) throw Error::inParameter("~flat_gap", "must be >= 0 (0: off) or auto, got " + flat_gap);
+    if (!p.convex_parts)
+      throw Error::inParameter("~flat_gap", "applies only to convex parts, and ~concavity none makes one hull per "
+                                             "cluster; leave it auto");
+    p.convex_parts->flat_gap = g;
+  }
   std::string up = pipeline::upAxisText(p.frame.up);
   nh.param("up", up, up);
   p.frame.up = parsed("up", up, mapper::parseUpAxis);
