@@ -67,7 +67,7 @@ TEST(ReadmeFiveSteps, RunAsWrittenOnTheRealV1_01Map) {
   EXPECT_NE(cluster_out.find("eps suggestion: 0.147"), std::string::npos) << cluster_out;
   const auto report = nlohmann::json::parse(hullmap::test::slurp(dir / "v101" / "report.json"));
   EXPECT_EQ(report["obstacles"], 83);
-  EXPECT_EQ(report["parts"]["count"], 112);
+  EXPECT_EQ(report["parts"]["count"], 110);
   EXPECT_EQ(report["clusters"]["noise_voxels"], 521);
   EXPECT_EQ(report["octree"]["occupied_voxels"], 4149);
   EXPECT_EQ(report["floor"]["voxels"], 1167);
