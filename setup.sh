@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # hullmap set-up: installs what is missing (Debian 12 packages), builds, then
-#   ./setup.sh demo   runs `hullmap build --align` on maps/office and prints `hullmap evaluate`'s verdict
+#   ./setup.sh demo   runs `hullmap build --align` on maps/room and prints `hullmap evaluate`'s verdict
 #   ./setup.sh test   runs the whole test suite (ctest)
 #   ./setup.sh bench  installs the peers (Open3D, scikit-learn) too and regenerates docs/BENCHMARKS.md
 #   ./setup.sh quality  installs Open3D and SciPy too and regenerates docs/QUALITY.md (bench/run_quality.sh)
@@ -76,16 +76,16 @@ cmake --build "$build_dir" -j"$jobs"
 
 if [ "$mode" = demo ]; then
   hullmap="$build_dir/cli/hullmap"
-  # maps/office: a realistic room in ORB-SLAM's frame at monocular scale, with a metric reference
+  # maps/room: a realistic room in ORB-SLAM's frame at monocular scale, with a metric reference
   # trajectory and the ground truth (maps/README.md); the build runs at its defaults.
-  m=maps/office
-  echo "== $hullmap build $m/map_points.txt --trajectory $m/KeyFrameTrajectory.txt --align $m/reference_trajectory.txt -p -o out/office"
-  "$hullmap" build $m/map_points.txt --trajectory $m/KeyFrameTrajectory.txt --align $m/reference_trajectory.txt -p -o out/office
-  echo "== $hullmap evaluate out/office --truth $m/ground_truth.json --radius 0.3"
-  "$hullmap" evaluate out/office --truth $m/ground_truth.json --radius 0.3
-  echo "== $hullmap check out/office --radius 0.3 --segments $m/segments.txt"
-  "$hullmap" check out/office --radius 0.3 --segments $m/segments.txt || [ $? -eq 1 ]
-  echo "== outputs in out/office: $(ls out/office | tr '\n' ' ')"
+  m=maps/room
+  echo "== $hullmap build $m/map_points.txt --trajectory $m/KeyFrameTrajectory.txt --align $m/reference_trajectory.txt -p -o out/room"
+  "$hullmap" build $m/map_points.txt --trajectory $m/KeyFrameTrajectory.txt --align $m/reference_trajectory.txt -p -o out/room
+  echo "== $hullmap evaluate out/room --truth $m/ground_truth.json --radius 0.3"
+  "$hullmap" evaluate out/room --truth $m/ground_truth.json --radius 0.3
+  echo "== $hullmap check out/room --radius 0.3 --segments $m/segments.txt"
+  "$hullmap" check out/room --radius 0.3 --segments $m/segments.txt || [ $? -eq 1 ]
+  echo "== outputs in out/room: $(ls out/room | tr '\n' ' ')"
 else
   ctest --test-dir "$build_dir" --output-on-failure -j"$jobs"
 fi

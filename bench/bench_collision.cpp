@@ -6,7 +6,7 @@
 //
 // Scenes go through `hullmap build`'s own pipeline (pipeline::build: frame, octree with keyframe ray
 // casting, DBSCAN eps 0.1 minPts 10, CGAL hulls), at its defaults:
-//   room           the sample map maps/room (ROOM_DIR), read with --up -y and its trajectory;
+//   room           the sample map maps/simple (ROOM_DIR), read with --up -y and its trajectory;
 //   generated_100  generateScene with 100 obstacles in a 30 m room (seed 42), written in ORB-SLAM's
 //                  frame to a temporary directory and built the same way.
 // Segments: uniform start in the room (z 0.2 .. room height - 0.2), uniform direction, length

@@ -5,7 +5,7 @@
 #
 # BUILD_DIR is a build configured with -DHULLMAP_BUILD_BENCH=ON and built (target
 # hullmap_bench_collision). Runs hull mode (HullChecker) and octree mode (OctreeChecker, FCL's
-# OcTree) on the same random segments of the sample map maps/room and of a generated
+# OcTree) on the same random segments of the sample map maps/simple and of a generated
 # 100-obstacle scene, at radius 0.1 and 0.3 m, and FCL's bare capsule-vs-OcTree collide on them.
 set -eu
 
@@ -17,7 +17,7 @@ build=$1
 segments=${2:-200000}
 here=$(cd "$(dirname "$0")" && pwd)
 bench="$build/bench/hullmap_bench_collision"
-room="$here/../maps/room"
+room="$here/../maps/simple"
 if [ ! -x "$bench" ]; then
   echo "$0: $bench not found (configure with -DHULLMAP_BUILD_BENCH=ON, build hullmap_bench_collision)" >&2
   exit 2
@@ -77,7 +77,7 @@ print()
 room = [r for r in rows if r['scene'] == 'room']
 big = [r for r in rows if r['scene'] != 'room']
 print(f"Scenes, both through `hullmap build`'s pipeline at its defaults (resolution 0.05 m, DBSCAN eps 0.1, "
-      f"minPts 10): *room* is the sample map `maps/room` (8 true obstacles in a 10 m room; its sparse points "
+      f"minPts 10): *room* is the sample map `maps/simple` (8 true obstacles in a 10 m room; its sparse points "
       f"fall apart into {room[0]['obstacles'] if room else '?'} clusters, each wrapped as an obstacle), built with "
       f"its trajectory and `--up -y`; *{big[0]['scene'] if big else 'generated_100'}* is `generateScene` with "
       f"100 obstacles in a 30 m room, 500,000 points, seed 42 ({big[0]['obstacles'] if big else '?'} obstacles come "

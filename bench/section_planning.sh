@@ -4,9 +4,9 @@
 # usage: bench/section_planning.sh BUILD_DIR [ompl seconds per query]
 #
 # BUILD_DIR is a build configured with -DHULLMAP_BUILD_BENCH=ON and built (targets hullmap and
-# hullmap_bench_planning). Builds maps/room with the README's command, then runs
+# hullmap_bench_planning). Builds maps/simple with the README's command, then runs
 # hullmap_bench_planning: roadmap time at 10, 100 and 1000 obstacles; plan time and length against
-# a fine grid search; 10 drones in maps/room; OMPL RRT* with the exact capsule sweep and with OMPL's
+# a fine grid search; 10 drones in maps/simple; OMPL RRT* with the exact capsule sweep and with OMPL's
 # discrete motion validator. About 1.5 minutes on 2 cores (the OMPL rows are 32 runs of 1 s).
 set -eu
 
@@ -19,7 +19,7 @@ ompl_time=${2:-1}
 here=$(cd "$(dirname "$0")" && pwd)
 bench="$build/bench/hullmap_bench_planning"
 hullmap="$build/cli/hullmap"
-room="$here/../maps/room"
+room="$here/../maps/simple"
 for exe in "$bench" "$hullmap"; do
   if [ ! -x "$exe" ]; then
     echo "$0: $exe not found (configure with -DHULLMAP_BUILD_BENCH=ON, build hullmap and hullmap_bench_planning)" >&2
@@ -76,7 +76,7 @@ for r in kind('plan'):
           f"here was 1.175x.")
 print()
 for r in kind('fleet'):
-    print(f"10 drones in `maps/room` ({r['obstacles']} obstacles, built as in the README), radius {r['radius']} m, "
+    print(f"10 drones in `maps/simple` ({r['obstacles']} obstacles, built as in the README), radius {r['radius']} m, "
           f"1 m/s, starts on the west wall and goals on the east wall in reversed order (every pair crosses): "
           f"{r['routed']} of {r['drones']} routed in {r['ms']:.0f} ms (roadmap and prioritized planning); minimum "
           f"separation {r['min_separation']:.3f} m (required {2 * r['radius']:.1f} m).")

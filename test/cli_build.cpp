@@ -489,7 +489,7 @@ TEST(CliBadInput, StreamedBuildFailsAsTheWholeFileBuild) {
 // obstacles.json apart from the inputs it names.
 TEST(PipelineLibrary, BuildFromPointsInMemoryIsBuildOfTheFile) {
   using namespace hullmap;
-  const fs::path file = fs::path(HULLMAP_SOURCE_DIR) / "maps" / "room" / "map_points.txt";
+  const fs::path file = fs::path(HULLMAP_SOURCE_DIR) / "maps" / "simple" / "map_points.txt";
   for (const bool with_origin : {false, true}) {
     SCOPED_TRACE(with_origin ? "one scan from an origin" : "points only");
     pipeline::BuildParams params;

@@ -261,12 +261,12 @@ TEST(ClusteringAutoParams, RealEurocV101FewVoxelsAreNoise) {
 
 namespace {
 
-// The pieces together on maps/office (a realistic room in the first camera's frame, monocular
+// The pieces together on maps/room (a realistic room in the first camera's frame, monocular
 // scale): align the keyframes to the reference (metres, z up), find the floor (level), leave its
 // voxels out, choose eps/minPts from the rest, cluster: the walls and each piece of furniture.
-TEST(ClusteringAutoParams, MapsOfficeAlignedLevelledAndClustered) {
+TEST(ClusteringAutoParams, MapsRoomAlignedLevelledAndClustered) {
   namespace m = hullmap::mapper;
-  const std::filesystem::path dir = std::filesystem::path(HULLMAP_SOURCE_DIR) / "maps" / "office";
+  const std::filesystem::path dir = std::filesystem::path(HULLMAP_SOURCE_DIR) / "maps" / "room";
   auto points = m::readPointFile((dir / "map_points.txt").string()).points;
   const auto keyframes = m::readTumTrajectory((dir / "KeyFrameTrajectory.txt").string());
   const auto reference = m::readReferenceTrajectory((dir / "reference_trajectory.txt").string(), m::ReferenceFormat::kTum);
@@ -295,7 +295,7 @@ TEST(ClusteringAutoParams, MapsOfficeAlignedLevelledAndClustered) {
   const DbscanResult r = dbscan(v.centres, v.weights, params);
   std::size_t big = 0;
   for (std::size_t size : r.cluster_sizes) big += size >= 10;
-  std::cout << "maps/office: scale " << alignment.transform.scale << ", floor at " << floor.plane.offset << ", "
+  std::cout << "maps/room: scale " << alignment.transform.scale << ", floor at " << floor.plane.offset << ", "
             << all.centres.size() - v.centres.size() << " floor voxels of " << all.centres.size() << "; eps " << a.eps
             << " minPts " << a.min_pts << ": " << r.cluster_sizes.size() << " clusters (" << big
             << " of 10+ voxels), noise " << r.noise << "\n";

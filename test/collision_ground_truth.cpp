@@ -128,10 +128,10 @@ TEST(GroundTruth, NoPathThroughAnObservedObstacleIsReportedClear) {
 }
 
 TEST(GroundTruth, SparseSampleAtReferenceParametersFragmentsButDronesDoNotSlipThrough) {
-  // maps/room (20,000 points, seed 42) at eps 0.1, minPts 10 splits its 8 obstacles into ~90
+  // maps/simple (20,000 points, seed 42) at eps 0.1, minPts 10 splits its 8 obstacles into ~90
   // clusters; a line (radius 0) can pass between two fragments' hulls, a sphere of 0.1 m cannot.
   // At eps 0.12, minPts 5 each obstacle is one cluster and not even a line gets through.
-  mapper::SceneParams params;  // the generator's defaults are maps/room's
+  mapper::SceneParams params;  // the generator's defaults are maps/simple's
   const Built fragmented = build(params, "sample_reference", 0.1, 10);
   EXPECT_GT(fragmented.result.obstacles.size(), 2 * params.obstacles);
   EXPECT_EQ(expectNoPathThroughAnObstacleIsClear(fragmented, {0.1, 0.3}, 42, false), int(params.obstacles));

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -236,26 +237,29 @@ TEST(MapperRoomScene, SameSeedSameRoomAndBadParameters) {
 namespace hullmap::mapper {
 namespace {
 
-// maps/office is `hullmap generate --layout room -o maps/office` (seed 42, the room defaults).
-TEST(MapperRoomScene, MapsOfficeIsTheDefaultRoom) {
-  const std::filesystem::path dir = std::filesystem::path(HULLMAP_SOURCE_DIR) / "maps" / "office";
+// Every byte of a file (empty when it cannot be read).
+std::string fileBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// maps/room is `hullmap generate --layout room -o maps/room` (seed 42, the room defaults): the files
+// the generator writes are, byte for byte, the ones in the repository.
+TEST(MapperRoomScene, MapsRoomIsTheDefaultRoom) {
+  const std::filesystem::path dir = std::filesystem::path(HULLMAP_SOURCE_DIR) / "maps" / "room";
   SceneParams p;
   p.layout = SceneLayout::kRoom;
   const Scene s = generateScene(p);
-  const auto points = readPointFile((dir / "map_points.txt").string()).points;
-  ASSERT_EQ(points.size(), s.points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) ASSERT_LT((points[i] - s.points[i]).norm(), 2e-6) << i;
-  const auto kf = readTumTrajectory((dir / "KeyFrameTrajectory.txt").string());
-  const auto ref = readReferenceTrajectory((dir / "reference_trajectory.txt").string(), ReferenceFormat::kTum);
-  ASSERT_EQ(kf.size(), s.keyframes.size());
-  ASSERT_EQ(ref.size(), s.reference.size());
-  for (std::size_t i = 0; i < kf.size(); ++i) {
-    EXPECT_LT((kf[i].position - s.keyframes[i].position).norm(), 1e-8);
-    EXPECT_LT((ref[i].position - s.reference[i].position).norm(), 1e-8);
+  const auto out = test::freshDir("maps_room");
+  writeScene(s, p, out.string());
+  for (const char* name : {"map_points.txt", "KeyFrameTrajectory.txt", "reference_trajectory.txt", "ground_truth.json"}) {
+    const std::string expected = fileBytes(dir / name);
+    const std::string written = fileBytes(out / name);
+    ASSERT_FALSE(expected.empty()) << (dir / name);
+    const auto first = std::mismatch(expected.begin(), expected.end(), written.begin(), written.end());
+    EXPECT_TRUE(expected == written) << name << ": " << written.size() << " bytes written, " << expected.size()
+                                     << " in maps/room; first difference at byte " << (first.first - expected.begin());
   }
-  std::ifstream in(dir / "ground_truth.json");
-  const auto j = nlohmann::json::parse(in);
-  ASSERT_EQ(j.at("obstacles").size(), s.objects.size());
 }
 
 // Distance from p to a primitive's solid (0 inside).
@@ -263,10 +267,10 @@ double solidDistance(const SceneObstacle& o, const Eigen::Vector3d& p) {
   return std::max(0.0, signedDistance(o, p));
 }
 
-// Each segment of maps/office/segments.txt says whether it hits (closer than 0.3 m to) a true
+// Each segment of maps/room/segments.txt says whether it hits (closer than 0.3 m to) a true
 // object, and which: checked against the truth by sampling every millimetre.
-TEST(MapperRoomScene, MapsOfficeSegmentLabelsMatchTheTruth) {
-  const std::filesystem::path dir = std::filesystem::path(HULLMAP_SOURCE_DIR) / "maps" / "office";
+TEST(MapperRoomScene, MapsRoomSegmentLabelsMatchTheTruth) {
+  const std::filesystem::path dir = std::filesystem::path(HULLMAP_SOURCE_DIR) / "maps" / "room";
   SceneParams p;
   p.layout = SceneLayout::kRoom;
   const Scene s = generateScene(p);

@@ -1,6 +1,8 @@
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -196,6 +198,31 @@ TEST(MapperScene, WritesTheThreeFilesItDescribes) {
     EXPECT_DOUBLE_EQ(o.at("center")[0].get<double>(), s.obstacles[i].center.x());
     EXPECT_DOUBLE_EQ(o.at("size")[2].get<double>(), s.obstacles[i].size.z());
   }
+}
+
+// Every byte of a file (empty when it cannot be read).
+std::string fileBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// maps/simple is `hullmap generate -o maps/simple --seed 42` (the default scene): the files the
+// generator writes are, byte for byte, the ones in the repository.
+TEST(MapperScene, MapsSimpleIsTheDefaultScene) {
+  const std::filesystem::path dir = std::filesystem::path(HULLMAP_SOURCE_DIR) / "maps" / "simple";
+  const SceneParams p;
+  const Scene s = generateScene(p);
+  const auto out = test::freshDir("maps_simple");
+  writeScene(s, p, out.string());
+  for (const char* name : {"map_points.txt", "KeyFrameTrajectory.txt", "ground_truth.json"}) {
+    const std::string expected = fileBytes(dir / name);
+    const std::string written = fileBytes(out / name);
+    ASSERT_FALSE(expected.empty()) << (dir / name);
+    const auto first = std::mismatch(expected.begin(), expected.end(), written.begin(), written.end());
+    EXPECT_TRUE(expected == written) << name << ": " << written.size() << " bytes written, " << expected.size()
+                                     << " in maps/simple; first difference at byte " << (first.first - expected.begin());
+  }
+  EXPECT_FALSE(std::filesystem::exists(out / "reference_trajectory.txt"));
 }
 
 TEST(MapperScene, RejectsImpossibleParameters) {

@@ -257,17 +257,17 @@ TEST(Evaluate, SameSeedSameNumbers) {
 }
 
 TEST(Evaluate, PartsStopSwallowingTheRoom) {
-  // maps/room at eps 0.2 / minPts 3 (fewer fragments, but clusters that bridge free space): whole
+  // maps/simple at eps 0.2 / minPts 3 (fewer fragments, but clusters that bridge free space): whole
   // hulls against convex parts at the default T, scored against the room's truth. Prints both.
   hullmap::pipeline::BuildParams build;
-  build.inputs = {std::string(HULLMAP_SOURCE_DIR) + "/maps/room/map_points.txt"};
+  build.inputs = {std::string(HULLMAP_SOURCE_DIR) + "/maps/simple/map_points.txt"};
   build.frame.up = hullmap::mapper::parseUpAxis("-y");
   build.eps = 0.2;
   build.min_pts = 3;
   build.floor.mode = hullmap::mapper::PlaneSetting::Mode::kNone;  // whole clusters, split below
   build.convex_parts.reset();
   hullmap::pipeline::BuildResult r = hullmap::pipeline::build(build);
-  const GroundTruth truth = readGroundTruth(std::string(HULLMAP_SOURCE_DIR) + "/maps/room/ground_truth.json");
+  const GroundTruth truth = readGroundTruth(std::string(HULLMAP_SOURCE_DIR) + "/maps/simple/ground_truth.json");
   std::vector<V3> centers;
   std::vector<std::uint32_t> weights;
   for (const auto& v : r.voxels) {
@@ -497,8 +497,8 @@ void expectOneLineError(const test::CommandResult& r, const std::string& needle)
 
 TEST(EvaluateCli, ScoresABuildAndRefusesBadTruth) {
   const auto dir = test::freshDir("cli");
-  const std::string truth = std::string(HULLMAP_SOURCE_DIR) + "/maps/room/ground_truth.json";
-  const auto build = test::runHullmap("build " + std::string(HULLMAP_SOURCE_DIR) + "/maps/room/map_points.txt --up -y -o " +
+  const std::string truth = std::string(HULLMAP_SOURCE_DIR) + "/maps/simple/ground_truth.json";
+  const auto build = test::runHullmap("build " + std::string(HULLMAP_SOURCE_DIR) + "/maps/simple/map_points.txt --up -y -o " +
                                       (dir / "out").string());
   ASSERT_EQ(build.status, 0) << build.err;
   const auto ok = test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + truth + " --segments 300 --json");

@@ -3,7 +3,7 @@
 # Usage: docs/img/regenerate.sh [HULLMAP_BINARY] [SCENE_DIR]
 #   HULLMAP_BINARY  default: build/cli/hullmap
 #   SCENE_DIR       a directory with map_points.txt and KeyFrameTrajectory.txt in ORB-SLAM's frame (y down);
-#                   default: the scene `hullmap generate` writes with its default seed (42)
+#                   default: the scene `hullmap generate` writes with its default seed (42), i.e. maps/simple
 # PNG rendering needs rsvg-convert (Debian package librsvg2-bin).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)

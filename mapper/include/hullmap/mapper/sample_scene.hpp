@@ -19,7 +19,7 @@ struct SceneObstacle {
 
 /// What a generated scene holds.
 /// - kObstacles: boxes and cylinders standing on an unseen floor, no walls (the original scene; the
-///   tests, benchmarks and maps/room use it).
+///   tests, benchmarks and maps/simple use it).
 /// - kRoom: a realistic room as ORB-SLAM maps it: walls and floor, furniture that is not convex
 ///   (L-shaped shelves, tables on legs) beside boxes and cylinders, sparse points (`density` per
 ///   square metre of visible surface), written in the first camera's frame at a monocular scale,
