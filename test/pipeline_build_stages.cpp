@@ -190,6 +190,7 @@ TEST(PipelineStages, UnalignedTiltedFloorIsLevelledAtZeroInBothPaths) {
   params.eps = 0.05;
   params.min_pts = 3;
   params.convex_parts.reset();
+  params.stream_above_bytes = 0;  // stream, twice: the first pass finds the floor
   const pipeline::BuildResult streamed = pipeline::build(params);
   ASSERT_TRUE(streamed.report.floor.plane);
   EXPECT_TRUE(streamed.report.floor.levelled);
@@ -203,6 +204,16 @@ TEST(PipelineStages, UnalignedTiltedFloorIsLevelledAtZeroInBothPaths) {
   const pipeline::BuildResult memory = pipeline::buildFromPoints(room.scene.points, params);
   EXPECT_TRUE(memory.report.levelling.isApprox(streamed.report.levelling, 1e-6));
   EXPECT_EQ(memory.voxels.size(), streamed.voxels.size());
+  // A file this small is read whole at the default (one pass): the same map, voxel for voxel.
+  params.stream_above_bytes = pipeline::BuildParams{}.stream_above_bytes;
+  const pipeline::BuildResult whole = pipeline::build(params);
+  EXPECT_TRUE(whole.report.levelling.isApprox(streamed.report.levelling, 0.0));
+  ASSERT_EQ(whole.voxels.size(), streamed.voxels.size());
+  for (std::size_t i = 0; i < whole.voxels.size(); ++i) {
+    EXPECT_EQ(whole.voxels[i].center, streamed.voxels[i].center) << i;
+    EXPECT_EQ(whole.voxels[i].weight, streamed.voxels[i].weight) << i;
+  }
+  EXPECT_EQ(whole.clusters.labels, streamed.clusters.labels);
 }
 
 TEST(PipelineStages, FlatGapOptionReachesTheReportAndZeroTurnsItOff) {

@@ -697,7 +697,16 @@ BuildResult build(const BuildParams& params) {
       return fs::is_regular_file(p, ec);
     });
     const bool may_level = params.floor.mode == mapper::PlaneSetting::Mode::kAuto && !params.align;
-    if (!params.trajectory && !params.origin && (readable_twice || !may_level)) {
+    // Levelling found in a streamed first pass costs a second pass (reading and octree again); inputs
+    // small enough to hold (params.stream_above_bytes) are read whole once.
+    std::uintmax_t input_bytes = 0;
+    for (const auto& input : params.inputs) {
+      std::error_code ec;
+      const auto size = fs::file_size(input, ec);
+      input_bytes += ec ? params.stream_above_bytes : size;
+    }
+    const bool small = readable_twice && input_bytes < params.stream_above_bytes;
+    if (!params.trajectory && !params.origin && (readable_twice || !may_level) && !(may_level && small)) {
       buildStreamed(params, result, timer);
     } else {
       mapper::PointSet set = readInputPoints(pathStrings(params.inputs));

@@ -78,6 +78,12 @@ struct BuildParams {
   /// cluster. The keyframes (with `trajectory`) are kept out of every part's hull.
   /// `convex_parts->flat_gap` (G of flat parts) unset: the DBSCAN eps used; 0: off (G = T).
   std::optional<clustering::ConvexPartsParams> convex_parts = clustering::ConvexPartsParams{};
+  /// Point files only (no trajectory, no origin): they stream batch by batch into the octree, so a
+  /// map larger than memory builds. When the floor may have to be levelled (floor auto, no align),
+  /// inputs totalling less than this many bytes are read whole instead (one pass: the levelling is
+  /// known before the octree is built; 256 MiB of text is about 8M points), larger ones stream twice
+  /// (the first pass finds the floor). 0: always stream. The outputs are the same either way.
+  std::uintmax_t stream_above_bytes = std::uintmax_t(256) << 20;
   bool write_ot = false;             ///< write() also writes map.ot (full probabilities)
 };
 
