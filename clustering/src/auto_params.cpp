@@ -169,8 +169,10 @@ AutoParams chooseDbscanParams(const std::vector<Eigen::Vector3d>& centres, const
   // Pass 2: neighbourhood weights at eps, with DBSCAN's test (squared distance <= eps^2), over the sampled
   // voxels that lie on a structure: k other voxels within eps (isolated outliers would otherwise
   // drag the quantile down to 1 on maps with many of them).
+  // The quantile is weighted by the sampled voxel's own map points, as eps's is.
   const double eps2 = out.eps * out.eps;
-  std::vector<double> weight;
+  std::vector<std::pair<double, double>> weight;  // (neighbourhood weight, the voxel's weight)
+  double total_weight = 0.0;
   for (std::size_t j = 0; j < sample.size(); ++j) {
     std::size_t count = 0;
     double sum = 0.0;
@@ -180,14 +182,24 @@ AutoParams chooseDbscanParams(const std::vector<Eigen::Vector3d>& centres, const
         sum += weights.empty() ? 1.0 : static_cast<double>(weights[i]);
       }
     });
-    if (count > static_cast<std::size_t>(rule.k)) weight.push_back(sum);
+    if (count > static_cast<std::size_t>(rule.k)) {
+      const double own = weights.empty() ? 1.0 : static_cast<double>(weights[sample[j]]);
+      weight.emplace_back(sum, own);
+      total_weight += own;
+    }
   }
   out.structured = weight.size();
   if (weight.empty()) return out;
-  const auto q = static_cast<std::size_t>(
-      std::floor(rule.min_pts_quantile * static_cast<double>(weight.size() - 1)));
-  std::nth_element(weight.begin(), weight.begin() + static_cast<std::ptrdiff_t>(q), weight.end());
-  const double chosen = std::min(weight[q], static_cast<double>(std::numeric_limits<int>::max()));
+  std::sort(weight.begin(), weight.end());
+  double chosen = weight.back().first, below_weight = 0.0;
+  for (const auto& [sum, own] : weight) {
+    below_weight += own;
+    if (below_weight > rule.min_pts_quantile * total_weight * (1.0 + 1e-12)) {
+      chosen = sum;
+      break;
+    }
+  }
+  chosen = std::min(chosen, static_cast<double>(std::numeric_limits<int>::max()));
   out.min_pts = std::max(rule.min_min_pts, static_cast<int>(chosen));
   return out;
 }

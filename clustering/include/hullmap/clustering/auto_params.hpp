@@ -44,7 +44,7 @@ struct AutoParamsRule {
   double eps_factor = 2.0;         ///< eps = eps_factor * that k-NN distance, > 0
   double min_eps_voxels = 1.8;     ///< lower clamp of eps, in voxel sizes
   double max_eps_voxels = 8.0;     ///< upper clamp of eps, in voxel sizes (>= min_eps_voxels)
-  double min_pts_quantile = 0.1;   ///< in [0, 1]
+  double min_pts_quantile = 0.05;  ///< in [0, 1]
   int min_min_pts = 3;             ///< >= 1
   std::size_t sample = 512;        ///< voxels measured, >= 1
   std::uint64_t seed = 1;
