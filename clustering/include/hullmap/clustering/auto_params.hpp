@@ -29,8 +29,8 @@ namespace hullmap::clustering {
 ///    keeps obstacles max_eps_voxels voxels apart (0.4 m at 5 cm) from merging, however sparse.
 /// 3. minPts = the `min_pts_quantile` quantile of the neighbourhood weight (DBSCAN's: the summed
 ///    weight within eps, the voxel included) over the sampled voxels that lie on a structure (at
-///    least k other voxels within eps), at least `min_min_pts`: about (1 - quantile) of the
-///    structure's voxels are core, so walls and furniture form clusters, while an isolated outlier
+///    least k other voxels within eps), each weighing its own map points as in 1, at least
+///    `min_min_pts`: the voxels holding about (1 - quantile) of the structure's points are core, so walls and furniture form clusters, while an isolated outlier
 ///    voxel (alone within eps) is not core. Outliers are left out of the quantile: on a map with
 ///    many of them they would pull it down to 1. No structured voxel: minPts = min_min_pts.
 ///
