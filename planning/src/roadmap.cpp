@@ -8,6 +8,7 @@
 #include <utility>
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Gmpzf.h>
 #include <CGAL/Polygon_set_2.h>
 #include <CGAL/Segment_Delaunay_graph_hierarchy_2.h>
 #include <Eigen/Geometry>
@@ -26,7 +27,12 @@ namespace {
 // Field_with_sqrt_tag lets the constructions (Voronoi vertices) use sqrt in double. Footprints
 // that meet are replaced by their exact union first, so sites meet only at shared ends.
 using Kernel = CGAL::Simple_cartesian<double>;
-using Traits = CGAL::Segment_Delaunay_graph_filtered_traits_without_intersections_2<Kernel, CGAL::Field_with_sqrt_tag>;
+// The exact fallback of the filtered predicates computes in a ring (no division): Gmpzf (an exact
+// binary float: a GMP integer times a power of two, every double exactly) does ring arithmetic
+// without the gcd that the default Gmpq runs after every operation.
+using ExactRingKernel = CGAL::Simple_cartesian<CGAL::Gmpzf>;
+using Traits = CGAL::Segment_Delaunay_graph_filtered_traits_without_intersections_2<
+    Kernel, CGAL::Field_with_sqrt_tag, ExactRingKernel, CGAL::Integral_domain_without_division_tag>;
 using Sdg = CGAL::Segment_Delaunay_graph_hierarchy_2<Traits>;  // hierarchy: fast point location
 // Voronoi vertices are constructed in double with sqrt: the filtered traits fall back to an exact
 // ring construction that divides by zero on some degenerate faces (collinear sites, which voxel
