@@ -282,24 +282,30 @@ class EchoDumpAsMarkers(unittest.TestCase):
             node.stop()
 
 
+def small_room(name):
+    """A generated 5 m room (metric, z up, 3 pieces of furniture) in TMP/name: its points file and points."""
+    scene = os.path.join(TMP, name)
+    subprocess.run([HULLMAP, "generate", "--layout", "room", "--z-up", "--seed", "3", "--obstacles", "3",
+                    "--room", "5", "-o", scene], check=True, capture_output=True)
+    points_file = os.path.join(scene, "map_points.txt")
+    points = []
+    with open(points_file) as f:
+        for line in f:
+            fields = line.split()
+            if len(fields) == 3 and not line.startswith("#"):
+                points.append(tuple(float(v) for v in fields))
+    return points_file, points
+
+
 class Defaults(unittest.TestCase):
     def test_at_its_defaults_the_node_publishes_the_convex_parts_of_hullmap_build_at_its_defaults(self):
         # A generated room, metric and z-up: at the defaults the floor is found and left out, eps and
         # minPts are chosen from the map and the clusters are split into convex parts; the node's
         # parameters default to build's, and its hull markers hold the parts (what checks use).
-        scene = os.path.join(TMP, "defaults_scene")
-        subprocess.run([HULLMAP, "generate", "--layout", "room", "--z-up", "--seed", "3", "--obstacles", "3",
-                        "--room", "5", "-o", scene], check=True, capture_output=True)
-        points_file = os.path.join(scene, "map_points.txt")
+        points_file, points = small_room("defaults_scene")
         obstacles = hullmap_build([points_file], os.path.join(TMP, "defaults_build"), [])
         self.assertTrue(any(o.get("parts") for o in obstacles), "the defaults split into convex parts")
         expected = expected_triangles(obstacles)
-        points = []
-        with open(points_file) as f:
-            for line in f:
-                fields = line.split()
-                if len(fields) == 3 and not line.startswith("#"):
-                    points.append(tuple(float(v) for v in fields))
         node = Node({})
         try:
             node.publisher("/%s/cloud_in" % node.name, PointCloud2).publish(cloud(points))
@@ -314,19 +320,10 @@ class FlatGap(unittest.TestCase):
     def test_flat_gap_0_publishes_hullmap_build_flat_gap_0_and_bad_values_stop_the_node(self):
         # The generated room's walls are flat parts at the default (auto: the eps used); ~flat_gap 0
         # turns that off, as --flat-gap 0 does, and the parts differ.
-        scene = os.path.join(TMP, "flat_gap_scene")
-        subprocess.run([HULLMAP, "generate", "--layout", "room", "--z-up", "--seed", "3", "--obstacles", "3",
-                        "--room", "5", "-o", scene], check=True, capture_output=True)
-        points_file = os.path.join(scene, "map_points.txt")
+        points_file, points = small_room("flat_gap_scene")
         at_defaults = expected_triangles(hullmap_build([points_file], os.path.join(TMP, "flat_gap_auto"), []))
         off = expected_triangles(hullmap_build([points_file], os.path.join(TMP, "flat_gap_off"), ["--flat-gap", "0"]))
         self.assertFalse(same_triangles(off, at_defaults), "--flat-gap 0 should change this room's parts")
-        points = []
-        with open(points_file) as f:
-            for line in f:
-                fields = line.split()
-                if len(fields) == 3 and not line.startswith("#"):
-                    points.append(tuple(float(v) for v in fields))
         node = Node({"flat_gap": 0})
         try:
             node.publisher("/%s/cloud_in" % node.name, PointCloud2).publish(cloud(points))
