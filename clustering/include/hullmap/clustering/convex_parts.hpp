@@ -22,13 +22,15 @@ struct ConvexPartsParams {
   /// than a slab T thick. Unset (or below T): G = T, no relaxation. hullmap build sets it to the
   /// DBSCAN eps, the distance at which the map's sampling connects a surface.
   std::optional<double> flat_gap;
-  /// Count the inside of a closed shell as the part's own voxels in the bound: the cells of its box
+  /// Count the space a cluster encloses as its parts' own voxels in the bound (a part's check uses
+  /// the enclosed cells inside its box): computed once per cluster, the cells of the cluster's box
   /// farther than rho = max(T, G) from all space reached from outside the box, where the outside
-  /// spreads (6-connected) only through cells farther than rho from the part's voxels, so holes
+  /// spreads (6-connected) only through cells farther than rho from the cluster's voxels, so holes
   /// narrower than about 2 rho do not let it in. It is a closing of the shell: a concave corner is
-  /// filled only within about 0.3 rho of its apex. A box or a cylinder sampled
-  /// only on its surface (its inside is never observed) stays one part; a ring of walls, open at
-  /// the top, does not enclose the room. Off: only the voxels count.
+  /// filled only within about 0.3 rho of its apex. A box or a cylinder sampled only on its surface
+  /// (its inside is never observed) stays one part; a ring of walls, open at the top, does not
+  /// enclose the room. A cluster whose box (with a margin of rho) holds more than max_check_cells
+  /// cells gets no fill. Off: only the voxels count.
   bool fill_enclosed = true;
   /// The floor's height (map frame z of its top), when known: a part whose lowest voxel is within two
   /// voxels of it is closed below by it (nothing enters the shell through its bottom face, which
