@@ -15,9 +15,11 @@
 //   hullmap_<n>.u8    n uint8 core flags
 // One JSON object per size on stdout:
 //   {"points":n,"seconds":best,"cpu_seconds":..,"points_per_second":..,"peak_bytes":..,"bytes_per_point":..,
-//    "clusters":..,"noise":..,"core":..,"threads":..}
+//    "clusters":..,"noise":..,"core":..,"threads":..,"k_distance_seconds":..,"k_distance_cpu_seconds":..}
 // Time is the best of --repeat runs of dbscan() on points in memory (wall clock, and CPU time of all
-// threads, which shows how much of the machine the run had when others share it). Peak memory is the growth of the
+// threads, which shows how much of the machine the run had when others share it). k_distance_*: what
+// `hullmap cluster`'s eps suggestion adds to the run (kEpsSuggestionSamples core distances answered on
+// the DBSCAN grid), best with it minus best without, runs taken in turns. Peak memory is the growth of the
 // resident set during one run: the peak (VmHWM) is reset through /proc/self/clear_refs first, so it
 // counts everything dbscan allocates and touches, the result included, and nothing else.
 
@@ -137,18 +139,24 @@ int main(int argc, char** argv) {
     const long peak = statusBytes("VmHWM:");
     const long grown = peak_ok && before >= 0 && peak >= 0 ? std::max(0L, peak - before) : -1;
 
-    // Time: best of `repeat` (the first run above warmed up the thread pool).
+    // Time: best of `repeat` (the first run above warmed up the thread pool), of dbscan() alone and,
+    // in turns with it, of dbscan() with `hullmap cluster`'s eps-suggestion sample: the difference is
+    // what the k-distance curve costs.
     const int runs = n >= 5000000 ? 1 : repeat;
-    double best = 1e300;
-    double best_cpu = 1e300;
+    double best = 1e300, best_cpu = 1e300, best_k = 1e300, best_k_cpu = 1e300;
+    const hullmap::clustering::KDistanceRequest request{hullmap::clustering::kEpsSuggestionSamples};
     for (int r = 0; r < runs; ++r) {
-      result = DbscanResult{};
-      const double c0 = cpuSeconds();
-      const auto t0 = std::chrono::steady_clock::now();
-      result = hullmap::clustering::dbscan(points, {}, params);
-      const auto t1 = std::chrono::steady_clock::now();
-      best_cpu = std::min(best_cpu, cpuSeconds() - c0);
-      best = std::min(best, std::chrono::duration<double>(t1 - t0).count());
+      for (const bool with_curve : {false, true}) {
+        result = DbscanResult{};
+        const double c0 = cpuSeconds();
+        const auto t0 = std::chrono::steady_clock::now();
+        result = with_curve ? hullmap::clustering::dbscan(points, {}, params, request)
+                            : hullmap::clustering::dbscan(points, {}, params);
+        const auto t1 = std::chrono::steady_clock::now();
+        const double cpu = cpuSeconds() - c0, wall = std::chrono::duration<double>(t1 - t0).count();
+        (with_curve ? best_k_cpu : best_cpu) = std::min(with_curve ? best_k_cpu : best_cpu, cpu);
+        (with_curve ? best_k : best) = std::min(with_curve ? best_k : best, wall);
+      }
     }
     const std::size_t core = std::count(result.core.begin(), result.core.end(), std::uint8_t{1});
 
@@ -163,9 +171,11 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "{\"points\":%zu,\"seconds\":%.6f,\"cpu_seconds\":%.6f,\"points_per_second\":%.0f,\"peak_bytes\":%ld,\"bytes_per_point\":%.1f,"
-        "\"clusters\":%zu,\"noise\":%zu,\"core\":%zu,\"threads\":%d}\n",
+        "\"clusters\":%zu,\"noise\":%zu,\"core\":%zu,\"threads\":%d,\"k_distance_seconds\":%.6f,"
+        "\"k_distance_cpu_seconds\":%.6f}\n",
         n, best, best_cpu, double(n) / best, grown, grown >= 0 ? double(grown) / double(n) : -1.0, result.cluster_sizes.size(),
-        result.noise, core, tbb::info::default_concurrency());
+        result.noise, core, tbb::info::default_concurrency(), std::max(0.0, best_k - best),
+        std::max(0.0, best_k_cpu - best_cpu));
     std::fflush(stdout);
   }
   return 0;

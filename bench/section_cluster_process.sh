@@ -53,10 +53,28 @@ echo "## Whole process: hullmap cluster"
 echo
 echo "What a user times: \`hullmap cluster map_points.txt --up -y -o labels.csv\` from start to exit (read"
 echo "the text file, frame change, exact DBSCAN, the eps suggestion from the k-distance curve of an evenly"
-echo "spread sample of 8192 points, write one labels.csv row per point), against Open3D's"
+echo "spread sample of 2048 points, answered on the DBSCAN run's own grid, write one labels.csv row per"
+echo "point), against Open3D's"
 echo "\`cluster_dbscan\` call alone (points already in memory, no file I/O) on the same points, in the same"
 echo "run; eps 0.1, minPts 10, a generated scene; hullmap the median of 3 runs (\`bench/section_cluster_process.sh\`)."
 echo
 echo "| points | hullmap cluster, whole process s | Open3D cluster_dbscan call s | Open3D / hullmap | clusters |"
 echo "|---|---|---|---|---|"
 printf '| %s | %.2f | %s | %s | %s |\n' "$n" "$hullmap_s" "$open3d_s" "$ratio" "$clusters"
+
+# What the eps suggestion costs inside the clustering: hullmap_bench_dbscan times dbscan() alone and
+# with the k-distance sample, in turns, on its own generated scene of the same size.
+bench="$build/bench/hullmap_bench_dbscan"
+if [ -x "$bench" ]; then
+  line=$("$bench" --sizes "$n" --repeat 5)
+  field() { echo "$line" | sed -n "s/.*\"$1\":\([0-9.e+-]*\).*/\1/p"; }
+  dbscan_ms=$(echo "$(field seconds) * 1000" | bc -l)
+  kdist_ms=$(echo "$(field k_distance_seconds) * 1000" | bc -l)
+  dbscan_cpu_ms=$(echo "$(field cpu_seconds) * 1000" | bc -l)
+  kdist_cpu_ms=$(echo "$(field k_distance_cpu_seconds) * 1000" | bc -l)
+  echo
+  printf 'The eps suggestion inside it (`hullmap_bench_dbscan --sizes %s`, best of 5, runs in turns): on %s points\n' "$n" "$n"
+  printf 'the k-distance sample adds %.1f ms to DBSCAN'"'"'s %.1f ms (%.0f%%); in CPU time of all threads %.1f ms to %.1f ms (%.0f%%).\n' \
+    "$kdist_ms" "$dbscan_ms" "$(echo "100 * $kdist_ms / $dbscan_ms" | bc -l)" \
+    "$kdist_cpu_ms" "$dbscan_cpu_ms" "$(echo "100 * $kdist_cpu_ms / $dbscan_cpu_ms" | bc -l)"
+fi

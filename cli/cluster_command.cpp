@@ -2,7 +2,6 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <future>
 #include <iostream>
 #include <ostream>
 #include <memory>
@@ -109,11 +108,9 @@ void runCluster(const ClusterOptions& o) {
   // With -o - the labels are standard output: the summary goes to standard error.
   std::FILE* const say = o.output == "-" ? stderr : stdout;
   const mapper::Points points = loadMapPoints(o);
-  // The eps suggestion's k-d tree is built on one core: it runs beside the clustering, not after it.
-  std::future<std::vector<double>> k_distances = std::async(std::launch::async, [&] {
-    return clustering::kDistanceCurve(points, o.min_pts, params.metric, clustering::kEpsSuggestionSamples);
-  });
-  const clustering::DbscanResult result = clustering::dbscan(points, {}, params);
+  // The eps suggestion's k-distances come from DBSCAN's own grid, on a sample of the points.
+  const clustering::DbscanResult result =
+      clustering::dbscan(points, {}, params, clustering::KDistanceRequest{clustering::kEpsSuggestionSamples});
 
   std::vector<std::size_t> sizes = result.cluster_sizes;
   std::sort(sizes.rbegin(), sizes.rend());
@@ -128,7 +125,7 @@ void runCluster(const ClusterOptions& o) {
     largest += (i ? ", " : "") + std::to_string(sizes[i]);
   }
   std::fprintf(say, "largest clusters: %s\n", largest.empty() ? "none" : largest.c_str());
-  const std::vector<double> curve = k_distances.get();
+  const std::vector<double>& curve = result.k_distance_curve;
   if (curve.empty()) {
     std::fprintf(say, "eps suggestion: none (fewer than min-pts points)\n");
   } else {

@@ -449,6 +449,77 @@ TEST(KDistance, SampledCurveMatchesBruteForceOnTheSample) {
   }
 }
 
+/// Core distances of `sample` by brute force, sorted descending: for each sampled point, the smallest
+/// r such that the points within r (itself included) weigh at least min_pts. Empty when all points
+/// together weigh less than min_pts.
+std::vector<double> oracleCoreDistances(const Points& points, const Weights& weights, int min_pts, Metric metric,
+                                        const std::vector<std::uint32_t>& sample) {
+  const auto weight = [&](std::size_t i) -> std::uint64_t { return weights.empty() ? 1 : weights[i]; };
+  std::uint64_t total = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) total += weight(i);
+  if (total < std::uint64_t(min_pts)) return {};
+  std::vector<double> curve;
+  for (const std::uint32_t i : sample) {
+    std::vector<std::pair<double, std::uint64_t>> by_distance;
+    for (std::size_t j = 0; j < points.size(); ++j) {
+      by_distance.emplace_back(squaredDistance(points[i], points[j], metric), weight(j));
+    }
+    std::sort(by_distance.begin(), by_distance.end());
+    std::uint64_t held = 0;
+    for (const auto& [d2, w] : by_distance) {
+      held += w;
+      if (held >= std::uint64_t(min_pts)) {
+        curve.push_back(std::sqrt(d2));
+        break;
+      }
+    }
+  }
+  std::sort(curve.rbegin(), curve.rend());
+  return curve;
+}
+
+// dbscan() with a KDistanceRequest answers the sample's core distances on its own grid. Against brute
+// force, to the bit: eps far below the spacing (most queries leave the 3^d cells around their own, the
+// search over groups of cells decides), eps near it and far above it; gross outliers (isolated
+// points, every group a candidate), duplicates, weights, both metrics. The labels are plain dbscan()'s.
+TEST(KDistance, DbscanGridCurveMatchesBruteForce) {
+  Points points = blobs(83, 500, 3.0, 4, 0.06);
+  for (std::size_t i = 0; i < 30; ++i) points.push_back(points[i * 11]);  // duplicates
+  points.emplace_back(5e4, -3e4, 1e3);                                     // gross outliers
+  points.emplace_back(-7e5, 2e5, 9e4);
+  points.emplace_back(40.0, 40.0, 40.0);
+  Weights weights(points.size());
+  for (std::size_t i = 0; i < weights.size(); ++i) weights[i] = 1 + std::uint32_t(i % 4);
+  for (Metric metric : {Metric::kXyz, Metric::kXy}) {
+    for (const double eps : {0.004, 0.05, 0.4}) {
+      for (const int min_pts : {1, 2, 6, 11}) {
+        for (const std::size_t samples : {std::size_t{0}, std::size_t{97}}) {
+          SCOPED_TRACE("metric " + toString(metric) + " eps " + std::to_string(eps) + " minPts " +
+                       std::to_string(min_pts) + " samples " + std::to_string(samples));
+          const std::vector<std::uint32_t> sample = kDistanceSample(points.size(), samples);
+          const DbscanParams params{eps, min_pts, metric};
+          const DbscanResult got = dbscan(points, {}, params, KDistanceRequest{samples});
+          EXPECT_EQ(got.k_distance_curve, oracleCoreDistances(points, {}, min_pts, metric, sample));
+          EXPECT_EQ(got.k_distance_curve, kDistanceCurve(points, min_pts, metric, samples));
+          const DbscanResult plain = dbscan(points, {}, params);
+          EXPECT_EQ(got.labels, plain.labels);
+          EXPECT_EQ(got.core, plain.core);
+          EXPECT_TRUE(plain.k_distance_curve.empty());
+          const DbscanResult weighted = dbscan(points, weights, params, KDistanceRequest{samples});
+          EXPECT_EQ(weighted.k_distance_curve, oracleCoreDistances(points, weights, min_pts, metric, sample));
+          EXPECT_EQ(weighted.labels, dbscan(points, weights, params).labels);
+        }
+      }
+    }
+  }
+  // Fewer than min_pts in weight: no curve; exactly min_pts: zeros when all coincide.
+  const Points three(3, Eigen::Vector3d::Zero());
+  EXPECT_TRUE(dbscan(three, {}, DbscanParams{0.1, 4}, KDistanceRequest{}).k_distance_curve.empty());
+  EXPECT_EQ(dbscan(three, {1, 1, 2}, DbscanParams{0.1, 4}, KDistanceRequest{}).k_distance_curve,
+            std::vector<double>(3, 0.0));
+  EXPECT_TRUE(dbscan(Points{}, {}, DbscanParams{0.1, 4}, KDistanceRequest{}).k_distance_curve.empty());
+}
+
 TEST(KDistance, SuggestsTheKnee) {
   EXPECT_EQ(suggestEps({}), 0.0);
   EXPECT_EQ(suggestEps({0.3}), 0.3);

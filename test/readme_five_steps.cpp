@@ -64,7 +64,7 @@ TEST(ReadmeFiveSteps, RunAsWrittenOnTheRealV1_01Map) {
     if (command.rfind("hullmap build ", 0) == 0) build_err = r.err;
   }
   // What the README says of this run.
-  EXPECT_NE(cluster_out.find("eps suggestion: 0.147"), std::string::npos) << cluster_out;
+  EXPECT_NE(cluster_out.find("eps suggestion: 0.146"), std::string::npos) << cluster_out;
   const auto report = nlohmann::json::parse(hullmap::test::slurp(dir / "v101" / "report.json"));
   EXPECT_EQ(report["obstacles"], 81);
   EXPECT_EQ(report["parts"]["count"], 107);

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cassert>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <new>
@@ -363,11 +364,16 @@ class GridDbscan {
     inv_side_ = 1.0 / side_;
   }
 
-  DbscanResult run() {
+  /// DBSCAN; with `k_distance`, also the core distances of its sample (DbscanResult::k_distance_curve).
+  DbscanResult run(const KDistanceRequest* k_distance = nullptr) {
     buildGrid();
+    std::vector<double> curve;
+    if (k_distance != nullptr) curve = coreDistanceCurve(k_distance->max_samples);
     markCore();
     joinCoreCells();
-    return label();
+    DbscanResult result = label();
+    result.k_distance_curve = std::move(curve);
+    return result;
   }
 
  private:
@@ -480,6 +486,171 @@ class GridDbscan {
       }
     });
     table_ = std::make_unique<CellTable>(coords_);
+  }
+
+  /// Core distances of the points kDistanceSample(n, max_samples) picks, sorted descending (see the
+  /// dbscan() overload taking a KDistanceRequest).
+  std::vector<double> coreDistanceCurve(std::size_t max_samples) {
+    const std::uint64_t min_pts = std::uint64_t(params_.min_pts);
+    std::uint64_t total = 0;
+    for (const std::uint64_t w : cell_weight_) total += w;
+    if (total < min_pts) return {};
+    const std::size_t n = input_.size();
+    const std::size_t count = max_samples == 0 ? n : std::min(n, max_samples);
+    std::vector<double> curve(count, 0.0);
+    if (min_pts > 1) {
+      // The sampled points in grid order (their sorted positions), so that consecutive queries share
+      // cells in cache: the input index i is sampled when floor(t * n / count) == i for some t, that is
+      // for t = ceil(i * count / n) (kDistanceSample's rule, in 128 bits).
+      std::vector<Index> queries;
+      queries.reserve(count);
+      const auto sampled = [&](Index i) {
+        const unsigned __int128 t = (static_cast<unsigned __int128>(i) * count + n - 1) / n;
+        return t < count && static_cast<std::size_t>(t * n / count) == i;
+      };
+      for (std::size_t j = 0; j < n; ++j) {
+        if (sampled(order_[j])) queries.push_back(Index(j));
+      }
+      assert(queries.size() == count);
+      buildGroups();
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), 256),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          NearestHeap heap;
+                          std::vector<std::pair<double, std::uint64_t>> queue;
+                          for (std::size_t j = r.begin(); j != r.end(); ++j) {
+                            curve[j] = std::sqrt(coreDistance2(pts_[queries[j]], heap, queue));
+                          }
+                        });
+    }
+    std::sort(curve.begin(), curve.end(), std::greater<double>());
+    return curve;
+  }
+
+  /// The nearest points found so far, as a max-heap on squared distance, holding just enough weight
+  /// for min_pts: bound() is then the squared core distance of the points offered so far.
+  struct NearestHeap {
+    std::vector<std::pair<double, std::uint64_t>> items;  // (squared distance, weight)
+    std::uint64_t held = 0;
+    double bound = std::numeric_limits<double>::infinity();
+
+    void clear() {
+      items.clear();
+      held = 0;
+      bound = std::numeric_limits<double>::infinity();
+    }
+    void offer(double d2, std::uint64_t weight, std::uint64_t min_pts) {
+      if (d2 >= bound) return;  // cannot lower the core distance
+      items.emplace_back(d2, weight);
+      std::push_heap(items.begin(), items.end());
+      held += weight;
+      while (held - items.front().second >= min_pts) {  // the farthest is not needed any more
+        held -= items.front().second;
+        std::pop_heap(items.begin(), items.end());
+        items.pop_back();
+      }
+      if (held >= min_pts) bound = items.front().first;
+    }
+  };
+
+  /// Cells grouped by the 16^d-cell block of their sort key (contiguous in cell order: the key's high
+  /// bits are the block's hash; two blocks sharing a hash share a group), with the union of their boxes.
+  void buildGroups() {
+    group_start_.clear();
+    group_boxes_.clear();
+    const std::size_t cells = coords_.size();
+    for (std::size_t c = 0; c < cells; ++c) {
+      const std::uint64_t block = sortKey(coords_[c]) >> 12;
+      if (c == 0 || block != sortKey(coords_[c - 1]) >> 12) {
+        group_start_.push_back(Index(c));
+        group_boxes_.push_back(boxes_[c]);
+      } else {
+        CellBox& g = group_boxes_.back();
+        for (int k = 0; k < 3; ++k) {
+          g.lo[k] = std::min(g.lo[k], boxes_[c].lo[k]);
+          g.hi[k] = std::max(g.hi[k], boxes_[c].hi[k]);
+        }
+      }
+    }
+    group_start_.push_back(Index(cells));
+  }
+
+  /// Squared core distance of p (see coreDistanceCurve): the 3^d cells around p's own first; then,
+  /// unless no point outside them can be nearer than the bound found, the groups nearest first.
+  double coreDistance2(const Eigen::Vector3d& p, NearestHeap& heap,
+                       std::vector<std::pair<double, std::uint64_t>>& queue) const {
+    const std::uint64_t min_pts = std::uint64_t(params_.min_pts);
+    heap.clear();
+    const auto scanCell = [&](Index o) {
+      if (minSquaredDistance<D>(p, boxes_[o]) > heap.bound) return;
+      for (Index q = start_[o]; q < start_[o + 1]; ++q) {
+        heap.offer(squaredDistance<D>(p, pts_[q]), weightOf(q), min_pts);
+      }
+    };
+    const CellCoord base = cellOf(p);
+    // gap2[k][o + 1]: squared gap along axis k from p to the cell at offset o (0 for its own); every
+    // point outside the 3^d cells is at least `reach` away along some axis. The slack covers rounding
+    // in the cell assignment, so gaps are never overestimated.
+    double gap2[3][3] = {};
+    double reach = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < D; ++k) {
+      const double slack = side_ * 1e-6 + 1e-14 * std::abs(p[k]);
+      const double below = std::max(0.0, p[k] - double(base[k]) * side_ - slack);
+      const double above = std::max(0.0, double(base[k] + 1) * side_ - p[k] - slack);
+      gap2[k][0] = below * below;
+      gap2[k][2] = above * above;
+      reach = std::min(reach, std::min(below, above) + side_ * (1.0 - 1e-6));
+    }
+    // Its own cell first (the bound it gives skips most neighbours unlooked-up), then the others.
+    if (const Index own = table_->find(base); own != kNone) scanCell(own);
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = (D == 2 ? 0 : -1); dz <= (D == 2 ? 0 : 1); ++dz) {
+          if (dx == 0 && dy == 0 && dz == 0) continue;
+          if (gap2[0][dx + 1] + gap2[1][dy + 1] + gap2[2][dz + 1] > heap.bound) continue;
+          const Index o = table_->find(CellCoord{base.x + dx, base.y + dy, base.z + dz});
+          if (o != kNone) scanCell(o);
+        }
+      }
+    }
+    if (heap.bound <= reach * reach) return heap.bound;
+
+    // Best first over groups and cells together: a min-heap on the squared distance to the box,
+    // where popping a group pushes its cells, popped only as far as the bound reaches. An isolated
+    // point has every group as a candidate and needs only the nearest few cells.
+    const std::uint64_t group_count = group_start_.size() - 1;  // ids >= group_count are cells
+    queue.clear();
+    for (std::uint64_t g = 0; g < group_count; ++g) {
+      const double d2 = minSquaredDistance<D>(p, group_boxes_[g]);
+      if (d2 <= heap.bound) queue.emplace_back(d2, g);
+    }
+    const auto farther = [](const std::pair<double, std::uint64_t>& a, const std::pair<double, std::uint64_t>& b) {
+      return a > b;
+    };
+    std::make_heap(queue.begin(), queue.end(), farther);
+    const auto near = [&](const CellCoord& c) {
+      return std::abs(c.x - base.x) <= 1 && std::abs(c.y - base.y) <= 1 && std::abs(c.z - base.z) <= 1;
+    };
+    while (!queue.empty() && queue.front().first <= heap.bound) {
+      const std::uint64_t id = queue.front().second;
+      std::pop_heap(queue.begin(), queue.end(), farther);
+      queue.pop_back();
+      if (id >= group_count) {  // a cell: id - group_count
+        const auto o = Index(id - group_count);
+        for (Index q = start_[o]; q < start_[o + 1]; ++q) {
+          heap.offer(squaredDistance<D>(p, pts_[q]), weightOf(q), min_pts);
+        }
+        continue;
+      }
+      for (Index o = group_start_[id]; o < group_start_[id + 1]; ++o) {
+        if (near(coords_[o])) continue;  // the 3^d cells around p were scanned above
+        const double d2 = minSquaredDistance<D>(p, boxes_[o]);
+        if (d2 <= heap.bound) {
+          queue.emplace_back(d2, group_count + o);
+          std::push_heap(queue.begin(), queue.end(), farther);
+        }
+      }
+    }
+    return heap.bound;
   }
 
   /// Existing cells of the stencil around `c` that can hold a point within eps of one of c's points,
@@ -704,13 +875,17 @@ class GridDbscan {
   BigVector<std::uint8_t> core_;         // sorted position -> core
   BigVector<std::uint8_t> cell_core_;    // cell -> kNoCore, kSomeCore, kAllCore
   std::unique_ptr<UnionFind> sets_;
+  std::vector<Index> group_start_;       // group -> first cell; size groups + 1 (k-distance only)
+  std::vector<CellBox> group_boxes_;     // group -> bounding box of its cells
 };
 
 }  // namespace
 }  // namespace detail
 
-DbscanResult dbscan(const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& weights,
-                    const DbscanParams& params) {
+namespace {
+
+DbscanResult runDbscan(const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& weights,
+                       const DbscanParams& params, const KDistanceRequest* k_distance) {
   if (!(params.eps > 0.0) || !std::isfinite(params.eps)) {
     throw Error::inParameter("eps", "must be a positive finite number, got " + std::to_string(params.eps));
   }
@@ -726,8 +901,20 @@ DbscanResult dbscan(const std::vector<Eigen::Vector3d>& points, const std::vecto
     if (weights[i] == 0) throw Error("dbscan: weight of point " + std::to_string(i) + " is 0");
   }
   if (points.empty()) return DbscanResult{};
-  if (params.metric == Metric::kXy) return detail::GridDbscan<2>(points, weights, params).run();
-  return detail::GridDbscan<3>(points, weights, params).run();
+  if (params.metric == Metric::kXy) return detail::GridDbscan<2>(points, weights, params).run(k_distance);
+  return detail::GridDbscan<3>(points, weights, params).run(k_distance);
+}
+
+}  // namespace
+
+DbscanResult dbscan(const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& weights,
+                    const DbscanParams& params) {
+  return runDbscan(points, weights, params, nullptr);
+}
+
+DbscanResult dbscan(const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& weights,
+                    const DbscanParams& params, const KDistanceRequest& k_distance) {
+  return runDbscan(points, weights, params, &k_distance);
 }
 
 }  // namespace hullmap::clustering
