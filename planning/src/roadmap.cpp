@@ -334,7 +334,7 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   }
   std::map<int, std::vector<int>> groups;  // root -> members, in input order
   for (std::size_t i = 0; i < clipped.size(); ++i) groups[meeting.find(static_cast<int>(i))].push_back(static_cast<int>(i));
-  auto toDouble = [](const ExactPolygon& poly) {
+  auto toDouble = [hair](const ExactPolygon& poly) {
     // Vertices exactly between their neighbours are dropped (the same polygon): chains of collinear
     // sites make degenerate SDG faces whose Voronoi vertex cannot be constructed in double.
     std::vector<ExactKernel::Point_2> kept;
@@ -354,10 +354,13 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     std::vector<Eigen::Vector2d> out;
     for (auto v = kept.begin(); v != kept.end(); ++v) {
       // Rounded from the exact value (the lazy approximation depends on what was evaluated before).
+      // Distinct exact vertices a hair apart (the union's intersection points) would leave a site
+      // shorter than a hair, around which the double-precision Voronoi vertices go astray (an edge
+      // was drawn straight through the footprint): such a vertex merges into the one before.
       const Eigen::Vector2d p(CGAL::to_double(CGAL::exact(v->x())), CGAL::to_double(CGAL::exact(v->y())));
-      if (out.empty() || p != out.back()) out.push_back(p);
+      if (out.empty() || (p - out.back()).cwiseAbs().maxCoeff() > hair) out.push_back(p);
     }
-    while (out.size() > 1 && out.front() == out.back()) out.pop_back();
+    while (out.size() > 1 && (out.front() - out.back()).cwiseAbs().maxCoeff() <= hair) out.pop_back();
     // Start at the lexicographically least vertex: CGAL's output order varies from run to run, and
     // the SDG's insertion order decides how degenerate (co-circular) faces are split.
     const auto least = std::min_element(out.begin(), out.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
