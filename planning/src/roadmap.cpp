@@ -1,6 +1,7 @@
 #include "hullmap/planning/roadmap.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -51,6 +52,69 @@ double segmentDistance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const
   const double len2 = ab.squaredNorm();
   const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
   return (a + t * ab - p).norm();
+}
+
+/// Boxes binned into a uniform grid over the bounds (about one box per cell), to find those near a
+/// query box without scanning them all.
+class BoxGrid {
+ public:
+  BoxGrid(const std::vector<Eigen::AlignedBox<double, 2>>& boxes, const Eigen::AlignedBox<double, 2>& bounds)
+      : lo_(bounds.min()) {
+    const Eigen::Vector2d size = bounds.sizes().cwiseMax(1e-12);
+    const double side = std::sqrt(std::max(size.x() * size.y() / double(std::max<std::size_t>(boxes.size(), 1)), 1e-24));
+    inv_ = 1.0 / side;
+    nx_ = std::clamp(static_cast<int>(std::ceil(size.x() * inv_)), 1, 4096);
+    ny_ = std::clamp(static_cast<int>(std::ceil(size.y() * inv_)), 1, 4096);
+    cells_.resize(std::size_t(nx_) * std::size_t(ny_));
+    for (std::size_t i = 0; i < boxes.size(); ++i) {
+      const auto [x0, y0, x1, y1] = range(boxes[i], 0.0);
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) cells_[std::size_t(y) * std::size_t(nx_) + std::size_t(x)].push_back(i);
+    }
+    stamp_.assign(boxes.size(), 0);
+  }
+
+  /// Calls f(i) once for every box i binned in a cell within `margin` of `box` (a superset of the
+  /// boxes within margin of it). Not thread-safe (a visit stamp).
+  template <class F>
+  void forEachNear(const Eigen::AlignedBox<double, 2>& box, double margin, F&& f) const {
+    ++visit_;
+    const auto [x0, y0, x1, y1] = range(box, margin);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x)
+        for (std::size_t i : cells_[std::size_t(y) * std::size_t(nx_) + std::size_t(x)]) {
+          if (stamp_[i] == visit_) continue;
+          stamp_[i] = visit_;
+          f(i);
+        }
+  }
+
+ private:
+  std::array<int, 4> range(const Eigen::AlignedBox<double, 2>& box, double margin) const {
+    const auto cell = [&](double v, double lo, int n) {
+      const double c = std::floor((v - lo) * inv_);
+      return static_cast<int>(std::clamp(c, 0.0, double(n - 1)));
+    };
+    return {cell(box.min().x() - margin, lo_.x(), nx_), cell(box.min().y() - margin, lo_.y(), ny_),
+            cell(box.max().x() + margin, lo_.x(), nx_), cell(box.max().y() + margin, lo_.y(), ny_)};
+  }
+
+  Eigen::Vector2d lo_;
+  double inv_ = 1.0;
+  int nx_ = 1, ny_ = 1;
+  std::vector<std::vector<std::size_t>> cells_;
+  mutable std::vector<std::uint64_t> stamp_;
+  mutable std::uint64_t visit_ = 0;
+};
+
+/// Distance between segments ab and cd (0 when they cross).
+double segmentsDistance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                        const Eigen::Vector2d& d) {
+  const auto side = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r) {
+    return (q - p).x() * (r - p).y() - (q - p).y() * (r - p).x();
+  };
+  if (side(a, b, c) * side(a, b, d) < 0 && side(c, d, a) * side(c, d, b) < 0) return 0.0;
+  return std::min({segmentDistance(a, b, c), segmentDistance(a, b, d), segmentDistance(c, d, a), segmentDistance(c, d, b)});
 }
 
 /// `p` strictly inside the region bounded by `rings` (outer boundary and holes; even-odd rule).
@@ -539,6 +603,7 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     return p.x() >= bb.x0 - same && p.x() <= bb.x1 + same && p.y() >= bb.y0 - same && p.y() <= bb.y1 + same;
   };
 
+  const BoxGrid footprint_grid(boxes, Eigen::AlignedBox<double, 2>(Eigen::Vector2d(bb.x0, bb.y0), Eigen::Vector2d(bb.x1, bb.y1)));
   for (auto e = sdg.finite_edges_begin(); e != sdg.finite_edges_end(); ++e) {
     const auto f = e->first;
     const auto g = f->neighbor(e->second);
@@ -561,6 +626,31 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     edge.site_b = siteRef(sb, ob, bounds_owner);
     traceBisector(edge, a, b, params.tolerance);
     if (edge.clearance < params.min_clearance) continue;
+    // A guard on the construction: the polyline's chords against every footprint's boundary near
+    // it. Where a Voronoi vertex constructed in double went astray, the edge may pass closer to a
+    // third footprint than to its sites; its clearance is then what was measured. (Chords of a
+    // parabola lie up to the tolerance nearer its focus, so only a shortfall beyond it counts.)
+    {
+      Eigen::AlignedBox<double, 2> reach(edge.polyline.front(), edge.polyline.front());
+      for (const auto& p : edge.polyline) reach.extend(p);
+      double measured = edge.clearance;
+      const auto near = [&](const Eigen::Vector2d& c, const Eigen::Vector2d& d) {
+        return Eigen::AlignedBox<double, 2>(c.cwiseMin(d), c.cwiseMax(d)).exteriorDistance(reach) < measured;
+      };
+      footprint_grid.forEachNear(reach, edge.clearance, [&](std::size_t i) {
+        if (boxes[i].exteriorDistance(reach) >= measured) return;
+        for (const auto& ring : rings[i])
+          for (std::size_t k = 0; k < ring.size(); ++k) {
+            const Eigen::Vector2d& c = ring[k];
+            const Eigen::Vector2d& d = ring[(k + 1) % ring.size()];
+            if (!near(c, d)) continue;
+            for (std::size_t q = 1; q < edge.polyline.size(); ++q)
+              measured = std::min(measured, segmentsDistance(edge.polyline[q - 1], edge.polyline[q], c, d));
+          }
+      });
+      if (measured < edge.clearance - params.tolerance) edge.clearance = measured;
+      if (edge.clearance < params.min_clearance) continue;
+    }
     const Eigen::Vector2d mid = edge.polyline[edge.polyline.size() / 2] * 0.5 +
                                 edge.polyline[(edge.polyline.size() - 1) / 2] * 0.5;
     bool inside = false;
