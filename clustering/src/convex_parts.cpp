@@ -278,7 +278,7 @@ class ClusterSplitter {
       feeder.add(Work(std::move(halves.left), std::move(halves.left_hull)));
       feeder.add(Work(std::move(halves.right), std::move(halves.right_hull)));
     });
-    return merge(std::move(done));
+    return absorb(merge(std::move(done)));
   }
 
  private:
@@ -519,6 +519,88 @@ class ClusterSplitter {
           enclosed[std::size_t((k * ny + j) * nx + i)] =
               double(outside[padded(i + m, j + m, k + m)]) > rho2_ && d2[std::size_t((k * ny + j) * nx + i)] > 0.0f;
     return enclosed;
+  }
+
+  /// A flat part's slab: a facet normal n (corner-lattice units) along which the hull is at most T
+  /// wide, and the range [lo, hi] of n . x over the hull (hi the facet plane's value). The first such
+  /// facet in the hull's plane order; none when the hull is wider than T along every facet normal.
+  struct Slab {
+    Cell n;
+    std::int64_t lo, hi;
+  };
+  std::optional<Slab> thinSlab(const LatticeHull& hull, const std::vector<Cell>& cells) const {
+    for (const auto& p : hull.planes) {
+      const double norm = std::sqrt(double(dot(p.n, p.n)));
+      const std::int64_t corner = std::min<std::int64_t>(p.n[0], 0) + std::min<std::int64_t>(p.n[1], 0) +
+                                  std::min<std::int64_t>(p.n[2], 0);
+      std::int64_t lo = p.d;
+      for (const auto& c : cells) lo = std::min(lo, dot(p.n, c) + corner);
+      if (double(p.d - lo) <= t_ * norm * (1.0 + 1e-12)) return Slab{p.n, lo, p.d};
+    }
+    return std::nullopt;
+  }
+
+  /// Hands the voxels of the non-flat parts that lie in a flat part's slab to that flat part, when
+  /// the flat part with them still passes its check (so every part keeps its guarantee). Where two
+  /// walls meet, or a voxel of noise sits off a wall, the merge leaves a small non-flat part (the
+  /// corner's voxels of both walls together are thicker than T, and its hull over the walls' holes is
+  /// farther than T from them): its voxels in each wall's slab go to that wall, and what is left (if
+  /// anything) stays a part. Flat parts in order of size (largest first, ties by first cell), the
+  /// other parts in order of their first cell; deterministic.
+  std::vector<std::pair<Members, Check>> absorb(std::vector<std::pair<Members, Check>> parts) const {
+    std::vector<std::size_t> flats, others;
+    for (std::size_t p = 0; p < parts.size(); ++p) (parts[p].second.flat ? flats : others).push_back(p);
+    if (flats.empty() || others.empty()) return parts;
+    std::stable_sort(flats.begin(), flats.end(),
+                     [&](std::size_t a, std::size_t b) { return parts[a].first.size() > parts[b].first.size(); });
+    bool changed = false;
+    for (const auto q : others) {
+      Cell qlo, qhi;
+      box(parts[q].first, qlo, qhi);
+      for (const auto f : flats) {
+        if (parts[q].first.empty()) break;
+        Cell flo, fhi;
+        box(parts[f].first, flo, fhi);
+        bool near = true;
+        for (std::size_t k = 0; k < 3; ++k)
+          near = near && qlo[k] - fhi[k] - 1 <= reach_ && flo[k] - qhi[k] - 1 <= reach_;
+        if (!near) continue;
+        const auto slab = thinSlab(parts[f].second.hull, gather(parts[f].first));
+        if (!slab) continue;
+        // The voxels of q whose cube lies in the slab.
+        const std::int64_t low_corner = std::min<std::int64_t>(slab->n[0], 0) + std::min<std::int64_t>(slab->n[1], 0) +
+                                        std::min<std::int64_t>(slab->n[2], 0);
+        const std::int64_t high_corner = std::max<std::int64_t>(slab->n[0], 0) + std::max<std::int64_t>(slab->n[1], 0) +
+                                         std::max<std::int64_t>(slab->n[2], 0);
+        Members in, out;
+        for (const auto i : parts[q].first) {
+          const std::int64_t v = dot(slab->n, cells_[i]);
+          (v + low_corner >= slab->lo && v + high_corner <= slab->hi ? in : out).push_back(i);
+        }
+        if (in.empty()) continue;
+        Members both;
+        both.reserve(parts[f].first.size() + in.size());
+        std::merge(parts[f].first.begin(), parts[f].first.end(), in.begin(), in.end(), std::back_inserter(both));
+        Check check = checkPart(both, false);
+        if (!check.ok) continue;
+        // What is left must pass alone too (it lost sites), or nothing moves.
+        Check rest;
+        if (!out.empty()) {
+          rest = checkPart(out, false);
+          if (!rest.ok) continue;
+        }
+        parts[f] = {std::move(both), std::move(check)};
+        parts[q] = {std::move(out), std::move(rest)};
+        changed = true;
+        if (!parts[q].first.empty()) box(parts[q].first, qlo, qhi);
+      }
+    }
+    if (!changed) return parts;
+    std::vector<std::pair<Members, Check>> kept;
+    for (auto& part : parts)
+      if (!part.first.empty()) kept.push_back(std::move(part));
+    std::sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return a.first[0] < b.first[0]; });
+    return kept;
   }
 
   /// Whether the hull is at most T wide along one of its facet normals (so it is at most T thick:
