@@ -33,6 +33,9 @@ constexpr std::size_t kAdaptMinVoxels = 16;
 constexpr std::size_t kAdaptSamples = 1024;
 constexpr double kAdaptVacancies = 0.01;
 constexpr double kAdaptMaxFactor = 2.0;
+/// absorb(): a non-flat part gives voxels to a flat part only when the flat part has at least this
+/// many times its voxels.
+constexpr std::size_t kAbsorbRatio = 8;
 using Members = std::vector<std::uint32_t>;  ///< sorted indices into the cluster's cells
 
 /// A facet plane of a lattice hull: n . x <= d inside, x in corner-lattice coordinates (cell (i, j, k)
@@ -541,7 +544,8 @@ class ClusterSplitter {
   }
 
   /// Hands the voxels of the non-flat parts that lie in a flat part's slab to that flat part, when
-  /// the flat part with them still passes its check (so every part keeps its guarantee). Where two
+  /// the flat part with them still passes its check (so every part keeps its guarantee) and the
+  /// non-flat part is a fragment (the flat part has at least kAbsorbRatio times its voxels). Where two
   /// walls meet, or a voxel of noise sits off a wall, the merge leaves a small non-flat part (the
   /// corner's voxels of both walls together are thicker than T, and its hull over the walls' holes is
   /// farther than T from them): its voxels in each wall's slab go to that wall, and what is left (if
@@ -559,6 +563,9 @@ class ClusterSplitter {
       box(parts[q].first, qlo, qhi);
       for (const auto f : flats) {
         if (parts[q].first.empty()) break;
+        // Fragments only: a part at least 1/kAbsorbRatio of the flat part's size stays as it is (a
+        // slanted slab through a 3D cluster would otherwise gather its voxels into a wide thin hull).
+        if (parts[q].first.size() * kAbsorbRatio > parts[f].first.size()) continue;
         Cell flo, fhi;
         box(parts[f].first, flo, fhi);
         bool near = true;
