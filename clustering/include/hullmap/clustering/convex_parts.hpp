@@ -105,7 +105,9 @@ double adaptedFlatGap(const std::vector<Eigen::Vector3d>& centers, double voxel_
 /// centres; and per axis the cut whose halves have the smallest summed bounding boxes. The one whose
 /// halves have the smallest summed hull volume (exact, on the lattice) wins. Then bottom-up, adjacent parts (boxes within T) are merged while the union
 /// still passes the check, the pair adding the least hull volume first: a box stays one part, an L
-/// becomes its two arms, a ring of walls its walls.
+/// becomes its two arms, a ring of walls its walls. Last, a non-flat fragment (a part with at most
+/// 1/8 of a nearby flat part's voxels, such as a room's corner) hands its voxels lying in the flat
+/// part's slab to it, when both still pass the check.
 ///
 /// `centers`: voxel centres of one cluster on a lattice of edge `voxel_size` (map units). Throws
 /// hullmap::Error on voxel_size <= 0, a negative or non-finite concavity, or non-finite input.
