@@ -301,7 +301,8 @@ void addBuildCommand(CLI::App& app, int& status) {
       ->check(wordOr({"default", "none"}, numberAbove(0)))->capture_default_str();
   cmd->add_option("--flat-gap", options->flat_gap,
                   "Convex parts at most T thick (walls, table tops) may span gaps up to G (map units) instead "
-                  "of T; auto: the eps used; 0: off")
+                  "of T; auto: the eps used, raised on sparse clusters to the holes their sampling leaves by chance "
+                  "(at most 2 eps); 0: off")
       ->check(wordOr({"auto"}, numberAbove(0, true)))->capture_default_str();
   cmd->add_option("--metric", options->metric, "DBSCAN distance: xyz or xy (top view)")
       ->check(CLI::IsMember({"xyz", "xy"}))->capture_default_str();

@@ -255,6 +255,9 @@ TEST(PipelineStages, FlatGapOptionReachesTheReportAndZeroTurnsItOff) {
   ASSERT_GT(a["flat_gap"].get<double>(), a["concavity"].get<double>()) << "the room's auto eps should exceed T";
   EXPECT_GT(a["flat_parts"].get<std::size_t>(), 0u);
   EXPECT_EQ(flatInObstacles(automatic.obstacles), a["flat_parts"].get<std::size_t>());
+  // Auto G is adapted per cluster (clustering::adaptedFlatGap): between G and 2 G.
+  EXPECT_GE(a["flat_gap_max"].get<double>(), a["flat_gap"].get<double>());
+  EXPECT_LE(a["flat_gap_max"].get<double>(), 2.0 * a["flat_gap"].get<double>() + 1e-12);
   std::ostringstream line;
   line << "flat gap " << std::setprecision(4) << a["flat_gap"].get<double>() << ": " << a["flat_parts"] << " flat parts";
   EXPECT_NE(automatic.out.find(line.str()), std::string::npos) << "expected '" << line.str() << "' in: " << automatic.out;
@@ -262,6 +265,7 @@ TEST(PipelineStages, FlatGapOptionReachesTheReportAndZeroTurnsItOff) {
   const auto& o = off.report["parts"];
   EXPECT_EQ(off.report["parameters"]["flat_gap"], 0.0);
   EXPECT_EQ(o["flat_gap"], o["concavity"]);
+  EXPECT_EQ(o["flat_gap_max"], o["concavity"]);
   EXPECT_EQ(o["flat_parts"], 0);
   EXPECT_EQ(flatInObstacles(off.obstacles), 0u);
   EXPECT_GT(o["count"].get<std::size_t>(), a["count"].get<std::size_t>());
@@ -269,6 +273,7 @@ TEST(PipelineStages, FlatGapOptionReachesTheReportAndZeroTurnsItOff) {
 
   EXPECT_EQ(given.report["parameters"]["flat_gap"], 0.5);
   EXPECT_EQ(given.report["parts"]["flat_gap"], 0.5);
+  EXPECT_EQ(given.report["parts"]["flat_gap_max"], 0.5) << "a G given is used as given";
   EXPECT_EQ(flatInObstacles(given.obstacles), given.report["parts"]["flat_parts"].get<std::size_t>());
   for (const auto& obstacle : given.obstacles["obstacles"])
     for (const auto& part : obstacle["parts"])

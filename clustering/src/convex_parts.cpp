@@ -25,6 +25,17 @@ namespace hullmap::clustering {
 namespace {
 
 using Cell = std::array<std::int64_t, 3>;
+
+/// Adapted flat gap (ConvexPartsParams::adapt_flat_gap): clusters of fewer voxels keep G; at most
+/// this many voxels are sampled for the density; the expected number of empty discs of the adapted
+/// radius that chance leaves on the cluster's surface; the cap, a multiple of G.
+constexpr std::size_t kAdaptMinVoxels = 16;
+constexpr std::size_t kAdaptSamples = 1024;
+constexpr double kAdaptVacancies = 0.01;
+constexpr double kAdaptMaxFactor = 2.0;
+/// absorb(): a non-flat part gives voxels to a flat part only when the flat part has at least this
+/// many times its voxels.
+constexpr std::size_t kAbsorbRatio = 8;
 using Members = std::vector<std::uint32_t>;  ///< sorted indices into the cluster's cells
 
 /// A facet plane of a lattice hull: n . x <= d inside, x in corner-lattice coordinates (cell (i, j, k)
@@ -270,7 +281,7 @@ class ClusterSplitter {
       feeder.add(Work(std::move(halves.left), std::move(halves.left_hull)));
       feeder.add(Work(std::move(halves.right), std::move(halves.right_hull)));
     });
-    return merge(std::move(done));
+    return absorb(merge(std::move(done)));
   }
 
  private:
@@ -511,6 +522,92 @@ class ClusterSplitter {
           enclosed[std::size_t((k * ny + j) * nx + i)] =
               double(outside[padded(i + m, j + m, k + m)]) > rho2_ && d2[std::size_t((k * ny + j) * nx + i)] > 0.0f;
     return enclosed;
+  }
+
+  /// A flat part's slab: a facet normal n (corner-lattice units) along which the hull is at most T
+  /// wide, and the range [lo, hi] of n . x over the hull (hi the facet plane's value). The first such
+  /// facet in the hull's plane order; none when the hull is wider than T along every facet normal.
+  struct Slab {
+    Cell n;
+    std::int64_t lo, hi;
+  };
+  std::optional<Slab> thinSlab(const LatticeHull& hull, const std::vector<Cell>& cells) const {
+    for (const auto& p : hull.planes) {
+      const double norm = std::sqrt(double(dot(p.n, p.n)));
+      const std::int64_t corner = std::min<std::int64_t>(p.n[0], 0) + std::min<std::int64_t>(p.n[1], 0) +
+                                  std::min<std::int64_t>(p.n[2], 0);
+      std::int64_t lo = p.d;
+      for (const auto& c : cells) lo = std::min(lo, dot(p.n, c) + corner);
+      if (double(p.d - lo) <= t_ * norm * (1.0 + 1e-12)) return Slab{p.n, lo, p.d};
+    }
+    return std::nullopt;
+  }
+
+  /// Hands the voxels of the non-flat parts that lie in a flat part's slab to that flat part, when
+  /// the flat part with them still passes its check (so every part keeps its guarantee) and the
+  /// non-flat part is a fragment (the flat part has at least kAbsorbRatio times its voxels). Where two
+  /// walls meet, or a voxel of noise sits off a wall, the merge leaves a small non-flat part (the
+  /// corner's voxels of both walls together are thicker than T, and its hull over the walls' holes is
+  /// farther than T from them): its voxels in each wall's slab go to that wall, and what is left (if
+  /// anything) stays a part. Flat parts in order of size (largest first, ties by first cell), the
+  /// other parts in order of their first cell; deterministic.
+  std::vector<std::pair<Members, Check>> absorb(std::vector<std::pair<Members, Check>> parts) const {
+    std::vector<std::size_t> flats, others;
+    for (std::size_t p = 0; p < parts.size(); ++p) (parts[p].second.flat ? flats : others).push_back(p);
+    if (flats.empty() || others.empty()) return parts;
+    std::stable_sort(flats.begin(), flats.end(),
+                     [&](std::size_t a, std::size_t b) { return parts[a].first.size() > parts[b].first.size(); });
+    bool changed = false;
+    for (const auto q : others) {
+      Cell qlo, qhi;
+      box(parts[q].first, qlo, qhi);
+      for (const auto f : flats) {
+        if (parts[q].first.empty()) break;
+        // Fragments only: a part at least 1/kAbsorbRatio of the flat part's size stays as it is (a
+        // slanted slab through a 3D cluster would otherwise gather its voxels into a wide thin hull).
+        if (parts[q].first.size() * kAbsorbRatio > parts[f].first.size()) continue;
+        Cell flo, fhi;
+        box(parts[f].first, flo, fhi);
+        bool near = true;
+        for (std::size_t k = 0; k < 3; ++k)
+          near = near && qlo[k] - fhi[k] - 1 <= reach_ && flo[k] - qhi[k] - 1 <= reach_;
+        if (!near) continue;
+        const auto slab = thinSlab(parts[f].second.hull, gather(parts[f].first));
+        if (!slab) continue;
+        // The voxels of q whose cube lies in the slab.
+        const std::int64_t low_corner = std::min<std::int64_t>(slab->n[0], 0) + std::min<std::int64_t>(slab->n[1], 0) +
+                                        std::min<std::int64_t>(slab->n[2], 0);
+        const std::int64_t high_corner = std::max<std::int64_t>(slab->n[0], 0) + std::max<std::int64_t>(slab->n[1], 0) +
+                                         std::max<std::int64_t>(slab->n[2], 0);
+        Members in, out;
+        for (const auto i : parts[q].first) {
+          const std::int64_t v = dot(slab->n, cells_[i]);
+          (v + low_corner >= slab->lo && v + high_corner <= slab->hi ? in : out).push_back(i);
+        }
+        if (in.empty()) continue;
+        Members both;
+        both.reserve(parts[f].first.size() + in.size());
+        std::merge(parts[f].first.begin(), parts[f].first.end(), in.begin(), in.end(), std::back_inserter(both));
+        Check check = checkPart(both, false);
+        if (!check.ok) continue;
+        // What is left must pass alone too (it lost sites), or nothing moves.
+        Check rest;
+        if (!out.empty()) {
+          rest = checkPart(out, false);
+          if (!rest.ok) continue;
+        }
+        parts[f] = {std::move(both), std::move(check)};
+        parts[q] = {std::move(out), std::move(rest)};
+        changed = true;
+        if (!parts[q].first.empty()) box(parts[q].first, qlo, qhi);
+      }
+    }
+    if (!changed) return parts;
+    std::vector<std::pair<Members, Check>> kept;
+    for (auto& part : parts)
+      if (!part.first.empty()) kept.push_back(std::move(part));
+    std::sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return a.first[0] < b.first[0]; });
+    return kept;
   }
 
   /// Whether the hull is at most T wide along one of its facet normals (so it is at most T thick:
@@ -845,9 +942,73 @@ void checkFloor(const ConvexPartsParams& params) {
 struct SplitResult {
   ClusterLattice lattice;
   std::vector<std::pair<Members, Check>> parts;
+  double flat_gap = 0.0;  ///< the G used for this cluster, map units
 };
 
-SplitResult splitCluster(const std::vector<Eigen::Vector3d>& centers, double voxel_size, double t, double g,
+/// x = pi lambda R^2 (the expected number of sites in a disc of radius R) at which N sites spread
+/// uniformly over an area leave, in expectation, `vacancies` empty discs of radius R (Hall 1988: about
+/// N x e^-x of them): the root x >= 1 of x - ln x = ln N - ln vacancies.
+double chanceDiscSites(double sites, double vacancies) {
+  const double target = std::log(std::max(sites, 3.0)) - std::log(vacancies);
+  double x = std::max(target, 1.0);
+  for (int i = 0; i < 64; ++i) x = target + std::log(x);
+  return x;
+}
+
+}  // namespace
+
+double adaptedFlatGap(const std::vector<Eigen::Vector3d>& centers, double voxel_size, const ConvexPartsParams& params) {
+  const double t = resolveConcavity(params, voxel_size);
+  const double g = resolveFlatGap(params, t);
+  if (!params.adapt_flat_gap || !(g > t) || centers.size() < kAdaptMinVoxels) return g;
+  for (std::size_t i = 0; i < centers.size(); ++i)
+    if (!centers[i].allFinite()) throw Error("convex parts: non-finite voxel centre at index " + std::to_string(i));
+  const ClusterLattice lattice = toLattice(centers, voxel_size);
+  // The cells as sorted packed keys (21 bits per axis, offset so that a ball around any cell stays
+  // non-negative), for the counts below.
+  // G in cells, with a relative 1e-9 so that G = 6 voxels in map units counts the cells 6 away.
+  const double r_cells = g / voxel_size;
+  const double r2_cells = r_cells * r_cells * (1.0 + 1e-9);
+  const std::int64_t reach = std::int64_t(std::floor(std::sqrt(r2_cells)));
+  const auto key = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+    return (std::uint64_t(i + reach + 1) << 42) | (std::uint64_t(j + reach + 1) << 21) | std::uint64_t(k + reach + 1);
+  };
+  std::int64_t span = 0;
+  for (const auto& c : lattice.cells) span = std::max({span, c[0], c[1], c[2]});
+  if (span + 2 * reach + 2 >= (std::int64_t(1) << 21)) return g;  // too wide to pack: no adaptation
+  std::vector<std::uint64_t> keys;
+  keys.reserve(lattice.cells.size());
+  for (const auto& c : lattice.cells) keys.push_back(key(c[0], c[1], c[2]));
+  std::sort(keys.begin(), keys.end());
+  std::vector<Cell> ball;
+  for (std::int64_t i = -reach; i <= reach; ++i)
+    for (std::int64_t j = -reach; j <= reach; ++j)
+      for (std::int64_t k = -reach; k <= reach; ++k)
+        if ((i != 0 || j != 0 || k != 0) && double(i * i + j * j + k * k) <= r2_cells)
+          ball.push_back({i, j, k});
+  // Neighbours within G of every stride-th cell (at most kAdaptSamples of them, deterministic).
+  const std::size_t stride = (lattice.cells.size() + kAdaptSamples - 1) / kAdaptSamples;
+  std::vector<std::size_t> counts;
+  for (std::size_t s = 0; s < lattice.cells.size(); s += stride) {
+    const Cell& c = lattice.cells[s];
+    std::size_t count = 0;
+    for (const auto& o : ball) count += std::binary_search(keys.begin(), keys.end(), key(c[0] + o[0], c[1] + o[1], c[2] + o[2]));
+    counts.push_back(count);
+  }
+  // The lower quartile: the sparser stretches of the surface, not its dense edges.
+  std::nth_element(counts.begin(), counts.begin() + std::ptrdiff_t(counts.size() / 4), counts.end());
+  const double neighbours = std::max(1.0, double(counts[counts.size() / 4]));
+  const double lambda_pi = neighbours / (r_cells * r_cells);  // pi lambda, sites per cell^2 times pi
+  const double x = chanceDiscSites(double(lattice.cells.size()), kAdaptVacancies);
+  const double r_chance = std::sqrt(x / lambda_pi);  // cells
+  const double t_cells = t / voxel_size;
+  const double adapted = std::sqrt(r_chance * r_chance + t_cells * t_cells) * voxel_size;
+  return std::clamp(adapted, g, kAdaptMaxFactor * g);
+}
+
+namespace {
+
+SplitResult splitCluster(const std::vector<Eigen::Vector3d>& centers, double voxel_size, double t,
                          const ConvexPartsParams& params, const std::vector<Eigen::Vector3d>& keyframes) {
   SplitResult result;
   if (centers.empty()) return result;
@@ -867,8 +1028,9 @@ SplitResult splitCluster(const std::vector<Eigen::Vector3d>& centers, double vox
   }
   std::optional<double> floor_k;
   if (params.floor_z) floor_k = (*params.floor_z - result.lattice.origin.z()) / voxel_size;
-  ClusterSplitter splitter(result.lattice.cells, t / voxel_size, g / voxel_size, params.max_check_cells, std::move(near),
-                           params.fill_enclosed, floor_k);
+  result.flat_gap = adaptedFlatGap(centers, voxel_size, params);
+  ClusterSplitter splitter(result.lattice.cells, t / voxel_size, result.flat_gap / voxel_size, params.max_check_cells,
+                           std::move(near), params.fill_enclosed, floor_k);
   result.parts = splitter.run();
   return result;
 }
@@ -881,9 +1043,9 @@ std::vector<std::vector<std::size_t>> splitConvexParts(const std::vector<Eigen::
                                                        double voxel_size, const ConvexPartsParams& params,
                                                        const std::vector<Eigen::Vector3d>& keyframes) {
   const double t = resolveConcavity(params, voxel_size);
-  const double g = resolveFlatGap(params, t);
+  resolveFlatGap(params, t);  // throws on a bad flat_gap
   checkFloor(params);
-  const SplitResult result = splitCluster(centers, voxel_size, t, g, params, keyframes);
+  const SplitResult result = splitCluster(centers, voxel_size, t, params, keyframes);
   std::vector<std::vector<std::size_t>> out;
   for (const auto& [members, check] : result.parts) out.emplace_back(members.begin(), members.end());
   return out;
@@ -913,13 +1075,15 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
     return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z());
   });
   std::vector<std::size_t> keyframes_in_voxels(obstacles.size(), 0), flat_parts(obstacles.size(), 0);
+  std::vector<double> flat_gaps(obstacles.size(), g);
   tbb::parallel_for(std::size_t(0), obstacles.size(), [&](std::size_t o) {
     Obstacle& obstacle = obstacles[o];
     const std::vector<std::size_t>& members = clusters.at(obstacle.id);
     std::vector<Eigen::Vector3d> local;
     local.reserve(members.size());
     for (const auto i : members) local.push_back(centers[i]);
-    const SplitResult result = splitCluster(local, voxel_size, t, g, params, known.keyframes);
+    const SplitResult result = splitCluster(local, voxel_size, t, params, known.keyframes);
+    flat_gaps[o] = result.flat_gap;
     obstacle.parts.clear();
     for (const auto& [part_members, check] : result.parts) {
       std::vector<std::size_t> global;
@@ -952,6 +1116,8 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
   ConvexPartsSummary summary;
   summary.concavity = t;
   summary.flat_gap = g;
+  summary.flat_gap_max = g;
+  for (const double used : flat_gaps) summary.flat_gap_max = std::max(summary.flat_gap_max, used);
   for (std::size_t o = 0; o < obstacles.size(); ++o) {
     const auto& obstacle = obstacles[o];
     summary.parts += obstacle.parts.size();

@@ -600,7 +600,12 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
     if (params.trajectory || params.origin) known.free_voxels = freeVoxelCentres(result.map);
     // G unset: the eps used, the distance at which this map's sampling connects a surface.
     clustering::ConvexPartsParams parts_params = *params.convex_parts;
-    if (!parts_params.flat_gap) parts_params.flat_gap = chosen.used.eps;
+    // Auto G is also adapted to each cluster's sampling (a sparse wall's chance holes); a G the user
+    // gives is used as given.
+    if (!parts_params.flat_gap) {
+      parts_params.flat_gap = chosen.used.eps;
+      parts_params.adapt_flat_gap = true;
+    }
     // A level floor closes the shells standing on it from below (their bottom is never seen).
     if (report.floor.plane && std::abs(report.floor.plane->normal.z()) > 0.99 && !parts_params.floor_z)
       parts_params.floor_z = report.floor.plane->offset / report.floor.plane->normal.z();
@@ -913,6 +918,7 @@ nlohmann::json reportJson(const BuildResult& result) {
     parts = {{"count", p.parts},
              {"concavity", p.concavity},
              {"flat_gap", p.flat_gap},
+             {"flat_gap_max", p.flat_gap_max},
              {"flat_parts", p.flat_parts},
              {"per_obstacle", result.obstacles.empty() ? 0.0 : double(p.parts) / double(result.obstacles.size())},
              {"obstacles_split", split},

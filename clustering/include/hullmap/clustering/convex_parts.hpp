@@ -20,11 +20,15 @@ struct ConvexPartsParams {
   /// patch of surface, and for it the bound is G instead of T: a sparse wall or table top, whose map
   /// points leave holes wider than T in it, stays one part, while its hull still swallows no more
   /// than a slab T thick. Unset (or below T): G = T, no relaxation. hullmap build sets it to the
-  /// DBSCAN eps, the distance at which the map's sampling connects a surface.
+  /// DBSCAN eps, the distance at which the map's sampling connects a surface (and adapts it).
   std::optional<double> flat_gap;
+  /// Adapt G to each cluster's own sampling (see adaptedFlatGap): a sparse cluster, whose map points
+  /// leave wider holes by chance alone, gets a larger G (at most 2 G), a dense one keeps G. Off: G for
+  /// every cluster. hullmap build turns it on when G is auto (the eps used), off for --flat-gap G.
+  bool adapt_flat_gap = false;
   /// Count the space a cluster encloses as its parts' own voxels in the bound (a part's check uses
   /// the enclosed cells inside its box): computed once per cluster, the cells of the cluster's box
-  /// farther than rho = max(T, G) from all space reached from outside the box, where the outside
+  /// farther than rho = max(T, G) (G this cluster's, adapted or not) from all space reached from outside the box, where the outside
   /// spreads (6-connected) only through cells farther than rho from the cluster's voxels, so holes
   /// narrower than about 2 rho do not let it in. It is a closing of the shell: a concave corner is
   /// filled only within about 0.3 rho of its apex. A box or a cylinder sampled only on its surface
@@ -62,6 +66,22 @@ struct KnownFreeSpace {
 /// It scales with the voxel size, so it means the same on a map of arbitrary monocular scale.
 double defaultConcavity(double voxel_size);
 
+/// The flat gap G used for one cluster (voxel centres `centers`, as splitConvexParts takes them), map
+/// units. Without adapt_flat_gap, when G <= T, or for fewer than 16 voxels: G itself. Otherwise G
+/// adapted to the cluster's sampling, so that chance holes in a sparse surface do not split it:
+/// - the density: lambda = q / (pi G^2), q the lower quartile, over up to 1024 voxels (every k-th),
+///   of the count of the cluster's other voxels within G (a surface meets a ball of radius G in a
+///   disc of area about pi G^2; the lower quartile measures its sparser stretches, not its dense
+///   edges; a surface several voxels thick counts more, which only lowers the result);
+/// - the largest hole chance explains: N voxels spread uniformly at density lambda leave about
+///   N x e^-x empty discs of radius R, x = pi lambda R^2 (Hall 1988); R is where that expectation
+///   is 0.01;
+/// - a flat part is up to T thick, so a cell of its hull over such a hole lies within
+///   sqrt(R^2 + T^2) of a voxel centre: the result is that, clamped to [G, 2 G].
+/// Relative to the data (G is the eps, the voxel lattice is the map's), so it means the same at any
+/// monocular scale. An opening wider than twice the result (a doorway, a window) is still split.
+double adaptedFlatGap(const std::vector<Eigen::Vector3d>& centers, double voxel_size, const ConvexPartsParams& params);
+
 /// Splits one cluster's voxels into convex parts; returns the parts as sorted lists of indices into
 /// `centers` (a partition of 0..n-1), ordered by their first index. Deterministic (the same parts on
 /// every run, with any number of threads).
@@ -85,7 +105,9 @@ double defaultConcavity(double voxel_size);
 /// centres; and per axis the cut whose halves have the smallest summed bounding boxes. The one whose
 /// halves have the smallest summed hull volume (exact, on the lattice) wins. Then bottom-up, adjacent parts (boxes within T) are merged while the union
 /// still passes the check, the pair adding the least hull volume first: a box stays one part, an L
-/// becomes its two arms, a ring of walls its walls.
+/// becomes its two arms, a ring of walls its walls. Last, a non-flat fragment (a part with at most
+/// 1/8 of a nearby flat part's voxels, such as a room's corner) hands its voxels lying in the flat
+/// part's slab to it, when both still pass the check.
 ///
 /// `centers`: voxel centres of one cluster on a lattice of edge `voxel_size` (map units). Throws
 /// hullmap::Error on voxel_size <= 0, a negative or non-finite concavity, or non-finite input.
@@ -97,7 +119,8 @@ std::vector<std::vector<std::size_t>> splitConvexParts(const std::vector<Eigen::
 struct ConvexPartsSummary {
   std::size_t parts = 0;
   double concavity = 0.0;                 ///< the T used, map units
-  double flat_gap = 0.0;                  ///< the G used (>= T), map units
+  double flat_gap = 0.0;                  ///< the G asked for (>= T), map units
+  double flat_gap_max = 0.0;              ///< the largest G used for a cluster (adaptedFlatGap)
   std::size_t flat_parts = 0;             ///< parts that passed as flat (bound G)
   double hull_volume_before = 0.0;        ///< summed whole-cluster hull volume, map units^3
   double hull_volume_after = 0.0;         ///< summed part hull volume
