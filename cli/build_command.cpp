@@ -225,8 +225,9 @@ void printClustering(const pipeline::BuildResult& result) {
     } else {
       std::cout << ", flat gap off";
     }
-    std::cout << "); observed-free voxels inside hulls: "
-              << p.free_voxels_inside << ", keyframes inside hulls: " << report.keyframes_inside_hulls;
+    std::cout << "); observed-free voxels inside hulls: " << p.free_voxels_inside << " ("
+              << p.free_voxels_off_surface << " off the surface band), keyframes inside hulls: "
+              << report.keyframes_inside_hulls;
   }
   std::cout << "\n";
 }

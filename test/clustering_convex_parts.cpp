@@ -654,6 +654,48 @@ TEST(ConvexParts, FreeVoxelsInsideHullsAreCounted) {
   ConvexPartsParams whole;
   whole.concavity = 10.0;
   EXPECT_EQ(splitOne(ring(), whole, known).summary.free_voxels_inside, 36u);
+  EXPECT_EQ(splitOne(ring(), whole, known).summary.free_voxels_off_surface, 36u);  // all deep in the air
+}
+
+// A free voxel counts as off the surface band when none of its part's own voxels is among its 26
+// neighbours. Brute force over the voxels, against the parts' counts, on a slab with free voxels in
+// front of its face (the band), one voxel further out (inside the hull only when the hull reaches
+// there) and deep inside a whole-ring hull.
+TEST(ConvexParts, FreeVoxelsOffTheSurfaceBandMatchBruteForce) {
+  KnownFreeSpace known;
+  for (int i = 0; i < 40; i += 3)
+    for (int j = 0; j < 40; j += 3)
+      for (int k = -1; k < 22; k += 4) known.free_voxels.push_back(center(i, j, k));
+  for (const bool whole_hull : {false, true}) {
+    ConvexPartsParams params;
+    if (whole_hull) params.concavity = 10.0;
+    const Split s = splitOne(ring(), params, known);
+    std::size_t inside = 0, off = 0;
+    for (const auto& part : s.obstacles[0].parts) {
+      inside += part.free_voxels_inside;
+      off += part.free_voxels_off_surface;
+      EXPECT_LE(part.free_voxels_off_surface, part.free_voxels_inside);
+    }
+    EXPECT_EQ(s.summary.free_voxels_inside, inside);
+    EXPECT_EQ(s.summary.free_voxels_off_surface, off);
+    // Brute force: a free voxel in the whole ring's hull (the 2 m square prism of the walls) is off
+    // the surface band when no wall voxel lies within one voxel on every axis.
+    if (whole_hull) {
+      std::size_t expect_inside = 0, expect_off = 0;
+      for (const auto& f : known.free_voxels) {
+        const V3 c = (f / kVoxel).array() - 0.5;  // lattice cell of the free voxel
+        if (c.x() < 0 || c.x() > 39 || c.y() < 0 || c.y() > 39 || c.z() < 0 || c.z() > 19) continue;
+        ++expect_inside;
+        bool near = false;
+        for (const auto& w : s.centers) near = near || ((w - f).cwiseAbs().maxCoeff() <= 1.5 * kVoxel);
+        if (!near) ++expect_off;
+      }
+      EXPECT_EQ(s.summary.free_voxels_inside, expect_inside);
+      EXPECT_EQ(s.summary.free_voxels_off_surface, expect_off);
+      EXPECT_GT(expect_inside, expect_off);  // the test holds free voxels in the band too
+      EXPECT_GT(expect_off, 0u);
+    }
+  }
 }
 
 TEST(ConvexParts, DeterministicAndThreadCountIndependent) {

@@ -72,6 +72,7 @@ TEST(ObstaclesJson, V2RoundTripsPartsExactly) {
       EXPECT_EQ(b.footprint.z_max, a.footprint.z_max);
       EXPECT_EQ(b.concavity_bound, a.concavity_bound);
       EXPECT_EQ(b.free_voxels_inside, a.free_voxels_inside);
+      EXPECT_EQ(b.free_voxels_off_surface, a.free_voxels_off_surface);
     }
   }
 }

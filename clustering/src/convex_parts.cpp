@@ -1106,9 +1106,26 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
       keyframes_in_voxels[o] += check.keyframes_in_voxels;
       const auto first = std::lower_bound(free.begin(), free.end(), part.aabb_min.x(),
                                           [](const Eigen::Vector3d& p, double x) { return p.x() < x; });
+      // The part's own voxels on the lattice, for the surface band (26 neighbours).
+      const auto cellOf = [&](const Eigen::Vector3d& p) {
+        const Eigen::Vector3d c = ((p - result.lattice.origin) / voxel_size).array().round();
+        return std::array<std::int64_t, 3>{std::int64_t(c.x()), std::int64_t(c.y()), std::int64_t(c.z())};
+      };
+      std::set<std::array<std::int64_t, 3>> own;
+      for (const auto i : global) own.insert(cellOf(centers[i]));
+      const auto nearOwn = [&](const Eigen::Vector3d& p) {
+        const auto c = cellOf(p);
+        for (std::int64_t dx = -1; dx <= 1; ++dx)
+          for (std::int64_t dy = -1; dy <= 1; ++dy)
+            for (std::int64_t dz = -1; dz <= 1; ++dz)
+              if (own.count({c[0] + dx, c[1] + dy, c[2] + dz})) return true;
+        return false;
+      };
       for (auto it = first; it != free.end() && it->x() <= part.aabb_max.x(); ++it) {
         if ((it->array() < part.aabb_min.array()).any() || (it->array() > part.aabb_max.array()).any()) continue;
-        if (inside(check.hull, (*it - result.lattice.origin) / voxel_size)) ++part.free_voxels_inside;
+        if (!inside(check.hull, (*it - result.lattice.origin) / voxel_size)) continue;
+        ++part.free_voxels_inside;
+        if (!nearOwn(*it)) ++part.free_voxels_off_surface;
       }
       obstacle.parts.push_back(std::move(part));
     }
@@ -1128,6 +1145,7 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
     for (const auto& part : obstacle.parts) {
       summary.hull_volume_after += part.volume;
       summary.free_voxels_inside += part.free_voxels_inside;
+      summary.free_voxels_off_surface += part.free_voxels_off_surface;
     }
   }
   return summary;

@@ -136,6 +136,7 @@ json obstaclesToJson(const std::vector<clustering::Obstacle>& obstacles, const O
       json part = commonJson(p);
       part["concavity_bound"] = p.concavity_bound;
       part["free_voxels_inside"] = p.free_voxels_inside;
+      part["free_voxels_off_surface"] = p.free_voxels_off_surface;
       part["flat"] = p.flat;
       part["filled"] = p.filled;
       parts.push_back(std::move(part));
@@ -182,6 +183,10 @@ std::vector<clustering::Obstacle> obstaclesFromJson(const json& doc, const std::
         part.concavity_bound = r.number(r.field(parts[p], "concavity_bound", where), where + ".concavity_bound");
         part.free_voxels_inside =
             r.count(r.field(parts[p], "free_voxels_inside", where), where + ".free_voxels_inside");
+        // Written since the surface band came in; absent in older /2 files: 0.
+        if (const auto off = parts[p].find("free_voxels_off_surface"); off != parts[p].end()) {
+          part.free_voxels_off_surface = r.count(*off, where + ".free_voxels_off_surface");
+        }
         // Written since the flat gap came in; absent in older /2 files: not flat.
         if (const auto flat = parts[p].find("flat"); flat != parts[p].end()) {
           if (!flat->is_boolean()) r.fail(where + ".flat", "expected true or false");

@@ -927,6 +927,7 @@ nlohmann::json reportJson(const BuildResult& result) {
              {"hull_volume_after", p.hull_volume_after},
              {"voxel_volume", p.voxel_volume},
              {"free_voxels_inside", p.free_voxels_inside},
+             {"free_voxels_off_surface", p.free_voxels_off_surface},
              {"keyframes_inside_hulls", report.keyframes_inside_hulls}};
   }
   if (readsOctree(result.params)) {

@@ -127,6 +127,7 @@ struct ConvexPartsSummary {
   double voxel_volume = 0.0;              ///< clustered voxels times voxel_size^3
   std::size_t keyframes_in_voxels = 0;    ///< keyframes in an occupied voxel of a part (kept inside)
   std::size_t free_voxels_inside = 0;     ///< observed-free voxel centres inside some part's hull
+  std::size_t free_voxels_off_surface = 0;  ///< of those, none of the part's voxels among their 26 neighbours
 };
 
 /// Fills `parts` of every obstacle made by buildObstacles from the same centres/weights/labels:

@@ -44,6 +44,10 @@ struct ObstaclePart {
   /// The part's bound counted the inside of its closed shell as its own (ConvexPartsParams::fill_enclosed).
   bool filled = false;
   std::size_t free_voxels_inside = 0;  ///< observed-free voxel centres given that lie in the hull
+  /// Of those, the ones with none of the part's own occupied voxels among their 26 neighbours: free
+  /// space the hull swallowed beyond the band one voxel deep along its surface (a ray that ends on a
+  /// surface marks the voxel in front of it free, and noise spreads a surface over two voxel layers).
+  std::size_t free_voxels_off_surface = 0;
 };
 
 /// One obstacle: a DBSCAN cluster of occupied voxels wrapped conservatively.
