@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include "hullmap/clustering/cluster_extension.hpp"
 #include "hullmap/clustering/dbscan.hpp"
@@ -235,6 +236,33 @@ TEST(ClusterExtension, NeverMergesOrRelabelsClusters) {
       EXPECT_EQ(r.labels[i], first.labels[1]) << i << " at x " << points[i].x();
     }
   }
+}
+
+TEST(ClusterExtension, SameResultWithOneAndTwoThreadsAndGrossOutliers) {
+  Points points;
+  for (std::uint32_t seed = 20; seed < 40; ++seed) {
+    Points part = blobsChainsAndOutliers(seed, 200);
+    for (auto& p : part) p += Eigen::Vector3d(5.0 * (seed % 5), 5.0 * (seed / 5 % 4), 0.0);
+    points.insert(points.end(), part.begin(), part.end());
+  }
+  for (int k = 0; k < 5; ++k) points.emplace_back(1e6 * (k + 1), 0.0, -1e15 * k);  // beyond the clamped cells (2^50 x 0.15)
+  const DbscanResult first = dbscan(points, {}, DbscanParams{0.1, 12, Metric::kXyz});
+  const ClusterExtensionParams params{0.1, 2, 0.15, Metric::kXyz};
+  DbscanResult one = first, two = first;
+  ClusterExtension by_one, by_two;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    by_one = extendClusters(points, {}, one, params);
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    by_two = extendClusters(points, {}, two, params);
+  }
+  EXPECT_GT(by_one.joined, 50u);
+  EXPECT_EQ(by_one.joined, by_two.joined);
+  EXPECT_EQ(by_one.rounds, by_two.rounds);
+  EXPECT_EQ(one.labels, two.labels);
+  EXPECT_EQ(one.cluster_sizes, two.cluster_sizes);
 }
 
 TEST(ClusterExtension, NoClusterNoNoiseAndEmpty) {

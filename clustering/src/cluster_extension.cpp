@@ -4,7 +4,10 @@
 #include <cmath>
 #include <limits>
 #include <string>
-#include <unordered_map>
+#include <utility>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "hullmap/core/error.hpp"
 #include "hullmap/core/number_text.hpp"
@@ -19,11 +22,56 @@ struct Cell {
 
 struct CellHash {
   std::size_t operator()(const Cell& c) const {
-    std::uint64_t h = static_cast<std::uint64_t>(c.x) * 0x9E3779B97F4A7C15ULL;
-    h = (h ^ static_cast<std::uint64_t>(c.y)) * 0xC2B2AE3D27D4EB4FULL;
-    h = (h ^ static_cast<std::uint64_t>(c.z)) * 0xBF58476D1CE4E5B9ULL;
+    // A polynomial in the coordinates, then splitmix64's finaliser: the low bits, which pick the
+    // slot, depend on every bit of all three.
+    std::uint64_t h = (static_cast<std::uint64_t>(c.x) * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(c.y)) *
+                          0xC2B2AE3D27D4EB4FULL +
+                      static_cast<std::uint64_t>(c.z);
+    h ^= h >> 30;
+    h *= 0xBF58476D1CE4E5B9ULL;
+    h ^= h >> 27;
+    h *= 0x94D049BB133111EBULL;
     return static_cast<std::size_t>(h ^ (h >> 31));
   }
+};
+
+/// Cell -> index, open addressing with linear probing (a lookup is about one cache miss: the
+/// extension looks up 27 cells for each noise point, most of them empty).
+class CellTable {
+ public:
+  explicit CellTable(std::size_t expected) {
+    std::size_t capacity = 16;
+    while (capacity < 2 * expected) capacity *= 2;
+    slots_.resize(capacity);
+    mask_ = capacity - 1;
+  }
+  /// The index of `c`, inserting `next` for it when absent; second: whether it was inserted.
+  std::pair<std::uint32_t, bool> insert(const Cell& c, std::uint32_t next) {
+    for (std::size_t i = CellHash{}(c) & mask_;; i = (i + 1) & mask_) {
+      Slot& s = slots_[i];
+      if (s.index == kEmpty) {
+        s = {c, next};
+        return {next, true};
+      }
+      if (s.cell == c) return {s.index, false};
+    }
+  }
+  /// The index of `c`, or kEmpty.
+  std::uint32_t find(const Cell& c) const {
+    for (std::size_t i = CellHash{}(c) & mask_;; i = (i + 1) & mask_) {
+      const Slot& s = slots_[i];
+      if (s.index == kEmpty || s.cell == c) return s.index;
+    }
+  }
+  static constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
+
+ private:
+  struct Slot {
+    Cell cell;
+    std::uint32_t index = kEmpty;
+  };
+  std::vector<Slot> slots_;
+  std::size_t mask_ = 0;
 };
 
 std::string number(double v) {
@@ -67,42 +115,63 @@ ClusterExtension extendClusters(const std::vector<Eigen::Vector3d>& points, cons
     const double dz = points[a].z() - points[b].z();
     return dx * dx + dy * dy + dz * dz;
   };
-  // Cells of side reach (>= eps): every point within reach of p lies in the 27 (9 under kXy) cells
-  // around p's. Cells beyond +-2^50 are clamped there: a clamped cell only holds points as far out
-  // as its own, and the distances stay exact.
-  const double side = params.reach;
+  // Cells of side slightly above reach (>= eps): every point within reach of p lies in the 27 (9
+  // under kXy) cells around p's, rounding included. Cells beyond +-2^50 are clamped there: a clamped
+  // cell only holds points as far out as its own, and the distances stay exact.
+  const double side = params.reach * (1.0 + 1e-9);
   constexpr double kClamp = 1125899906842624.0;  // 2^50
   auto cellOf = [&](std::size_t i) {
     auto c = [&](double v) { return static_cast<std::int64_t>(std::clamp(std::floor(v / side), -kClamp, kClamp)); };
     return Cell{c(points[i].x()), c(points[i].y()), xy ? 0 : c(points[i].z())};
   };
-  std::unordered_map<Cell, std::vector<std::uint32_t>, CellHash> grid;
-  for (std::size_t i = 0; i < n; ++i) grid[cellOf(i)].push_back(static_cast<std::uint32_t>(i));
+  // The grid: cell -> its range in `members` (points by cell, in input order within a cell).
+  CellTable cell_index(n);
+  std::vector<std::uint32_t> point_cell(n), cell_begin;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto [index, added] = cell_index.insert(cellOf(i), static_cast<std::uint32_t>(cell_begin.size()));
+    if (added) cell_begin.push_back(0);
+    point_cell[i] = index;
+    ++cell_begin[index];
+  }
+  std::uint32_t total = 0;
+  for (auto& b : cell_begin) total += std::exchange(b, total);
+  cell_begin.push_back(total);
+  std::vector<std::uint32_t> members(n), fill(cell_begin.begin(), cell_begin.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) members[fill[point_cell[i]]++] = static_cast<std::uint32_t>(i);
+  // Calls f(q, squared distance) for the points q in the cells around p until f returns false.
   auto forEachNear = [&](std::size_t p, auto&& f) {
     const Cell c = cellOf(p);
     for (std::int64_t dx = -1; dx <= 1; ++dx)
       for (std::int64_t dy = -1; dy <= 1; ++dy)
         for (std::int64_t dz = xy ? 0 : -1; dz <= (xy ? 0 : 1); ++dz) {
-          const auto it = grid.find(Cell{c.x + dx, c.y + dy, c.z + dz});
-          if (it == grid.end()) continue;
-          for (std::uint32_t q : it->second) f(q, squaredDistance(p, q));
+          const std::uint32_t cell = cell_index.find(Cell{c.x + dx, c.y + dy, c.z + dz});
+          if (cell == CellTable::kEmpty) continue;
+          for (std::uint32_t k = cell_begin[cell], end = cell_begin[cell + 1]; k < end; ++k)
+            if (!f(members[k], squaredDistance(p, members[k]))) return;
         }
   };
 
   const double eps2 = params.eps * params.eps;
   const double reach2 = params.reach * params.reach;
-  // Density at the extension's level, computed when first asked (a clustered point only matters
-  // when it is within reach of a dense noise point).
+  const auto min_weight = static_cast<double>(params.min_pts);
+  auto isDense = [&](std::size_t p) {
+    double weight = 0.0;
+    forEachNear(p, [&](std::uint32_t q, double d2) {
+      if (d2 <= eps2) weight += weights.empty() ? 1.0 : static_cast<double>(weights[q]);
+      return weight < min_weight;
+    });
+    return weight >= min_weight;
+  };
+  // Density at the extension's level: every noise point's up front (in parallel), a clustered
+  // point's when first asked (it only matters within reach of a dense noise point).
   enum : std::uint8_t { kUnknown, kSparse, kDense };
   std::vector<std::uint8_t> density(n, kUnknown);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t p = r.begin(); p < r.end(); ++p)
+      if (result.labels[p] == kNoise) density[p] = isDense(p) ? kDense : kSparse;
+  });
   auto dense = [&](std::size_t p) {
-    if (density[p] == kUnknown) {
-      double weight = 0.0;
-      forEachNear(p, [&](std::uint32_t q, double d2) {
-        if (d2 <= eps2) weight += weights.empty() ? 1.0 : static_cast<double>(weights[q]);
-      });
-      density[p] = weight >= static_cast<double>(params.min_pts) ? kDense : kSparse;
-    }
+    if (density[p] == kUnknown) density[p] = isDense(p) ? kDense : kSparse;
     return density[p] == kDense;
   };
 
@@ -119,9 +188,10 @@ ClusterExtension extendClusters(const std::vector<Eigen::Vector3d>& points, cons
       double best = std::numeric_limits<double>::infinity();
       std::uint32_t best_index = std::numeric_limits<std::uint32_t>::max();
       forEachNear(p, [&](std::uint32_t q, double d2) {
-        if (labels[q] == kNoise || d2 > reach2 || d2 > best || (d2 == best && q > best_index) || !dense(q)) return;
+        if (labels[q] == kNoise || d2 > reach2 || d2 > best || (d2 == best && q > best_index) || !dense(q)) return true;
         best = d2;
         best_index = q;
+        return true;
       });
       if (best_index != std::numeric_limits<std::uint32_t>::max()) joins.emplace_back(p, labels[best_index]);
     }
@@ -141,6 +211,7 @@ ClusterExtension extendClusters(const std::vector<Eigen::Vector3d>& points, cons
           queued[q] = 1;
           candidates.push_back(q);
         }
+        return true;
       });
     }
     for (std::uint32_t q : candidates) queued[q] = 0;

@@ -45,10 +45,13 @@ struct ClusterExtension {
 /// `weights` empty means weight 1 a point, else one positive weight per point as for dbscan().
 /// Throws hullmap::Error naming the parameter on eps <= 0, min_pts < 1, reach < eps (or not finite),
 /// a size mismatch between points, weights and labels, a label < kNoise or >= cluster_sizes.size(),
-/// a zero weight or a non-finite point. Deterministic; thread-safe (no shared state). Cost: a hash
-/// grid of cells of side reach; one neighbourhood pass over the noise points, then over the dense
-/// ones near each round's joins; a clustered point's density is computed only when a dense noise
-/// point has it within reach.
+/// a zero weight or a non-finite point. Deterministic whatever the thread count; thread-safe (no
+/// shared state); uses the TBB arena of the caller. Cost: a hash grid of cells of side reach; one
+/// neighbourhood pass over the noise points (in parallel, each stopping at min_pts), then one over
+/// the dense noise points near each round's joins; a clustered point's density is computed only
+/// when a dense noise point has it within reach. Measured in `hullmap build` (2 cores, loaded):
+/// 1.3 to 2 ms on the 10,700 voxels of a generated 20k-point scene (DBSCAN 27 to 33 ms); 130 ms on
+/// the 122,000 voxels of a 1M-point one with 10 % outliers, 94,000 of them noise (DBSCAN 430 to 880 ms).
 ClusterExtension extendClusters(const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& weights,
                                 DbscanResult& result, const ClusterExtensionParams& params);
 
