@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/clustering/auto_params.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 #include "hullmap/pipeline/evaluate.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
@@ -279,7 +280,7 @@ TEST(PipelineStages, FlatGapOptionReachesTheReportAndZeroTurnsItOff) {
 // The extension after DBSCAN only adds noise voxels to the clusters plain DBSCAN found: same
 // clusters, none new, no clustered voxel relabelled; and on a sparse room with tables it brings
 // their legs' points inside the hulls.
-TEST(PipelineStages, ExtensionOnlyGrowsClustersAndNoneIsPlainDbscan) {
+TEST(PipelineStages, ExtensionOnlyGrowsClustersAndOffIsPlainDbscan) {
   Room room;
   room.params.layout = mapper::SceneLayout::kRoom;
   room.params.seed = 3;
@@ -320,6 +321,17 @@ TEST(PipelineStages, ExtensionOnlyGrowsClustersAndNoneIsPlainDbscan) {
   ASSERT_TRUE(asked.report.cluster_params.extension_params);
   EXPECT_EQ(asked.report.cluster_params.extension.joined, joined);
   EXPECT_EQ(asked.clusters.labels, grown.clusters.labels);
+
+  // A rule out of range is refused before anything is read, naming the field.
+  params.extension_rule.min_pts_factor = 0.0;
+  try {
+    pipeline::build(params);
+    ADD_FAILURE() << "a min_pts_factor of 0 was accepted";
+  } catch (const hullmap::Error& e) {
+    EXPECT_EQ(e.parameter(), "extension_rule");
+    EXPECT_NE(std::string(e.what()).find("min_pts_factor"), std::string::npos) << e.what();
+  }
+  params.extension_rule = {};
 
   // On the obstacle voxels (those DBSCAN saw: above the floor's band, where the rims rule may pick
   // another neighbour) no clustered voxel changes its label, and every voxel that left the noise is
