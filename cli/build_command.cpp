@@ -45,6 +45,7 @@ struct BuildOptions {
   std::string min_pts = "auto";
   std::string concavity = "default";
   std::string flat_gap = "auto";  ///< G of flat parts: auto (the eps used), 0 (off) or a length
+  std::string extension = "auto";  ///< auto (on when --min-pts is auto), on or off
   pipeline::BuildParams params;
 };
 
@@ -77,6 +78,7 @@ pipeline::BuildParams toParams(const BuildOptions& o) {
     params.convex_parts->concavity = number(o.concavity);
   }
   if (params.convex_parts && o.flat_gap != "auto") params.convex_parts->flat_gap = number(o.flat_gap);
+  if (o.extension != "auto") params.extension = o.extension == "on";
   return params;
 }
 
@@ -211,7 +213,13 @@ void printClustering(const pipeline::BuildResult& result) {
   const auto& report = result.report;
   const auto& cp = report.cluster_params;
   std::cout << std::setprecision(4) << "eps: " << cp.used.eps << (cp.eps_auto ? " (auto)" : " (given)")
-            << ", min-pts: " << cp.used.min_pts << (cp.min_pts_auto ? " (auto)" : " (given)") << "\n";
+            << ", min-pts: " << cp.used.min_pts << (cp.min_pts_auto ? " (auto)" : " (given)");
+  if (cp.extension_params) {
+    std::cout << "; extension: min-pts " << cp.extension_params->min_pts << " within reach "
+              << cp.extension_params->reach << ", " << cp.extension.joined << " noise voxel"
+              << (cp.extension.joined == 1 ? "" : "s") << " joined";
+  }
+  std::cout << "\n";
   std::cout << "obstacles: " << result.obstacles.size();
   if (report.parts) {
     const auto& p = *report.parts;
@@ -305,6 +313,10 @@ void addBuildCommand(CLI::App& app, int& status) {
                   "of T; auto: the eps used, raised on sparse clusters to the holes their sampling leaves by chance "
                   "(at most 2 eps); 0: off")
       ->check(wordOr({"auto"}, numberAbove(0, true)))->capture_default_str();
+  cmd->add_option("--extension", options->extension,
+                  "After DBSCAN, noise voxels dense at a lower level (min-pts x 0.3, at least 2) join the cluster "
+                  "a chain of them reaches within 1.5 eps (sparse legs and edges); auto: on when --min-pts is auto")
+      ->check(CLI::IsMember({"auto", "on", "off"}))->capture_default_str();
   cmd->add_option("--metric", options->metric, "DBSCAN distance: xyz or xy (top view)")
       ->check(CLI::IsMember({"xyz", "xy"}))->capture_default_str();
   cmd->add_flag("--ot", options->params.write_ot, "Also write map.ot (full probabilities)");

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/clustering/auto_params.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 #include "hullmap/pipeline/evaluate.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
@@ -281,6 +282,112 @@ TEST(PipelineStages, FlatGapOptionReachesTheReportAndZeroTurnsItOff) {
                 (part["flat"].get<bool>() ? 0.5 : given.report["parts"]["concavity"].get<double>()) + 1e-12);
 }
 
+// The extension after DBSCAN only adds noise voxels to the clusters plain DBSCAN found: same
+// clusters, none new, no clustered voxel relabelled; and on a sparse room with tables it brings
+// their legs' points inside the hulls.
+TEST(PipelineStages, ExtensionOnlyGrowsClustersAndOffIsPlainDbscan) {
+  Room room;
+  room.params.layout = mapper::SceneLayout::kRoom;
+  room.params.seed = 3;
+  room.params.room_size = 6.0;
+  room.params.obstacles = 6;
+  room.params.density = 30.0;
+  room.scene = mapper::generateScene(room.params);
+  room.dir = hullmap::test::freshDir("stages_extension");
+  mapper::writeScene(room.scene, room.params, room.dir.string());
+  pipeline::BuildParams params = alignedBuild(room);
+  const pipeline::BuildResult grown = pipeline::build(params);
+  params.extension = false;
+  const pipeline::BuildResult plain = pipeline::build(params);
+
+  ASSERT_TRUE(grown.report.cluster_params.extension_params);
+  EXPECT_FALSE(plain.report.cluster_params.extension_params);
+  EXPECT_EQ(plain.report.cluster_params.extension.joined, 0u);
+  const auto& used = grown.report.cluster_params.used;
+  EXPECT_EQ(used.eps, plain.report.cluster_params.used.eps);
+  EXPECT_EQ(used.min_pts, plain.report.cluster_params.used.min_pts);
+  const auto& ext = *grown.report.cluster_params.extension_params;
+  EXPECT_EQ(ext.min_pts, std::max(2, int(0.3 * used.min_pts + 1e-9)));
+  EXPECT_DOUBLE_EQ(ext.reach, 1.5 * used.eps);
+  const std::size_t joined = grown.report.cluster_params.extension.joined;
+  EXPECT_GT(joined, 0u) << "a sparse room's table legs should join their tables";
+  EXPECT_EQ(grown.clusters.noise + joined, plain.clusters.noise);
+  EXPECT_EQ(grown.obstacles.size(), plain.obstacles.size());
+
+  // Unset, the extension follows min_pts: off when it is given (the clusters are then DBSCAN's),
+  // on when asked for; with min_pts given as the auto rule chose it, the result is the auto run's.
+  params.extension.reset();
+  params.min_pts = used.min_pts;
+  const pipeline::BuildResult given = pipeline::build(params);
+  EXPECT_FALSE(given.report.cluster_params.extension_params);
+  EXPECT_EQ(given.clusters.labels, plain.clusters.labels);
+  params.extension = true;
+  const pipeline::BuildResult asked = pipeline::build(params);
+  ASSERT_TRUE(asked.report.cluster_params.extension_params);
+  EXPECT_EQ(asked.report.cluster_params.extension.joined, joined);
+  EXPECT_EQ(asked.clusters.labels, grown.clusters.labels);
+
+  // A rule out of range is refused before anything is read, naming the field.
+  params.extension_rule.min_pts_factor = 0.0;
+  try {
+    pipeline::build(params);
+    ADD_FAILURE() << "a min_pts_factor of 0 was accepted";
+  } catch (const hullmap::Error& e) {
+    EXPECT_EQ(e.parameter(), "extension_rule");
+    EXPECT_NE(std::string(e.what()).find("min_pts_factor"), std::string::npos) << e.what();
+  }
+  params.extension_rule = {};
+
+  // On the obstacle voxels (those DBSCAN saw: above the floor's band, where the rims rule may pick
+  // another neighbour) no clustered voxel changes its label, and every voxel that left the noise is
+  // dense at the extension's level (brute force over the obstacle voxels).
+  ASSERT_EQ(grown.voxels.size(), plain.voxels.size());
+  ASSERT_TRUE(grown.report.floor.plane);
+  ASSERT_FALSE(grown.report.ceiling.plane);
+  const auto& floor = *grown.report.floor.plane;
+  std::vector<std::size_t> obstacle_voxels;
+  for (std::size_t i = 0; i < grown.voxels.size(); ++i)
+    if (floor.signedDistance(grown.voxels[i].center) > 1.25 * grown.map.resolution()) obstacle_voxels.push_back(i);
+  std::size_t left_noise = 0;
+  for (std::size_t i : obstacle_voxels) {
+    const auto before = plain.clusters.labels[i], after = grown.clusters.labels[i];
+    if (before >= 0) {
+      EXPECT_EQ(after, before) << i;
+    }
+    if (before != hullmap::clustering::kNoise || after < 0) continue;
+    ++left_noise;
+    double weight = 0.0;
+    for (std::size_t j : obstacle_voxels)
+      if ((grown.voxels[j].center - grown.voxels[i].center).squaredNorm() <= ext.eps * ext.eps)
+        weight += grown.voxels[j].weight;
+    EXPECT_GE(weight, ext.min_pts) << "voxel " << i << " joined without being dense";
+  }
+  EXPECT_EQ(left_noise, joined);
+
+  // Scored against the truth: every true obstacle keeps at least the share of its points inside
+  // hulls, and no deep collision is missed.
+  const pipeline::GroundTruth truth = pipeline::readGroundTruth((room.dir / "ground_truth.json").string());
+  pipeline::EvaluateParams eval;
+  eval.segments = 500;
+  const auto score = [&](const pipeline::BuildResult& r) {
+    std::vector<V3> centers;
+    std::vector<std::uint32_t> weights;
+    for (const auto& v : r.voxels) {
+      centers.push_back(v.center);
+      weights.push_back(v.weight);
+    }
+    return pipeline::evaluate(r.obstacles, truth, centers, weights, eval);
+  };
+  const pipeline::Evaluation g = score(grown), p = score(plain);
+  EXPECT_EQ(g.missed, 0u);
+  double sum_grown = 0.0, sum_plain = 0.0;
+  for (std::size_t k = 0; k < g.truth.size(); ++k) {
+    sum_grown += g.truth[k].points_inside;
+    sum_plain += p.truth[k].points_inside;
+  }
+  EXPECT_GT(sum_grown, sum_plain);
+}
+
 TEST(PipelineStages, BadInputsNameTheOptionInOneLine) {
   using hullmap::test::runHullmap;
   const Room room = writeRoom("stages_bad", 2);
@@ -308,6 +415,7 @@ TEST(PipelineStages, BadInputsNameTheOptionInOneLine) {
   expect(runHullmap("build " + map + " --concavity some" + out), "--concavity");
   for (const char* bad : {"x", "-1", "nan"}) expect(runHullmap("build " + map + " --flat-gap " + bad + out), "--flat-gap");
   expect(runHullmap("build " + map + " --concavity none --flat-gap 0.1" + out), "--flat-gap: applies only to convex parts");
+  for (const char* bad : {"none", "0", "Auto"}) expect(runHullmap("build " + map + " --extension " + bad + out), "--extension");
   // A garbage reference file is named with its line; fewer than 3 matched poses are refused.
   const auto garbage = room.dir / "garbage.txt";
   hullmap::test::writeText(garbage, "0 1 2 3\nnot a pose\n");

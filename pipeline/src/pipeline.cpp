@@ -385,6 +385,11 @@ void checkParams(const BuildParams& params) {
     throw Error::inParameter("scale", "must be a positive finite number");
   if (params.trajectory && params.origin)
     throw Error::inParameter("trajectory/origin", "give one or the other");
+  try {
+    clustering::extensionParams(clustering::DbscanParams{}, params.extension_rule);
+  } catch (const Error& e) {
+    throw Error::inParameter("extension_rule", e.what());
+  }
   if (params.origin && !params.origin->allFinite())
     throw Error::inParameter("origin", "must be finite");
   if (params.align) {
@@ -572,8 +577,15 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
   timer.stage("auto_params");
 
   runStage("dbscan");
-  const clustering::DbscanResult sub = clustering::dbscan(obstacle_centers, obstacle_weights, chosen.used);
+  clustering::DbscanResult sub = clustering::dbscan(obstacle_centers, obstacle_weights, chosen.used);
   timer.stage("dbscan");
+
+  if (params.extension.value_or(!params.min_pts)) {
+    runStage("extension");
+    chosen.extension_params = clustering::extensionParams(chosen.used, params.extension_rule);
+    chosen.extension = clustering::extendClusters(obstacle_centers, obstacle_weights, sub, *chosen.extension_params);
+    timer.stage("extension");
+  }
 
   runStage("obstacles");
   result.clusters.cluster_sizes = sub.cluster_sizes;
@@ -862,6 +874,7 @@ nlohmann::json parametersJson(const BuildParams& params) {
                                                            : json("default")},
       {"flat_gap", !params.convex_parts || !params.convex_parts->flat_gap ? json("auto")
                                                                            : json(*params.convex_parts->flat_gap)},
+      {"extension", !params.extension ? "auto" : *params.extension ? "on" : "off"},
       {"ot", params.write_ot},
   };
 }
@@ -906,6 +919,13 @@ nlohmann::json reportJson(const BuildResult& result) {
                                  {"structured", c.structured},
                                  {"eps", c.eps},
                                  {"min_pts", c.min_pts}};
+  }
+  clustering_params["extension"] = nullptr;
+  if (cp.extension_params) {
+    clustering_params["extension"] = {{"min_pts", cp.extension_params->min_pts},
+                                      {"reach", cp.extension_params->reach},
+                                      {"joined", cp.extension.joined},
+                                      {"rounds", cp.extension.rounds}};
   }
   json parts = nullptr;
   if (report.parts) {

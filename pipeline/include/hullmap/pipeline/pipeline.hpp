@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/clustering/auto_params.hpp"
+#include "hullmap/clustering/cluster_extension.hpp"
 #include "hullmap/clustering/convex_parts.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/clustering/obstacles.hpp"
@@ -73,6 +74,14 @@ struct BuildParams {
   std::optional<int> min_pts;
   clustering::Metric metric = clustering::Metric::kXyz;  ///< DBSCAN distance (xy: top view)
   clustering::AutoParamsRule auto_rule;                  ///< the rule behind auto eps / minPts
+  /// After DBSCAN, grow its clusters through the noise voxels that are dense at a lower level
+  /// (clustering::extendClusters with clustering::extensionParams(the DBSCAN parameters used,
+  /// `extension_rule`)): sparse structure attached to a cluster (thin legs, edges) joins it; no
+  /// cluster is created or merged. nullopt (default): on when `min_pts` is auto (the auto minPts
+  /// keeps outliers out and the extension brings back the sparse structure it leaves out), off when
+  /// `min_pts` is given (the clusters are then exactly DBSCAN's). true / false: always / never.
+  std::optional<bool> extension;
+  clustering::ClusterExtensionRule extension_rule;       ///< the rule behind the extension
   /// Convex parts of each cluster (clustering::addConvexParts) with concavity bound
   /// `convex_parts->concavity` (0: clustering::defaultConcavity, 3 voxels); nullopt: one hull per
   /// cluster. The keyframes (with `trajectory`) are kept out of every part's hull.
@@ -102,6 +111,9 @@ struct ClusterParamsReport {
   bool eps_auto = false;
   bool min_pts_auto = false;
   std::optional<clustering::AutoParams> chosen;  ///< what the auto rule measured (when either is auto)
+  /// With BuildParams::extension: the parameters of the extension pass and what it did.
+  std::optional<clustering::ClusterExtensionParams> extension_params;
+  clustering::ClusterExtension extension;
 };
 
 /// Account of what happened to the input points, stage by stage.
