@@ -341,6 +341,30 @@ class FlatGap(unittest.TestCase):
             self.assertIn("~flat_gap", r.stdout + r.stderr, params)
 
 
+class Extension(unittest.TestCase):
+    def test_extension_off_publishes_hullmap_build_extension_off_and_bad_values_stop_the_node(self):
+        # At the defaults (auto minPts) the cluster extension runs, as in hullmap build; ~extension
+        # off leaves DBSCAN's clusters, as --extension off does, and the parts differ.
+        points_file, points = small_room("extension_scene")
+        at_defaults = expected_triangles(hullmap_build([points_file], os.path.join(TMP, "extension_auto"), []))
+        off = expected_triangles(hullmap_build([points_file], os.path.join(TMP, "extension_off"), ["--extension", "off"]))
+        self.assertFalse(same_triangles(off, at_defaults), "--extension off should change this room's parts")
+        node = Node({"extension": "off"})
+        try:
+            node.publisher("/%s/cloud_in" % node.name, PointCloud2).publish(cloud(points))
+            node.wait_idle(1)
+            wait_for("~obstacles equal to hullmap build --extension off's",
+                     lambda: same_triangles(node.hull_triangles(), off))
+        finally:
+            node.stop()
+        for params in ({"extension": "x"}, {"extension": 1}, {"extension": "Auto"}):
+            Node.count += 1
+            args = [NODE, "__name:=hullmap%d" % Node.count] + ["_%s:=%s" % kv for kv in params.items()]
+            r = subprocess.run(args, capture_output=True, text=True, timeout=TIMEOUT)
+            self.assertEqual(r.returncode, 2, "%s: %s" % (params, r.stdout + r.stderr))
+            self.assertIn("~extension", r.stdout + r.stderr, params)
+
+
 class CloudInput(unittest.TestCase):
     """~cloud_in: equality with hullmap build, ~save then hullmap check, malformed messages, a burst."""
 

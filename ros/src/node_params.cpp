@@ -95,6 +95,13 @@ pipeline::BuildParams readBuildParams(const ::ros::NodeHandle& nh) {
                                              "cluster; leave it auto");
     p.convex_parts->flat_gap = g;
   }
+  // extension: auto (on when min_pts is auto), on or off, as `hullmap build --extension`.
+  const std::string extension = wordOrNumber(nh, "extension", "auto");
+  if (extension == "on" || extension == "off") {
+    p.extension = extension == "on";
+  } else if (extension != "auto") {
+    throw Error::inParameter("~extension", "expected auto, on or off, got '" + extension + "'");
+  }
   std::string up = pipeline::upAxisText(p.frame.up);
   nh.param("up", up, up);
   p.frame.up = parsed("up", up, mapper::parseUpAxis);
