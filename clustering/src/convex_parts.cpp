@@ -453,6 +453,14 @@ class ClusterSplitter {
     enc_hi_ = hi;
   }
 
+  /// Whether the cluster encloses the cell (see findEnclosed).
+  bool isEnclosed(const Cell& c) const {
+    if (enclosed_count_ == 0) return false;
+    for (std::size_t a = 0; a < 3; ++a)
+      if (c[a] < enc_lo_[a] || c[a] > enc_hi_[a]) return false;
+    return enclosed_[encAt(c[0], c[1], c[2])] != 0;
+  }
+
   std::size_t encAt(std::int64_t i, std::int64_t j, std::int64_t k) const {
     const std::int64_t nx = enc_hi_[0] - enc_lo_[0] + 1, ny = enc_hi_[1] - enc_lo_[1] + 1;
     return std::size_t(((k - enc_lo_[2]) * ny + (j - enc_lo_[1])) * nx + (i - enc_lo_[0]));
@@ -811,8 +819,9 @@ class ClusterSplitter {
     };
     for (std::size_t node = 0; node < nodes.size(); ++node) own(node);
     // A pair whose union surely fails its check: the midpoint of the centres of a cell of each lies
-    // in the union's hull, so the cell holding it is one the check scans; when no cell of the union
-    // is within T of it, the check fails. Such a pair would be popped and rejected, so leaving it
+    // in the union's hull, so the cell holding it is one the check scans; when no site of the union
+    // (a cell of it, or a cell its cluster encloses: the check counts those inside the union's box)
+    // is within max(T, G) of it, the check fails. Such a pair would be popped and rejected, so leaving it
     // out of the queue changes nothing but the time.
     const auto surelyFails = [&](std::size_t a, std::size_t b) {
       if (owner.empty()) return false;
@@ -824,8 +833,9 @@ class ClusterSplitter {
           const Cell& q = cells_[mb[pb]];
           const Cell m{floorDiv(p[0] + q[0] + 1, 2), floorDiv(p[1] + q[1] + 1, 2), floorDiv(p[2] + q[2] + 1, 2)};
           const bool covered = std::any_of(ball_.begin(), ball_.end(), [&](const auto& offset) {
-            const std::uint32_t o = ownerAt({m[0] + offset.first[0], m[1] + offset.first[1], m[2] + offset.first[2]});
-            return o == a || o == b;
+            const Cell x{m[0] + offset.first[0], m[1] + offset.first[1], m[2] + offset.first[2]};
+            const std::uint32_t o = ownerAt(x);
+            return o == a || o == b || isEnclosed(x);
           });
           if (!covered) return true;
         }
