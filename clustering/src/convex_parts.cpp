@@ -12,6 +12,7 @@
 #include <set>
 #include <string>
 #include <tuple>
+#include <unordered_set>
 #include <utility>
 
 #include <Eigen/Eigenvalues>
@@ -36,6 +37,9 @@ constexpr double kAdaptMaxFactor = 2.0;
 /// absorb(): a non-flat part gives voxels to a flat part only when the flat part has at least this
 /// many times its voxels.
 constexpr std::size_t kAbsorbRatio = 8;
+/// shedStrays(): at most this many lone cells, and at most one in this many of the cluster.
+constexpr std::size_t kShedMax = 8;
+constexpr std::size_t kShedShare = 16;
 using Members = std::vector<std::uint32_t>;  ///< sorted indices into the cluster's cells
 
 /// A facet plane of a lattice hull: n . x <= d inside, x in corner-lattice coordinates (cell (i, j, k)
@@ -262,6 +266,13 @@ class ClusterSplitter {
     std::iota(all.begin(), all.end(), 0u);
     if (fill_enclosed_) findEnclosed(all);
     std::vector<std::pair<Members, Check>> done;
+    // Lone cells off the cluster's surfaces are shed first (see shedStrays), each a part of its
+    // own for now (the merge below may join them to a part they pass with).
+    for (const auto i : shedStrays(all)) {
+      Check single;
+      single.hull = latticeHull({cells_[i]});
+      done.emplace_back(Members{i}, std::move(single));
+    }
     // Parts to check, with their hulls when the split already built them. The halves of a split
     // are independent, so they are checked in parallel; the order in which parts are done does not
     // matter (merge orders them by their first cell).
@@ -281,7 +292,10 @@ class ClusterSplitter {
       feeder.add(Work(std::move(halves.left), std::move(halves.left_hull)));
       feeder.add(Work(std::move(halves.right), std::move(halves.right_hull)));
     });
-    return absorb(merge(std::move(done)));
+    auto parts = absorb(merge(std::move(done)));
+    bool changed = false;
+    parts = absorbIntoBoxes(std::move(parts), changed);
+    return changed ? absorb(merge(std::move(parts))) : parts;
   }
 
  private:
@@ -608,6 +622,122 @@ class ClusterSplitter {
         parts[q] = {std::move(out), std::move(rest)};
         changed = true;
         if (!parts[q].first.empty()) box(parts[q].first, qlo, qhi);
+      }
+    }
+    if (!changed) return parts;
+    std::vector<std::pair<Members, Check>> kept;
+    for (auto& part : parts)
+      if (!part.first.empty()) kept.push_back(std::move(part));
+    std::sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return a.first[0] < b.first[0]; });
+    return kept;
+  }
+
+  /// Sheds the stray cells that alone keep the whole cluster from passing: while the cluster fails,
+  /// the lone cell (no other cell of the cluster within T) nearest its deepest uncovered cell is
+  /// taken out, if it lies within 2 rho (rho = max(T, G)) of that cell; when what is left passes
+  /// after at most kShedMax such cells (and at most 1/kShedShare of the cluster), they are removed
+  /// from `all` and returned (each becomes a part of one voxel, which the merge may join to a part
+  /// it passes with); otherwise nothing is. A stray voxel a few cells off a box's face (noise, an
+  /// outlier DBSCAN took in) drags a wedge of hull out to it that is farther than T from everything,
+  /// and the split cut it off with a slice of the box. A cluster whose deepest uncovered cell has no
+  /// lone cell within 2 rho (a room's middle) costs one search; others at most kShedMax checks.
+  std::vector<std::uint32_t> shedStrays(Members& all) const {
+    if (all.size() < 2 * kShedShare) return {};
+    Check check = checkPart(all, true);
+    if (check.ok || check.too_big) return {};
+    // Lone cells: no other cell of the cluster within T (packed keys, 21 bits per axis).
+    for (const auto& c : cells_)
+      for (const auto x : c)
+        if (x < -(std::int64_t(1) << 19) || x >= (std::int64_t(1) << 19)) return {};
+    std::unordered_set<std::uint64_t> occupied;
+    const auto pack = [](const Cell& c) {
+      return (std::uint64_t(c[0] + (1 << 20)) << 42) | (std::uint64_t(c[1] + (1 << 20)) << 21) | std::uint64_t(c[2] + (1 << 20));
+    };
+    for (const auto& c : cells_) occupied.insert(pack(c));
+    std::vector<std::uint32_t> lone;
+    for (const auto i : all) {
+      bool alone = true;
+      for (const auto& [o, o2] : ball_) {
+        if (double(o2) > t2_) break;  // ball_ is sorted by distance
+        if (o2 == 0.0f) continue;
+        const Cell& c = cells_[i];
+        if (occupied.count(pack({c[0] + o[0], c[1] + o[1], c[2] + o[2]}))) {
+          alone = false;
+          break;
+        }
+      }
+      if (alone) lone.push_back(i);
+    }
+    std::vector<std::uint32_t> shed;
+    Members rest = all;
+    const std::size_t most = std::min<std::size_t>(kShedMax, all.size() / kShedShare);
+    while (!check.ok && !check.too_big && shed.size() < most) {
+      // The lone cell nearest the deepest uncovered cell (ties: the first), within 2 rho of it.
+      double best = 4.0 * rho2_;
+      std::optional<std::uint32_t> pick;
+      for (const auto i : lone) {
+        if (std::find(shed.begin(), shed.end(), i) != shed.end()) continue;
+        const Eigen::Vector3d d = Eigen::Vector3d(double(cells_[i][0]) + 0.5, double(cells_[i][1]) + 0.5,
+                                                  double(cells_[i][2]) + 0.5) - check.split_point;
+        if (d.squaredNorm() <= best) {
+          if (!pick || d.squaredNorm() < best) pick = i;
+          best = d.squaredNorm();
+        }
+      }
+      if (!pick) return {};
+      shed.push_back(*pick);
+      rest.erase(std::lower_bound(rest.begin(), rest.end(), *pick));
+      check = checkPart(rest, true);
+    }
+    if (!check.ok) return {};
+    all = std::move(rest);
+    return shed;
+  }
+
+  /// Hands the voxels of a non-flat fragment lying in the bounding box of a larger non-flat part (at
+  /// least kAbsorbRatio times its voxels) to that part, when the part with them and what is left of
+  /// the fragment (if anything) each pass the check. A stray voxel off a box's face drags a wedge of
+  /// hull out to it, so the split cuts it off together with some of the face's voxels around it, and
+  /// the face is left with a hole the rest of the box cannot merge across: this gives the face's
+  /// voxels back, leaving the stray (and whatever else lies outside the box) a part of its own.
+  /// Larger parts first (ties by first cell), fragments in order of their first cell; deterministic.
+  /// `changed`: set when a voxel moved (the parts are then merged again).
+  std::vector<std::pair<Members, Check>> absorbIntoBoxes(std::vector<std::pair<Members, Check>> parts,
+                                                         bool& changed) const {
+    std::vector<std::size_t> order;
+    for (std::size_t p = 0; p < parts.size(); ++p)
+      if (!parts[p].second.flat) order.push_back(p);
+    if (order.size() < 2) return parts;
+    std::vector<std::size_t> targets = order;
+    std::stable_sort(targets.begin(), targets.end(),
+                     [&](std::size_t a, std::size_t b) { return parts[a].first.size() > parts[b].first.size(); });
+    for (const auto q : order) {
+      for (const auto f : targets) {
+        if (f == q || parts[q].first.empty()) continue;
+        if (parts[q].first.size() * kAbsorbRatio > parts[f].first.size()) continue;
+        Cell flo, fhi;
+        box(parts[f].first, flo, fhi);
+        Members in, out;
+        for (const auto i : parts[q].first) {
+          const Cell& c = cells_[i];
+          bool inside_box = true;
+          for (std::size_t a = 0; a < 3; ++a) inside_box = inside_box && c[a] >= flo[a] && c[a] <= fhi[a];
+          (inside_box ? in : out).push_back(i);
+        }
+        if (in.empty()) continue;
+        Members both;
+        both.reserve(parts[f].first.size() + in.size());
+        std::merge(parts[f].first.begin(), parts[f].first.end(), in.begin(), in.end(), std::back_inserter(both));
+        Check check = checkPart(both, false);
+        if (!check.ok) continue;
+        Check rest;
+        if (!out.empty()) {
+          rest = checkPart(out, false);
+          if (!rest.ok) continue;
+        }
+        parts[f] = {std::move(both), std::move(check)};
+        parts[q] = {std::move(out), std::move(rest)};
+        changed = true;
       }
     }
     if (!changed) return parts;
