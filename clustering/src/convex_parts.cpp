@@ -12,7 +12,6 @@
 #include <set>
 #include <string>
 #include <tuple>
-#include <unordered_set>
 #include <utility>
 
 #include <Eigen/Eigenvalues>
@@ -266,13 +265,7 @@ class ClusterSplitter {
     std::iota(all.begin(), all.end(), 0u);
     if (fill_enclosed_) findEnclosed(all);
     std::vector<std::pair<Members, Check>> done;
-    // Lone cells off the cluster's surfaces are shed first (see shedStrays), each a part of its
-    // own for now (the merge below may join them to a part they pass with).
-    for (const auto i : shedStrays(all)) {
-      Check single;
-      single.hull = latticeHull({cells_[i]});
-      done.emplace_back(Members{i}, std::move(single));
-    }
+    findLone();
     // Parts to check, with their hulls when the split already built them. The halves of a split
     // are independent, so they are checked in parallel; the order in which parts are done does not
     // matter (merge orders them by their first cell).
@@ -283,6 +276,17 @@ class ClusterSplitter {
     tbb::parallel_for_each(start.begin(), start.end(), [&](Work& work, tbb::feeder<Work>& feeder) {
       Members& part = work.first;
       Check check = checkPart(part, true, work.second ? &*work.second : nullptr);
+      // Stray cells are shed before a cut (see shedStrays), each a part of its own for now (the
+      // merge below may join them to a part they pass with).
+      const auto shed = shedStrays(part, check);
+      if (!shed.empty()) {
+        const std::lock_guard<std::mutex> lock(done_mutex);
+        for (const auto i : shed) {
+          Check single;
+          single.hull = latticeHull({cells_[i]});
+          done.emplace_back(Members{i}, std::move(single));
+        }
+      }
       if (check.ok || part.size() == 1) {
         const std::lock_guard<std::mutex> lock(done_mutex);
         done.emplace_back(std::move(part), std::move(check));
@@ -632,53 +636,59 @@ class ClusterSplitter {
     return kept;
   }
 
-  /// Sheds the stray cells that alone keep the whole cluster from passing: while the cluster fails,
-  /// the lone cell (no other cell of the cluster within T) nearest its deepest uncovered cell is
-  /// taken out, if it lies within 2 rho (rho = max(T, G)) of that cell; when what is left passes
-  /// after at most kShedMax such cells (and at most 1/kShedShare of the cluster), they are removed
-  /// from `all` and returned (each becomes a part of one voxel, which the merge may join to a part
-  /// it passes with); otherwise nothing is. A stray voxel a few cells off a box's face (noise, an
-  /// outlier DBSCAN took in) drags a wedge of hull out to it that is farther than T from everything,
-  /// and the split cut it off with a slice of the box. A cluster whose deepest uncovered cell has no
-  /// lone cell within 2 rho (a room's middle) costs one search; others at most kShedMax checks.
-  std::vector<std::uint32_t> shedStrays(Members& all) const {
-    if (all.size() < 2 * kShedShare) return {};
-    Check check = checkPart(all, true);
-    if (check.ok || check.too_big) return {};
-    // Lone cells: no other cell of the cluster within T (packed keys, 21 bits per axis).
+  /// Marks the lone cells: no other cell of the cluster within T (none when the cluster is too wide
+  /// for the packed keys, 21 bits per axis).
+  void findLone() {
+    lone_.assign(cells_.size(), 0);
     for (const auto& c : cells_)
       for (const auto x : c)
-        if (x < -(std::int64_t(1) << 19) || x >= (std::int64_t(1) << 19)) return {};
-    std::unordered_set<std::uint64_t> occupied;
+        if (x < -(std::int64_t(1) << 19) || x >= (std::int64_t(1) << 19)) return;
     const auto pack = [](const Cell& c) {
       return (std::uint64_t(c[0] + (1 << 20)) << 42) | (std::uint64_t(c[1] + (1 << 20)) << 21) | std::uint64_t(c[2] + (1 << 20));
     };
-    for (const auto& c : cells_) occupied.insert(pack(c));
-    std::vector<std::uint32_t> lone;
-    for (const auto i : all) {
+    std::vector<std::uint64_t> occupied;
+    occupied.reserve(cells_.size());
+    for (const auto& c : cells_) occupied.push_back(pack(c));
+    std::sort(occupied.begin(), occupied.end());
+    for (std::size_t i = 0; i < cells_.size(); ++i) {
       bool alone = true;
+      const Cell& c = cells_[i];
       for (const auto& [o, o2] : ball_) {
         if (double(o2) > t2_) break;  // ball_ is sorted by distance
         if (o2 == 0.0f) continue;
-        const Cell& c = cells_[i];
-        if (occupied.count(pack({c[0] + o[0], c[1] + o[1], c[2] + o[2]}))) {
+        if (std::binary_search(occupied.begin(), occupied.end(), pack({c[0] + o[0], c[1] + o[1], c[2] + o[2]}))) {
           alone = false;
           break;
         }
       }
-      if (alone) lone.push_back(i);
+      lone_[i] = alone;
     }
+  }
+
+  /// Sheds the stray cells that alone keep a part from passing (`check`: its failed check, with the
+  /// split point): while it fails, its lone cell (no other cell of the cluster within T) nearest the
+  /// deepest uncovered cell is taken out, if it lies within 2 rho (rho = max(T, G)) of that cell and
+  /// the deepest distance did not grow; when what is left passes after at most kShedMax such cells
+  /// (and at most 1/kShedShare of the part), they are removed from `part`, `check` becomes the rest's
+  /// and they are returned (each becomes a part of one voxel, which the merge may join to a part it
+  /// passes with); otherwise nothing changes. A stray voxel a few cells off a box's face (noise, an
+  /// outlier DBSCAN took in) drags a wedge of hull out to it that is farther than T from everything,
+  /// and the cut that removed it also took a slice of the box. A part whose deepest uncovered cell
+  /// has no lone cell within 2 rho (a room's middle) costs one scan of its cells.
+  std::vector<std::uint32_t> shedStrays(Members& part, Check& check) const {
+    if (check.ok || check.too_big || part.size() < 2 * kShedShare) return {};
     std::vector<std::uint32_t> shed;
-    Members rest = all;
-    const std::size_t most = std::min<std::size_t>(kShedMax, all.size() / kShedShare);
-    while (!check.ok && !check.too_big && shed.size() < most) {
+    Members rest = part;
+    Check now = check;
+    const std::size_t most = std::min<std::size_t>(kShedMax, part.size() / kShedShare);
+    while (!now.ok && !now.too_big && shed.size() < most) {
       // The lone cell nearest the deepest uncovered cell (ties: the first), within 2 rho of it.
       double best = 4.0 * rho2_;
       std::optional<std::uint32_t> pick;
-      for (const auto i : lone) {
-        if (std::find(shed.begin(), shed.end(), i) != shed.end()) continue;
+      for (const auto i : rest) {
+        if (!lone_[i]) continue;
         const Eigen::Vector3d d = Eigen::Vector3d(double(cells_[i][0]) + 0.5, double(cells_[i][1]) + 0.5,
-                                                  double(cells_[i][2]) + 0.5) - check.split_point;
+                                                  double(cells_[i][2]) + 0.5) - now.split_point;
         if (d.squaredNorm() <= best) {
           if (!pick || d.squaredNorm() < best) pick = i;
           best = d.squaredNorm();
@@ -687,10 +697,13 @@ class ClusterSplitter {
       if (!pick) return {};
       shed.push_back(*pick);
       rest.erase(std::lower_bound(rest.begin(), rest.end(), *pick));
-      check = checkPart(rest, true);
+      const std::int64_t before = now.worst_d2;
+      now = checkPart(rest, true);
+      if (!now.ok && now.worst_d2 > before) return {};
     }
-    if (!check.ok) return {};
-    all = std::move(rest);
+    if (!now.ok) return {};
+    part = std::move(rest);
+    check = std::move(now);
     return shed;
   }
 
@@ -1027,6 +1040,7 @@ class ClusterSplitter {
   bool fill_enclosed_;
   std::optional<double> floor_k_;  ///< the floor's height, lattice units (k of the corner lattice)
   double rho2_;  ///< max(T, G)^2, cells^2: the closing radius when finding enclosed cells
+  std::vector<char> lone_;         ///< per cell: no other cell of the cluster within T (findLone)
   std::vector<char> enclosed_;     ///< over the cluster's box [enc_lo_, enc_hi_], x fastest
   std::size_t enclosed_count_ = 0;
   Cell enc_lo_{0, 0, 0}, enc_hi_{0, 0, 0};

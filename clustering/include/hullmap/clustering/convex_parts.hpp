@@ -99,10 +99,10 @@ double adaptedFlatGap(const std::vector<Eigen::Vector3d>& centers, double voxel_
 /// Also, no part's hull contains a keyframe position (strictly or on its boundary), unless the
 /// keyframe lies in one of that part's voxels.
 ///
-/// Method: first, stray cells are shed: while the whole cluster fails, its lone cell (no other cell
-/// within T) nearest the deepest uncovered cell (within 2 max(T, G) of it) is taken out; when the
-/// rest passes after at most 8 such cells (and at most 1/16 of the cluster), they become one-voxel
-/// parts, otherwise none is shed. Then top-down, a part that violates T (or contains a keyframe) is cut in two by a plane, and
+/// Method: top-down, a part that violates T (or contains a keyframe) first sheds stray cells: while
+/// it fails, its lone cell (no other cell of the cluster within T) nearest the deepest uncovered cell
+/// (within 2 max(T, G) of it) is taken out; when the rest passes after at most 8 such cells (and at
+/// most 1/16 of the part), they become one-voxel parts, otherwise none is shed and the part is cut in two by a plane, and
 /// the halves recursively. The candidate planes: through its deepest uncovered cell (or the
 /// keyframe), the three axis planes and the three normal to the principal axes of its voxel
 /// centres; and per axis the cut whose halves have the smallest summed bounding boxes. The one whose
