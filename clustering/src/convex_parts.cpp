@@ -36,7 +36,7 @@ constexpr double kAdaptMaxFactor = 2.0;
 /// absorb(): a non-flat part gives voxels to a flat part only when the flat part has at least this
 /// many times its voxels.
 constexpr std::size_t kAbsorbRatio = 8;
-/// shedStrays(): at most this many lone cells, and at most one in this many of the cluster.
+/// shedStrays(): at most this many lone cells, and at most one in this many of the part.
 constexpr std::size_t kShedMax = 8;
 constexpr std::size_t kShedShare = 16;
 using Members = std::vector<std::uint32_t>;  ///< sorted indices into the cluster's cells
