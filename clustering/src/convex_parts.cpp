@@ -36,6 +36,9 @@ constexpr double kAdaptMaxFactor = 2.0;
 /// absorb(): a non-flat part gives voxels to a flat part only when the flat part has at least this
 /// many times its voxels.
 constexpr std::size_t kAbsorbRatio = 8;
+/// shedStrays(): at most this many lone cells, and at most one in this many of the part.
+constexpr std::size_t kShedMax = 8;
+constexpr std::size_t kShedShare = 16;
 using Members = std::vector<std::uint32_t>;  ///< sorted indices into the cluster's cells
 
 /// A facet plane of a lattice hull: n . x <= d inside, x in corner-lattice coordinates (cell (i, j, k)
@@ -262,6 +265,7 @@ class ClusterSplitter {
     std::iota(all.begin(), all.end(), 0u);
     if (fill_enclosed_) findEnclosed(all);
     std::vector<std::pair<Members, Check>> done;
+    findLone();
     // Parts to check, with their hulls when the split already built them. The halves of a split
     // are independent, so they are checked in parallel; the order in which parts are done does not
     // matter (merge orders them by their first cell).
@@ -272,6 +276,17 @@ class ClusterSplitter {
     tbb::parallel_for_each(start.begin(), start.end(), [&](Work& work, tbb::feeder<Work>& feeder) {
       Members& part = work.first;
       Check check = checkPart(part, true, work.second ? &*work.second : nullptr);
+      // Stray cells are shed before a cut (see shedStrays), each a part of its own for now (the
+      // merge below may join them to a part they pass with).
+      const auto shed = shedStrays(part, check);
+      if (!shed.empty()) {
+        const std::lock_guard<std::mutex> lock(done_mutex);
+        for (const auto i : shed) {
+          Check single;
+          single.hull = latticeHull({cells_[i]});
+          done.emplace_back(Members{i}, std::move(single));
+        }
+      }
       if (check.ok || part.size() == 1) {
         const std::lock_guard<std::mutex> lock(done_mutex);
         done.emplace_back(std::move(part), std::move(check));
@@ -281,7 +296,10 @@ class ClusterSplitter {
       feeder.add(Work(std::move(halves.left), std::move(halves.left_hull)));
       feeder.add(Work(std::move(halves.right), std::move(halves.right_hull)));
     });
-    return absorb(merge(std::move(done)));
+    auto parts = absorb(merge(std::move(done)));
+    bool changed = false;
+    parts = absorbIntoBoxes(std::move(parts), changed);
+    return changed ? absorb(merge(std::move(parts))) : parts;
   }
 
  private:
@@ -453,6 +471,14 @@ class ClusterSplitter {
     enc_hi_ = hi;
   }
 
+  /// Whether the cluster encloses the cell (see findEnclosed).
+  bool isEnclosed(const Cell& c) const {
+    if (enclosed_count_ == 0) return false;
+    for (std::size_t a = 0; a < 3; ++a)
+      if (c[a] < enc_lo_[a] || c[a] > enc_hi_[a]) return false;
+    return enclosed_[encAt(c[0], c[1], c[2])] != 0;
+  }
+
   std::size_t encAt(std::int64_t i, std::int64_t j, std::int64_t k) const {
     const std::int64_t nx = enc_hi_[0] - enc_lo_[0] + 1, ny = enc_hi_[1] - enc_lo_[1] + 1;
     return std::size_t(((k - enc_lo_[2]) * ny + (j - enc_lo_[1])) * nx + (i - enc_lo_[0]));
@@ -600,6 +626,131 @@ class ClusterSplitter {
         parts[q] = {std::move(out), std::move(rest)};
         changed = true;
         if (!parts[q].first.empty()) box(parts[q].first, qlo, qhi);
+      }
+    }
+    if (!changed) return parts;
+    std::vector<std::pair<Members, Check>> kept;
+    for (auto& part : parts)
+      if (!part.first.empty()) kept.push_back(std::move(part));
+    std::sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return a.first[0] < b.first[0]; });
+    return kept;
+  }
+
+  /// Marks the lone cells: no other cell of the cluster within T (none when the cluster is too wide
+  /// for the packed keys, 21 bits per axis).
+  void findLone() {
+    lone_.assign(cells_.size(), 0);
+    for (const auto& c : cells_)
+      for (const auto x : c)
+        if (x < -(std::int64_t(1) << 19) || x >= (std::int64_t(1) << 19)) return;
+    const auto pack = [](const Cell& c) {
+      return (std::uint64_t(c[0] + (1 << 20)) << 42) | (std::uint64_t(c[1] + (1 << 20)) << 21) | std::uint64_t(c[2] + (1 << 20));
+    };
+    std::vector<std::uint64_t> occupied;
+    occupied.reserve(cells_.size());
+    for (const auto& c : cells_) occupied.push_back(pack(c));
+    std::sort(occupied.begin(), occupied.end());
+    for (std::size_t i = 0; i < cells_.size(); ++i) {
+      bool alone = true;
+      const Cell& c = cells_[i];
+      for (const auto& [o, o2] : ball_) {
+        if (double(o2) > t2_) break;  // ball_ is sorted by distance
+        if (o2 == 0.0f) continue;
+        if (std::binary_search(occupied.begin(), occupied.end(), pack({c[0] + o[0], c[1] + o[1], c[2] + o[2]}))) {
+          alone = false;
+          break;
+        }
+      }
+      lone_[i] = alone;
+    }
+  }
+
+  /// Sheds the stray cells that alone keep a part from passing (`check`: its failed check, with the
+  /// split point): while it fails, its lone cell (no other cell of the cluster within T) nearest the
+  /// deepest uncovered cell is taken out, if it lies within 2 rho (rho = max(T, G)) of that cell and
+  /// the deepest distance did not grow; when what is left passes after at most kShedMax such cells
+  /// (and at most 1/kShedShare of the part), they are removed from `part`, `check` becomes the rest's
+  /// and they are returned (each becomes a part of one voxel, which the merge may join to a part it
+  /// passes with); otherwise nothing changes. A stray voxel a few cells off a box's face (noise, an
+  /// outlier DBSCAN took in) drags a wedge of hull out to it that is farther than T from everything,
+  /// and the cut that removed it also took a slice of the box. A part whose deepest uncovered cell
+  /// has no lone cell within 2 rho (a room's middle) costs one scan of its cells.
+  std::vector<std::uint32_t> shedStrays(Members& part, Check& check) const {
+    if (check.ok || check.too_big || part.size() < 2 * kShedShare) return {};
+    std::vector<std::uint32_t> shed;
+    Members rest = part;
+    Check now = check;
+    const std::size_t most = std::min<std::size_t>(kShedMax, part.size() / kShedShare);
+    while (!now.ok && !now.too_big && shed.size() < most) {
+      // The lone cell nearest the deepest uncovered cell (ties: the first), within 2 rho of it.
+      double best = 4.0 * rho2_;
+      std::optional<std::uint32_t> pick;
+      for (const auto i : rest) {
+        if (!lone_[i]) continue;
+        const Eigen::Vector3d d = Eigen::Vector3d(double(cells_[i][0]) + 0.5, double(cells_[i][1]) + 0.5,
+                                                  double(cells_[i][2]) + 0.5) - now.split_point;
+        if (d.squaredNorm() <= best) {
+          if (!pick || d.squaredNorm() < best) pick = i;
+          best = d.squaredNorm();
+        }
+      }
+      if (!pick) return {};
+      shed.push_back(*pick);
+      rest.erase(std::lower_bound(rest.begin(), rest.end(), *pick));
+      const std::int64_t before = now.worst_d2;
+      now = checkPart(rest, true);
+      if (!now.ok && now.worst_d2 > before) return {};
+    }
+    if (!now.ok) return {};
+    part = std::move(rest);
+    check = std::move(now);
+    return shed;
+  }
+
+  /// Hands the voxels of a non-flat fragment lying in the bounding box of a larger non-flat part (at
+  /// least kAbsorbRatio times its voxels) to that part, when the part with them and what is left of
+  /// the fragment (if anything) each pass the check. A stray voxel off a box's face drags a wedge of
+  /// hull out to it, so the split cuts it off together with some of the face's voxels around it, and
+  /// the face is left with a hole the rest of the box cannot merge across: this gives the face's
+  /// voxels back, leaving the stray (and whatever else lies outside the box) a part of its own.
+  /// Larger parts first (ties by first cell), fragments in order of their first cell; deterministic.
+  /// `changed`: set when a voxel moved (the parts are then merged again).
+  std::vector<std::pair<Members, Check>> absorbIntoBoxes(std::vector<std::pair<Members, Check>> parts,
+                                                         bool& changed) const {
+    std::vector<std::size_t> order;
+    for (std::size_t p = 0; p < parts.size(); ++p)
+      if (!parts[p].second.flat) order.push_back(p);
+    if (order.size() < 2) return parts;
+    std::vector<std::size_t> targets = order;
+    std::stable_sort(targets.begin(), targets.end(),
+                     [&](std::size_t a, std::size_t b) { return parts[a].first.size() > parts[b].first.size(); });
+    for (const auto q : order) {
+      for (const auto f : targets) {
+        if (f == q || parts[q].first.empty()) continue;
+        if (parts[q].first.size() * kAbsorbRatio > parts[f].first.size()) continue;
+        Cell flo, fhi;
+        box(parts[f].first, flo, fhi);
+        Members in, out;
+        for (const auto i : parts[q].first) {
+          const Cell& c = cells_[i];
+          bool inside_box = true;
+          for (std::size_t a = 0; a < 3; ++a) inside_box = inside_box && c[a] >= flo[a] && c[a] <= fhi[a];
+          (inside_box ? in : out).push_back(i);
+        }
+        if (in.empty()) continue;
+        Members both;
+        both.reserve(parts[f].first.size() + in.size());
+        std::merge(parts[f].first.begin(), parts[f].first.end(), in.begin(), in.end(), std::back_inserter(both));
+        Check check = checkPart(both, false);
+        if (!check.ok) continue;
+        Check rest;
+        if (!out.empty()) {
+          rest = checkPart(out, false);
+          if (!rest.ok) continue;
+        }
+        parts[f] = {std::move(both), std::move(check)};
+        parts[q] = {std::move(out), std::move(rest)};
+        changed = true;
       }
     }
     if (!changed) return parts;
@@ -811,8 +962,9 @@ class ClusterSplitter {
     };
     for (std::size_t node = 0; node < nodes.size(); ++node) own(node);
     // A pair whose union surely fails its check: the midpoint of the centres of a cell of each lies
-    // in the union's hull, so the cell holding it is one the check scans; when no cell of the union
-    // is within T of it, the check fails. Such a pair would be popped and rejected, so leaving it
+    // in the union's hull, so the cell holding it is one the check scans; when no site of the union
+    // (a cell of it, or a cell its cluster encloses: the check counts those inside the union's box)
+    // is within max(T, G) of it, the check fails. Such a pair would be popped and rejected, so leaving it
     // out of the queue changes nothing but the time.
     const auto surelyFails = [&](std::size_t a, std::size_t b) {
       if (owner.empty()) return false;
@@ -824,8 +976,9 @@ class ClusterSplitter {
           const Cell& q = cells_[mb[pb]];
           const Cell m{floorDiv(p[0] + q[0] + 1, 2), floorDiv(p[1] + q[1] + 1, 2), floorDiv(p[2] + q[2] + 1, 2)};
           const bool covered = std::any_of(ball_.begin(), ball_.end(), [&](const auto& offset) {
-            const std::uint32_t o = ownerAt({m[0] + offset.first[0], m[1] + offset.first[1], m[2] + offset.first[2]});
-            return o == a || o == b;
+            const Cell x{m[0] + offset.first[0], m[1] + offset.first[1], m[2] + offset.first[2]};
+            const std::uint32_t o = ownerAt(x);
+            return o == a || o == b || isEnclosed(x);
           });
           if (!covered) return true;
         }
@@ -887,6 +1040,7 @@ class ClusterSplitter {
   bool fill_enclosed_;
   std::optional<double> floor_k_;  ///< the floor's height, lattice units (k of the corner lattice)
   double rho2_;  ///< max(T, G)^2, cells^2: the closing radius when finding enclosed cells
+  std::vector<char> lone_;         ///< per cell: no other cell of the cluster within T (findLone)
   std::vector<char> enclosed_;     ///< over the cluster's box [enc_lo_, enc_hi_], x fastest
   std::size_t enclosed_count_ = 0;
   Cell enc_lo_{0, 0, 0}, enc_hi_{0, 0, 0};

@@ -99,7 +99,10 @@ double adaptedFlatGap(const std::vector<Eigen::Vector3d>& centers, double voxel_
 /// Also, no part's hull contains a keyframe position (strictly or on its boundary), unless the
 /// keyframe lies in one of that part's voxels.
 ///
-/// Method: top-down, a part that violates T (or contains a keyframe) is cut in two by a plane, and
+/// Method: top-down, a part that violates T (or contains a keyframe) first sheds stray cells: while
+/// it fails, its lone cell (no other cell of the cluster within T) nearest the deepest uncovered cell
+/// (within 2 max(T, G) of it) is taken out; when the rest passes after at most 8 such cells (and at
+/// most 1/16 of the part), they become one-voxel parts, otherwise none is shed and the part is cut in two by a plane, and
 /// the halves recursively. The candidate planes: through its deepest uncovered cell (or the
 /// keyframe), the three axis planes and the three normal to the principal axes of its voxel
 /// centres; and per axis the cut whose halves have the smallest summed bounding boxes. The one whose
@@ -107,7 +110,9 @@ double adaptedFlatGap(const std::vector<Eigen::Vector3d>& centers, double voxel_
 /// still passes the check, the pair adding the least hull volume first: a box stays one part, an L
 /// becomes its two arms, a ring of walls its walls. Last, a non-flat fragment (a part with at most
 /// 1/8 of a nearby flat part's voxels, such as a room's corner) hands its voxels lying in the flat
-/// part's slab to it, when both still pass the check.
+/// part's slab to it, when both still pass the check; likewise a non-flat fragment hands its voxels
+/// lying in the bounding box of a non-flat part with at least 8 times its voxels to that part (a
+/// stray clump's slice of a box's face goes back to the box), and then the parts are merged again.
 ///
 /// `centers`: voxel centres of one cluster on a lattice of edge `voxel_size` (map units). Throws
 /// hullmap::Error on voxel_size <= 0, a negative or non-finite concavity, or non-finite input.
