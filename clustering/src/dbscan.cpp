@@ -499,17 +499,14 @@ class GridDbscan {
     const std::size_t count = max_samples == 0 ? n : std::min(n, max_samples);
     std::vector<double> curve(count, 0.0);
     if (min_pts > 1) {
-      // The sampled points in grid order (their sorted positions), so that consecutive queries share
-      // cells in cache: the input index i is sampled when floor(t * n / count) == i for some t, that is
-      // for t = ceil(i * count / n) (kDistanceSample's rule, in 128 bits).
+      // The sampled points (kDistanceSample's) in grid order, by their sorted positions, so that
+      // consecutive queries share cells in cache.
+      std::vector<std::uint8_t> sampled(n, 0);
+      for (const std::uint32_t i : kDistanceSample(n, max_samples)) sampled[i] = 1;
       std::vector<Index> queries;
       queries.reserve(count);
-      const auto sampled = [&](Index i) {
-        const unsigned __int128 t = (static_cast<unsigned __int128>(i) * count + n - 1) / n;
-        return t < count && static_cast<std::size_t>(t * n / count) == i;
-      };
       for (std::size_t j = 0; j < n; ++j) {
-        if (sampled(order_[j])) queries.push_back(Index(j));
+        if (sampled[order_[j]]) queries.push_back(Index(j));
       }
       assert(queries.size() == count);
       buildGroups();
@@ -552,15 +549,18 @@ class GridDbscan {
     }
   };
 
-  /// Cells grouped by the 16^d-cell block of their sort key (contiguous in cell order: the key's high
-  /// bits are the block's hash; two blocks sharing a hash share a group), with the union of their boxes.
+  /// Cells grouped by their 16^d-cell block (a block's cells are contiguous in cell order: the sort
+  /// key's high bits are the block's hash; two blocks sharing a hash make two groups, each a run), with
+  /// the union of their boxes.
   void buildGroups() {
     group_start_.clear();
     group_boxes_.clear();
     const std::size_t cells = coords_.size();
+    const auto block = [&](std::size_t c) {
+      return CellCoord{coords_[c].x >> 4, coords_[c].y >> 4, coords_[c].z >> 4};
+    };
     for (std::size_t c = 0; c < cells; ++c) {
-      const std::uint64_t block = sortKey(coords_[c]) >> 12;
-      if (c == 0 || block != sortKey(coords_[c - 1]) >> 12) {
+      if (c == 0 || !(block(c) == block(c - 1))) {
         group_start_.push_back(Index(c));
         group_boxes_.push_back(boxes_[c]);
       } else {
