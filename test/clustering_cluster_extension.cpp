@@ -11,6 +11,7 @@
 #include "hullmap/clustering/cluster_extension.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/core/error.hpp"
+#include "metric_distance.hpp"
 
 namespace hullmap::clustering {
 namespace {
@@ -18,13 +19,7 @@ namespace {
 using Points = std::vector<Eigen::Vector3d>;
 using Weights = std::vector<std::uint32_t>;
 
-double squaredDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b, Metric metric) {
-  const double dx = a.x() - b.x();
-  const double dy = a.y() - b.y();
-  if (metric == Metric::kXy) return dx * dx + dy * dy;
-  const double dz = a.z() - b.z();
-  return dx * dx + dy * dy + dz * dz;
-}
+using hullmap::test::squaredDistance;
 
 /// The documented rounds by brute force, O(n^2) a round: density of every point against all
 /// points, then each round every dense noise point looks at every point labelled before the round.

@@ -16,6 +16,7 @@
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/core/error.hpp"
 #include "test_support.hpp"
+#include "metric_distance.hpp"
 
 namespace hullmap::clustering {
 namespace {
@@ -23,13 +24,7 @@ namespace {
 using Points = std::vector<Eigen::Vector3d>;
 using Weights = std::vector<std::uint32_t>;
 
-double squaredDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b, Metric metric) {
-  const double dx = a.x() - b.x();
-  const double dy = a.y() - b.y();
-  if (metric == Metric::kXy) return dx * dx + dy * dy;
-  const double dz = a.z() - b.z();
-  return dx * dx + dy * dy + dz * dz;
-}
+using hullmap::test::squaredDistance;
 
 /// Ester et al.'s DBSCAN by brute force, O(n^2), with the documented border and numbering rules:
 /// a border point joins the cluster of its nearest core point (ties: the first in the input), and

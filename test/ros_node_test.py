@@ -316,53 +316,46 @@ class Defaults(unittest.TestCase):
             node.stop()
 
 
+def expect_like_build_and_bad_values_stop(test, name, param, value, flags, bad):
+    """The node with ~param: value publishes the parts `hullmap build FLAGS` writes for the small room,
+    which differ from the defaults' (else the check could not fail); each of `bad` stops the node
+    at start with exit 2, naming ~param."""
+    points_file, points = small_room(name + "_scene")
+    at_defaults = expected_triangles(hullmap_build([points_file], os.path.join(TMP, name + "_default"), []))
+    given = expected_triangles(hullmap_build([points_file], os.path.join(TMP, name + "_given"), flags))
+    test.assertFalse(same_triangles(given, at_defaults), "%s should change this room's parts" % " ".join(flags))
+    node = Node({param: value})
+    try:
+        node.publisher("/%s/cloud_in" % node.name, PointCloud2).publish(cloud(points))
+        node.wait_idle(1)
+        wait_for("~obstacles equal to hullmap build %s's" % " ".join(flags),
+                 lambda: same_triangles(node.hull_triangles(), given))
+    finally:
+        node.stop()
+    for params in bad:
+        Node.count += 1
+        args = [NODE, "__name:=hullmap%d" % Node.count] + ["_%s:=%s" % kv for kv in params.items()]
+        r = subprocess.run(args, capture_output=True, text=True, timeout=TIMEOUT)
+        test.assertEqual(r.returncode, 2, "%s: %s" % (params, r.stdout + r.stderr))
+        test.assertIn("~" + param, r.stdout + r.stderr, params)
+
+
 class FlatGap(unittest.TestCase):
     def test_flat_gap_0_publishes_hullmap_build_flat_gap_0_and_bad_values_stop_the_node(self):
         # The generated room's walls are flat parts at the default (auto: the eps used); ~flat_gap 0
-        # turns that off, as --flat-gap 0 does, and the parts differ.
-        points_file, points = small_room("flat_gap_scene")
-        at_defaults = expected_triangles(hullmap_build([points_file], os.path.join(TMP, "flat_gap_auto"), []))
-        off = expected_triangles(hullmap_build([points_file], os.path.join(TMP, "flat_gap_off"), ["--flat-gap", "0"]))
-        self.assertFalse(same_triangles(off, at_defaults), "--flat-gap 0 should change this room's parts")
-        node = Node({"flat_gap": 0})
-        try:
-            node.publisher("/%s/cloud_in" % node.name, PointCloud2).publish(cloud(points))
-            node.wait_idle(1)
-            wait_for("~obstacles equal to hullmap build --flat-gap 0's",
-                     lambda: same_triangles(node.hull_triangles(), off))
-        finally:
-            node.stop()
-        for params in ({"flat_gap": "x"}, {"flat_gap": -1}, {"flat_gap": "nan"},
-                       {"flat_gap": 0.2, "concavity": "none"}):
-            Node.count += 1
-            args = [NODE, "__name:=hullmap%d" % Node.count] + ["_%s:=%s" % kv for kv in params.items()]
-            r = subprocess.run(args, capture_output=True, text=True, timeout=TIMEOUT)
-            self.assertEqual(r.returncode, 2, "%s: %s" % (params, r.stdout + r.stderr))
-            self.assertIn("~flat_gap", r.stdout + r.stderr, params)
+        # turns that off, as --flat-gap 0 does.
+        expect_like_build_and_bad_values_stop(
+            self, "flat_gap", "flat_gap", 0, ["--flat-gap", "0"],
+            [{"flat_gap": "x"}, {"flat_gap": -1}, {"flat_gap": "nan"}, {"flat_gap": 0.2, "concavity": "none"}])
 
 
 class Extension(unittest.TestCase):
     def test_extension_off_publishes_hullmap_build_extension_off_and_bad_values_stop_the_node(self):
         # At the defaults (auto minPts) the cluster extension runs, as in hullmap build; ~extension
-        # off leaves DBSCAN's clusters, as --extension off does, and the parts differ.
-        points_file, points = small_room("extension_scene")
-        at_defaults = expected_triangles(hullmap_build([points_file], os.path.join(TMP, "extension_auto"), []))
-        off = expected_triangles(hullmap_build([points_file], os.path.join(TMP, "extension_off"), ["--extension", "off"]))
-        self.assertFalse(same_triangles(off, at_defaults), "--extension off should change this room's parts")
-        node = Node({"extension": "off"})
-        try:
-            node.publisher("/%s/cloud_in" % node.name, PointCloud2).publish(cloud(points))
-            node.wait_idle(1)
-            wait_for("~obstacles equal to hullmap build --extension off's",
-                     lambda: same_triangles(node.hull_triangles(), off))
-        finally:
-            node.stop()
-        for params in ({"extension": "x"}, {"extension": 1}, {"extension": "Auto"}):
-            Node.count += 1
-            args = [NODE, "__name:=hullmap%d" % Node.count] + ["_%s:=%s" % kv for kv in params.items()]
-            r = subprocess.run(args, capture_output=True, text=True, timeout=TIMEOUT)
-            self.assertEqual(r.returncode, 2, "%s: %s" % (params, r.stdout + r.stderr))
-            self.assertIn("~extension", r.stdout + r.stderr, params)
+        # off leaves DBSCAN's clusters, as --extension off does.
+        expect_like_build_and_bad_values_stop(
+            self, "extension", "extension", "off", ["--extension", "off"],
+            [{"extension": "x"}, {"extension": 1}, {"extension": "Auto"}])
 
 
 class CloudInput(unittest.TestCase):

@@ -11,6 +11,7 @@
 
 #include "hullmap/core/error.hpp"
 #include "hullmap/core/number_text.hpp"
+#include "cell_hash.hpp"
 
 namespace hullmap::clustering {
 namespace {
@@ -21,18 +22,7 @@ struct Cell {
 };
 
 struct CellHash {
-  std::size_t operator()(const Cell& c) const {
-    // A polynomial in the coordinates, then splitmix64's finaliser: the low bits, which pick the
-    // slot, depend on every bit of all three.
-    std::uint64_t h = (static_cast<std::uint64_t>(c.x) * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(c.y)) *
-                          0xC2B2AE3D27D4EB4FULL +
-                      static_cast<std::uint64_t>(c.z);
-    h ^= h >> 30;
-    h *= 0xBF58476D1CE4E5B9ULL;
-    h ^= h >> 27;
-    h *= 0x94D049BB133111EBULL;
-    return static_cast<std::size_t>(h ^ (h >> 31));
-  }
+  std::size_t operator()(const Cell& c) const { return static_cast<std::size_t>(detail::hashCell(c.x, c.y, c.z)); }
 };
 
 /// Cell -> index, open addressing with linear probing (a lookup is about one cache miss: the

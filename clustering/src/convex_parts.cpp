@@ -569,6 +569,26 @@ class ClusterSplitter {
     return std::nullopt;
   }
 
+  /// Moves the cells `in` of part q into part f when f with them and what is left of q (`out`, which
+  /// lost sites) each pass the check; true when they moved. Nothing changes otherwise.
+  bool handOver(std::vector<std::pair<Members, Check>>& parts, std::size_t f, std::size_t q, const Members& in,
+                Members out) const {
+    if (in.empty()) return false;
+    Members both;
+    both.reserve(parts[f].first.size() + in.size());
+    std::merge(parts[f].first.begin(), parts[f].first.end(), in.begin(), in.end(), std::back_inserter(both));
+    Check check = checkPart(both, false);
+    if (!check.ok) return false;
+    Check rest;
+    if (!out.empty()) {
+      rest = checkPart(out, false);
+      if (!rest.ok) return false;
+    }
+    parts[f] = {std::move(both), std::move(check)};
+    parts[q] = {std::move(out), std::move(rest)};
+    return true;
+  }
+
   /// Hands the voxels of the non-flat parts that lie in a flat part's slab to that flat part, when
   /// the flat part with them still passes its check (so every part keeps its guarantee) and the
   /// non-flat part is a fragment (the flat part has at least kAbsorbRatio times its voxels). Where two
@@ -610,20 +630,7 @@ class ClusterSplitter {
           const std::int64_t v = dot(slab->n, cells_[i]);
           (v + low_corner >= slab->lo && v + high_corner <= slab->hi ? in : out).push_back(i);
         }
-        if (in.empty()) continue;
-        Members both;
-        both.reserve(parts[f].first.size() + in.size());
-        std::merge(parts[f].first.begin(), parts[f].first.end(), in.begin(), in.end(), std::back_inserter(both));
-        Check check = checkPart(both, false);
-        if (!check.ok) continue;
-        // What is left must pass alone too (it lost sites), or nothing moves.
-        Check rest;
-        if (!out.empty()) {
-          rest = checkPart(out, false);
-          if (!rest.ok) continue;
-        }
-        parts[f] = {std::move(both), std::move(check)};
-        parts[q] = {std::move(out), std::move(rest)};
+        if (!handOver(parts, f, q, in, std::move(out))) continue;
         changed = true;
         if (!parts[q].first.empty()) box(parts[q].first, qlo, qhi);
       }
@@ -737,20 +744,7 @@ class ClusterSplitter {
           for (std::size_t a = 0; a < 3; ++a) inside_box = inside_box && c[a] >= flo[a] && c[a] <= fhi[a];
           (inside_box ? in : out).push_back(i);
         }
-        if (in.empty()) continue;
-        Members both;
-        both.reserve(parts[f].first.size() + in.size());
-        std::merge(parts[f].first.begin(), parts[f].first.end(), in.begin(), in.end(), std::back_inserter(both));
-        Check check = checkPart(both, false);
-        if (!check.ok) continue;
-        Check rest;
-        if (!out.empty()) {
-          rest = checkPart(out, false);
-          if (!rest.ok) continue;
-        }
-        parts[f] = {std::move(both), std::move(check)};
-        parts[q] = {std::move(out), std::move(rest)};
-        changed = true;
+        if (handOver(parts, f, q, in, std::move(out))) changed = true;
       }
     }
     if (!changed) return parts;

@@ -22,6 +22,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "hullmap/core/error.hpp"
+#include "cell_hash.hpp"
 
 // Grid DBSCAN after Gunawan (2013), Wang, Gu and Shun (SIGMOD 2020) and ArborX's FDBSCAN-DenseBox:
 //  1. points are binned into cells of side slightly below eps/sqrt(d), so any two points of a cell are
@@ -67,18 +68,7 @@ struct CellBox {
   std::array<float, 3> hi;
 };
 
-/// Hash of cell or block coordinates: a polynomial in odd multipliers (distinct for any two
-/// coordinates less than ~2^20 apart), then an avalanche so that the high bits are well mixed.
-inline std::uint64_t hashCoord(const CellCoord& c) {
-  std::uint64_t h = (static_cast<std::uint64_t>(c.x) * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(c.y)) *
-                        0xC2B2AE3D27D4EB4FULL +
-                    static_cast<std::uint64_t>(c.z);
-  h ^= h >> 31;
-  h *= 0xBF58476D1CE4E5B9ULL;
-  h ^= h >> 29;
-  h *= 0x94D049BB133111EBULL;
-  return h ^ (h >> 32);
-}
+inline std::uint64_t hashCoord(const CellCoord& c) { return hashCell(c.x, c.y, c.z); }
 
 /// Interleaves the low 4 bits of x, y, z (Morton order inside a 16^3 block).
 inline std::uint64_t morton4(std::uint64_t x, std::uint64_t y, std::uint64_t z) {
