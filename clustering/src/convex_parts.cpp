@@ -569,6 +569,15 @@ class ClusterSplitter {
     return std::nullopt;
   }
 
+  /// The parts that still hold cells, in order of their first cell (after hand-overs emptied some).
+  static std::vector<std::pair<Members, Check>> withoutEmpty(std::vector<std::pair<Members, Check>> parts) {
+    std::vector<std::pair<Members, Check>> kept;
+    for (auto& part : parts)
+      if (!part.first.empty()) kept.push_back(std::move(part));
+    std::sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return a.first[0] < b.first[0]; });
+    return kept;
+  }
+
   /// Moves the cells `in` of part q into part f when f with them and what is left of q (`out`, which
   /// lost sites) each pass the check; true when they moved. Nothing changes otherwise.
   bool handOver(std::vector<std::pair<Members, Check>>& parts, std::size_t f, std::size_t q, const Members& in,
@@ -636,11 +645,7 @@ class ClusterSplitter {
       }
     }
     if (!changed) return parts;
-    std::vector<std::pair<Members, Check>> kept;
-    for (auto& part : parts)
-      if (!part.first.empty()) kept.push_back(std::move(part));
-    std::sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return a.first[0] < b.first[0]; });
-    return kept;
+    return withoutEmpty(std::move(parts));
   }
 
   /// Marks the lone cells: no other cell of the cluster within T (none when the cluster is too wide
@@ -748,11 +753,7 @@ class ClusterSplitter {
       }
     }
     if (!changed) return parts;
-    std::vector<std::pair<Members, Check>> kept;
-    for (auto& part : parts)
-      if (!part.first.empty()) kept.push_back(std::move(part));
-    std::sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return a.first[0] < b.first[0]; });
-    return kept;
+    return withoutEmpty(std::move(parts));
   }
 
   /// Whether the hull is at most T wide along one of its facet normals (so it is at most T thick:
