@@ -276,10 +276,17 @@ TEST(PipelineStages, FlatGapOptionReachesTheReportAndZeroTurnsItOff) {
   EXPECT_EQ(given.report["parts"]["flat_gap"], 0.5);
   EXPECT_EQ(given.report["parts"]["flat_gap_max"], 0.5) << "a G given is used as given";
   EXPECT_EQ(flatInObstacles(given.obstacles), given.report["parts"]["flat_parts"].get<std::size_t>());
+  std::size_t faces = 0;
   for (const auto& obstacle : given.obstacles["obstacles"])
-    for (const auto& part : obstacle["parts"])
+    for (const auto& part : obstacle["parts"]) {
+      const bool relaxed = part["flat"].get<bool>() || part["faces"].get<bool>();
+      faces += part["faces"].get<bool>() ? 1 : 0;
       EXPECT_LE(part["concavity_bound"].get<double>(),
-                (part["flat"].get<bool>() ? 0.5 : given.report["parts"]["concavity"].get<double>()) + 1e-12);
+                (relaxed ? 0.5 : given.report["parts"]["concavity"].get<double>()) + 1e-12);
+    }
+  EXPECT_EQ(faces, given.report["parts"]["face_parts"].get<std::size_t>());
+  // G = T: no face-hole rule either.
+  EXPECT_EQ(o["face_parts"], 0);
 }
 
 // The extension after DBSCAN only adds noise voxels to the clusters plain DBSCAN found: same

@@ -37,9 +37,12 @@ std::vector<clustering::Obstacle> lAndBox() {
 }
 
 TEST(ObstaclesJson, V2RoundTripsPartsExactly) {
-  const auto obstacles = lAndBox();
+  auto obstacles = lAndBox();
   ASSERT_EQ(obstacles[0].parts.size(), 2u);
   ASSERT_EQ(obstacles[1].parts.size(), 1u);
+  obstacles[0].parts[0].flat = true;
+  obstacles[0].parts[1].faces = true;
+  obstacles[1].parts[0].filled = true;
   ObstaclesMeta meta;
   meta.frame = "z-up map, test";
   meta.parameters = {{"concavity", 0.15}};
@@ -73,6 +76,9 @@ TEST(ObstaclesJson, V2RoundTripsPartsExactly) {
       EXPECT_EQ(b.concavity_bound, a.concavity_bound);
       EXPECT_EQ(b.free_voxels_inside, a.free_voxels_inside);
       EXPECT_EQ(b.free_voxels_off_surface, a.free_voxels_off_surface);
+      EXPECT_EQ(b.flat, a.flat);
+      EXPECT_EQ(b.filled, a.filled);
+      EXPECT_EQ(b.faces, a.faces);
     }
   }
 }
@@ -123,6 +129,9 @@ TEST(ObstaclesJson, ErrorsNameTheJsonPath) {
   bad = good;
   bad["obstacles"][1]["parts"][0]["concavity_bound"] = "x";
   EXPECT_EQ(errorOf(bad), "f.json: obstacles[1].parts[0].concavity_bound: expected a number");
+  bad = good;
+  bad["obstacles"][0]["parts"][0]["faces"] = 1;
+  EXPECT_EQ(errorOf(bad), "f.json: obstacles[0].parts[0].faces: expected true or false");
   EXPECT_THROW(readObstaclesJson("/nonexistent/obstacles.json"), Error);
 }
 

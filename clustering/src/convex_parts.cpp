@@ -39,6 +39,11 @@ constexpr std::size_t kAbsorbRatio = 8;
 /// shedStrays(): at most this many lone cells, and at most one in this many of the part.
 constexpr std::size_t kShedMax = 8;
 constexpr std::size_t kShedShare = 16;
+/// The face-hole rule (faceHoles): a site lies on a facet when its cube is within this many voxel
+/// edges of the facet's plane (a noisy surface's layer of voxels); merge() applies the rule only to
+/// parts of at least kFaceMergeMinVoxels voxels.
+constexpr double kFaceLayers = 2.0;
+constexpr std::size_t kFaceMergeMinVoxels = 8;
 using Members = std::vector<std::uint32_t>;  ///< sorted indices into the cluster's cells
 
 /// A facet plane of a lattice hull: n . x <= d inside, x in corner-lattice coordinates (cell (i, j, k)
@@ -234,6 +239,7 @@ struct Check {
   std::size_t keyframes_in_voxels = 0;
   bool flat = false;               ///< passed as a flat part (hull width <= T, distances within G)
   bool filled = false;             ///< enclosed cells counted as the part's own
+  bool faces = false;              ///< passed by the face-hole rule (distances within G in a facet's slab)
 };
 
 /// One cluster on its lattice, and the work on it.
@@ -241,9 +247,11 @@ class ClusterSplitter {
  public:
   /// `t_cells`: T; `g_cells`: G >= T, the distance allowed in a flat part (G = T: no relaxation).
   ClusterSplitter(std::vector<Cell> cells, double t_cells, double g_cells, std::size_t max_check_cells,
-                  std::vector<Eigen::Vector3d> keyframes, bool fill_enclosed, std::optional<double> floor_k)
+                  std::vector<Eigen::Vector3d> keyframes, bool fill_enclosed, std::optional<double> floor_k,
+                  bool face_holes)
       : cells_(std::move(cells)),
         fill_enclosed_(fill_enclosed),
+        face_holes_(face_holes),
         floor_k_(floor_k),
         rho2_(std::max(g_cells, t_cells) * std::max(g_cells, t_cells) * (1.0 + 1e-12)),
         t_(t_cells),
@@ -299,7 +307,10 @@ class ClusterSplitter {
     auto parts = absorb(merge(std::move(done)));
     bool changed = false;
     parts = absorbIntoBoxes(std::move(parts), changed);
-    return changed ? absorb(merge(std::move(parts))) : parts;
+    if (changed) parts = absorb(merge(std::move(parts)));
+    // Last, with face_holes, the pieces a cut left of a solid part with sparse faces are merged back
+    // (parts of at least kFaceMergeMinVoxels voxels: a stray or a clump cut off before stays off).
+    return face_holes_ ? absorb(merge(std::move(parts), true)) : parts;
   }
 
  private:
@@ -322,7 +333,8 @@ class ClusterSplitter {
 
   /// `need_split_point`: when false (the merge), a failed check only reports that it failed
   /// (worst_d2 and split_point unset). `hull`: the part's lattice hull when already known.
-  Check checkPart(const Members& part, bool need_split_point = true, const LatticeHull* hull = nullptr) const {
+  Check checkPart(const Members& part, bool need_split_point = true, const LatticeHull* hull = nullptr,
+                  bool faces = false) const {
     Check check;
     const std::vector<Cell> cells = gather(part);
     check.hull = hull ? *hull : latticeHull(cells);
@@ -426,7 +438,21 @@ class ClusterSplitter {
     }
     check.worst_d2 = std::max<std::int64_t>(worst, 0);
     if (double(check.worst_d2) > t2_ && double(check.worst_d2) <= g2_ && flat(check.hull, cells)) check.flat = true;
-    if (double(check.worst_d2) > (check.flat ? g2_ : t2_)) {
+    // Holes in a sampled face (the merges' face-hole rule, see faceHoles): a cell farther than T from
+    // every site passes when its cube lies within T of a face's plane and a site on that face is
+    // within G of it: the flat part's rule, applied to each face of a solid part.
+    if (faces && !check.flat && double(check.worst_d2) > t2_ && double(check.worst_d2) <= g2_) {
+      const std::int64_t hole = faceHoles(check.hull, lo, hi, d2, columns, worst_cell);
+      if (hole < 0) {
+        check.faces = true;
+      } else {
+        check.ok = false;
+        check.split_point = Eigen::Vector3d(double(worst_cell[0]) + 0.5, double(worst_cell[1]) + 0.5,
+                                            double(worst_cell[2]) + 0.5);
+        return check;
+      }
+    }
+    if (double(check.worst_d2) > (check.flat || check.faces ? g2_ : t2_)) {
       check.ok = false;
       check.split_point = Eigen::Vector3d(double(worst_cell[0]) + 0.5, double(worst_cell[1]) + 0.5,
                                           double(worst_cell[2]) + 0.5);
@@ -756,6 +782,77 @@ class ClusterSplitter {
     return withoutEmpty(std::move(parts));
   }
 
+  /// The face-hole rule of checkPart over the cells whose cube meets the hull (`columns`: per column
+  /// of the box lo..hi, the k range), with `d2` the squared distances to the sites (exact up to
+  /// max(T, G); 0 at the sites): the squared distance of the farthest cell that is farther than T
+  /// from every site and not within G of a site in the slab of a facet whose slab holds it, that
+  /// cell in `worst`; -1 when there is none.
+  std::int64_t faceHoles(const LatticeHull& hull, const Cell& lo, const Cell& hi, const std::vector<float>& d2,
+                         const std::vector<std::pair<std::int64_t, std::int64_t>>& columns, Cell& worst) const {
+    struct FacetSlab {
+      Cell n;
+      std::int64_t corner;  ///< the lowest n . x over a unit cube at the origin
+      double limit;         ///< a cube lies in the slab when n . c + corner >= limit
+      double on;            ///< a site's cube lies on the facet when n . c + corner >= on
+    };
+    std::vector<FacetSlab> slabs;
+    slabs.reserve(hull.planes.size());
+    for (const auto& p : hull.planes) {
+      const double norm = std::sqrt(double(dot(p.n, p.n)));
+      slabs.push_back({p.n, std::min<std::int64_t>(p.n[0], 0) + std::min<std::int64_t>(p.n[1], 0) + std::min<std::int64_t>(p.n[2], 0),
+                       double(p.d) - t_ * norm * (1.0 + 1e-12), double(p.d) - kFaceLayers * norm * (1.0 + 1e-12)});
+    }
+    const std::int64_t nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1;
+    const auto at = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+      return std::size_t(((k - lo[2]) * ny + (j - lo[1])) * nx + (i - lo[0]));
+    };
+    // A facet is a face when every cell of its slab that is farther than T from every site has a site
+    // of the slab within G (its holes are sampling holes); a facet lifted off the sites (a hull dragged
+    // out to a stray) is none. Pass 1 finds the facets that are not faces, pass 2 the cells that no
+    // face's slab holds.
+    std::vector<std::size_t> holding;
+    std::vector<char> found, not_face(slabs.size(), 0);
+    std::vector<std::pair<Cell, std::vector<std::size_t>>> far;  // cells beyond T, with their slabs
+    for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+      for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
+        const auto [k0, k1] = columns[std::size_t((j - lo[1]) * nx + (i - lo[0]))];
+        for (std::int64_t k = k0; k <= k1; ++k) {
+          if (double(d2[at(i, j, k)]) <= t2_) continue;
+          const Cell c{i, j, k};
+          holding.clear();
+          for (std::size_t s = 0; s < slabs.size(); ++s)
+            if (double(dot(slabs[s].n, c) + slabs[s].corner) >= slabs[s].limit) holding.push_back(s);
+          found.assign(holding.size(), 0);
+          std::size_t missing = holding.size();
+          for (const auto& [o, o2] : ball_) {
+            if (missing == 0) break;
+            const Cell site{i + o[0], j + o[1], k + o[2]};
+            if (site[0] < lo[0] || site[0] > hi[0] || site[1] < lo[1] || site[1] > hi[1] || site[2] < lo[2] ||
+                site[2] > hi[2] || d2[at(site[0], site[1], site[2])] != 0.0f)
+              continue;
+            for (std::size_t h = 0; h < holding.size(); ++h)
+              if (!found[h] && double(dot(slabs[holding[h]].n, site) + slabs[holding[h]].corner) >= slabs[holding[h]].on) {
+                found[h] = 1;
+                --missing;
+              }
+          }
+          for (std::size_t h = 0; h < holding.size(); ++h)
+            if (!found[h]) not_face[holding[h]] = 1;
+          far.emplace_back(c, holding);
+        }
+      }
+    std::int64_t farthest = -1;
+    for (const auto& [c, in] : far) {
+      if (std::any_of(in.begin(), in.end(), [&](std::size_t s) { return !not_face[s]; })) continue;
+      const std::int64_t x = std::int64_t(d2[at(c[0], c[1], c[2])]);
+      if (x > farthest) {
+        farthest = x;
+        worst = c;
+      }
+    }
+    return farthest;
+  }
+
   /// Whether the hull is at most T wide along one of its facet normals (so it is at most T thick:
   /// the width along a facet normal bounds the hull's least width from above). A facet's width is
   /// its plane's value minus the least value of n . x over the cells' cubes (exact integers).
@@ -896,8 +993,9 @@ class ClusterSplitter {
   }
 
   /// Greedy merge of parts whose boxes come within max(T, G), the pair whose union's hull adds the least
-  /// volume first, while the union passes the check.
-  std::vector<std::pair<Members, Check>> merge(std::vector<std::pair<Members, Check>> parts) const {
+  /// volume first, while the union passes the check (`faces`: with the face-hole rule, parts of at
+  /// least kFaceMergeMinVoxels voxels only).
+  std::vector<std::pair<Members, Check>> merge(std::vector<std::pair<Members, Check>> parts, bool faces = false) const {
     struct Node {
       Members members;
       Check check;
@@ -983,7 +1081,9 @@ class ClusterSplitter {
     const auto consider = [&](const std::vector<std::pair<std::size_t, std::size_t>>& candidates) {
       std::vector<std::pair<std::size_t, std::size_t>> pairs;
       for (const auto& [a, b] : candidates)
-        if (near(nodes[a], nodes[b])) pairs.emplace_back(a, b);
+        if (near(nodes[a], nodes[b]) &&
+            (!faces || std::min(nodes[a].members.size(), nodes[b].members.size()) >= kFaceMergeMinVoxels))
+          pairs.emplace_back(a, b);
       std::vector<char> fails(pairs.size());
       std::vector<LatticeHull> hulls(pairs.size());
       tbb::parallel_for(std::size_t(0), pairs.size(), [&](std::size_t k) {
@@ -1011,7 +1111,7 @@ class ClusterSplitter {
       union_hulls.erase(hull);
       if (!nodes[a].alive || !nodes[b].alive) continue;
       Members both = unite(nodes[a].members, nodes[b].members);
-      Check check = checkPart(both, false, &union_hull);
+      Check check = checkPart(both, false, &union_hull, faces);
       if (!check.ok) continue;
       nodes[a].alive = nodes[b].alive = false;
       Node node{std::move(both), std::move(check), {}, {}, true};
@@ -1033,6 +1133,7 @@ class ClusterSplitter {
 
   std::vector<Cell> cells_;
   bool fill_enclosed_;
+  bool face_holes_;  ///< merges also use the face-hole rule (ConvexPartsParams::face_holes)
   std::optional<double> floor_k_;  ///< the floor's height, lattice units (k of the corner lattice)
   double rho2_;  ///< max(T, G)^2, cells^2: the closing radius when finding enclosed cells
   std::vector<char> lone_;         ///< per cell: no other cell of the cluster within T (findLone)
@@ -1179,7 +1280,7 @@ SplitResult splitCluster(const std::vector<Eigen::Vector3d>& centers, double vox
   if (params.floor_z) floor_k = (*params.floor_z - result.lattice.origin.z()) / voxel_size;
   result.flat_gap = adaptedFlatGap(centers, voxel_size, params);
   ClusterSplitter splitter(result.lattice.cells, t / voxel_size, result.flat_gap / voxel_size, params.max_check_cells,
-                           std::move(near), params.fill_enclosed, floor_k);
+                           std::move(near), params.fill_enclosed, floor_k, params.face_holes);
   result.parts = splitter.run();
   return result;
 }
@@ -1223,7 +1324,8 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
   std::sort(free.begin(), free.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z());
   });
-  std::vector<std::size_t> keyframes_in_voxels(obstacles.size(), 0), flat_parts(obstacles.size(), 0);
+  std::vector<std::size_t> keyframes_in_voxels(obstacles.size(), 0), flat_parts(obstacles.size(), 0),
+      face_parts(obstacles.size(), 0);
   std::vector<double> flat_gaps(obstacles.size(), g);
   tbb::parallel_for(std::size_t(0), obstacles.size(), [&](std::size_t o) {
     Obstacle& obstacle = obstacles[o];
@@ -1251,7 +1353,9 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
       part.concavity_bound = std::sqrt(double(check.worst_d2)) * voxel_size;
       part.flat = check.flat;
       part.filled = check.filled;
+      part.faces = check.faces;
       if (check.flat) ++flat_parts[o];
+      if (check.faces) ++face_parts[o];
       keyframes_in_voxels[o] += check.keyframes_in_voxels;
       const auto first = std::lower_bound(free.begin(), free.end(), part.aabb_min.x(),
                                           [](const Eigen::Vector3d& p, double x) { return p.x() < x; });
@@ -1291,6 +1395,7 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
     summary.voxel_volume += double(obstacle.voxel_count) * voxel_size * voxel_size * voxel_size;
     summary.keyframes_in_voxels += keyframes_in_voxels[o];
     summary.flat_parts += flat_parts[o];
+    summary.face_parts += face_parts[o];
     for (const auto& part : obstacle.parts) {
       summary.hull_volume_after += part.volume;
       summary.free_voxels_inside += part.free_voxels_inside;

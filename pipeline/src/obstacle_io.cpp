@@ -139,6 +139,7 @@ json obstaclesToJson(const std::vector<clustering::Obstacle>& obstacles, const O
       part["free_voxels_off_surface"] = p.free_voxels_off_surface;
       part["flat"] = p.flat;
       part["filled"] = p.filled;
+      part["faces"] = p.faces;
       parts.push_back(std::move(part));
     }
     entry["parts"] = std::move(parts);
@@ -195,6 +196,11 @@ std::vector<clustering::Obstacle> obstaclesFromJson(const json& doc, const std::
         if (const auto filled = parts[p].find("filled"); filled != parts[p].end()) {
           if (!filled->is_boolean()) r.fail(where + ".filled", "expected true or false");
           part.filled = filled->get<bool>();
+        }
+        // Written since the face-hole rule came in; absent in older /2 files: false.
+        if (const auto faces = parts[p].find("faces"); faces != parts[p].end()) {
+          if (!faces->is_boolean()) r.fail(where + ".faces", "expected true or false");
+          part.faces = faces->get<bool>();
         }
         o.parts.push_back(std::move(part));
       }

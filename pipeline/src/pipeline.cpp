@@ -940,6 +940,7 @@ nlohmann::json reportJson(const BuildResult& result) {
              {"flat_gap", p.flat_gap},
              {"flat_gap_max", p.flat_gap_max},
              {"flat_parts", p.flat_parts},
+             {"face_parts", p.face_parts},
              {"per_obstacle", result.obstacles.empty() ? 0.0 : double(p.parts) / double(result.obstacles.size())},
              {"obstacles_split", split},
              {"most_parts_of_one_obstacle", largest},

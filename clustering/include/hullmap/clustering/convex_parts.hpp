@@ -36,6 +36,16 @@ struct ConvexPartsParams {
   /// enclose the room. A cluster whose box (with a margin of rho) holds more than max_check_cells
   /// cells gets no fill. Off: only the voxels count.
   bool fill_enclosed = true;
+  /// Holes in the faces of a solid part (the face-hole rule), used when parts are merged: a cell of the
+  /// union's hull farther than T from every site passes when its cube lies within T of the plane of
+  /// one of the hull's facets that is a face, and a site on that facet (its cube within 2 voxels of the
+  /// plane) is within G of it. A facet is a face when every such cell of its slab has one: a facet
+  /// lifted off the sites, as one dragged out to a stray voxel, is none. It is the flat part's rule
+  /// applied to each face of a box or a cylinder whose sparse faces and edges leave holes wider than T
+  /// (the pieces a cut left of it are merged back); only parts of at least 8 voxels are merged under
+  /// it. A part that passed by it says so (ObstaclePart::faces); its bound is at most G. No effect
+  /// when G = T. Off: merges use T (and G for flat parts) only.
+  bool face_holes = true;
   /// The floor's height (map frame z of its top), when known: a part whose lowest voxel is within two
   /// voxels of it is closed below by it (nothing enters the shell through its bottom face, which
   /// stands on the floor and is never seen). Unset: shells must be closed on every side.
@@ -127,6 +137,7 @@ struct ConvexPartsSummary {
   double flat_gap = 0.0;                  ///< the G asked for (>= T), map units
   double flat_gap_max = 0.0;              ///< the largest G used for a cluster (adaptedFlatGap)
   std::size_t flat_parts = 0;             ///< parts that passed as flat (bound G)
+  std::size_t face_parts = 0;             ///< parts that passed by the face-hole rule (bound G)
   double hull_volume_before = 0.0;        ///< summed whole-cluster hull volume, map units^3
   double hull_volume_after = 0.0;         ///< summed part hull volume
   double voxel_volume = 0.0;              ///< clustered voxels times voxel_size^3

@@ -36,13 +36,16 @@ struct ObstaclePart {
   Footprint footprint;
   /// Certified upper bound on the distance from any point of the hull to the part's own voxel
   /// cubes (map units); at most the concavity T asked for, unless the part is a single voxel or
-  /// `flat` (then at most the flat gap G).
+  /// `flat` or `faces` (then at most the flat gap G).
   double concavity_bound = 0.0;
   /// The part passed as flat: its hull is at most T thick (a wall, a table top), so the gaps in its
   /// surface, up to G, swallow no more than that slab (see ConvexPartsParams::flat_gap).
   bool flat = false;
   /// The part's bound counted the inside of its closed shell as its own (ConvexPartsParams::fill_enclosed).
   bool filled = false;
+  /// The part passed by the face-hole rule (ConvexPartsParams::face_holes): its hull's points farther
+  /// than T from its voxels lie within T of a face of the hull, within G of a voxel on that face.
+  bool faces = false;
   std::size_t free_voxels_inside = 0;  ///< observed-free voxel centres given that lie in the hull
   /// Of those, the ones with none of the part's own occupied voxels among their 26 neighbours: free
   /// space the hull swallowed beyond the band one voxel deep along its surface (a ray that ends on a
