@@ -8,7 +8,8 @@ usage: bench/quality_scan.py HULLMAP_BINARY [--seeds 1,2,3] [--furniture 8,0] [-
                              [--extra "build args"] [--work DIR]
 
 Scenes are generated once into --work (default /tmp/hullmap-quality-scan) and reused; outputs go to
-a fresh directory under /tmp (printed per scene)."""
+a fresh directory under /tmp (printed per scene). `bench/quality_misses.py OUT SCENE` then lists the
+observed points a scene's hulls miss and the voxel each lies in."""
 import argparse
 import importlib.util
 import json

@@ -22,28 +22,76 @@ constexpr double kRes = 0.05;
 
 V3 centre(int i, int j, int k) { return kRes * V3(i + 0.5, j + 0.5, k + 0.5); }
 
-/// The rule written out: every clustered voxel scanned, the nearest (squared lattice distance, then
-/// the lower label) in the 3 x 3 columns on the far side of the surface within the reach.
+/// The rule written out: for each surface voxel every clustered voxel is scanned (and, for rule 2,
+/// every clustered voxel again; for rule 3, every pair), straight from the header's description.
+/// `by_rule`, when given, counts the voxels joined by rules 1, 2 and 3.
 std::vector<std::int32_t> bruteForce(const std::vector<std::array<int, 3>>& cells, const std::vector<std::int32_t>& labels,
-                                     double reach) {
+                                     double reach, std::array<std::size_t, 3>* by_rule = nullptr) {
   const int layers = int(std::floor(std::max(2.0, reach / kRes) + 1e-9));
+  const double reach2 = (reach / kRes) * (reach / kRes) + 1e-9;  // cells^2
+  const auto dist2 = [&](std::size_t a, std::size_t b) {
+    long d = 0;
+    for (int x = 0; x < 3; ++x) d += long(cells[a][x] - cells[b][x]) * long(cells[a][x] - cells[b][x]);
+    return d;
+  };
   std::vector<std::int32_t> out = labels;
   for (std::size_t v = 0; v < cells.size(); ++v) {
     if (labels[v] != kFloorLabel && labels[v] != kCeilingLabel) continue;
     const int sign = labels[v] == kFloorLabel ? 1 : -1;
+    // Rules 1 and 2: the 3 x 3 columns.
     long best_distance = std::numeric_limits<long>::max();
     std::int32_t best = -1;
+    int rule = 0;
     for (std::size_t c = 0; c < cells.size(); ++c) {
       if (labels[c] < 0) continue;
       const int di = cells[c][0] - cells[v][0], dj = cells[c][1] - cells[v][1], dk = cells[c][2] - cells[v][2];
-      if (std::abs(di) > 1 || std::abs(dj) > 1 || sign * dk < 0 || sign * dk > layers) continue;
-      const long d = long(di * di + dj * dj + dk * dk);
+      if (std::abs(di) > 1 || std::abs(dj) > 1 || sign * dk < 0) continue;
+      if (sign * dk > 2 * layers) continue;
+      if (sign * dk > layers) {
+        int evidence = 0;
+        for (std::size_t w = 0; w < cells.size(); ++w)
+          if (labels[w] == labels[c] && sign * (cells[w][2] - cells[c][2]) >= 2 && double(dist2(w, c)) <= reach2)
+            ++evidence;
+        if (evidence < 2) continue;
+      }
+      // Every rule-1 candidate is nearer than every rule-2 one, so one minimum serves both.
+      const long d = dist2(c, v);
       if (d < best_distance || (d == best_distance && labels[c] < best)) {
         best_distance = d;
         best = labels[c];
+        rule = sign * dk > layers ? 2 : 1;
       }
     }
-    if (best >= 0) out[v] = best;
+    if (best >= 0) {
+      out[v] = best;
+      if (by_rule) ++(*by_rule)[std::size_t(rule - 1)];
+      continue;
+    }
+    // Rule 3: segments between low voxels of one cluster.
+    std::vector<std::size_t> low;
+    for (std::size_t e = 0; e < cells.size(); ++e) {
+      const int di = cells[e][0] - cells[v][0], dj = cells[e][1] - cells[v][1], dk = cells[e][2] - cells[v][2];
+      if (labels[e] >= 0 && sign * dk >= 0 && sign * dk <= layers && double(di * di + dj * dj) <= reach2) low.push_back(e);
+    }
+    double best_segment = 1.5 * 1.5 + 1e-9;
+    for (std::size_t a : low)
+      for (std::size_t b : low) {
+        if (a == b || labels[a] != labels[b]) continue;
+        const double ex = cells[b][0] - cells[a][0], ey = cells[b][1] - cells[a][1];
+        const double length2 = ex * ex + ey * ey;
+        if (length2 == 0.0 || length2 > reach2) continue;
+        const double ax = cells[a][0] - cells[v][0], ay = cells[a][1] - cells[v][1];
+        const double t = std::clamp(-(ax * ex + ay * ey) / length2, 0.0, 1.0);
+        const double d2 = (ax + t * ex) * (ax + t * ex) + (ay + t * ey) * (ay + t * ey);
+        if (d2 < best_segment - 1e-12 || (std::abs(d2 - best_segment) <= 1e-12 && labels[a] < best)) {
+          best_segment = d2;
+          best = labels[a];
+        }
+      }
+    if (best >= 0) {
+      out[v] = best;
+      if (by_rule) ++(*by_rule)[2];
+    }
   }
   return out;
 }
@@ -51,22 +99,37 @@ std::vector<std::int32_t> bruteForce(const std::vector<std::array<int, 3>>& cell
 TEST(SurfaceRims, MatchesBruteForceOnRandomLattices) {
   std::mt19937 rng(23);
   std::size_t joined = 0, stayed = 0;
-  for (int trial = 0; trial < 40; ++trial) {
+  std::array<std::size_t, 3> by_rule{};
+  for (int trial = 0; trial < 80; ++trial) {
     std::vector<std::array<int, 3>> cells;
     std::vector<V3> centers;
     std::vector<std::int32_t> labels;
-    for (int i = -4; i < 5; ++i)
-      for (int j = -4; j < 5; ++j)
-        for (int k = -3; k < 12; ++k) {
-          if (rng() % 10 >= 2) continue;  // 20% occupied
-          cells.push_back({i, j, k});
-          centers.push_back(centre(i, j, k));
-          const unsigned r = rng() % 10;
-          // Floor low, ceiling high, clusters and noise anywhere (also beside and beyond a surface).
-          labels.push_back(r < 4 ? (k < 4 ? kFloorLabel : kCeilingLabel) : r < 7 ? -1 : std::int32_t(r % 4));
-        }
+    if (trial < 40) {
+      // Dense: 20% occupied; floor low, ceiling high, clusters and noise anywhere (also beside and
+      // beyond a surface). Rule 1 decides nearly everything.
+      for (int i = -4; i < 5; ++i)
+        for (int j = -4; j < 5; ++j)
+          for (int k = -3; k < 12; ++k) {
+            if (rng() % 10 >= 2) continue;
+            cells.push_back({i, j, k});
+            const unsigned r = rng() % 10;
+            labels.push_back(r < 4 ? (k < 4 ? kFloorLabel : kCeilingLabel) : r < 7 ? -1 : std::int32_t(r % 4));
+          }
+    } else {
+      // Sparse: bands of floor (layers -1, 0) and ceiling (24, 25) half occupied, and between them
+      // 4% of the cells clustered (3 labels) or noise, so rules 2 and 3 have work.
+      for (int i = -6; i < 7; ++i)
+        for (int j = -6; j < 7; ++j)
+          for (int k = -1; k < 26; ++k) {
+            const bool band = k <= 0 || k >= 24;
+            if (rng() % 100 >= (band ? 50u : 5u)) continue;
+            cells.push_back({i, j, k});
+            labels.push_back(band ? (k <= 0 ? kFloorLabel : kCeilingLabel) : rng() % 5 == 0 ? -1 : std::int32_t(rng() % 3));
+          }
+    }
+    for (const auto& c : cells) centers.push_back(centre(c[0], c[1], c[2]));
     const double reach = std::array<double, 5>{0.0, 0.1, 0.12, 0.2, 0.4}[std::size_t(trial) % 5];
-    const std::vector<std::int32_t> expected = bruteForce(cells, labels, reach);
+    const std::vector<std::int32_t> expected = bruteForce(cells, labels, reach, &by_rule);
     for (std::size_t v = 0; v < labels.size(); ++v) {
       if (labels[v] != kFloorLabel && labels[v] != kCeilingLabel) continue;
       (expected[v] >= 0 ? joined : stayed) += 1;
@@ -74,54 +137,128 @@ TEST(SurfaceRims, MatchesBruteForceOnRandomLattices) {
     detail::attachSurfaceRims(centers, kRes, reach, labels);
     EXPECT_EQ(labels, expected) << "trial " << trial << ", reach " << reach;
   }
-  std::cout << joined << " surface voxels joined, " << stayed << " stayed\n";
-  EXPECT_GT(joined, 300u);
+  std::cout << joined << " surface voxels joined (" << by_rule[0] << ", " << by_rule[1] << ", " << by_rule[2]
+            << " by rules 1, 2, 3), " << stayed << " stayed\n";
   EXPECT_GT(stayed, 300u);
+  for (std::size_t r = 0; r < 3; ++r) EXPECT_GT(by_rule[r], 50u) << "rule " << r + 1;
+}
+
+/// The floor band, layers -1 and 0, over columns [i0, i1] x [j0, j1].
+void addFloor(int i0, int i1, int j0, int j1, std::vector<V3>& centers, std::vector<std::int32_t>& labels) {
+  for (int i = i0; i <= i1; ++i)
+    for (int j = j0; j <= j1; ++j)
+      for (int k = -1; k <= 0; ++k) {
+        centers.push_back(centre(i, j, k));
+        labels.push_back(kFloorLabel);
+      }
+}
+
+std::array<int, 3> cellOf(const V3& c) {
+  return {int(std::floor(c.x() / kRes)), int(std::floor(c.y() / kRes)), int(std::floor(c.z() / kRes))};
 }
 
 TEST(SurfaceRims, SparseWallGetsItsFootAndFarFloorStaysFloor) {
   // A floor band (layers -1 and 0) under a 1 m wall standing in column i = 0; the wall is sparse:
   // only one voxel in three along it is occupied, its lowest clustered voxel 4 layers above the
   // floor band (the voxels between are empty, as on a 30 points per m^2 map). The 26-neighbourhood
-  // never reaches it; the column rule does within max(2 voxels, eps).
+  // never reaches it.
   std::vector<V3> centers;
   std::vector<std::int32_t> labels;
-  for (int i = -6; i <= 6; ++i)
-    for (int j = 0; j < 12; ++j)
-      for (int k = -1; k <= 0; ++k) {
-        centers.push_back(centre(i, j, k));
-        labels.push_back(kFloorLabel);
-      }
+  addFloor(-6, 6, 0, 11, centers, labels);
   const std::size_t floor_voxels = centers.size();
   for (int j = 0; j < 12; j += 3)
     for (int k = 4; k < 20; k += 2) {
       centers.push_back(centre(0, j, k));
       labels.push_back(7);
     }
-  const auto cellOf = [&](std::size_t v) {
-    return std::array<int, 3>{int(std::floor(centers[v].x() / kRes)), int(std::floor(centers[v].y() / kRes)),
-                              int(std::floor(centers[v].z() / kRes))};
-  };
-  // eps 0.1: the reach is 2 layers, the wall's lowest voxel is 4 above: nothing joins.
+  // eps 0.1: `layers` 2, the wall's lowest voxel 4 above layer 0; rule 2 reaches 4 layers but one
+  // voxel of the wall lies within 0.1 of it 2 layers higher, not two: not a face at this reach.
   std::vector<std::int32_t> narrow = labels;
   detail::attachSurfaceRims(centers, kRes, 0.1, narrow);
   EXPECT_EQ(narrow, labels);
-  // eps 0.2: 4 layers. Layer 0 under and beside the wall's occupied columns joins (|di|, |dj| <= 1);
-  // layer -1 (5 below) and every floor voxel two columns away stay floor.
+  // eps 0.2: `layers` 4. Layer 0 under and beside the wall's occupied columns joins by rule 1
+  // (|di|, |dj| <= 1); layer -1 (5 below) by rule 2, the wall going on up from its lowest voxel.
+  // Rule 3 adds nothing: the foot line between the columns j = 0, 3, 6, 9 lies within 1.5 cells of
+  // the same columns. Every floor voxel two columns away stays floor.
   std::vector<std::int32_t> wide = labels;
   detail::attachSurfaceRims(centers, kRes, 0.2, wide);
   std::size_t joined = 0;
   for (std::size_t v = 0; v < floor_voxels; ++v) {
-    const auto c = cellOf(v);
-    bool near_column = false;
-    for (int wall_j = 0; wall_j < 12; wall_j += 3) near_column |= std::abs(c[0]) <= 1 && std::abs(c[1] - wall_j) <= 1;
-    const bool should = c[2] == 0 && near_column;
+    const auto c = cellOf(centers[v]);
+    const bool should = std::abs(c[0]) <= 1 && c[1] <= 10;
     EXPECT_EQ(wide[v], should ? 7 : kFloorLabel) << c[0] << ' ' << c[1] << ' ' << c[2];
     joined += wide[v] == 7;
   }
-  // Columns j = 0, 3, 6, 9 and their neighbours: j in 0..10, i in -1..1.
-  EXPECT_EQ(joined, 33u);
+  // i in -1..1, j in 0..10, two layers.
+  EXPECT_EQ(joined, 66u);
   for (std::size_t v = floor_voxels; v < centers.size(); ++v) EXPECT_EQ(wide[v], 7);
+}
+
+TEST(SurfaceRims, TableTopKeepsItsFloorAndALegGetsItsFoot) {
+  // eps 0.4 (`layers` 8, rule 2 up to 16): a table top 2 layers thick at layers 14-15 over columns
+  // i, j in 0..16, a floor band under and around it, and one leg at the corner (0, 0) seen only at
+  // layer 11 (as on a sparse map: its lower part holds no point). The top is within 16 layers of the
+  // floor but flat: nothing of the table lies 2 layers above a top voxel, so the floor under it
+  // stays floor, also with one stray voxel of the table (an outlier) 3 layers above the top. The
+  // leg's voxel has the top 3 layers above it within 0.4: the leg goes on up, so the floor in its
+  // 3 x 3 columns joins the table. A wall of another cluster (column (40, 0)) changes nothing.
+  for (const bool leg : {false, true}) {
+    std::vector<V3> centers;
+    std::vector<std::int32_t> labels;
+    addFloor(-4, 20, -4, 20, centers, labels);
+    const std::size_t floor_voxels = centers.size();
+    const auto add = [&](int i, int j, int k, std::int32_t label) {
+      centers.push_back(centre(i, j, k));
+      labels.push_back(label);
+    };
+    for (int i = 0; i <= 16; ++i)
+      for (int j = 0; j <= 16; ++j)
+        for (int k = 14; k <= 15; ++k) add(i, j, k, 3);
+    add(8, 8, 18, 3);  // the stray voxel
+    if (leg) add(0, 0, 11, 3);
+    for (int k = 1; k < 30; ++k) add(40, 0, k, 5);
+    std::vector<std::int32_t> out = labels;
+    detail::attachSurfaceRims(centers, kRes, 0.4, out);
+    std::size_t joined = 0;
+    for (std::size_t v = 0; v < floor_voxels; ++v) {
+      const auto c = cellOf(centers[v]);
+      const bool under_leg = leg && std::abs(c[0]) <= 1 && std::abs(c[1]) <= 1;
+      EXPECT_EQ(out[v], under_leg ? 3 : kFloorLabel) << leg << ": " << c[0] << ' ' << c[1] << ' ' << c[2];
+      joined += out[v] == 3;
+    }
+    EXPECT_EQ(joined, leg ? 18u : 0u);
+  }
+}
+
+TEST(SurfaceRims, FootLineJoinsBetweenLowVoxelsNotBesideThem) {
+  // A sparse face along j at i = 0 seen low only every 5 columns (layer 1; eps 0.3: 6 cells, so
+  // neighbours 5 apart span a segment of its foot) and nowhere higher: rule 1 covers the 3 x 3
+  // columns of each low voxel; rule 3 the columns between, within 1.5 cells of the line i = 0;
+  // columns 2 away from the line stay floor. Beyond the last low voxel (j > 16) nothing joins.
+  std::vector<V3> centers;
+  std::vector<std::int32_t> labels;
+  addFloor(-4, 4, -4, 24, centers, labels);
+  const std::size_t floor_voxels = centers.size();
+  for (int j = 0; j <= 15; j += 5) {
+    centers.push_back(centre(0, j, 1));
+    labels.push_back(2);
+  }
+  std::vector<std::int32_t> out = labels;
+  detail::attachSurfaceRims(centers, kRes, 0.3, out);
+  for (std::size_t v = 0; v < floor_voxels; ++v) {
+    const auto c = cellOf(centers[v]);
+    const bool should = std::abs(c[0]) <= 1 && c[1] >= -1 && c[1] <= 16;
+    EXPECT_EQ(out[v], should ? 2 : kFloorLabel) << c[0] << ' ' << c[1] << ' ' << c[2];
+  }
+  // Low voxels 7 apart (more than eps = 6 cells): no segment; only rule 1's columns join.
+  for (std::size_t v = floor_voxels; v < centers.size(); ++v) centers[v].y() = centre(0, int(v - floor_voxels) * 7, 1).y();
+  out = labels;
+  detail::attachSurfaceRims(centers, kRes, 0.3, out);
+  for (std::size_t v = 0; v < floor_voxels; ++v) {
+    const auto c = cellOf(centers[v]);
+    const bool should = std::abs(c[0]) <= 1 && std::abs(c[1] - 7 * int(std::lround(c[1] / 7.0))) <= 1 && c[1] >= -1 && c[1] <= 22;
+    EXPECT_EQ(out[v], should ? 2 : kFloorLabel) << c[0] << ' ' << c[1] << ' ' << c[2];
+  }
 }
 
 TEST(SurfaceRims, CeilingJoinsWhatHangsBelowItNearestFirst) {

@@ -1,6 +1,7 @@
 #include "hullmap/pipeline/pipeline.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -17,6 +18,7 @@
 #include <optional>
 #include <sstream>
 #include <sys/file.h>
+#include <tuple>
 #include <unordered_map>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -463,43 +465,116 @@ void attachSurfaceRims(const std::vector<Eigen::Vector3d>& centers, double resol
            (static_cast<std::uint64_t>(j + (std::int64_t(1) << 31)) & 0xffffffffu);
   };
   const std::int64_t layers = static_cast<std::int64_t>(std::floor(std::max(2.0, reach / resolution) + 1e-9));
+  // The reach in whole cells (lattice distances are compared squared, in cells^2).
+  const double reach_cells = std::max(reach / resolution, 0.0);
+  const double reach2 = reach_cells * reach_cells + 1e-9;
+  const std::int64_t span = static_cast<std::int64_t>(std::floor(reach_cells + 1e-9));
   // The clustered voxels of each column, by layer.
-  std::unordered_map<std::uint64_t, std::vector<std::pair<std::int64_t, std::int32_t>>> columns;
+  using Column = std::vector<std::pair<std::int64_t, std::int32_t>>;
+  std::unordered_map<std::uint64_t, Column> columns;
   for (std::size_t i = 0; i < centers.size(); ++i)
     if (labels[i] >= 0)
       columns[columnKey(cell(centers[i].x()), cell(centers[i].y()))].emplace_back(cell(centers[i].z()), labels[i]);
   for (auto& [key, column] : columns) std::sort(column.begin(), column.end());
+  // Calls f(layer, label) for the clustered voxels of column (i, j) with layers in [lo, hi], in
+  // order, until f returns true; returns whether it did.
+  const auto scan = [&](std::int64_t i, std::int64_t j, std::int64_t lo, std::int64_t hi, auto&& f) {
+    const auto hit = columns.find(columnKey(i, j));
+    if (hit == columns.end() || lo > hi) return false;
+    const Column& column = hit->second;
+    for (auto it = std::lower_bound(column.begin(), column.end(), std::make_pair(lo, std::int32_t(-1)));
+         it != column.end() && it->first <= hi; ++it)
+      if (f(it->first, it->second)) return true;
+    return false;
+  };
+  // Whether the clustered voxel of `label` at (i, j, k) is the near end of a face of its cluster
+  // that stands on the surface (sign +1, a floor) or hangs from it (-1, a ceiling): its cluster has
+  // two voxels within `reach` of it (centre distance) at least 2 layers farther from the surface. One
+  // is not enough: a lone stray voxel (an outlier DBSCAN took in) above a table top is no face.
+  std::unordered_map<std::uint64_t, std::unordered_map<std::int64_t, bool>> face_memo[2];  // floor, ceiling
+  const auto onFace = [&](std::int64_t i, std::int64_t j, std::int64_t k, std::int32_t label, std::int64_t sign) {
+    auto& memo = face_memo[sign > 0 ? 0 : 1][columnKey(i, j)];
+    if (const auto found = memo.find(k); found != memo.end()) return found->second;
+    const std::int64_t lo = sign > 0 ? k + 2 : k - span, hi = sign > 0 ? k + span : k - 2;
+    int evidence = 0;
+    for (std::int64_t di = -span; di <= span && evidence < 2; ++di)
+      for (std::int64_t dj = -span; dj <= span && evidence < 2; ++dj) {
+        if (double(di * di + dj * dj) > reach2) continue;
+        scan(i + di, j + dj, lo, hi, [&](std::int64_t layer, std::int32_t l) {
+          const std::int64_t dk = layer - k;
+          if (l == label && double(di * di + dj * dj + dk * dk) <= reach2) ++evidence;
+          return evidence >= 2;
+        });
+      }
+    return memo[k] = evidence >= 2;
+  };
+  struct Candidate {
+    std::int64_t distance;  ///< squared lattice distance to the surface voxel
+    std::int32_t label;
+    std::int64_t i, j, k;
+    bool operator<(const Candidate& o) const { return std::tie(distance, label) < std::tie(o.distance, o.label); }
+  };
   std::vector<std::pair<std::size_t, std::int32_t>> joins;
+  std::vector<Candidate> candidates;
+  std::vector<std::array<std::int64_t, 3>> low;  // (di, dj, label) of the low voxels around a surface voxel
   for (std::size_t v = 0; v < centers.size(); ++v) {
     if (labels[v] != kFloorLabel && labels[v] != kCeilingLabel) continue;
-    const bool floor = labels[v] == kFloorLabel;
+    const std::int64_t sign = labels[v] == kFloorLabel ? 1 : -1;
     const std::int64_t ci = cell(centers[v].x()), cj = cell(centers[v].y()), ck = cell(centers[v].z());
-    std::int64_t best_distance = std::numeric_limits<std::int64_t>::max();
-    std::int32_t best = -1;
+    // Layers from the surface voxel's on its far side (a floor's: its layer and above; a ceiling's:
+    // its layer and below), up to n.
+    const auto lo = [&](std::int64_t n) { return sign > 0 ? ck : ck - n; };
+    const auto hi = [&](std::int64_t n) { return sign > 0 ? ck + n : ck; };
+    // 1 and 2: the clustered voxels of the 3 x 3 columns on the far side within 2 * layers, nearest
+    // first. Within `layers` the nearest joins (2 + layers^2 < (layers + 1)^2: these come first);
+    // farther, the nearest that is the near end of a face.
+    candidates.clear();
     for (std::int64_t di = -1; di <= 1; ++di)
-      for (std::int64_t dj = -1; dj <= 1; ++dj) {
-        const auto hit = columns.find(columnKey(ci + di, cj + dj));
-        if (hit == columns.end()) continue;
-        const auto& column = hit->second;
-        // The column's nearest clustered voxel on the far side of the surface (a floor's: at its
-        // layer or above; a ceiling's: at its layer or below).
-        std::pair<std::int64_t, std::int32_t> found;
-        if (floor) {
-          const auto it = std::lower_bound(column.begin(), column.end(), std::make_pair(ck, std::int32_t(-1)));
-          if (it == column.end()) continue;
-          found = *it;
-        } else {
-          auto it = std::upper_bound(column.begin(), column.end(),
-                                     std::make_pair(ck, std::numeric_limits<std::int32_t>::max()));
-          if (it == column.begin()) continue;
-          found = *--it;
-        }
-        const std::int64_t dk = found.first - ck;
-        if (std::abs(dk) > layers) continue;
-        const std::int64_t distance = di * di + dj * dj + dk * dk;
-        if (distance < best_distance || (distance == best_distance && found.second < best)) {
-          best_distance = distance;
-          best = found.second;
+      for (std::int64_t dj = -1; dj <= 1; ++dj)
+        scan(ci + di, cj + dj, lo(2 * layers), hi(2 * layers), [&](std::int64_t layer, std::int32_t l) {
+          const std::int64_t dk = layer - ck;
+          candidates.push_back({di * di + dj * dj + dk * dk, l, ci + di, cj + dj, layer});
+          return false;
+        });
+    std::sort(candidates.begin(), candidates.end());
+    bool joined = false;
+    for (const Candidate& c : candidates)
+      if (std::abs(c.k - ck) <= layers || onFace(c.i, c.j, c.k, c.label, sign)) {
+        joins.emplace_back(v, c.label);
+        joined = true;
+        break;
+      }
+    if (joined) continue;
+    // 3: the foot line. The clustered voxels within `layers` on the far side and within `reach`
+    // horizontally; two of one cluster within `reach` of each other (horizontally) span a segment of
+    // its foot. The surface voxel joins the cluster of the nearest segment within 1.5 cells (the
+    // reach of the 3 x 3 columns: no lattice column lies between sqrt(2) and 2 cells away).
+    low.clear();
+    for (std::int64_t di = -span; di <= span; ++di)
+      for (std::int64_t dj = -span; dj <= span; ++dj) {
+        if (double(di * di + dj * dj) > reach2) continue;
+        scan(ci + di, cj + dj, lo(layers), hi(layers), [&](std::int64_t, std::int32_t l) {
+          if (low.empty() || low.back() != std::array<std::int64_t, 3>{di, dj, l}) low.push_back({di, dj, l});
+          return false;
+        });
+      }
+    double best_distance2 = 1.5 * 1.5 + 1e-9;
+    std::int32_t best = -1;
+    for (std::size_t a = 0; a < low.size(); ++a)
+      for (std::size_t b = a + 1; b < low.size(); ++b) {
+        if (low[a][2] != low[b][2]) continue;
+        const double ax = double(low[a][0]), ay = double(low[a][1]);
+        const double ex = double(low[b][0]) - ax, ey = double(low[b][1]) - ay;
+        const double length2 = ex * ex + ey * ey;
+        if (length2 > reach2 || length2 == 0.0) continue;
+        // The surface voxel's column is the origin: the segment's nearest point to it.
+        const double t = std::clamp(-(ax * ex + ay * ey) / length2, 0.0, 1.0);
+        const double px = ax + t * ex, py = ay + t * ey;
+        const double d2 = px * px + py * py;
+        const std::int32_t label = std::int32_t(low[a][2]);
+        if (d2 < best_distance2 - 1e-12 || (std::abs(d2 - best_distance2) <= 1e-12 && label < best)) {
+          best_distance2 = d2;
+          best = label;
         }
       }
     if (best >= 0) joins.emplace_back(v, best);
