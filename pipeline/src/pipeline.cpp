@@ -670,7 +670,10 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
     labels[obstacle_index[k]] = sub.labels[k];
     result.clusters.core[obstacle_index[k]] = sub.core[k];
   }
-  detail::attachSurfaceRims(centers, resolution, chosen.used.eps, labels);
+  // The rims reach as far as the eps used, but no farther than the auto rule's upper clamp: a large
+  // eps given by hand (1 m) would otherwise join most of the floor to the walls' feet.
+  detail::attachSurfaceRims(centers, resolution, std::min(chosen.used.eps, params.auto_rule.max_eps_voxels * resolution),
+                            labels);
   std::vector<std::int32_t> cluster_labels(labels);
   for (auto& l : cluster_labels) l = std::max(l, clustering::kNoise);
   result.obstacles = clustering::buildObstacles(centers, weights, cluster_labels, resolution);

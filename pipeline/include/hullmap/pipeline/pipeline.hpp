@@ -291,7 +291,8 @@ extern void (*stage_hook)(const char* stage);
 /// The foot of a wall or box lies in the floor's band, and on a sparse map the voxels above a foot
 /// voxel are often empty for more than `reach`, and its nearest low voxels a few cells along the
 /// face. `centers` are voxel centres on the lattice of `resolution` (map frame, z up); `reach` (map
-/// units) is the DBSCAN eps used. Voxels join clusters as they were on entry (no chains). Throws
+/// units): build passes the DBSCAN eps used, at most the auto rule's upper clamp (max_eps_voxels
+/// voxels: 0.4 m at 5 cm), so that a large eps given by hand does not join most of the floor. Voxels join clusters as they were on entry (no chains). Throws
 /// hullmap::Error when the sizes differ.
 void attachSurfaceRims(const std::vector<Eigen::Vector3d>& centers, double resolution, double reach,
                        std::vector<std::int32_t>& labels);
