@@ -23,10 +23,10 @@ constexpr double kRes = 0.05;
 V3 centre(int i, int j, int k) { return kRes * V3(i + 0.5, j + 0.5, k + 0.5); }
 
 /// The rule written out: for each surface voxel every clustered voxel is scanned (and, for rule 2,
-/// every clustered voxel again; for rule 3, every pair), straight from the header's description.
-/// `by_rule`, when given, counts the voxels joined by rules 1, 2 and 3.
+/// every clustered voxel again), straight from the header's description. `by_rule`, when given,
+/// counts the voxels joined by rules 1 and 2.
 std::vector<std::int32_t> bruteForce(const std::vector<std::array<int, 3>>& cells, const std::vector<std::int32_t>& labels,
-                                     double reach, std::array<std::size_t, 3>* by_rule = nullptr) {
+                                     double reach, std::array<std::size_t, 2>* by_rule = nullptr) {
   const int layers = int(std::floor(std::max(2.0, reach / kRes) + 1e-9));
   const double reach2 = (reach / kRes) * (reach / kRes) + 1e-9;  // cells^2
   const auto dist2 = [&](std::size_t a, std::size_t b) {
@@ -65,32 +65,6 @@ std::vector<std::int32_t> bruteForce(const std::vector<std::array<int, 3>>& cell
     if (best >= 0) {
       out[v] = best;
       if (by_rule) ++(*by_rule)[std::size_t(rule - 1)];
-      continue;
-    }
-    // Rule 3: segments between low voxels of one cluster.
-    std::vector<std::size_t> low;
-    for (std::size_t e = 0; e < cells.size(); ++e) {
-      const int di = cells[e][0] - cells[v][0], dj = cells[e][1] - cells[v][1], dk = cells[e][2] - cells[v][2];
-      if (labels[e] >= 0 && sign * dk >= 0 && sign * dk <= layers && double(di * di + dj * dj) <= reach2) low.push_back(e);
-    }
-    double best_segment = 1.5 * 1.5 + 1e-9;
-    for (std::size_t a : low)
-      for (std::size_t b : low) {
-        if (a == b || labels[a] != labels[b]) continue;
-        const double ex = cells[b][0] - cells[a][0], ey = cells[b][1] - cells[a][1];
-        const double length2 = ex * ex + ey * ey;
-        if (length2 == 0.0 || length2 > reach2) continue;
-        const double ax = cells[a][0] - cells[v][0], ay = cells[a][1] - cells[v][1];
-        const double t = std::clamp(-(ax * ex + ay * ey) / length2, 0.0, 1.0);
-        const double d2 = (ax + t * ex) * (ax + t * ex) + (ay + t * ey) * (ay + t * ey);
-        if (d2 < best_segment - 1e-12 || (std::abs(d2 - best_segment) <= 1e-12 && labels[a] < best)) {
-          best_segment = d2;
-          best = labels[a];
-        }
-      }
-    if (best >= 0) {
-      out[v] = best;
-      if (by_rule) ++(*by_rule)[2];
     }
   }
   return out;
@@ -99,7 +73,7 @@ std::vector<std::int32_t> bruteForce(const std::vector<std::array<int, 3>>& cell
 TEST(SurfaceRims, MatchesBruteForceOnRandomLattices) {
   std::mt19937 rng(23);
   std::size_t joined = 0, stayed = 0;
-  std::array<std::size_t, 3> by_rule{};
+  std::array<std::size_t, 2> by_rule{};
   for (int trial = 0; trial < 80; ++trial) {
     std::vector<std::array<int, 3>> cells;
     std::vector<V3> centers;
@@ -117,7 +91,7 @@ TEST(SurfaceRims, MatchesBruteForceOnRandomLattices) {
           }
     } else {
       // Sparse: bands of floor (layers -1, 0) and ceiling (24, 25) half occupied, and between them
-      // 4% of the cells clustered (3 labels) or noise, so rules 2 and 3 have work.
+      // 4% of the cells clustered (3 labels) or noise, so rule 2 has work.
       for (int i = -6; i < 7; ++i)
         for (int j = -6; j < 7; ++j)
           for (int k = -1; k < 26; ++k) {
@@ -137,10 +111,10 @@ TEST(SurfaceRims, MatchesBruteForceOnRandomLattices) {
     detail::attachSurfaceRims(centers, kRes, reach, labels);
     EXPECT_EQ(labels, expected) << "trial " << trial << ", reach " << reach;
   }
-  std::cout << joined << " surface voxels joined (" << by_rule[0] << ", " << by_rule[1] << ", " << by_rule[2]
-            << " by rules 1, 2, 3), " << stayed << " stayed\n";
+  std::cout << joined << " surface voxels joined (" << by_rule[0] << ", " << by_rule[1] << " by rules 1, 2), "
+            << stayed << " stayed\n";
   EXPECT_GT(stayed, 300u);
-  for (std::size_t r = 0; r < 3; ++r) EXPECT_GT(by_rule[r], 50u) << "rule " << r + 1;
+  for (std::size_t r = 0; r < 2; ++r) EXPECT_GT(by_rule[r], 50u) << "rule " << r + 1;
 }
 
 /// The floor band, layers -1 and 0, over columns [i0, i1] x [j0, j1].
@@ -178,8 +152,7 @@ TEST(SurfaceRims, SparseWallGetsItsFootAndFarFloorStaysFloor) {
   EXPECT_EQ(narrow, labels);
   // eps 0.2: `layers` 4. Layer 0 under and beside the wall's occupied columns joins by rule 1
   // (|di|, |dj| <= 1); layer -1 (5 below) by rule 2, the wall going on up from its lowest voxel.
-  // Rule 3 adds nothing: the foot line between the columns j = 0, 3, 6, 9 lies within 1.5 cells of
-  // the same columns. Every floor voxel two columns away stays floor.
+  // Every floor voxel two columns away stays floor.
   std::vector<std::int32_t> wide = labels;
   detail::attachSurfaceRims(centers, kRes, 0.2, wide);
   std::size_t joined = 0;
@@ -227,37 +200,6 @@ TEST(SurfaceRims, TableTopKeepsItsFloorAndALegGetsItsFoot) {
       joined += out[v] == 3;
     }
     EXPECT_EQ(joined, leg ? 18u : 0u);
-  }
-}
-
-TEST(SurfaceRims, FootLineJoinsBetweenLowVoxelsNotBesideThem) {
-  // A sparse face along j at i = 0 seen low only every 5 columns (layer 1; eps 0.3: 6 cells, so
-  // neighbours 5 apart span a segment of its foot) and nowhere higher: rule 1 covers the 3 x 3
-  // columns of each low voxel; rule 3 the columns between, within 1.5 cells of the line i = 0;
-  // columns 2 away from the line stay floor. Beyond the last low voxel (j > 16) nothing joins.
-  std::vector<V3> centers;
-  std::vector<std::int32_t> labels;
-  addFloor(-4, 4, -4, 24, centers, labels);
-  const std::size_t floor_voxels = centers.size();
-  for (int j = 0; j <= 15; j += 5) {
-    centers.push_back(centre(0, j, 1));
-    labels.push_back(2);
-  }
-  std::vector<std::int32_t> out = labels;
-  detail::attachSurfaceRims(centers, kRes, 0.3, out);
-  for (std::size_t v = 0; v < floor_voxels; ++v) {
-    const auto c = cellOf(centers[v]);
-    const bool should = std::abs(c[0]) <= 1 && c[1] >= -1 && c[1] <= 16;
-    EXPECT_EQ(out[v], should ? 2 : kFloorLabel) << c[0] << ' ' << c[1] << ' ' << c[2];
-  }
-  // Low voxels 7 apart (more than eps = 6 cells): no segment; only rule 1's columns join.
-  for (std::size_t v = floor_voxels; v < centers.size(); ++v) centers[v].y() = centre(0, int(v - floor_voxels) * 7, 1).y();
-  out = labels;
-  detail::attachSurfaceRims(centers, kRes, 0.3, out);
-  for (std::size_t v = 0; v < floor_voxels; ++v) {
-    const auto c = cellOf(centers[v]);
-    const bool should = std::abs(c[0]) <= 1 && std::abs(c[1] - 7 * int(std::lround(c[1] / 7.0))) <= 1 && c[1] >= -1 && c[1] <= 22;
-    EXPECT_EQ(out[v], should ? 2 : kFloorLabel) << c[0] << ' ' << c[1] << ' ' << c[2];
   }
 }
 

@@ -516,7 +516,6 @@ void attachSurfaceRims(const std::vector<Eigen::Vector3d>& centers, double resol
   };
   std::vector<std::pair<std::size_t, std::int32_t>> joins;
   std::vector<Candidate> candidates;
-  std::vector<std::array<std::int64_t, 3>> low;  // (di, dj, label) of the low voxels around a surface voxel
   for (std::size_t v = 0; v < centers.size(); ++v) {
     if (labels[v] != kFloorLabel && labels[v] != kCeilingLabel) continue;
     const std::int64_t sign = labels[v] == kFloorLabel ? 1 : -1;
@@ -537,47 +536,11 @@ void attachSurfaceRims(const std::vector<Eigen::Vector3d>& centers, double resol
           return false;
         });
     std::sort(candidates.begin(), candidates.end());
-    bool joined = false;
     for (const Candidate& c : candidates)
       if (std::abs(c.k - ck) <= layers || onFace(c.i, c.j, c.k, c.label, sign)) {
         joins.emplace_back(v, c.label);
-        joined = true;
         break;
       }
-    if (joined) continue;
-    // 3: the foot line. The clustered voxels within `layers` on the far side and within `reach`
-    // horizontally; two of one cluster within `reach` of each other (horizontally) span a segment of
-    // its foot. The surface voxel joins the cluster of the nearest segment within 1.5 cells (the
-    // reach of the 3 x 3 columns: no lattice column lies between sqrt(2) and 2 cells away).
-    low.clear();
-    for (std::int64_t di = -span; di <= span; ++di)
-      for (std::int64_t dj = -span; dj <= span; ++dj) {
-        if (double(di * di + dj * dj) > reach2) continue;
-        scan(ci + di, cj + dj, lo(layers), hi(layers), [&](std::int64_t, std::int32_t l) {
-          if (low.empty() || low.back() != std::array<std::int64_t, 3>{di, dj, l}) low.push_back({di, dj, l});
-          return false;
-        });
-      }
-    double best_distance2 = 1.5 * 1.5 + 1e-9;
-    std::int32_t best = -1;
-    for (std::size_t a = 0; a < low.size(); ++a)
-      for (std::size_t b = a + 1; b < low.size(); ++b) {
-        if (low[a][2] != low[b][2]) continue;
-        const double ax = double(low[a][0]), ay = double(low[a][1]);
-        const double ex = double(low[b][0]) - ax, ey = double(low[b][1]) - ay;
-        const double length2 = ex * ex + ey * ey;
-        if (length2 > reach2 || length2 == 0.0) continue;
-        // The surface voxel's column is the origin: the segment's nearest point to it.
-        const double t = std::clamp(-(ax * ex + ay * ey) / length2, 0.0, 1.0);
-        const double px = ax + t * ex, py = ay + t * ey;
-        const double d2 = px * px + py * py;
-        const std::int32_t label = std::int32_t(low[a][2]);
-        if (d2 < best_distance2 - 1e-12 || (std::abs(d2 - best_distance2) <= 1e-12 && label < best)) {
-          best_distance2 = d2;
-          best = label;
-        }
-      }
-    if (best >= 0) joins.emplace_back(v, best);
   }
   for (const auto& [v, label] : joins) labels[v] = label;
 }

@@ -274,7 +274,7 @@ namespace detail {
 extern void (*stage_hook)(const char* stage);
 
 /// The build's rims step, exposed for its tests. After DBSCAN, each floor voxel (kFloorLabel) joins
-/// a cluster (labels >= 0 on entry) it stands under, by the first of three rules that finds one;
+/// a cluster (labels >= 0 on entry) it stands under, by the first of two rules that finds one;
 /// "above" is "at its layer or above", and for a ceiling voxel (kCeilingLabel) "below" likewise;
 /// `layers` = max(2, `reach` / `resolution`) (floor, + 1e-9):
 ///  1. the nearest clustered voxel (squared lattice distance, ties to the lower label) in its
@@ -282,18 +282,14 @@ extern void (*stage_hook)(const char* stage);
 ///  2. else the nearest such voxel up to 2 * `layers` above that is the lower end of a face of its
 ///     cluster: two voxels of its cluster within `reach` of it (centre distance) lie at least 2
 ///     layers higher (a wall, a box's side or a table leg goes on up; a table top, flat, does not,
-///     so the floor under a top more than `layers` up stays floor);
-///  3. else the foot line: of the clustered voxels at most `layers` above and within `reach` of it
-///     horizontally, two of one cluster within `reach` of each other (horizontally) span a segment
-///     of that cluster's foot; the voxel joins the cluster of the nearest segment within 1.5 cells
-///     of its column (horizontal distance; ties to the lower label). 1.5 cells is the reach of the
-///     3 x 3 columns of rule 1 (no column lies between sqrt(2) and 2 cells away).
+///     so the floor under a top more than `layers` up stays floor).
 /// The foot of a wall or box lies in the floor's band, and on a sparse map the voxels above a foot
-/// voxel are often empty for more than `reach`, and its nearest low voxels a few cells along the
-/// face. `centers` are voxel centres on the lattice of `resolution` (map frame, z up); `reach` (map
+/// voxel are often empty for more than `reach`. (A third rule, joining floor voxels within 1.5 cells
+/// of the line between two low voxels of a cluster, was tried and left out: it laid a ledge of floor
+/// voxels along the walls' feet that came out as parts of their own.) `centers` are voxel centres on the lattice of `resolution` (map frame, z up); `reach` (map
 /// units): build passes the DBSCAN eps used, at most the auto rule's upper clamp (max_eps_voxels
-/// voxels: 0.4 m at 5 cm), so that a large eps given by hand does not join most of the floor. Voxels join clusters as they were on entry (no chains). Throws
-/// hullmap::Error when the sizes differ.
+/// voxels: 0.4 m at 5 cm), so that a large eps given by hand does not join most of the floor. Voxels join clusters as
+/// they were on entry (no chains). Throws hullmap::Error when the sizes differ.
 void attachSurfaceRims(const std::vector<Eigen::Vector3d>& centers, double resolution, double reach,
                        std::vector<std::int32_t>& labels);
 }  // namespace detail
