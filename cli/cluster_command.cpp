@@ -66,11 +66,13 @@ void writeLabelsTo(std::ostream& out, const mapper::Points& points, const cluste
       std::string& text = chunks[c];
       text.clear();
       const std::size_t end = std::min(block_end, block + (c + 1) * kChunk);
+      text.reserve((end - block - c * kChunk) * 40);  // a row of three 6-decimal numbers is about 32 chars
+      int decimals = 0;  // the decimals of the number before: a point file's numbers mostly share them
       for (std::size_t i = block + c * kChunk; i < end; ++i) {
         char row[3 * (core::kShortestTextMax + 1) + 24];  // three numbers, a label, the core flag
         char* out = row;
         for (int k = 0; k < 3; ++k) {
-          out = core::writeShortest(out, points[i][k]);
+          out = core::writeShortest(out, points[i][k], decimals);
           *out++ = ',';
         }
         out = std::to_chars(out, out + 20, result.labels[i]).ptr;

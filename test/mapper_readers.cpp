@@ -12,6 +12,7 @@
 #include <limits>
 #include <malloc.h>
 #include <memory>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -917,6 +918,71 @@ TEST(MapperReadersStream, TextReadInParallelChunksIsTheFrontToBackRead) {
       EXPECT_EQ(got.stats.dropped.at("non_finite"), 2681u);
     }
   }
+}
+
+// Lines of plain decimals after the first data line take a fast path of their own in the parallel
+// read (no from_chars): it must give the points, bit for bit (signed zeros too), the counts and the
+// errors that the front-to-back read of a pipe gives, which parses every token with from_chars.
+// Tokens at its edges (19 and 20 digits, 2^53 and 2^53 + 1, -0, a '+', exponents, "1.", ".5") and
+// every separator forEachToken knows, then one bad line after a good start.
+TEST(MapperReadersStream, PlainDecimalFastPathReadsAsFromChars) {
+  std::mt19937_64 rng(17);
+  const auto pick = [&rng](std::size_t n) { return std::size_t(rng() % n); };
+  const std::vector<std::string> edges = {
+      "-0", "0", "-0.000", "0.0", "9007199254740992", "9007199254740993", "-9007199254740993.5",
+      "900719925474099.3", "1234567890123456789", "12345678901234567890", "0.1234567890123456789",
+      "0.30000000000000004", "1.7976931348623157", "4.9406564584124654", "000123.4500", "+4", "+0.5",
+      "1e3", "-2E-3", "1.", ".5", "-.5", "nan", "-inf", "1e999", "7.0e-400"};
+  const auto token = [&]() -> std::string {
+    if (pick(8) == 0) return edges[pick(edges.size())];
+    std::string t = pick(3) == 0 ? "-" : "";
+    const std::size_t whole = 1 + pick(12), decimals = pick(3) == 0 ? 0 : 1 + pick(14);
+    for (std::size_t i = 0; i < whole; ++i) t += char('0' + pick(10));
+    if (decimals > 0) t += '.';
+    for (std::size_t i = 0; i < decimals; ++i) t += char('0' + pick(10));
+    return t;
+  };
+  const std::vector<std::string> separators = {" ", "\t", ",", ", ", " ,\t", "  ", "\v", " , "};
+  const std::vector<std::string> ends = {"\n", "\r\n", " \n", "\t# note\n", "\r\r\n"};
+  const auto line = [&](std::size_t tokens) {
+    std::string l = pick(10) == 0 ? " " : "";
+    for (std::size_t t = 0; t < tokens; ++t) l += (t ? separators[pick(separators.size())] : "") + token();
+    return l + ends[pick(ends.size())];
+  };
+  std::string good = "1 2 3\n";
+  for (int i = 0; i < 20000; ++i) {
+    if (pick(50) == 0) good += pick(2) ? "\n" : "# comment\n";
+    good += line(3);
+  }
+  std::vector<std::pair<std::string, std::string>> cases = {{"good.txt", good}};
+  const std::vector<std::string> bad_lines = {"1 2 3,\n", "1,,2 3\n", "1 2\n", "1 2 3 4\n", "- 1 2\n",
+                                              "1 2 3x\n", "1..2 3 4\n", ",1 2 3\n", "1 2 0x10\n",
+                                              "1 2 3 ,\r\n", "1 2 --3\n", "1 2 3\f,\n", "1\x01 2 3\n", "1 2 3,# c\n"};
+  for (std::size_t b = 0; b < bad_lines.size(); ++b) {
+    std::string bytes = "1 2 3\n";
+    for (int i = 0; i < 40; ++i) bytes += line(3);
+    cases.emplace_back("bad" + std::to_string(b) + ".txt", bytes + bad_lines[b] + line(3));
+  }
+  for (int b = 0; b < 150; ++b) {
+    std::string bytes = "1 2 3\n";
+    for (int i = 0; i < 40; ++i) bytes += line(3);
+    cases.emplace_back("random" + std::to_string(b) + ".txt", bytes + line(2 + pick(3)) + line(2 + pick(3)));
+  }
+  std::size_t errors = 0;
+  for (const auto& [name, bytes] : cases) {
+    SCOPED_TRACE(name);
+    const hullmap::test::FedPipe pipe(bytes);
+    const ReadOutcome want = hullmap::test::fileOutcome(pipe.path(), 1 << 20, 4096);
+    const ReadOutcome got = hullmap::test::parseOutcome(bytes, name);
+    ASSERT_TRUE(sameOutcome(want, got));
+    ASSERT_EQ(std::memcmp(want.points.data(), got.points.data(), want.points.size() * sizeof(Point)), 0);
+    errors += want.error.empty() ? 0 : 1;
+    if (name == "good.txt") {
+      EXPECT_EQ(want.error, "");
+      EXPECT_GT(want.points.size(), 19000u);
+    }
+  }
+  EXPECT_GE(errors, bad_lines.size());  // each bad line is an error, and some random ones
 }
 
 TEST(MapperReadersStream, SeveralFilesStreamInOrderAndStopAtTheFirstError) {

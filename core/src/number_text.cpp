@@ -1,8 +1,10 @@
 #include "hullmap/core/number_text.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 
 namespace hullmap::core {
 namespace {
@@ -30,6 +32,11 @@ char* writeDigits(char* first, std::uint64_t m, int n) {
 }  // namespace
 
 char* writeShortest(char* first, double value) {
+  int decimals = 0;
+  return writeShortest(first, value, decimals);
+}
+
+char* writeShortest(char* first, double value, int& decimals) {
   char* const last = first + kShortestTextMax;
   const double a = std::fabs(value);
   if (!(a >= 1e-3 && a < 1e15)) return std::to_chars(first, last, value).ptr;
@@ -37,37 +44,58 @@ char* writeShortest(char* first, double value) {
   // exact doubles, divides to the double nearest m * 10^-p, which is what reading the text gives. The
   // fewest decimals are the fewest significant digits, as to_chars finds them. Below 2^50 the rounded
   // product is within 0.2 of the exact one (0.35 after adding 0.5), so no p that works is missed.
+  // For the same reason a p that works makes p + 1 work (10 m rounds from a * 10^(p+1) and divides to
+  // the same quotient) while a * 10^(p+1) stays below 2^50: the fewest p is the p that works when
+  // p - 1 does not, and the search may start at any p below the limit, here the caller's guess.
   constexpr double kLimit = 1125899906842624.0;  // 2^50
-  for (int p = 0; p < 18; ++p) {
+  enum class Trip { kHolds, kFails, kOverLimit };
+  const auto roundTrip = [a](int p, std::int64_t& whole) {
     const double scaled = a * kPow10[p];
-    if (scaled >= kLimit) break;
+    if (scaled >= kLimit) return Trip::kOverLimit;
     // Signed conversions: one instruction each way, the unsigned ones are not.
-    const auto whole = static_cast<std::int64_t>(scaled + 0.5);  // nearest, ties never round-trip
-    if (static_cast<double>(whole) / kPow10[p] != a) continue;
-    const auto m = static_cast<std::uint64_t>(whole);
-    const int n = digitCount(m);
-    // Scientific notation's length: significant digits, the point when more than one, "e+dd".
-    int significant = n;
-    for (std::uint64_t t = m; t % 10 == 0; t /= 10) --significant;
-    const int exponent = n - 1 - p;
-    const int exponent_digits = std::abs(exponent) >= 100 ? 3 : 2;
-    const int scientific = significant + (significant > 1 ? 1 : 0) + 2 + exponent_digits;
-    const int fixed = p == 0 ? n : (n > p ? n + 1 : p + 2);
-    if (scientific < fixed) break;  // to_chars writes scientific
-    char* out = first;
-    if (std::signbit(value)) *out++ = '-';
-    if (p == 0) return writeDigits(out, m, n);
-    if (n > p) {
-      out = writeDigits(out, m / static_cast<std::uint64_t>(kPow10[p]), n - p);
-      *out++ = '.';
-      return writeDigits(out, m % static_cast<std::uint64_t>(kPow10[p]), p);
-    }
-    *out++ = '0';
-    *out++ = '.';
-    for (int i = n; i < p; ++i) *out++ = '0';
-    return writeDigits(out, m, n);
+    whole = static_cast<std::int64_t>(scaled + 0.5);  // nearest, ties never round-trip
+    return static_cast<double>(whole) / kPow10[p] == a ? Trip::kHolds : Trip::kFails;
+  };
+  int p = std::clamp(decimals, 0, 17);
+  std::int64_t whole = 0;
+  Trip trip = roundTrip(p, whole);
+  if (trip == Trip::kOverLimit) {
+    p = 0;
+    trip = roundTrip(p, whole);
   }
-  return std::to_chars(first, last, value).ptr;
+  if (trip == Trip::kHolds) {
+    std::int64_t fewer = 0;
+    while (p > 0 && roundTrip(p - 1, fewer) == Trip::kHolds) {
+      --p;
+      whole = fewer;
+    }
+  } else {
+    while (trip == Trip::kFails && p < 17) trip = roundTrip(++p, whole);
+    if (trip != Trip::kHolds) return std::to_chars(first, last, value).ptr;
+  }
+  const auto m = static_cast<std::uint64_t>(whole);
+  const int n = digitCount(m);
+  // Scientific notation's length: significant digits, the point when more than one, "e+dd".
+  int significant = n;
+  for (std::uint64_t t = m; t % 10 == 0; t /= 10) --significant;
+  const int exponent = n - 1 - p;
+  const int exponent_digits = std::abs(exponent) >= 100 ? 3 : 2;
+  const int scientific = significant + (significant > 1 ? 1 : 0) + 2 + exponent_digits;
+  const int fixed = p == 0 ? n : (n > p ? n + 1 : p + 2);
+  if (scientific < fixed) return std::to_chars(first, last, value).ptr;  // to_chars writes scientific
+  decimals = p;
+  char* out = first;
+  if (std::signbit(value)) *out++ = '-';
+  if (p == 0) return writeDigits(out, m, n);
+  if (n > p) {
+    out = writeDigits(out, m / static_cast<std::uint64_t>(kPow10[p]), n - p);
+    *out++ = '.';
+    return writeDigits(out, m % static_cast<std::uint64_t>(kPow10[p]), p);
+  }
+  *out++ = '0';
+  *out++ = '.';
+  for (int i = n; i < p; ++i) *out++ = '0';
+  return writeDigits(out, m, n);
 }
 
 }  // namespace hullmap::core

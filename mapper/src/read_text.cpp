@@ -1,6 +1,7 @@
 // Plain-text points: ORB-SLAM2/3 map-point dumps, .xyz files, octomap's scan.dat.
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <cstring>
 #include <optional>
 #include <vector>
@@ -52,31 +53,101 @@ struct ChunkResult {
   std::optional<std::pair<std::size_t, std::string>> error;  ///< line in the chunk (1-based), message
 };
 
+constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,
+                             1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19};
+
+bool isDigit(char c) { return static_cast<unsigned char>(c - '0') < 10; }
+
+/// A plain decimal at `p` ("-12.5", "3", "0.000"; at most 19 digits): its value in `value`, `p` moved
+/// past it. False, `p` unmoved, for anything else (a '+', an exponent, "1.", ".5", more digits,
+/// nan, inf): parseDouble reads those.
+bool parsePlainDecimal(const char*& p, const char* end, double& value) {
+  const char* q = p;
+  const bool negative = q != end && *q == '-';
+  if (negative) ++q;
+  const char* const digits = q;
+  std::uint64_t m = 0;
+  while (q != end && isDigit(*q)) m = m * 10 + std::uint64_t(*q++ - '0');
+  const std::size_t whole = std::size_t(q - digits);
+  std::size_t decimals = 0;
+  if (q != end && *q == '.') {
+    const char* const fraction = ++q;
+    while (q != end && isDigit(*q)) m = m * 10 + std::uint64_t(*q++ - '0');
+    decimals = std::size_t(q - fraction);
+    if (decimals == 0) return false;
+  }
+  // m and 10^decimals are exact doubles, so their quotient is the double nearest the decimal, as
+  // from_chars reads it (Clinger's fast path).
+  if (whole == 0 || whole + decimals > 19 || m > (std::uint64_t(1) << 53)) return false;
+  const double magnitude = double(m) / kPow10[decimals];
+  value = negative ? -magnitude : magnitude;
+  p = q;
+  return true;
+}
+
+/// parseChunk's common line, read without parseNumbers: `columns` plain decimals separated as
+/// forEachToken separates tokens (whitespace and/or one comma), the first three in `values`. Returns
+/// one past the line's '\n' (or `end`); nullptr for any other line (blank, a comment, another token,
+/// another count), which the general path then reads.
+const char* parsePlainLine(const char* p, const char* end, std::size_t columns, double (&values)[3]) {
+  const auto skipSpace = [end](const char* q) {
+    while (q != end && isSpace(*q)) ++q;
+    return q;
+  };
+  std::size_t count = 0;
+  p = skipSpace(p);
+  while (p != end && *p != '\n') {
+    double value;
+    if (!parsePlainDecimal(p, end, value)) return nullptr;
+    if (p != end && !isSpace(*p) && *p != ',' && *p != '\n') return nullptr;
+    if (count < 3) values[count] = value;
+    ++count;
+    p = skipSpace(p);
+    if (p != end && *p == ',') {
+      p = skipSpace(p + 1);
+      if (p == end || *p == '\n') return nullptr;  // a trailing comma: an empty last field
+    }
+  }
+  if (count != columns) return nullptr;
+  return p == end ? end : p + 1;
+}
+
 void parseChunk(std::string_view bytes, std::size_t columns, ChunkResult& out) {
-  ByteSource source(bytes);
-  LineCursor cursor(source);
-  std::string_view line;
+  const char* p = bytes.data();
+  const char* const end = p + bytes.size();
+  std::size_t line_number = 0;
   double values[3] = {0, 0, 0};
   out.points.reserve(bytes.size() / 24 + 1);
-  while (cursor.next(line)) {
+  while (p != end) {
+    ++line_number;
+    if (const char* const next = parsePlainLine(p, end, columns, values)) {
+      ++out.read;
+      out.points.emplace_back(values[0], values[1], values[2]);  // plain decimals are finite
+      p = next;
+      continue;
+    }
+    const char* const newline = static_cast<const char*>(std::memchr(p, '\n', std::size_t(end - p)));
+    std::string_view line(p, std::size_t((newline == nullptr ? end : newline) - p));
+    p = newline == nullptr ? end : newline + 1;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     line = stripComment(line);
     if (trim(line).empty()) continue;
     std::size_t count = 0;
     std::optional<std::string> error = parseNumbers(line, values, count);
     if (!error && count != columns) error = columnsMessage(columns, count);
     if (error) {
-      out.error.emplace(cursor.lineNumber(), std::move(*error));
+      out.error.emplace(line_number, std::move(*error));
       return;
     }
     ++out.read;
-    const Point p(values[0], values[1], values[2]);
-    if (isFinite(p)) {
-      out.points.push_back(p);
+    const Point point(values[0], values[1], values[2]);
+    if (isFinite(point)) {
+      out.points.push_back(point);
     } else {
       ++out.non_finite;
     }
   }
-  out.lines = cursor.lineNumber();
+  out.lines = line_number;
 }
 
 // Lines after the first data line, when the whole input is visible (memory, a mapped file), are

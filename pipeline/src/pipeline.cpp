@@ -30,6 +30,7 @@
 #include "hullmap/mapper/level_check.hpp"
 #include "hullmap/mapper/output_dir.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
+#include "input_points.hpp"
 
 namespace hullmap::pipeline {
 namespace {
@@ -83,12 +84,6 @@ std::vector<std::string> pathStrings(const std::vector<fs::path>& paths) {
   std::vector<std::string> strings;
   for (const auto& p : paths) strings.push_back(p.string());
   return strings;
-}
-
-Error noPoints(const std::vector<std::string>& inputs) {
-  std::string names;
-  for (const auto& input : inputs) names += (names.empty() ? "" : ", ") + input;
-  return Error(names + ": no points");
 }
 
 Error noPointsInBounds() {
@@ -716,12 +711,6 @@ std::string outputFrame(const BuildResult& result) {
     s << ", then levelled: the floor rotated level and moved to z = 0 (report.json \"levelling\")";
   }
   return s.str();
-}
-
-mapper::PointSet readInputPoints(const std::vector<std::string>& inputs) {
-  mapper::PointSet set = mapper::readPointFiles(inputs);
-  if (set.points.empty()) throw noPoints(inputs);
-  return set;
 }
 
 ClusteredVoxels clusterMap(const mapper::OccupancyMap& map, const clustering::DbscanParams& dbscan) {

@@ -12,4 +12,10 @@ inline constexpr int kShortestTextMax = 32;
 /// numbers read from text with six decimals), which is what point files hold.
 char* writeShortest(char* first, double value);
 
+/// writeShortest(first, value), with a guess of the value's decimals to start from: numbers of one
+/// file mostly share theirs, and a right guess costs two round-trip tests instead of one per decimal.
+/// `decimals` (any int; 0 to start) is set to the decimals written when the fast path wrote them.
+/// The text is the same whatever the guess.
+char* writeShortest(char* first, double value, int& decimals);
+
 }  // namespace hullmap::core

@@ -1,0 +1,120 @@
+#include "cli_main.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <exception>
+#include <iostream>
+#include <new>
+#include <string>
+
+#include "hullmap/core/error.hpp"
+
+namespace hullmap::cli {
+namespace {
+
+// The first option on the command line that `cmd` does not have ("--radus" in "--radus 0.3"), or
+// "" when every option is known. CLI11 checks required options and positional files before it
+// reports unknown ones, so a misspelt option would otherwise surface as "--radius is required" or
+// "File does not exist: 0.3", naming something the user did type right. Values of known options
+// ("--up -y", "--crop -1,-1,0,1,1,2") and negative numbers are not options.
+std::string firstUnknownOption(const CLI::App& cmd, int first, int argc, char** argv) {
+  for (int i = first; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--") break;
+    if (arg.size() < 2 || arg[0] != '-' || std::isdigit(static_cast<unsigned char>(arg[1])) || arg[1] == '.') {
+      continue;
+    }
+    const bool is_long = arg[1] == '-';
+    const std::string name = is_long ? arg.substr(0, arg.find('=')) : arg.substr(0, 2);
+    const CLI::Option* option = cmd.get_option_no_throw(name);
+    if (option == nullptr) {
+      if (name == "-h" || name == "--help") continue;
+      return name;
+    }
+    const bool value_attached = is_long ? arg.find('=') != std::string::npos : arg.size() > 2;
+    if (!value_attached) i += std::max(0, option->get_items_expected_min());
+  }
+  return "";
+}
+
+// The message of a library error with the parameters it names spelt as this CLI's flags
+// ("min_pts: must be >= 1" -> "--min-pts: must be >= 1").
+std::string cliMessage(const hullmap::Error& e) {
+  if (e.parameter().empty()) return e.what();
+  std::string flags;
+  std::size_t start = 0;
+  while (start <= e.parameter().size()) {
+    std::size_t end = e.parameter().find('/', start);
+    if (end == std::string::npos) end = e.parameter().size();
+    std::string name = e.parameter().substr(start, end - start);
+    if (name == "keyframes") {
+      name = "--trajectory";
+    } else if (name != "inputs") {
+      std::replace(name.begin(), name.end(), '_', '-');
+      name = "--" + name;
+    }
+    flags += (flags.empty() ? "" : "/") + name;
+    start = end + 1;
+  }
+  return flags + ": " + e.detail();
+}
+
+}  // namespace
+
+int runCli(int argc, char** argv, const std::vector<AddCommand>& commands) {
+  CLI::App app{"hullmap: SLAM map points -> OctoMap -> DBSCAN clusters -> convex obstacles -> path checks"};
+  app.set_version_flag("--version", HULLMAP_VERSION);
+  app.require_subcommand(1);
+  int status = 0;
+  for (const AddCommand add : commands) add(app, status);
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+      known = known || sub->get_name() == argv[1];
+    }
+    if (!known) {
+    std::cerr << "hullmap: error: unknown subcommand '" << argv[1] << "' (expected one of " << names << ")\n";
+      return 2;
+    }
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    const CLI::App* cmd = &app;
+    int first = 1;
+    if (argc > 1 && argv[1][0] != '-') {
+      cmd = app.get_subcommand(argv[1]);
+      first = 2;
+    }
+    const std::string unknown = firstUnknownOption(*cmd, first, argc, argv);
+    if (!unknown.empty()) {
+      const std::string where = cmd == &app ? "hullmap" : "hullmap " + cmd->get_name();
+      std::cerr << "hullmap: error: unknown option " << unknown << " (see " << where << " --help)\n";
+      return 2;
+    }
+    // A bad value names its option and what is wrong with it; --help would not say more.
+    const bool bad_value = dynamic_cast<const CLI::ValidationError*>(&e) != nullptr;
+    std::cerr << "hullmap: error: " << e.what() << (bad_value ? "\n" : " (see hullmap --help)\n");
+    return 2;
+  } catch (const hullmap::Error& e) {
+    std::cerr << "hullmap: error: " << cliMessage(e) << "\n";
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "hullmap: error: out of memory\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "hullmap: error: " << e.what() << "\n";
+    return 2;
+  }
+  return status;
+}
+
+}  // namespace hullmap::cli

@@ -1,0 +1,16 @@
+#pragma once
+
+// Reading the inputs' points, apart from the rest of the pipeline: `hullmap cluster` links this
+// file alone, without the octree, hull and collision code (and FCL) that build() needs.
+
+#include <string>
+#include <vector>
+
+#include "hullmap/core/error.hpp"
+
+namespace hullmap::pipeline {
+
+/// The error of inputs that hold no point: "<input>, <input>: no points".
+Error noPoints(const std::vector<std::string>& inputs);
+
+}  // namespace hullmap::pipeline
