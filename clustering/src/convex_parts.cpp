@@ -43,7 +43,7 @@ constexpr std::size_t kShedShare = 16;
 /// edges of the facet's plane (a noisy surface's layer of voxels); merge() applies the rule only to
 /// parts of at least kFaceMergeMinVoxels voxels.
 constexpr double kFaceLayers = 2.0;
-constexpr std::size_t kFaceMergeMinVoxels = 8;
+constexpr std::size_t kFaceMergeMinVoxels = 3;
 using Members = std::vector<std::uint32_t>;  ///< sorted indices into the cluster's cells
 
 /// A facet plane of a lattice hull: n . x <= d inside, x in corner-lattice coordinates (cell (i, j, k)

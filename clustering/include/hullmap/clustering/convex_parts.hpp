@@ -42,7 +42,7 @@ struct ConvexPartsParams {
   /// plane) is within G of it. A facet is a face when every such cell of its slab has one: a facet
   /// lifted off the sites, as one dragged out to a stray voxel, is none. It is the flat part's rule
   /// applied to each face of a box or a cylinder whose sparse faces and edges leave holes wider than T
-  /// (the pieces a cut left of it are merged back); only parts of at least 8 voxels are merged under
+  /// (the pieces a cut left of it are merged back); only parts of at least 3 voxels are merged under
   /// it. A part that passed by it says so (ObstaclePart::faces); its bound is at most G. No effect
   /// when G = T. Off: merges use T (and G for flat parts) only.
   bool face_holes = true;
