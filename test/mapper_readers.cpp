@@ -975,7 +975,10 @@ TEST(MapperReadersStream, PlainDecimalFastPathReadsAsFromChars) {
     const ReadOutcome want = hullmap::test::fileOutcome(pipe.path(), 1 << 20, 4096);
     const ReadOutcome got = hullmap::test::parseOutcome(bytes, name);
     ASSERT_TRUE(sameOutcome(want, got));
-    ASSERT_EQ(std::memcmp(want.points.data(), got.points.data(), want.points.size() * sizeof(Point)), 0);
+    // Bit for bit (memcmp: -0 and 0 differ); an empty vector's data() may be null, which memcmp may not take.
+    if (!want.points.empty()) {
+      ASSERT_EQ(std::memcmp(want.points.data(), got.points.data(), want.points.size() * sizeof(Point)), 0);
+    }
     errors += want.error.empty() ? 0 : 1;
     if (name == "good.txt") {
       EXPECT_EQ(want.error, "");
