@@ -630,20 +630,26 @@ class ClusterSplitter {
   /// walls meet, or a voxel of noise sits off a wall, the merge leaves a small non-flat part (the
   /// corner's voxels of both walls together are thicker than T, and its hull over the walls' holes is
   /// farther than T from them): its voxels in each wall's slab go to that wall, and what is left (if
-  /// anything) stays a part. Flat parts in order of size (largest first, ties by first cell), the
-  /// other parts in order of their first cell; deterministic.
+  /// anything) stays a part. Then the flat fragments do the same with the other flat parts. Flat
+  /// parts in order of size (largest first, ties by first cell), the non-flat parts in order of their
+  /// first cell before them; deterministic.
   std::vector<std::pair<Members, Check>> absorb(std::vector<std::pair<Members, Check>> parts) const {
     std::vector<std::size_t> flats, others;
     for (std::size_t p = 0; p < parts.size(); ++p) (parts[p].second.flat ? flats : others).push_back(p);
-    if (flats.empty() || others.empty()) return parts;
+    if (flats.empty()) return parts;
     std::stable_sort(flats.begin(), flats.end(),
                      [&](std::size_t a, std::size_t b) { return parts[a].first.size() > parts[b].first.size(); });
+    // Then the flat fragments: a few voxels of a wall's foot or top edge that the split cut off
+    // together with a stray in line with them (a part thin too, at right angles to the wall) give
+    // their voxels in the wall's slab back to it, and the stray is left a part of its own.
+    for (const auto f : flats) others.push_back(f);
     bool changed = false;
     for (const auto q : others) {
       Cell qlo, qhi;
       box(parts[q].first, qlo, qhi);
       for (const auto f : flats) {
         if (parts[q].first.empty()) break;
+        if (f == q) continue;
         // Fragments only: a part at least 1/kAbsorbRatio of the flat part's size stays as it is (a
         // slanted slab through a 3D cluster would otherwise gather its voxels into a wide thin hull).
         if (parts[q].first.size() * kAbsorbRatio > parts[f].first.size()) continue;
