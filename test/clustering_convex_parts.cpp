@@ -646,6 +646,42 @@ TEST(ConvexParts, SparseShellWithStrayVoxelsIsOnePartAndTheStrays) {
   }
 }
 
+TEST(ConvexParts, DenseShellWithPairsOfStraysIsOnePartAndTheStrays) {
+  // A densely sampled 1.2 x 1 x 1.2 m box on the floor (every surface cell) with three pairs of
+  // stray voxels (two touching voxels each, as a noisy point often leaves) 6 to 9 cells off its
+  // faces. A pair is not lone, so before only lone cells were shed and the split cut the box into
+  // slices with the pairs; on a dense cluster (few cells in clumps of at most 3) a pair or a triple
+  // is a stray too, shed whole, and the box stays one part.
+  for (const unsigned seed : {1u, 2u, 3u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    auto c = shell(0, 24, 0, 20, 0, 24, true, 1, seed);
+    const std::size_t shell_cells = c.size();
+    std::mt19937 rng(seed + 10);
+    std::uniform_int_distribution<int> pos(0, 18), off(6, 9), face(0, 4);
+    for (int n = 0; n < 3; ++n) {
+      const int f = face(rng), a = pos(rng), b = pos(rng), o = off(rng);
+      // The pair: (a, b) and (a + 1, b) on the face's plane, o cells off it.
+      for (const int da : {0, 1}) {
+        const std::array<V3, 5> stray{center(-o, a + da, b), center(23 + o, a + da, b), center(a + da, -o, b),
+                                      center(a + da, 19 + o, b), center(a + da, b, 23 + o)};
+        c.push_back(stray[std::size_t(f)]);
+      }
+    }
+    ConvexPartsParams params;
+    params.flat_gap = 0.3;
+    params.floor_z = 0.0;
+    const Split s = splitOne(c, params);
+    const auto& parts = s.obstacles[0].parts;
+    EXPECT_LE(parts.size(), 4u);
+    EXPECT_TRUE(std::any_of(parts.begin(), parts.end(), [&](const ObstaclePart& p) { return p.voxel_count >= shell_cells; }))
+        << parts.size() << " parts";
+    for (const auto& p : parts) {
+      EXPECT_TRUE(p.filled || p.voxel_count <= 2);
+      EXPECT_LE(p.concavity_bound, (p.flat || p.faces ? 0.3 : 0.15) + 1e-12);
+    }
+  }
+}
+
 TEST(ConvexParts, ClumpOffASparseShellGivesBackTheFacesVoxels) {
   // A clump of 3 stray voxels (not lone: shedStrays leaves it) 4 to 5 cells above the sparse shell's
   // top: the split cuts it off with a slice of the top (seed 3: 12 of its voxels), and

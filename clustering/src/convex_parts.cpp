@@ -36,8 +36,13 @@ constexpr double kAdaptMaxFactor = 2.0;
 /// absorb(): a non-flat part gives voxels to a flat part only when the flat part has at least this
 /// many times its voxels.
 constexpr std::size_t kAbsorbRatio = 8;
-/// shedStrays(): at most this many lone cells, and at most one in this many of the part.
+/// shedStrays(): at most this many stray cells, and at most one in this many of the part; a stray
+/// cell's clump (cells linked by steps of at most T) has at most kStrayClump cells.
 constexpr std::size_t kShedMax = 8;
+constexpr std::size_t kStrayClump = 3;
+/// findStrays(): clumps of 2 to kStrayClump cells are strays only when at most this share of the
+/// cluster's cells lie in clumps of at most kStrayClump (lone cells are strays always).
+constexpr double kStrayShare = 0.1;
 constexpr std::size_t kShedShare = 16;
 /// The face-hole rule (faceHoles): a site lies on a facet when its cube is within this many voxel
 /// edges of the facet's plane (a noisy surface's layer of voxels); merge() applies the rule only to
@@ -273,7 +278,7 @@ class ClusterSplitter {
     std::iota(all.begin(), all.end(), 0u);
     if (fill_enclosed_) findEnclosed(all);
     std::vector<std::pair<Members, Check>> done;
-    findLone();
+    findStrays();
     // Parts to check, with their hulls when the split already built them. The halves of a split
     // are independent, so they are checked in parallel; the order in which parts are done does not
     // matter (merge orders them by their first cell).
@@ -680,45 +685,77 @@ class ClusterSplitter {
     return withoutEmpty(std::move(parts));
   }
 
-  /// Marks the lone cells: no other cell of the cluster within T (none when the cluster is too wide
-  /// for the packed keys, 21 bits per axis).
-  void findLone() {
-    lone_.assign(cells_.size(), 0);
+  /// Marks the stray cells: those whose clump (the cells linked to it by steps of at most T) has at
+  /// most kStrayClump cells, with the clump's id (its smallest cell index) in clump_; none when the
+  /// cluster is too wide for the packed keys (21 bits per axis). A lone cell (no other cell within T)
+  /// is a clump of one.
+  void findStrays() {
+    clump_.assign(cells_.size(), kNoClump);
     for (const auto& c : cells_)
       for (const auto x : c)
         if (x < -(std::int64_t(1) << 19) || x >= (std::int64_t(1) << 19)) return;
     const auto pack = [](const Cell& c) {
       return (std::uint64_t(c[0] + (1 << 20)) << 42) | (std::uint64_t(c[1] + (1 << 20)) << 21) | std::uint64_t(c[2] + (1 << 20));
     };
-    std::vector<std::uint64_t> occupied;
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> occupied;
     occupied.reserve(cells_.size());
-    for (const auto& c : cells_) occupied.push_back(pack(c));
+    for (std::uint32_t i = 0; i < cells_.size(); ++i) occupied.emplace_back(pack(cells_[i]), i);
     std::sort(occupied.begin(), occupied.end());
-    for (std::size_t i = 0; i < cells_.size(); ++i) {
-      bool alone = true;
+    // The cells within T of cell i, into `out`; false (out incomplete) once more than kStrayClump.
+    const auto neighbours = [&](std::uint32_t i, std::vector<std::uint32_t>& out) {
+      out.clear();
       const Cell& c = cells_[i];
       for (const auto& [o, o2] : ball_) {
         if (double(o2) > t2_) break;  // ball_ is sorted by distance
         if (o2 == 0.0f) continue;
-        if (std::binary_search(occupied.begin(), occupied.end(), pack({c[0] + o[0], c[1] + o[1], c[2] + o[2]}))) {
-          alone = false;
-          break;
-        }
+        const std::uint64_t key = pack({c[0] + o[0], c[1] + o[1], c[2] + o[2]});
+        const auto it = std::lower_bound(occupied.begin(), occupied.end(), std::make_pair(key, std::uint32_t(0)));
+        if (it == occupied.end() || it->first != key) continue;
+        out.push_back(it->second);
+        if (out.size() >= kStrayClump) return false;
       }
-      lone_[i] = alone;
+      return true;
+    };
+    std::vector<std::uint32_t> clump, around;
+    std::size_t in_small = 0;  // cells in clumps of at most kStrayClump
+    std::vector<char> in_pair_or_more(cells_.size(), 0);
+    for (std::uint32_t i = 0; i < cells_.size(); ++i) {
+      if (clump_[i] != kNoClump) continue;
+      // Grow i's clump breadth first; give up once it holds more than kStrayClump cells.
+      clump.assign(1, i);
+      bool small = true;
+      for (std::size_t next = 0; next < clump.size() && small; ++next) {
+        small = neighbours(clump[next], around);
+        for (const auto n : around)
+          if (std::find(clump.begin(), clump.end(), n) == clump.end()) clump.push_back(n);
+        small = small && clump.size() <= kStrayClump;
+      }
+      if (!small) continue;
+      const std::uint32_t id = *std::min_element(clump.begin(), clump.end());
+      for (const auto m : clump) clump_[m] = id;
+      in_small += clump.size();
+      if (clump.size() > 1)
+        for (const auto m : clump) in_pair_or_more[m] = 1;
     }
+    // Where small clumps are the surface's own sampling (a sparse map: a fifth of the cells or more
+    // lie in them) rather than noise off it (a dense one: 2 % or less), only lone cells are strays.
+    if (double(in_small) <= kStrayShare * double(cells_.size())) return;
+    for (std::size_t i = 0; i < cells_.size(); ++i)
+      if (in_pair_or_more[i]) clump_[i] = kNoClump;
   }
 
   /// Sheds the stray cells that alone keep a part from passing (`check`: its failed check, with the
-  /// split point): while it fails, its lone cell (no other cell of the cluster within T) nearest the
-  /// deepest uncovered cell is taken out, if it lies within 2 rho (rho = max(T, G)) of that cell and
-  /// the deepest distance did not grow; when what is left passes after at most kShedMax such cells
-  /// (and at most 1/kShedShare of the part), they are removed from `part`, `check` becomes the rest's
-  /// and they are returned (each becomes a part of one voxel, which the merge may join to a part it
-  /// passes with); otherwise nothing changes. A stray voxel a few cells off a box's face (noise, an
-  /// outlier DBSCAN took in) drags a wedge of hull out to it that is farther than T from everything,
-  /// and the cut that removed it also took a slice of the box. A part whose deepest uncovered cell
-  /// has no lone cell within 2 rho (a room's middle) costs one scan of its cells.
+  /// split point): while it fails, the stray cell (findStrays: its clump, the cells linked to it by
+  /// steps of at most T, has at most kStrayClump cells) nearest the deepest uncovered cell is taken
+  /// out with the rest of its clump in the part, if it lies within 2 rho (rho = max(T, G)) of that
+  /// cell and the deepest distance did not grow; when what is left passes after at most kShedMax such
+  /// cells (and at most 1/kShedShare of the part), they are removed from `part`, `check` becomes the
+  /// rest's and they are returned (each becomes a part of one voxel, which the merge may join to a
+  /// part it passes with); otherwise nothing changes. A stray voxel, or two or three together, a few
+  /// cells off a box's face (noise, outliers DBSCAN took in) drags a wedge of hull out to it that is
+  /// farther than T from everything, and the cut that removed it also took a slice of the box. A part
+  /// whose deepest uncovered cell has no stray cell within 2 rho (a room's middle) costs one scan of
+  /// its cells.
   std::vector<std::uint32_t> shedStrays(Members& part, Check& check) const {
     if (check.ok || check.too_big || part.size() < 2 * kShedShare) return {};
     std::vector<std::uint32_t> shed;
@@ -726,11 +763,11 @@ class ClusterSplitter {
     Check now = check;
     const std::size_t most = std::min<std::size_t>(kShedMax, part.size() / kShedShare);
     while (!now.ok && !now.too_big && shed.size() < most) {
-      // The lone cell nearest the deepest uncovered cell (ties: the first), within 2 rho of it.
+      // The stray cell nearest the deepest uncovered cell (ties: the first), within 2 rho of it.
       double best = 4.0 * rho2_;
       std::optional<std::uint32_t> pick;
       for (const auto i : rest) {
-        if (!lone_[i]) continue;
+        if (clump_[i] == kNoClump) continue;
         const Eigen::Vector3d d = Eigen::Vector3d(double(cells_[i][0]) + 0.5, double(cells_[i][1]) + 0.5,
                                                   double(cells_[i][2]) + 0.5) - now.split_point;
         if (d.squaredNorm() <= best) {
@@ -739,8 +776,12 @@ class ClusterSplitter {
         }
       }
       if (!pick) return {};
-      shed.push_back(*pick);
-      rest.erase(std::lower_bound(rest.begin(), rest.end(), *pick));
+      const std::uint32_t id = clump_[*pick];
+      Members kept;
+      kept.reserve(rest.size());
+      for (const auto i : rest) (clump_[i] == id ? shed : kept).push_back(i);
+      if (shed.size() > most || kept.empty()) return {};
+      rest = std::move(kept);
       const std::int64_t before = now.worst_d2;
       now = checkPart(rest, true);
       if (!now.ok && now.worst_d2 > before) return {};
@@ -1142,7 +1183,8 @@ class ClusterSplitter {
   bool face_holes_;  ///< merges also use the face-hole rule (ConvexPartsParams::face_holes)
   std::optional<double> floor_k_;  ///< the floor's height, lattice units (k of the corner lattice)
   double rho2_;  ///< max(T, G)^2, cells^2: the closing radius when finding enclosed cells
-  std::vector<char> lone_;         ///< per cell: no other cell of the cluster within T (findLone)
+  static constexpr std::uint32_t kNoClump = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> clump_;  ///< per cell: its stray clump's id, kNoClump when none (findStrays)
   std::vector<char> enclosed_;     ///< over the cluster's box [enc_lo_, enc_hi_], x fastest
   std::size_t enclosed_count_ = 0;
   Cell enc_lo_{0, 0, 0}, enc_hi_{0, 0, 0};
