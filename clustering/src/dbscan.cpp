@@ -502,7 +502,7 @@ class GridDbscan {
       buildGroups();
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), 256),
                         [&](const tbb::blocked_range<std::size_t>& r) {
-                          NearestHeap heap;
+                          NearestList heap;
                           std::vector<std::pair<double, std::uint64_t>> queue;
                           for (std::size_t j = r.begin(); j != r.end(); ++j) {
                             curve[j] = std::sqrt(coreDistance2(pts_[queries[j]], heap, queue));
@@ -513,10 +513,11 @@ class GridDbscan {
     return curve;
   }
 
-  /// The nearest points found so far, as a max-heap on squared distance, holding just enough weight
-  /// for min_pts: bound() is then the squared core distance of the points offered so far.
-  struct NearestHeap {
-    std::vector<std::pair<double, std::uint64_t>> items;  // (squared distance, weight)
+  /// The nearest points found so far, sorted by squared distance, holding just enough weight for
+  /// min_pts: bound is then the squared core distance of the points offered so far. (A sorted array:
+  /// it holds about min_pts items, so an insertion moves a few of them, cheaper than a heap's sifts.)
+  struct NearestList {
+    std::vector<std::pair<double, std::uint64_t>> items;  // (squared distance, weight), ascending
     std::uint64_t held = 0;
     double bound = std::numeric_limits<double>::infinity();
 
@@ -528,14 +529,13 @@ class GridDbscan {
     void offer(double d2, std::uint64_t weight, std::uint64_t min_pts) {
       if (d2 >= bound) return;  // cannot lower the core distance
       items.emplace_back(d2, weight);
-      std::push_heap(items.begin(), items.end());
+      for (std::size_t i = items.size() - 1; i > 0 && items[i - 1].first > d2; --i) std::swap(items[i - 1], items[i]);
       held += weight;
-      while (held - items.front().second >= min_pts) {  // the farthest is not needed any more
-        held -= items.front().second;
-        std::pop_heap(items.begin(), items.end());
+      while (held - items.back().second >= min_pts) {  // the farthest is not needed any more
+        held -= items.back().second;
         items.pop_back();
       }
-      if (held >= min_pts) bound = items.front().first;
+      if (held >= min_pts) bound = items.back().first;
     }
   };
 
@@ -566,7 +566,7 @@ class GridDbscan {
 
   /// Squared core distance of p (see coreDistanceCurve): the 3^d cells around p's own first; then,
   /// unless no point outside them can be nearer than the bound found, the groups nearest first.
-  double coreDistance2(const Eigen::Vector3d& p, NearestHeap& heap,
+  double coreDistance2(const Eigen::Vector3d& p, NearestList& heap,
                        std::vector<std::pair<double, std::uint64_t>>& queue) const {
     const std::uint64_t min_pts = std::uint64_t(params_.min_pts);
     heap.clear();
