@@ -15,11 +15,14 @@
 //   hullmap_<n>.u8    n uint8 core flags
 // One JSON object per size on stdout:
 //   {"points":n,"seconds":best,"cpu_seconds":..,"points_per_second":..,"peak_bytes":..,"bytes_per_point":..,
-//    "clusters":..,"noise":..,"core":..,"threads":..,"k_distance_seconds":..,"k_distance_cpu_seconds":..}
+//    "clusters":..,"noise":..,"core":..,"threads":..,"k_distance_seconds":..,"k_distance_cpu_seconds":..,
+//    "median_seconds":..,"median_cpu_seconds":..,"k_distance_median_seconds":..,"k_distance_median_cpu_seconds":..}
 // Time is the best of --repeat runs of dbscan() on points in memory (wall clock, and CPU time of all
 // threads, which shows how much of the machine the run had when others share it). k_distance_*: what
 // `hullmap cluster`'s eps suggestion adds to the run (kEpsSuggestionSamples core distances answered on
-// the DBSCAN grid), best with it minus best without, runs taken in turns. Peak memory is the growth of the
+// the DBSCAN grid), best with it minus best without, runs taken in turns; median_* and
+// k_distance_median_*: the median run without it, and the median over the turns of (with minus
+// without), which a busy machine moves less than the best-of difference. Peak memory is the growth of the
 // resident set during one run: the peak (VmHWM) is reset through /proc/self/clear_refs first, so it
 // counts everything dbscan allocates and touches, the result included, and nothing else.
 
@@ -144,6 +147,7 @@ int main(int argc, char** argv) {
     // what the k-distance curve costs.
     const int runs = n >= 5000000 ? 1 : repeat;
     double best = 1e300, best_cpu = 1e300, best_k = 1e300, best_k_cpu = 1e300;
+    std::vector<double> plain, plain_cpu, extra, extra_cpu;  // per turn: without, and with minus without
     const hullmap::clustering::KDistanceRequest request{hullmap::clustering::kEpsSuggestionSamples};
     for (int r = 0; r < runs; ++r) {
       for (const bool with_curve : {false, true}) {
@@ -156,8 +160,19 @@ int main(int argc, char** argv) {
         const double cpu = cpuSeconds() - c0, wall = std::chrono::duration<double>(t1 - t0).count();
         (with_curve ? best_k_cpu : best_cpu) = std::min(with_curve ? best_k_cpu : best_cpu, cpu);
         (with_curve ? best_k : best) = std::min(with_curve ? best_k : best, wall);
+        if (with_curve) {
+          extra.push_back(wall - plain.back());
+          extra_cpu.push_back(cpu - plain_cpu.back());
+        } else {
+          plain.push_back(wall);
+          plain_cpu.push_back(cpu);
+        }
       }
     }
+    const auto median = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+    };
     const std::size_t core = std::count(result.core.begin(), result.core.end(), std::uint8_t{1});
 
     if (!write_dir.empty() && n <= write_max) {
@@ -172,10 +187,11 @@ int main(int argc, char** argv) {
     std::printf(
         "{\"points\":%zu,\"seconds\":%.6f,\"cpu_seconds\":%.6f,\"points_per_second\":%.0f,\"peak_bytes\":%ld,\"bytes_per_point\":%.1f,"
         "\"clusters\":%zu,\"noise\":%zu,\"core\":%zu,\"threads\":%d,\"k_distance_seconds\":%.6f,"
-        "\"k_distance_cpu_seconds\":%.6f}\n",
+        "\"k_distance_cpu_seconds\":%.6f,\"median_seconds\":%.6f,\"median_cpu_seconds\":%.6f,"
+        "\"k_distance_median_seconds\":%.6f,\"k_distance_median_cpu_seconds\":%.6f}\n",
         n, best, best_cpu, double(n) / best, grown, grown >= 0 ? double(grown) / double(n) : -1.0, result.cluster_sizes.size(),
         result.noise, core, tbb::info::default_concurrency(), std::max(0.0, best_k - best),
-        std::max(0.0, best_k_cpu - best_cpu));
+        std::max(0.0, best_k_cpu - best_cpu), median(plain), median(plain_cpu), median(extra), median(extra_cpu));
     std::fflush(stdout);
   }
   return 0;

@@ -63,18 +63,20 @@ echo "|---|---|---|---|---|"
 printf '| %s | %.2f | %s | %s | %s |\n' "$n" "$hullmap_s" "$open3d_s" "$ratio" "$clusters"
 
 # What the eps suggestion costs inside the clustering: hullmap_bench_dbscan times dbscan() alone and
-# with the k-distance sample, in turns, on its own generated scene of the same size.
+# with the k-distance sample, in turns, on its own generated scene of the same size; the medians over
+# the turns (of the run alone, and of with minus without), which other work on the machine moves less
+# than a difference of best times.
 bench="$build/bench/hullmap_bench_dbscan"
 if [ -x "$bench" ]; then
-  line=$("$bench" --sizes "$n" --repeat 11)
+  line=$("$bench" --sizes "$n" --repeat 21)
   field() { echo "$line" | sed -n "s/.*\"$1\":\([0-9.e+-]*\).*/\1/p"; }
-  dbscan_ms=$(echo "$(field seconds) * 1000" | bc -l)
-  kdist_ms=$(echo "$(field k_distance_seconds) * 1000" | bc -l)
-  dbscan_cpu_ms=$(echo "$(field cpu_seconds) * 1000" | bc -l)
-  kdist_cpu_ms=$(echo "$(field k_distance_cpu_seconds) * 1000" | bc -l)
+  dbscan_ms=$(echo "$(field median_seconds) * 1000" | bc -l)
+  kdist_ms=$(echo "$(field k_distance_median_seconds) * 1000" | bc -l)
+  dbscan_cpu_ms=$(echo "$(field median_cpu_seconds) * 1000" | bc -l)
+  kdist_cpu_ms=$(echo "$(field k_distance_median_cpu_seconds) * 1000" | bc -l)
   echo
-  printf 'The eps suggestion inside it (`hullmap_bench_dbscan --sizes %s`, best of 11, runs in turns): on %s points\n' "$n" "$n"
-  printf 'the k-distance sample adds %.1f ms to DBSCAN'"'"'s %.1f ms (%.0f%%); in CPU time of all threads %.1f ms to %.1f ms (%.0f%%).\n' \
+  printf 'The eps suggestion inside it (`hullmap_bench_dbscan --sizes %s`, 21 turns with and without it, medians): on %s points\n' "$n" "$n"
+  printf 'the k-distance sample adds %.1f ms to DBSCAN'"'"'s %.1f ms (%.1f%%); in CPU time of all threads %.1f ms to %.1f ms (%.1f%%).\n' \
     "$kdist_ms" "$dbscan_ms" "$(echo "100 * $kdist_ms / $dbscan_ms" | bc -l)" \
     "$kdist_cpu_ms" "$dbscan_cpu_ms" "$(echo "100 * $kdist_cpu_ms / $dbscan_cpu_ms" | bc -l)"
 fi
