@@ -612,6 +612,22 @@ TEST(ConvexParts, ClosedShellStaysOnePart) {
   EXPECT_GT(splitOne(c, off).obstacles[0].parts.size(), 3u);
 }
 
+/// The voxel o cells off face f (0 to 4: -x, +x, -y, +y, top) of the 24 x 20 x 24 shell below, at
+/// (a, b) on that face.
+V3 offTheShell(int f, int a, int b, int o) {
+  const std::array<V3, 5> at{center(-o, a, b), center(23 + o, a, b), center(a, -o, b), center(a, 19 + o, b),
+                             center(a, b, 23 + o)};
+  return at[std::size_t(f)];
+}
+
+/// One cluster of `c` split with a flat gap of 0.3 and the floor at z = 0.
+Split splitOnTheFloor(const std::vector<V3>& c) {
+  ConvexPartsParams params;
+  params.flat_gap = 0.3;
+  params.floor_z = 0.0;
+  return splitOne(c, params);
+}
+
 TEST(ConvexParts, SparseShellWithStrayVoxelsIsOnePartAndTheStrays) {
   // A 1.2 x 1 x 1.2 m box on the floor, one surface cell in 6 kept, and two stray voxels 3 to 5 (or
   // 4 to 6) cells off its faces: the whole fails (the hull's wedges out to the strays are farther
@@ -626,14 +642,9 @@ TEST(ConvexParts, SparseShellWithStrayVoxelsIsOnePartAndTheStrays) {
     std::uniform_int_distribution<int> pos(0, 19), off(near_off, near_off + 2), face(0, 4);
     for (int n = 0; n < 2; ++n) {
       const int f = face(rng), a = pos(rng), b = pos(rng), o = off(rng);
-      const std::array<V3, 5> stray{center(-o, a, b), center(23 + o, a, b), center(a, -o, b), center(a, 19 + o, b),
-                                    center(a, b, 23 + o)};
-      c.push_back(stray[std::size_t(f)]);
+      c.push_back(offTheShell(f, a, b, o));
     }
-    ConvexPartsParams params;
-    params.flat_gap = 0.3;
-    params.floor_z = 0.0;
-    const Split s = splitOne(c, params);
+    const Split s = splitOnTheFloor(c);
     const auto& parts = s.obstacles[0].parts;
     EXPECT_LE(parts.size(), 3u);
     // The shell is one part.
@@ -661,16 +672,9 @@ TEST(ConvexParts, DenseShellWithPairsOfStraysIsOnePartAndTheStrays) {
     for (int n = 0; n < 3; ++n) {
       const int f = face(rng), a = pos(rng), b = pos(rng), o = off(rng);
       // The pair: (a, b) and (a + 1, b) on the face's plane, o cells off it.
-      for (const int da : {0, 1}) {
-        const std::array<V3, 5> stray{center(-o, a + da, b), center(23 + o, a + da, b), center(a + da, -o, b),
-                                      center(a + da, 19 + o, b), center(a + da, b, 23 + o)};
-        c.push_back(stray[std::size_t(f)]);
-      }
+      for (const int da : {0, 1}) c.push_back(offTheShell(f, a + da, b, o));
     }
-    ConvexPartsParams params;
-    params.flat_gap = 0.3;
-    params.floor_z = 0.0;
-    const Split s = splitOne(c, params);
+    const Split s = splitOnTheFloor(c);
     const auto& parts = s.obstacles[0].parts;
     EXPECT_LE(parts.size(), 4u);
     EXPECT_TRUE(std::any_of(parts.begin(), parts.end(), [&](const ObstaclePart& p) { return p.voxel_count >= shell_cells; }))
