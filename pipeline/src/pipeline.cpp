@@ -617,6 +617,10 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
     runStage("extension");
     chosen.extension_params = clustering::extensionParams(chosen.used, params.extension_rule);
     chosen.extension = clustering::extendClusters(obstacle_centers, obstacle_weights, sub, *chosen.extension_params);
+    // A flat cluster in the plane of a larger one around it (a wall's foot that DBSCAN cut off the
+    // sparse wall above it) joins it, so that the wall's parts can merge over it.
+    chosen.coplanar_params = clustering::CoplanarMergeParams{chosen.used.eps, 3.0 * resolution};
+    chosen.coplanar = clustering::mergeCoplanarClusters(obstacle_centers, sub, *chosen.coplanar_params);
     timer.stage("extension");
   }
 
@@ -956,6 +960,13 @@ nlohmann::json reportJson(const BuildResult& result) {
                                       {"reach", cp.extension_params->reach},
                                       {"joined", cp.extension.joined},
                                       {"rounds", cp.extension.rounds}};
+  }
+  clustering_params["coplanar_merge"] = nullptr;
+  if (cp.coplanar_params) {
+    clustering_params["coplanar_merge"] = {{"reach", cp.coplanar_params->reach},
+                                           {"thickness", cp.coplanar_params->thickness},
+                                           {"merged", cp.coplanar.merged},
+                                           {"points", cp.coplanar.points}};
   }
   json parts = nullptr;
   if (report.parts) {

@@ -13,6 +13,7 @@
 
 #include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/clustering/cluster_extension.hpp"
+#include "hullmap/clustering/coplanar_merge.hpp"
 #include "hullmap/clustering/convex_parts.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/clustering/obstacles.hpp"
@@ -114,6 +115,10 @@ struct ClusterParamsReport {
   /// With BuildParams::extension: the parameters of the extension pass and what it did.
   std::optional<clustering::ClusterExtensionParams> extension_params;
   clustering::ClusterExtension extension;
+  /// With the extension: the coplanar merge after it (clustering::mergeCoplanarClusters, reach the
+  /// eps used, thickness 3 voxels) and what it did.
+  std::optional<clustering::CoplanarMergeParams> coplanar_params;
+  clustering::CoplanarMerge coplanar;
 };
 
 /// Account of what happened to the input points, stage by stage.
