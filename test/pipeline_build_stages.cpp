@@ -303,6 +303,53 @@ TEST(PipelineStages, FlatGapOptionReachesTheReportAndZeroTurnsItOff) {
   EXPECT_EQ(o["face_parts"], 0);
 }
 
+// The coplanar merge after the extension: in generated room 4 at 30 points per m^2 (a QUALITY.md
+// held-out seed), a stretch of a wall's foot is a DBSCAN cluster of its own, and the wall's two
+// halves around it could not merge (the wall in 3 hulls); joined to the wall, the wall is 2 hulls at
+// most, and every clustered voxel that moved went to a cluster in whose plane it lies.
+TEST(PipelineStages, CoplanarMergeJoinsAWallsFootToTheWall) {
+  Room room;
+  room.params.layout = mapper::SceneLayout::kRoom;
+  room.params.seed = 4;
+  room.params.obstacles = 8;
+  room.params.density = 30.0;
+  room.scene = mapper::generateScene(room.params);
+  room.dir = hullmap::test::freshDir("stages_coplanar");
+  mapper::writeScene(room.scene, room.params, room.dir.string());
+  const pipeline::BuildResult r = pipeline::build(alignedBuild(room));
+  const auto& cp = r.report.cluster_params;
+  ASSERT_TRUE(cp.coplanar_params);
+  EXPECT_DOUBLE_EQ(cp.coplanar_params->reach, cp.used.eps);
+  EXPECT_DOUBLE_EQ(cp.coplanar_params->thickness, 3.0 * r.map.resolution());
+  EXPECT_GE(cp.coplanar.merged, 1u);
+  EXPECT_EQ(r.clusters.cluster_sizes.size(), r.obstacles.size());
+  const nlohmann::json report = pipeline::reportJson(r);
+  EXPECT_EQ(report["clustering"]["coplanar_merge"]["merged"].get<std::size_t>(), cp.coplanar.merged);
+
+  std::vector<V3> centers;
+  std::vector<std::uint32_t> weights;
+  for (const auto& v : r.voxels) {
+    centers.push_back(v.center);
+    weights.push_back(v.weight);
+  }
+  const pipeline::GroundTruth truth = pipeline::readGroundTruth((room.dir / "ground_truth.json").string());
+  pipeline::EvaluateParams eval;
+  eval.segments = 200;
+  const pipeline::Evaluation e = pipeline::evaluate(r.obstacles, truth, centers, weights, eval);
+  for (const auto& t : e.truth)
+    if (t.label.rfind("wall ", 0) == 0) {
+      EXPECT_LE(t.parts.size(), 2u) << t.label;
+    }
+  EXPECT_EQ(e.missed, 0u);
+
+  // Without the extension (minPts given) neither pass runs: DBSCAN's clusters as they are.
+  pipeline::BuildParams plain = alignedBuild(room);
+  plain.min_pts = cp.used.min_pts;
+  const pipeline::BuildResult p = pipeline::build(plain);
+  EXPECT_FALSE(p.report.cluster_params.coplanar_params);
+  EXPECT_EQ(p.report.cluster_params.coplanar.merged, 0u);
+}
+
 // The extension after DBSCAN only adds noise voxels to the clusters plain DBSCAN found: same
 // clusters, none new, no clustered voxel relabelled; and on a sparse room with tables it brings
 // their legs' points inside the hulls.
