@@ -53,6 +53,21 @@ pipeline::BuildParams alignedBuild(const Room& room) {
   return params;
 }
 
+/// A build scored against its room's truth (pipeline::evaluate over its voxels), `segments` random
+/// segments at r = 0.3.
+pipeline::Evaluation score(const pipeline::BuildResult& r, const Room& room, std::size_t segments) {
+  std::vector<V3> centers;
+  std::vector<std::uint32_t> weights;
+  for (const auto& v : r.voxels) {
+    centers.push_back(v.center);
+    weights.push_back(v.weight);
+  }
+  pipeline::EvaluateParams eval;
+  eval.segments = segments;
+  return pipeline::evaluate(r.obstacles, pipeline::readGroundTruth((room.dir / "ground_truth.json").string()), centers,
+                            weights, eval);
+}
+
 /// True when p is inside the convex hull (outward triangles) or on it.
 bool insideHull(const hullmap::clustering::ConvexHull& hull, const V3& p) {
   if (hull.triangles.empty()) return false;
@@ -116,17 +131,8 @@ TEST(PipelineStages, AlignedRoomAtTheDefaults) {
 
   // Scored against the truth at r = 0.3 on issue 13's five targets (docs/QUALITY.md): no deep
   // collision missed, false alarms at most 5 % of the clear segments, swallowed free space at most 5 %.
-  std::vector<V3> centers;
-  std::vector<std::uint32_t> weights;
-  for (const auto& v : r.voxels) {
-    centers.push_back(v.center);
-    weights.push_back(v.weight);
-  }
-  const pipeline::GroundTruth truth = pipeline::readGroundTruth((room.dir / "ground_truth.json").string());
-  pipeline::EvaluateParams eval;
-  eval.segments = 1000;
-  const pipeline::Evaluation e = pipeline::evaluate(r.obstacles, truth, centers, weights, eval);
-  std::cout << "room: " << e.parts << " parts for " << truth.shapes.size() << " true objects; deep " << e.deep
+  const pipeline::Evaluation e = score(r, room, 1000);
+  std::cout << "room: " << e.parts << " parts for " << e.truth.size() << " true objects; deep " << e.deep
             << " missed " << e.missed << "; clear " << e.clear << " false alarms " << e.false_alarms
             << "; far volume " << e.far_volume << " of " << e.union_volume << "\n";
   // The other two targets: at least 98 % of each true obstacle's observed points inside hulls, and at
@@ -326,16 +332,7 @@ TEST(PipelineStages, CoplanarMergeJoinsAWallsFootToTheWall) {
   const nlohmann::json report = pipeline::reportJson(r);
   EXPECT_EQ(report["clustering"]["coplanar_merge"]["merged"].get<std::size_t>(), cp.coplanar.merged);
 
-  std::vector<V3> centers;
-  std::vector<std::uint32_t> weights;
-  for (const auto& v : r.voxels) {
-    centers.push_back(v.center);
-    weights.push_back(v.weight);
-  }
-  const pipeline::GroundTruth truth = pipeline::readGroundTruth((room.dir / "ground_truth.json").string());
-  pipeline::EvaluateParams eval;
-  eval.segments = 200;
-  const pipeline::Evaluation e = pipeline::evaluate(r.obstacles, truth, centers, weights, eval);
+  const pipeline::Evaluation e = score(r, room, 200);
   for (const auto& t : e.truth)
     if (t.label.rfind("wall ", 0) == 0) {
       EXPECT_LE(t.parts.size(), 2u) << t.label;
@@ -434,19 +431,7 @@ TEST(PipelineStages, ExtensionOnlyGrowsClustersAndOffIsPlainDbscan) {
 
   // Scored against the truth: every true obstacle keeps at least the share of its points inside
   // hulls, and no deep collision is missed.
-  const pipeline::GroundTruth truth = pipeline::readGroundTruth((room.dir / "ground_truth.json").string());
-  pipeline::EvaluateParams eval;
-  eval.segments = 500;
-  const auto score = [&](const pipeline::BuildResult& r) {
-    std::vector<V3> centers;
-    std::vector<std::uint32_t> weights;
-    for (const auto& v : r.voxels) {
-      centers.push_back(v.center);
-      weights.push_back(v.weight);
-    }
-    return pipeline::evaluate(r.obstacles, truth, centers, weights, eval);
-  };
-  const pipeline::Evaluation g = score(grown), p = score(plain);
+  const pipeline::Evaluation g = score(grown, room, 500), p = score(plain, room, 500);
   EXPECT_EQ(g.missed, 0u);
   double sum_grown = 0.0, sum_plain = 0.0;
   for (std::size_t k = 0; k < g.truth.size(); ++k) {
