@@ -25,20 +25,22 @@ using V3 = Eigen::Vector3d;
 namespace pipeline = hullmap::pipeline;
 namespace mapper = hullmap::mapper;
 
-/// A small realistic room (6 m, furniture, 60 points per m^2) written as `generate --layout room`.
+/// A realistic room (by default 6 m, 4 pieces of furniture, 60 points per m^2) written as
+/// `generate --layout room`.
 struct Room {
   mapper::SceneParams params;
   mapper::Scene scene;
   std::filesystem::path dir;
 };
 
-Room writeRoom(const std::string& name, std::uint64_t seed) {
+Room writeRoom(const std::string& name, std::uint64_t seed, double room_size = 6.0, std::size_t obstacles = 4,
+               double density = 60.0) {
   Room room;
   room.params.layout = mapper::SceneLayout::kRoom;
   room.params.seed = seed;
-  room.params.room_size = 6.0;
-  room.params.obstacles = 4;
-  room.params.density = 60.0;
+  room.params.room_size = room_size;
+  room.params.obstacles = obstacles;
+  room.params.density = density;
   room.scene = mapper::generateScene(room.params);
   room.dir = hullmap::test::freshDir(name);
   mapper::writeScene(room.scene, room.params, room.dir.string());
@@ -309,19 +311,12 @@ TEST(PipelineStages, FlatGapOptionReachesTheReportAndZeroTurnsItOff) {
   EXPECT_EQ(o["face_parts"], 0);
 }
 
-// The coplanar merge after the extension: in generated room 4 at 30 points per m^2 (a QUALITY.md
-// held-out seed), a stretch of a wall's foot is a DBSCAN cluster of its own, and the wall's two
-// halves around it could not merge (the wall in 3 hulls); joined to the wall, the wall is 2 hulls at
-// most, and every clustered voxel that moved went to a cluster in whose plane it lies.
+// The coplanar merge after the extension: in generated room 4 at 30 points per m^2 (the 10 m room of
+// bench/quality_scan.py's seed 4, held out of QUALITY.md), a stretch of a wall's foot is a DBSCAN
+// cluster of its own, and the wall's two halves around it could not merge (the wall in 3 hulls);
+// joined to the wall, every wall is 2 hulls at most.
 TEST(PipelineStages, CoplanarMergeJoinsAWallsFootToTheWall) {
-  Room room;
-  room.params.layout = mapper::SceneLayout::kRoom;
-  room.params.seed = 4;
-  room.params.obstacles = 8;
-  room.params.density = 30.0;
-  room.scene = mapper::generateScene(room.params);
-  room.dir = hullmap::test::freshDir("stages_coplanar");
-  mapper::writeScene(room.scene, room.params, room.dir.string());
+  const Room room = writeRoom("stages_coplanar", 4, 10.0, 8, 30.0);
   const pipeline::BuildResult r = pipeline::build(alignedBuild(room));
   const auto& cp = r.report.cluster_params;
   ASSERT_TRUE(cp.coplanar_params);
@@ -351,15 +346,7 @@ TEST(PipelineStages, CoplanarMergeJoinsAWallsFootToTheWall) {
 // clusters, none new, no clustered voxel relabelled; and on a sparse room with tables it brings
 // their legs' points inside the hulls.
 TEST(PipelineStages, ExtensionOnlyGrowsClustersAndOffIsPlainDbscan) {
-  Room room;
-  room.params.layout = mapper::SceneLayout::kRoom;
-  room.params.seed = 3;
-  room.params.room_size = 6.0;
-  room.params.obstacles = 6;
-  room.params.density = 30.0;
-  room.scene = mapper::generateScene(room.params);
-  room.dir = hullmap::test::freshDir("stages_extension");
-  mapper::writeScene(room.scene, room.params, room.dir.string());
+  const Room room = writeRoom("stages_extension", 3, 6.0, 6, 30.0);
   pipeline::BuildParams params = alignedBuild(room);
   const pipeline::BuildResult grown = pipeline::build(params);
   params.extension = false;
