@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
@@ -77,9 +78,23 @@ std::vector<std::int32_t> oracle(const Points& points, const std::vector<std::in
       if (!adjacent || around.size() < 3 || around.size() <= best_count) continue;
       std::sort(around.begin(), around.end());
       const std::size_t m = std::min(around.size(), std::max<std::size_t>(3, members[b].size()));
-      std::vector<std::size_t> both = members[b];
-      for (std::size_t t = 0; t < m; ++t) both.push_back(around[t].second);
+      std::vector<std::size_t> both = members[b], surface;
+      for (std::size_t t = 0; t < m; ++t) surface.push_back(around[t].second);
+      both.insert(both.end(), surface.begin(), surface.end());
       if (pointSetThickness(points, both) > params.thickness) continue;
+      // The surface's extent along the union's middle axis (Eigen's eigenvectors, as documented).
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (const auto i : both) mean += points[i];
+      mean /= double(both.size());
+      Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+      for (const auto i : both) covariance += (points[i] - mean) * (points[i] - mean).transpose();
+      const Eigen::Vector3d middle = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvectors().col(1);
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (const auto i : surface) {
+        lo = std::min(lo, middle.dot(points[i]));
+        hi = std::max(hi, middle.dot(points[i]));
+      }
+      if (hi - lo < 2.0 * params.thickness) continue;
       best = a;
       best_count = around.size();
     }
@@ -235,6 +250,25 @@ TEST(CoplanarMerge, ABoxATableTopAndTheOtherWallByAWallStay) {
     const std::int32_t expected = labels[i] == 4 ? 0 : labels[i];
     ASSERT_EQ(r.labels[i], expected) << "point " << i;
   }
+}
+
+TEST(CoplanarMerge, APatchOfFloorByADenseWallsFootStays) {
+  // A densely sampled wall and a small patch of floor (0.2 x 0.75 m, level) at its foot, as a depth
+  // camera's map holds them when the floor is not set aside: the wall's voxels nearest the patch are
+  // its foot's row, which lies in the patch's plane, so the two are flat together; but that row is a
+  // line, not a surface around the patch, so the patch stays. Before that check it joined the wall.
+  std::mt19937 rng(8);
+  Points p;
+  std::vector<std::int32_t> labels;
+  addSparse(p, labels, 0, 0, 2, 0, 80, 0, 40, 1, rng);   // the wall in x = 0-0.1, every voxel
+  addSparse(p, labels, 1, 2, 6, 45, 60, 0, 1, 1, rng);   // the floor patch, z = 0-0.05
+  DbscanResult r = labelled(labels);
+  EXPECT_EQ(mergeCoplanarClusters(p, r, CoplanarMergeParams{0.4, 0.15}).merged, 0u);
+  EXPECT_EQ(r.labels, labels);
+  // A patch in the wall's own plane (x = 0-0.1, beyond its end) joins it.
+  addSparse(p, labels, 2, 0, 2, 81, 90, 0, 20, 1, rng);
+  r = labelled(labels);
+  EXPECT_EQ(mergeCoplanarClusters(p, r, CoplanarMergeParams{0.4, 0.15}).merged, 1u);
 }
 
 TEST(CoplanarMerge, NoiseStaysAndOneClusterIsLeftAlone) {

@@ -16,8 +16,12 @@
 
 namespace hullmap::clustering {
 
-double pointSetThickness(const std::vector<Eigen::Vector3d>& points, const std::vector<std::size_t>& indices) {
-  if (indices.size() < 3) return 0.0;
+namespace {
+
+/// The principal axes of the points `indices` picks: columns by ascending eigenvalue of their
+/// covariance (Eigen::SelfAdjointEigenSolver); identity for fewer than 3 points.
+Eigen::Matrix3d principalAxes(const std::vector<Eigen::Vector3d>& points, const std::vector<std::size_t>& indices) {
+  if (indices.size() < 3) return Eigen::Matrix3d::Identity();
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (const auto i : indices) mean += points[i];
   mean /= double(indices.size());
@@ -26,15 +30,27 @@ double pointSetThickness(const std::vector<Eigen::Vector3d>& points, const std::
     const Eigen::Vector3d d = points[i] - mean;
     covariance += d * d.transpose();
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
-  const Eigen::Vector3d n = solver.eigenvectors().col(0);  // eigenvalues ascending
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvectors();
+}
+
+/// Largest minus smallest value of axis . p over the points `indices` picks (0 for none).
+double extentAlong(const std::vector<Eigen::Vector3d>& points, const std::vector<std::size_t>& indices,
+                   const Eigen::Vector3d& axis) {
+  if (indices.empty()) return 0.0;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const auto i : indices) {
-    const double v = n.dot(points[i]);
+    const double v = axis.dot(points[i]);
     lo = std::min(lo, v);
     hi = std::max(hi, v);
   }
   return hi - lo;
+}
+
+}  // namespace
+
+double pointSetThickness(const std::vector<Eigen::Vector3d>& points, const std::vector<std::size_t>& indices) {
+  if (indices.size() < 3) return 0.0;
+  return extentAlong(points, indices, principalAxes(points, indices).col(0));
 }
 
 CoplanarMerge mergeCoplanarClusters(const std::vector<Eigen::Vector3d>& points, DbscanResult& result,
@@ -111,7 +127,8 @@ CoplanarMerge mergeCoplanarClusters(const std::vector<Eigen::Vector3d>& points, 
     std::size_t best = b, best_count = 0;
     for (std::size_t a = 0; a < k; ++a) {
       for (const auto j : near[a]) seen[j] = 0;
-      if (!adjacent[a] || near[a].size() < 3 || near[a].size() <= best_count) continue;
+      const std::size_t count = near[a].size();
+      if (!adjacent[a] || count < 3 || count <= best_count) continue;
       // A's points nearest to B, as many as B has (at least 3): the surface around B.
       std::vector<std::size_t>& around = near[a];
       const std::size_t m = std::min(around.size(), std::max<std::size_t>(3, members[b].size()));
@@ -120,9 +137,14 @@ CoplanarMerge mergeCoplanarClusters(const std::vector<Eigen::Vector3d>& points, 
       });
       std::vector<std::size_t> both = members[b];
       both.insert(both.end(), around.begin(), around.begin() + std::ptrdiff_t(m));
-      if (pointSetThickness(points, both) > params.thickness) continue;
+      const Eigen::Matrix3d axes = principalAxes(points, both);
+      if (extentAlong(points, both, axes.col(0)) > params.thickness) continue;
+      // A's surface around B spans the plane, not only a line in it (a wall's foot by a patch of
+      // floor: the foot's row of voxels lies in the floor's plane, the wall does not).
+      around.resize(m);
+      if (extentAlong(points, around, axes.col(1)) < 2.0 * params.thickness) continue;
       best = a;
-      best_count = near[a].size();
+      best_count = count;
     }
     target[b] = best;
   }

@@ -35,7 +35,10 @@ struct CoplanarMerge {
 ///   the nearest point of B; ties: the lower index) among those within 2 reach of B, m = max(3, |B|),
 ///   when there are at least 3 such points. B joins the A with the most points within 2 reach of B
 ///   (ties: the lower label) among those where B's points together with A's surface around B are
-///   flat. Decisions are taken on the labels as given, then applied (a chain B -> A -> C ends in C).
+///   flat, and A's surface around B spans that plane: its extent along the eigenvector of the middle
+///   eigenvalue of the union's covariance is at least 2 thickness (a wall's foot, a row of voxels,
+///   lies in the plane of a patch of floor by it, but the wall does not). Decisions are taken on the
+///   labels as given, then applied (a chain B -> A -> C ends in C).
 /// - Labels are then renumbered 0..k-1 in the order of each cluster's first point, as dbscan()
 ///   numbers them; cluster_sizes and noise follow. Noise stays noise; `core` is left as it is.
 /// A cluster at a corner of two walls, or a box, a table top or a shelf by a wall, is not flat
