@@ -719,8 +719,9 @@ class ClusterSplitter {
     std::vector<std::uint32_t> clump, around;
     std::size_t in_small = 0;  // cells in clumps of at most kStrayClump
     std::vector<char> in_pair_or_more(cells_.size(), 0);
+    std::vector<char> big(cells_.size(), 0);  // known to lie in a clump of more than kStrayClump
     for (std::uint32_t i = 0; i < cells_.size(); ++i) {
-      if (clump_[i] != kNoClump) continue;
+      if (clump_[i] != kNoClump || big[i]) continue;
       // Grow i's clump breadth first; give up once it holds more than kStrayClump cells.
       clump.assign(1, i);
       bool small = true;
@@ -730,7 +731,11 @@ class ClusterSplitter {
           if (std::find(clump.begin(), clump.end(), n) == clump.end()) clump.push_back(n);
         small = small && clump.size() <= kStrayClump;
       }
-      if (!small) continue;
+      if (!small) {
+        // Every cell reached is linked to i, so its clump is the same big one: no search from it.
+        for (const auto m : clump) big[m] = 1;
+        continue;
+      }
       const std::uint32_t id = *std::min_element(clump.begin(), clump.end());
       for (const auto m : clump) clump_[m] = id;
       in_small += clump.size();
