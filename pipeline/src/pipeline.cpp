@@ -215,9 +215,10 @@ void recordSurfaces(const Surfaces& surfaces, BuildResult& result) {
   result.report.levelling = surfaces.levelling;
 }
 
-/// Reads the reference trajectory and fits the keyframes (input frame) to it.
+/// Reads the reference trajectory (or takes its poses in memory) and fits the keyframes (input frame) to it.
 mapper::Alignment alignKeyframes(const AlignSettings& align, const std::vector<mapper::Keyframe>& keyframes) {
-  const auto reference = mapper::readReferenceTrajectory(align.reference.string(), align.format);
+  const auto reference =
+      align.poses ? *align.poses : mapper::readReferenceTrajectory(align.reference.string(), align.format);
   if (reference.empty()) throw Error(align.reference.string() + ": no reference poses");
   try {
     return mapper::alignTrajectory(keyframes, reference, align.params);
