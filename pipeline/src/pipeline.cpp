@@ -240,10 +240,11 @@ void buildWhole(const BuildParams& params, mapper::Points points, BuildResult& r
 
   runStage("frame_and_filters");
   std::vector<mapper::Keyframe> keyframes;
+  // Keyframes in memory are in the input frame, as a trajectory file's: they change frame below
+  // with the points (once).
   if (given) {
     keyframes = std::move(*given);
     if (keyframes.empty()) throw Error(params.trajectory->string() + ": no keyframes");
-    mapper::toMapFrame(params.frame, keyframes);
   } else if (params.trajectory) {
     keyframes = mapper::readTumTrajectory(params.trajectory->string());
     if (keyframes.empty()) throw Error(params.trajectory->string() + ": no keyframes");
