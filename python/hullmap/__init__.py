@@ -46,14 +46,15 @@ def _to_open3d(self):
     for obstacle in self.obstacles:
         colour = np.array(cluster_colour(obstacle.id), dtype=np.float64) / 255.0
         for shape in obstacle.parts or [obstacle]:
-            mesh = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(shape.hull.vertices),
-                                             o3d.utility.Vector3iVector(shape.hull.triangles))
+            # Open3D copies what it is given, and takes only writeable arrays: copies of the views.
+            mesh = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(shape.hull.vertices.copy()),
+                                             o3d.utility.Vector3iVector(shape.hull.triangles.copy()))
             mesh.paint_uniform_color(colour)
             mesh.compute_vertex_normals()
             meshes.append(mesh)
 
     voxels = self.voxels
-    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(voxels.centers))
+    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(voxels.centers.copy()))
     palette = {label: cluster_colour(label) for label in np.unique(voxels.labels).tolist()}
     colours = np.array([palette[label] for label in voxels.labels.tolist()], dtype=np.float64).reshape(-1, 3) / 255.0
     cloud.colors = o3d.utility.Vector3dVector(colours)

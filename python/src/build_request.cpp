@@ -10,6 +10,7 @@
 #include "hullmap/mapper/align.hpp"
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/frame.hpp"
+#include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/mapper/readers.hpp"
 
 namespace hullmap::python {
@@ -271,6 +272,10 @@ BuildRequest buildRequest(py::handle points, py::handle trajectory, py::handle a
     if (!value.is_none()) named.insert(name);
   }
   refuseMisfits(named, request, params.trajectory || request.keyframes || params.origin);
+  // The octree's parameters are checked where the octree is made, after the floor search that uses
+  // the resolution (whose own message would then speak of the floor): an empty map made here
+  // refuses them first, with the mapper's message.
+  if (request.points || !pipeline::readsOctree(params)) mapper::OccupancyMap probe(params.octree);
   return request;
 }
 

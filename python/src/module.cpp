@@ -1,5 +1,6 @@
 // hullmap._hullmap: the library from Python. Front-end code only: it converts arguments (numpy
 // arrays, keywords) into the library's types, calls the library, and converts the results back.
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -94,8 +95,8 @@ py::array_t<double> readPoints(py::handle path, const std::string& up, double sc
 }
 
 std::vector<std::uint32_t> dbscanWeights(py::handle object, std::size_t n) {
-  if (!py::isinstance<py::array>(object)) object = py::module_::import("numpy").attr("asarray")(object);
-  const auto array = py::reinterpret_borrow<py::array>(object);
+  const py::array array = py::isinstance<py::array>(object) ? py::reinterpret_borrow<py::array>(object)
+                                                            : py::array(py::module_::import("numpy").attr("asarray")(object));
   const std::string expected = "expected a (N,) array of positive integers (map points per point)";
   if (array.ndim() != 1) throw Error::inParameter("weights", expected + ", got " + std::to_string(array.ndim()) + " dimensions");
   if (array.dtype().kind() != 'i' && array.dtype().kind() != 'u')
@@ -230,6 +231,9 @@ py::object plan(Map& map, py::handle start, py::handle goal, double radius, cons
   planning::PlanRequest request;
   request.start = vector3(start, "start");
   request.goal = vector3(goal, "goal");
+  // Checked here as `hullmap plan` checks it: planPath sizes the roadmap's band from the radius first.
+  if (!(radius >= 0.0) || !std::isfinite(radius))
+    throw Error::inParameter("radius", "must be a finite number >= 0, got " + std::to_string(radius));
   request.radius = radius;
   request.flight_z = flight_z;
   if (method != "roadmap" && method != "ompl")
