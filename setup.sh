@@ -21,6 +21,9 @@ if [ "$mode" = test ]; then
   # python3-sklearn: DBSCAN oracle on real maps; librsvg2-bin: PNG rendering test;
   # clang + libclang-rt-14-dev: the libFuzzer targets that .ci/run runs briefly.
   packages+=(python3 python3-sklearn python3-numpy librsvg2-bin xz-utils clang libclang-rt-14-dev)
+  # The Python module (python/) and its pytest suite: pybind11 and the headers to build it, pytest,
+  # venv and pip for the offline pip install test, Open3D for Map.to_open3d.
+  packages+=(pybind11-dev python3-dev python3-pytest python3-venv python3-pip python3-open3d)
   # ROS1 (Debian's): hullmap_node and bag input are built only when found, so the tests install them;
   # pluginlib-dev holds headers that rosbag/bag.h includes; the python3-* message modules, rospy,
   # rosbag and ros-core (rosmaster) are what test/ros_*.py publish, record and run with.
@@ -88,4 +91,8 @@ if [ "$mode" = demo ]; then
   echo "== outputs in out/room: $(ls out/room | tr '\n' ' ')"
 else
   ctest --test-dir "$build_dir" --output-on-failure -j"$jobs"
+fi
+# The Python module, when it was built (pybind11-dev, python3-dev and python3-numpy found; docs/PYTHON.md).
+if compgen -G "$build_dir/python/hullmap/_hullmap*.so" >/dev/null; then
+  echo "== Python: export PYTHONPATH=$(cd "$build_dir" && pwd)/python; python3 -c \"import hullmap\""
 fi
