@@ -36,6 +36,8 @@ if [ "$mode" = bench ]; then
   # The peers a user would pick instead (Open3D's and scikit-learn's DBSCAN), and /usr/bin/time.
   # python3-venv: a venv for the PyPI peer `dbscan` (Wang, Gu and Shun's exact parallel DBSCAN).
   packages+=(python3 python3-numpy python3-sklearn python3-open3d python3-venv time bc)
+  # The Python module, for the section that times it from Python.
+  packages+=(pybind11-dev python3-dev)
 fi
 if [ "$mode" = quality ]; then
   # The Open3D pipeline a user would assemble, numpy/scipy for the alignment and footprints, and
