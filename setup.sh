@@ -96,5 +96,6 @@ else
 fi
 # The Python module, when it was built (pybind11-dev, python3-dev and python3-numpy found; docs/PYTHON.md).
 if compgen -G "$build_dir/python/hullmap/_hullmap*.so" >/dev/null; then
-  echo "== Python: export PYTHONPATH=$(cd "$build_dir" && pwd)/python; python3 -c \"import hullmap\""
+  python=$(sed -n 's/^Python3_EXECUTABLE:[A-Z]*=//p' "$build_dir/CMakeCache.txt")
+  echo "== Python: export PYTHONPATH=$(cd "$build_dir" && pwd)/python; ${python:-python3} -c \"import hullmap\""
 fi
