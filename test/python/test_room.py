@@ -47,6 +47,23 @@ def test_arrays_give_the_same_obstacles_as_the_files(built, room_cli):
     assert from_arrays.report["alignment"] == built.report["alignment"]
 
 
+def test_a_gps_array_is_read_as_its_file(tmp_path):
+    # The reference trajectory as GPS fixes near Zurich (east/north metres to degrees on a sphere,
+    # near enough for a fit); the array and the file of the same rows give the same build.
+    reference = np.loadtxt(REFERENCE, ndmin=2)
+    lat0, lon0, radius = 47.37, 8.54, 6371000.0
+    gps = np.column_stack([reference[:, 0], lat0 + np.degrees(reference[:, 2] / radius),
+                           lon0 + np.degrees(reference[:, 1] / (radius * np.cos(np.radians(lat0)))),
+                           400.0 + reference[:, 3]])
+    np.savetxt(tmp_path / "gps.txt", gps, fmt="%.17g")
+    from_file = hullmap.build(POINTS, trajectory=TRAJECTORY, align=str(tmp_path / "gps.txt"), align_format="gps")
+    from_array = hullmap.build(POINTS, trajectory=TRAJECTORY, align=gps, align_format="gps")
+    assert from_file.report["alignment"] == from_array.report["alignment"]
+    assert from_file.report["alignment"]["rmse"] < 0.05
+    np.testing.assert_array_equal(from_file.voxels.centers, from_array.voxels.centers)
+    assert [o.voxel_count for o in from_file.obstacles] == [o.voxel_count for o in from_array.obstacles]
+
+
 def test_load_reads_what_build_made(built, room_cli):
     loaded = hullmap.load(room_cli)
     assert loaded.resolution == built.resolution == 0.05
