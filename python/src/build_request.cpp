@@ -22,7 +22,8 @@ std::string reprOf(py::handle value) { return py::repr(value); }
 class Keywords {
  public:
   explicit Keywords(const py::dict& keywords) {
-    for (const auto& [key, value] : keywords) given_[py::cast<std::string>(key)] = py::reinterpret_borrow<py::object>(value);
+    for (const auto& [key, value] : keywords)
+      given_[py::cast<std::string>(key)] = py::reinterpret_borrow<py::object>(value);
   }
 
   bool has(const std::string& name) const { return given_.count(name) > 0; }

@@ -74,11 +74,13 @@ std::vector<std::string> pathStrings(py::handle object, const std::string& name)
     out.push_back(toPath(object).string());
   } else if (py::isinstance<py::list>(object) || py::isinstance<py::tuple>(object)) {
     for (const auto item : py::reinterpret_borrow<py::sequence>(object)) {
-      if (!isPath(item)) throw Error::inParameter(name, "expected a path or a list of paths, got " + std::string(py::repr(item)));
+      if (!isPath(item))
+        throw Error::inParameter(name, "expected a path or a list of paths, got " + std::string(py::repr(item)));
       out.push_back(toPath(item).string());
     }
   }
-  if (out.empty()) throw Error::inParameter(name, "expected a path or a list of paths, got " + std::string(py::repr(object)));
+  if (out.empty())
+    throw Error::inParameter(name, "expected a path or a list of paths, got " + std::string(py::repr(object)));
   return out;
 }
 
@@ -95,14 +97,17 @@ py::array_t<double> readPoints(py::handle path, const std::string& up, double sc
 }
 
 std::vector<std::uint32_t> dbscanWeights(py::handle object, std::size_t n) {
-  const py::array array = py::isinstance<py::array>(object) ? py::reinterpret_borrow<py::array>(object)
-                                                            : py::array(py::module_::import("numpy").attr("asarray")(object));
+  const py::array array = py::isinstance<py::array>(object)
+                              ? py::reinterpret_borrow<py::array>(object)
+                              : py::array(py::module_::import("numpy").attr("asarray")(object));
   const std::string expected = "expected a (N,) array of positive integers (map points per point)";
-  if (array.ndim() != 1) throw Error::inParameter("weights", expected + ", got " + std::to_string(array.ndim()) + " dimensions");
+  if (array.ndim() != 1)
+    throw Error::inParameter("weights", expected + ", got " + std::to_string(array.ndim()) + " dimensions");
   if (array.dtype().kind() != 'i' && array.dtype().kind() != 'u')
     throw Error::inParameter("weights", expected + ", got dtype " + std::string(py::str(array.dtype())));
   if (static_cast<std::size_t>(array.shape(0)) != n)
-    throw Error::inParameter("weights", std::to_string(array.shape(0)) + " weights for " + std::to_string(n) + " points");
+    throw Error::inParameter("weights",
+                             std::to_string(array.shape(0)) + " weights for " + std::to_string(n) + " points");
   // Any integer dtype and layout: numpy converts to int64 (values checked below), then they are copied.
   const auto values = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(array);
   std::vector<std::uint32_t> out(n);
@@ -116,7 +121,8 @@ std::vector<std::uint32_t> dbscanWeights(py::handle object, std::size_t n) {
   return out;
 }
 
-py::array_t<std::int32_t> dbscan(py::handle points, double eps, int min_pts, py::handle weights, const std::string& metric) {
+py::array_t<std::int32_t> dbscan(py::handle points, double eps, int min_pts, py::handle weights,
+                                 const std::string& metric) {
   const auto rows = rowsArray(points, 3, "points", "x y z");
   clustering::DbscanParams params{eps, min_pts, clustering::parseMetric(metric)};
   std::vector<Eigen::Vector3d> p = python::points(rows);
