@@ -122,7 +122,8 @@ def main():
           f"| {fmt(None if o3d_s is None else o3d_s / h_s, '{:.0f}x')} | {clusters} clusters; {verdict} |")
     r1, r3 = checks[0.1], checks[0.3]
     print(f"| `Map.check(segments, r)` | {len(segments):,} segments, generated_100 ({len(built.obstacles)} "
-          f"obstacles) | r 0.1: {rate(r1[0])}, r 0.3: {rate(r3[0])} | - | - | - | - | colliding: "
+          f"obstacles) | r 0.1: {rate(r1[0])} ({rate(r1[0] / r1[2])} a CPU second), r 0.3: {rate(r3[0])} "
+          f"({rate(r3[0] / r3[2])} a CPU second) | - | - | - | - | colliding: "
           f"{100 * r1[1]:.1f}% (r 0.1), {100 * r3[1]:.1f}% (r 0.3); CPU time over wall time {r1[2]:.2f}, "
           f"{r3[2]:.2f} (2.00: both cores the whole time) |")
     print()
