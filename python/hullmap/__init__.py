@@ -13,6 +13,7 @@ from ._hullmap import (  # noqa: F401
     ObstaclePart,
     PathCheck,
     Plan,
+    Surface,
     Voxels,
     __version__,
     build,
@@ -23,12 +24,13 @@ from ._hullmap import (  # noqa: F401
 )
 
 # The classes and named tuples are hullmap's, whatever module of the package defines them.
-for _type in (BuildWarning, ConvexHull, Error, Footprint, Map, Obstacle, ObstaclePart, PathCheck, Plan, Voxels):
+for _type in (BuildWarning, ConvexHull, Error, Footprint, Map, Obstacle, ObstaclePart, PathCheck, Plan, Surface,
+              Voxels):
     _type.__module__ = __name__
 del _type
 
 __all__ = ["BuildWarning", "ConvexHull", "Error", "Footprint", "Map", "Obstacle", "ObstaclePart", "PathCheck",
-           "Plan", "Voxels", "build", "cluster_colour", "dbscan", "load", "read_points"]
+           "Plan", "Surface", "Voxels", "build", "cluster_colour", "dbscan", "load", "read_points"]
 
 
 def _to_open3d(self):

@@ -135,7 +135,7 @@ void refuseMisfits(const std::set<std::string>& named, const BuildRequest& reque
   }
   const std::string list = given({"trajectory", "origin", "up", "scale", "crop", "z_min", "z_max", "resolution",
                                   "max_range", "hit", "miss", "clamp_min", "clamp_max", "occupancy_threshold",
-                                  "align", "floor", "ceiling"});
+                                  "align", "floor", "level", "camera_frame", "ceiling"});
   if (!list.empty())
     throw Error::inParameter(list, "cannot apply to " + params.inputs.front().string() +
                                        ", a finished octree read as it is (its own frame, resolution and sensor "
@@ -231,6 +231,18 @@ BuildRequest buildRequest(py::handle points, py::handle trajectory, py::handle a
 
   if (py::object v = k.take("floor"); k.has("floor")) params.floor = planeSetting(v, "floor");
   if (py::object v = k.take("ceiling"); k.has("ceiling")) params.ceiling = planeSetting(v, "ceiling");
+  if (py::object v = k.take("level"); !v.is_none()) {
+    const bool on = py::isinstance<py::bool_>(v) ? py::cast<bool>(v) : isWord(v) && word(v) == "on";
+    const bool off = py::isinstance<py::bool_>(v) ? !py::cast<bool>(v) : isWord(v) && word(v) == "off";
+    if (!on && !off && !(isWord(v) && word(v) == "auto"))
+      throw Error::inParameter("level", "expected 'auto', True or False ('on', 'off'), got " + reprOf(v));
+    params.level = on ? pipeline::Level::kOn : off ? pipeline::Level::kOff : pipeline::Level::kAuto;
+  }
+  if (py::object v = k.take("camera_frame"); !v.is_none()) {
+    if (!py::isinstance<py::bool_>(v))
+      throw Error::inParameter("camera_frame", "expected True, False or None, got " + reprOf(v));
+    params.camera_frame = py::cast<bool>(v);
+  }
 
   if (py::object v = k.take("eps"); !v.is_none()) {
     if (!isWord(v) || word(v) != "auto") params.eps = number(v, "eps", "a number or 'auto'");

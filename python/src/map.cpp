@@ -9,7 +9,7 @@ namespace hullmap::python {
 
 Map::Map(pipeline::BuildResult result) : result_(std::move(result)) {
   const pipeline::BuildResult& r = *result_;
-  obstacles_ = &r.obstacles;
+  map_ = pipeline::mapObstacles(r);
   report_ = pipeline::reportJson(r);
   resolution_ = r.map.resolution();
   centers_.reserve(r.voxels.size());
@@ -28,7 +28,7 @@ std::unique_ptr<Map> Map::load(const std::filesystem::path& dir) {
     throw Error(dir.string() + ": not a directory (load reads what hullmap build -o DIR or Map.save wrote)");
   std::unique_ptr<Map> map(new Map());
   map->dir_ = dir;
-  map->loaded_obstacles_ = pipeline::readObstacles(dir / "obstacles.json");
+  map->map_ = pipeline::readMapObstacles(dir / "obstacles.json");
   map->report_ = pipeline::readReport(dir / "report.json");
   const auto rows = pipeline::readVoxelsCsv(dir / "voxels.csv");
   for (const auto& row : rows) {
@@ -47,17 +47,17 @@ std::unique_ptr<Map> Map::load(const std::filesystem::path& dir) {
 }
 
 const collision::HullChecker& Map::hulls() {
-  if (!hulls_) hulls_ = std::make_unique<collision::HullChecker>(*obstacles_);
+  if (!hulls_) hulls_ = std::make_unique<collision::HullChecker>(map_.obstacles, map_.surfaces);
   return *hulls_;
 }
 
 const collision::OctreeChecker& Map::octree() {
   if (!octree_) {
     if (result_) {
-      octree_ = std::make_unique<collision::OctreeChecker>(result_->map.tree());
+      octree_ = std::make_unique<collision::OctreeChecker>(result_->map.tree(), map_.surfaces);
     } else {
       const mapper::OccupancyMap map = mapper::readMap((dir_ / "map.bt").string());
-      octree_ = std::make_unique<collision::OctreeChecker>(map.tree());
+      octree_ = std::make_unique<collision::OctreeChecker>(map.tree(), map_.surfaces);
     }
   }
   return *octree_;

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 
 namespace hullmap::python {
@@ -20,11 +21,13 @@ class Map {
  public:
   /// Takes a build's result; save() writes it.
   explicit Map(pipeline::BuildResult result);
-  /// Reads `dir` as `hullmap check` and `hullmap plan` do (obstacles.json, voxels.csv, report.json;
-  /// map.bt when an octree check asks for it).
+  /// Reads `dir` as `hullmap check` and `hullmap plan` do (obstacles.json with the surfaces and the
+  /// frame, voxels.csv, report.json; map.bt when an octree check asks for it).
   static std::unique_ptr<Map> load(const std::filesystem::path& dir);
 
-  const std::vector<clustering::Obstacle>& obstacles() const { return *obstacles_; }
+  /// The obstacles, surfaces and frame, as the checks and planners take them.
+  const pipeline::MapObstacles& map() const { return map_; }
+  const std::vector<clustering::Obstacle>& obstacles() const { return map_.obstacles; }
   const nlohmann::json& report() const { return report_; }
   double resolution() const { return resolution_; }
   const std::vector<Eigen::Vector3d>& centers() const { return centers_; }
@@ -47,8 +50,7 @@ class Map {
   Map() = default;
 
   std::optional<pipeline::BuildResult> result_;
-  std::vector<clustering::Obstacle> loaded_obstacles_;
-  const std::vector<clustering::Obstacle>* obstacles_ = &loaded_obstacles_;
+  pipeline::MapObstacles map_;
   nlohmann::json report_;
   double resolution_ = 0.0;
   std::vector<Eigen::Vector3d> centers_;

