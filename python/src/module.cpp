@@ -454,7 +454,7 @@ void bindMap(py::module_& m) {
       .def("check", &check, py::arg("segments"), py::arg("radius"), py::arg("against") = "hulls",
            py::arg("contact_tolerance") = collision::kContactTolerance, py::arg("frame") = "map",
            "Checks segments (N, 6) float64, rows x0 y0 z0 x1 y1 z1 (map frame), swept by a sphere of `radius`; "
-           "returns a structured array (collides, obstacle, part, t, clearance), one row a segment. "
+           "returns a structured array (collides, obstacle, part, surface, t, clearance), one row a segment. "
            "against='octree' checks every occupied voxel instead of the hulls.")
       .def("check_path", &checkPath, py::arg("waypoints"), py::arg("radius"), py::arg("against") = "hulls",
            py::arg("contact_tolerance") = collision::kContactTolerance, py::arg("frame") = "map",
