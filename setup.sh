@@ -32,6 +32,9 @@ if [ "$mode" = test ]; then
   # python3-sklearn: DBSCAN oracle on real maps; librsvg2-bin: PNG rendering test;
   # clang + libclang-rt-14-dev: the libFuzzer targets that .ci/run runs briefly.
   packages+=(python3 python3-sklearn python3-numpy librsvg2-bin xz-utils clang libclang-rt-14-dev)
+  # The Python module (python/) and its pytest suite: pybind11 and the headers to build it, pytest,
+  # venv and pip for the offline pip install test, Open3D for Map.to_open3d.
+  packages+=(pybind11-dev python3-dev python3-pytest python3-venv python3-pip python3-open3d)
   # ROS1 (Debian's): hullmap_node and bag input are built only when found, so the tests install them;
   # pluginlib-dev holds headers that rosbag/bag.h includes; the python3-* message modules, rospy,
   # rosbag and ros-core (rosmaster) are what test/ros_*.py publish, record and run with.
@@ -44,6 +47,8 @@ if [ "$mode" = bench ]; then
   # The peers a user would pick instead (Open3D's and scikit-learn's DBSCAN), and /usr/bin/time.
   # python3-venv: a venv for the PyPI peer `dbscan` (Wang, Gu and Shun's exact parallel DBSCAN).
   packages+=(python3 python3-numpy python3-sklearn python3-open3d python3-venv time bc)
+  # The Python module, for the section that times it from Python.
+  packages+=(pybind11-dev python3-dev)
 fi
 if [ "$mode" = quality ]; then
   # The Open3D pipeline a user would assemble, numpy/scipy for the alignment and footprints, and
@@ -53,8 +58,8 @@ fi
 
 # What each mode configures: the demo builds the library and the CLI only (ROS and the tests are
 # not installed for it); the test mode everything its packages allow.
-cmake_args=(-DHULLMAP_BUILD_TESTS=OFF -DHULLMAP_BUILD_ROS=OFF)
-[ "$mode" = test ] && cmake_args=(-DHULLMAP_BUILD_TESTS=ON -DHULLMAP_BUILD_ROS=ON)
+cmake_args=(-DHULLMAP_BUILD_TESTS=OFF -DHULLMAP_BUILD_ROS=OFF -DHULLMAP_BUILD_PYTHON=OFF)
+[ "$mode" = test ] && cmake_args=(-DHULLMAP_BUILD_TESTS=ON -DHULLMAP_BUILD_ROS=ON -DHULLMAP_BUILD_PYTHON=ON)
 
 if [ "$query" = packages ]; then
   printf '%s\n' "${packages[@]}"
@@ -113,4 +118,9 @@ if [ "$mode" = demo ]; then
   echo "== outputs in out/room: $(ls out/room | tr '\n' ' ')"
 else
   ctest --test-dir "$build_dir" --output-on-failure -j"$jobs"
+fi
+# The Python module, when it was built (pybind11-dev, python3-dev and python3-numpy found; docs/PYTHON.md).
+if compgen -G "$build_dir/python/hullmap/_hullmap*.so" >/dev/null; then
+  python=$(sed -n 's/^Python3_EXECUTABLE:[A-Z]*=//p' "$build_dir/CMakeCache.txt")
+  echo "== Python: export PYTHONPATH=$(cd "$build_dir" && pwd)/python; ${python:-python3} -c \"import hullmap\""
 fi

@@ -5,7 +5,8 @@
 #   bench/run_benchmarks.sh [BUILD_DIR]        (default: build-bench)
 #   ./setup.sh bench                           installs what it needs first, then runs it
 #
-# Needs Debian's python3-open3d, python3-sklearn, python3-numpy (the DBSCAN peers), time, and
+# Needs Debian's python3-open3d, python3-sklearn, python3-numpy (the DBSCAN peers), time,
+# pybind11-dev and python3-dev (the Python section), and
 # shared/data/real/octomap_scan.dat (the insertion scan; set HULLMAP_REAL_DATA_DIR to move it).
 # Takes about 15 minutes on 2 cores, most of it Open3D and scikit-learn at 1M points.
 set -eu
@@ -16,6 +17,13 @@ out=$root/docs/BENCHMARKS.md
 
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DHULLMAP_BUILD_BENCH=ON -DHULLMAP_BUILD_TESTS=OFF >/dev/null
 cmake --build "$build" -j"$(nproc)" --target hullmap hullmap_bench_dbscan hullmap_bench_insertion hullmap_bench_collision hullmap_bench_planning >/dev/null
+# The Python module exists only when pybind11, Python 3's headers and numpy were found; its section is
+# left out otherwise.
+if cmake --build "$build" -j"$(nproc)" --target hullmap_python >/dev/null 2>&1; then
+  python_section=yes
+else
+  python_section=no
+fi
 # hullmap_node exists only when ROS1 was found; its section is left out otherwise.
 if cmake --build "$build" -j"$(nproc)" --target hullmap_node hullmap_bench_octomap_cloud >/dev/null 2>&1; then
   ros_section=yes
@@ -54,6 +62,10 @@ trap 'rm -f "$tmp"' EXIT
   sh "$root/bench/section_large_map.sh" "$build"
   echo
   sh "$root/bench/section_planning.sh" "$build"
+  if [ "$python_section" = yes ]; then
+    echo
+    sh "$root/bench/section_python.sh" "$build"
+  fi
   if [ "$ros_section" = yes ]; then
     echo
     sh "$root/bench/section_ros.sh" "$build"

@@ -215,11 +215,12 @@ void recordSurfaces(const Surfaces& surfaces, BuildResult& result) {
   result.report.levelling = surfaces.levelling;
 }
 
-/// Reads the reference trajectory and fits the keyframes (input frame) to it.
+/// Reads the reference trajectory (or takes its poses in memory) and fits the keyframes (input frame) to it.
 mapper::Alignment alignKeyframes(const AlignSettings& align, const std::vector<mapper::Keyframe>& keyframes,
                                  BuildReport& report) {
   mapper::ReferenceStats stats;
-  const auto reference = mapper::readReferenceTrajectory(align.reference.string(), align.format, &stats);
+  const auto reference = align.poses ? *align.poses
+                                     : mapper::readReferenceTrajectory(align.reference.string(), align.format, &stats);
   report.reference_dropped = stats.dropped;
   std::size_t dropped = 0;
   for (const auto& [reason, count] : stats.dropped) dropped += count;
@@ -260,10 +261,11 @@ void buildWhole(const BuildParams& params, mapper::Points points, BuildResult& r
 
   runStage("frame_and_filters");
   std::vector<mapper::Keyframe> keyframes;
+  // Keyframes in memory are in the input frame, as a trajectory file's: they change frame below
+  // with the points (once).
   if (given) {
     keyframes = std::move(*given);
     if (keyframes.empty()) throw Error(params.trajectory->string() + ": no keyframes");
-    mapper::toMapFrame(params.frame, keyframes);
   } else if (params.trajectory) {
     keyframes = mapper::readTumTrajectory(params.trajectory->string());
     if (keyframes.empty()) throw Error(params.trajectory->string() + ": no keyframes");

@@ -51,6 +51,10 @@ struct AlignSettings {
   std::filesystem::path reference;                                ///< TUM or GPS file
   mapper::ReferenceFormat format = mapper::ReferenceFormat::kTum;
   mapper::AlignParams params;                                     ///< timestamp tolerance, seconds
+  /// The reference poses already in memory, as mapper::parseReferenceTrajectory gives them (metres,
+  /// z up; GPS fixes converted): used instead of reading `reference`, which then only names them
+  /// (report.json's "align"). A front end that takes an array sets it.
+  std::optional<std::vector<mapper::ReferencePose>> poses = std::nullopt;
 };
 
 /// Everything a build can be asked, typed. Defaults are `hullmap build`'s.
