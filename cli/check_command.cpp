@@ -15,6 +15,7 @@
 #include "hullmap/core/error.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/pipeline/check_json.hpp"
+#include "hullmap/pipeline/path_checker.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "check_warnings.hpp"
 #include "option_checks.hpp"
@@ -83,7 +84,7 @@ void runCheck(const CheckOptions& o, int& status) {
     refuseOctreeAsHulls(obstacles_json);
     const auto obstacles = pipeline::readObstacles(obstacles_json);
     warnings = hullCheckWarnings(obstacles_json, obstacles.size());
-    const collision::HullChecker checker(obstacles);
+    const collision::HullChecker checker = pipeline::pathChecker(obstacles_json, obstacles);
     if (is_path) {
       path = checker.checkPath(waypoints, request);
     } else {

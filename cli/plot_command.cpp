@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/path_checker.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/planning/roadmap_json.hpp"
 #include "hullmap/plot/svg_plot.hpp"
@@ -69,7 +70,8 @@ void runPlot(const PlotOptions& o) {
     plot.centers.push_back(row.center);
     plot.labels.push_back(row.label);
   }
-  plot.obstacles = pipeline::readObstacles(fs::path(o.dir) / "obstacles.json");
+  const fs::path obstacles_json = fs::path(o.dir) / "obstacles.json";
+  plot.obstacles = pipeline::readObstacles(obstacles_json);
   if (!o.roadmap.empty()) {
     const planning::Roadmap roadmap = planning::readRoadmapJson(o.roadmap);
     plot::PlotRoadmap drawn;
@@ -82,7 +84,7 @@ void runPlot(const PlotOptions& o) {
   }
   if (!o.path_files.empty()) {
     checkRadius(o.radius);
-    const collision::HullChecker checker(plot.obstacles);
+    const collision::HullChecker checker = pipeline::pathChecker(obstacles_json, plot.obstacles);
     for (const auto& file : o.path_files) {
       plot::PlotPath path;
       path.name = fs::path(file).filename().string();
