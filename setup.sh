@@ -21,6 +21,9 @@ if [ "$mode" = test ]; then
   # python3-sklearn: DBSCAN oracle on real maps; librsvg2-bin: PNG rendering test;
   # clang + libclang-rt-14-dev: the libFuzzer targets that .ci/run runs briefly.
   packages+=(python3 python3-sklearn python3-numpy librsvg2-bin xz-utils clang libclang-rt-14-dev)
+  # hullmap view: three.js (libjs-three) for the page, and headless Chromium driven by selenium for
+  # test/view_browser_test.py (python3-pil reads its screenshots).
+  packages+=(libjs-three chromium chromium-driver python3-selenium python3-pil)
   # ROS1 (Debian's): hullmap_node and bag input are built only when found, so the tests install them;
   # pluginlib-dev holds headers that rosbag/bag.h includes; the python3-* message modules, rospy,
   # rosbag and ros-core (rosmaster) are what test/ros_*.py publish, record and run with.
