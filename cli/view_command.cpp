@@ -91,6 +91,11 @@ void runView(const ViewOptions& o) {
   } else {
     std::cout << " cubes";
   }
+  if (page.levels.size() > 1) {
+    std::cout << " (coarser levels: ";
+    for (std::size_t k = 1; k < page.levels.size(); ++k) std::cout << (k > 1 ? ", " : "") << page.levels[k];
+    std::cout << " cubes)";
+  }
   std::cout << ", " << scene.obstacles.size() << " obstacles in " << page.hulls << " hulls";
   if (!scene.keyframes.empty()) std::cout << ", " << scene.keyframes.size() << " keyframes";
   if (scene.roadmap) std::cout << ", roadmap of " << scene.roadmap->edges.size() << " edges";
@@ -129,7 +134,7 @@ void addViewCommand(CLI::App& app, int& status) {
                   "Where three.js r111 is (three.min.js, examples/js/controls/OrbitControls.js)")
       ->capture_default_str();
   cmd->add_option("--max-instances", options->max_instances,
-                  "Most voxel cubes the page draws; more voxels are merged into coarser cells")
+                  "Most voxel cubes the page holds at its finest detail; more voxels are merged into coarser cells")
       ->check(wholeNumberFrom(1))->capture_default_str();
   cmd->callback([options, &status] {
     runView(*options);

@@ -129,7 +129,8 @@ TEST(ViewCommand, MoreVoxelsThanMaxInstancesAreMergedAndSaid) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("voxels a side: more than --max-instances 300)"), std::string::npos) << r.out;
   const json data = pageData(slurp(dir / "page.html"));
-  EXPECT_GT(data["voxels"]["factor"].get<int>(), 1);
+  EXPECT_GT(data["voxels"]["levels"][0]["factor"].get<int>(), 1);
+  EXPECT_LE(data["voxels"]["levels"][0]["instances"].get<std::size_t>(), 300u);
 }
 
 TEST(ViewCommand, ErrorsNameTheFileOrOptionAndWriteNothing) {

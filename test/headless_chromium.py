@@ -46,7 +46,7 @@ def decode_png(data):
 class Browser:
     """One headless Chromium; `with Browser() as b: summary = b.load(path)`."""
 
-    def __init__(self, width=1280, height=800):
+    def __init__(self, width=1280, height=800, script_timeout=120):
         from selenium import webdriver
         from selenium.webdriver.chrome.service import Service
         self.profile = tempfile.mkdtemp(prefix="hullmap-chromium-")
@@ -60,8 +60,8 @@ class Browser:
         # --window-size).
         self.driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
                                     {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": False})
-        self.driver.set_page_load_timeout(120)
-        self.driver.set_script_timeout(120)
+        self.driver.set_page_load_timeout(max(120, script_timeout))
+        self.driver.set_script_timeout(script_timeout)
 
     def __enter__(self):
         return self

@@ -117,8 +117,8 @@ class Summary(unittest.TestCase):
         self.assertEqual(v["voxels"]["noise"], report["clusters"]["noise_voxels"])
         self.assertEqual(v["voxels"]["floor"], report["floor"]["voxels"])
         self.assertEqual(v["voxels"]["ceiling"], report["ceiling"]["voxels"])
-        self.assertFalse(v["voxels"]["merged"])
-        self.assertEqual(v["voxels"]["instances"], report["octree"]["occupied_voxels"])
+        finest = v["voxels"]["levels"][0]
+        self.assertEqual((finest["factor"], finest["instances"]), (1, report["octree"]["occupied_voxels"]))
         self.assertEqual(len(v["obstacles"]), report["obstacles"])
         self.assertEqual(len(v["parts"]), report["parts"]["count"])
         self.assertEqual(v["keyframes"], report["keyframes"])
@@ -260,7 +260,7 @@ class Screen(unittest.TestCase):
 
 
 class Failures(unittest.TestCase):
-    """The harness sees a broken page, and a merged page says so."""
+    """The harness sees a broken page."""
 
     def test_a_page_with_a_javascript_error_is_refused(self):
         with open(os.path.join(TMP, "room.html")) as f:
@@ -276,16 +276,38 @@ class Failures(unittest.TestCase):
         with self.assertRaises(AssertionError):
             load(broken)
 
-    def test_a_build_over_the_budget_is_drawn_merged_and_the_page_says_so(self):
+class Detail(unittest.TestCase):
+    """The levels of detail: every voxel at the finest unless over the budget, the level drawn chosen
+    from a frame, another picked in the legend."""
+
+    def test_a_build_over_the_budget_is_held_merged_and_the_page_says_so(self):
         page = os.path.join(TMP, "merged.html")
         hullmap("view", build, "-o", page, "--max-instances", "3000")
         v = load(page)
-        self.assertTrue(v["voxels"]["merged"])
-        self.assertLessEqual(v["voxels"]["instances"], 3000)
+        finest = v["voxels"]["levels"][0]
+        self.assertGreater(finest["factor"], 1)
+        self.assertLessEqual(finest["instances"], 3000)
         self.assertEqual(v["voxels"]["total"], read_json("report.json")["octree"]["occupied_voxels"])
-        self.assertEqual(sum(l["cells"] for l in v["voxels"]["labels"].values()), v["voxels"]["instances"])
+        self.assertEqual(sum(l["cells"] for l in v["voxels"]["labels"].values()), finest["instances"])
         legend = browser.driver.find_element("id", "hullmap-legend").text
-        self.assertIn("merged into %s cells" % format(v["voxels"]["instances"], ","), legend)
+        self.assertIn("its finest level merges them into %s cells" % format(finest["instances"], ","), legend)
+
+    def test_the_level_of_detail_is_chosen_from_a_frame_and_picked_in_the_legend(self):
+        from selenium.webdriver.support.ui import Select
+        v = load(os.path.join(TMP, "room.html"))
+        levels = v["voxels"]["levels"]
+        self.assertGreater(len(levels), 1, "maps/room holds more than the coarsest level's 10,000 cubes")
+        self.assertEqual([l["factor"] for l in levels], [2 ** k for k in range(len(levels))])
+        self.assertLessEqual(levels[-1]["instances"], 10000)
+        # The level shown is the finest one whose frame, estimated from the coarsest's, fits 0.1 s.
+        d = v["voxels"]
+        estimate = [d["frame_without_voxels_ms"] + d["cube_us"] / 1000 * l["instances"] for l in levels]
+        fitting = [k for k, e in enumerate(estimate) if e <= d["target_ms"]]
+        self.assertEqual(d["level"], fitting[0] if fitting else len(levels) - 1)
+        Select(browser.driver.find_element("id", "detail")).select_by_value("0")
+        now = browser.run("return hullmapView.voxels")
+        self.assertEqual((now["level"], now["instances"], now["merged"]), (0, levels[0]["instances"], False))
+        self.assertEqual(browser.errors(), [])
 
 
 if __name__ == "__main__":

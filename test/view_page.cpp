@@ -253,9 +253,9 @@ TEST(ViewPage, DataDecodesToTheBuildsVoxelsHullsKeyframesAndChecks) {
   EXPECT_EQ(data["parameters"], report["parameters"]);
 
   // Voxels: every voxel of voxels.csv, with its label, from the 16-bit cells.
-  const json& vx = data["voxels"];
+  EXPECT_EQ(data["voxels"]["total"], b.result.voxels.size());
+  const json& vx = data["voxels"]["levels"][0];
   EXPECT_EQ(vx["factor"], 1);
-  EXPECT_EQ(vx["total"], b.result.voxels.size());
   const auto cells = typed<std::uint16_t>(vx["cells"]);
   ASSERT_EQ(cells.size(), 3 * b.result.voxels.size());
   std::multiset<std::tuple<std::int32_t, long, long, long>> got, want;
@@ -275,8 +275,8 @@ TEST(ViewPage, DataDecodesToTheBuildsVoxelsHullsKeyframesAndChecks) {
                  std::lround(row.center.z() * 1e4)});
   }
   EXPECT_EQ(got, want);
-  EXPECT_EQ(vx["noise"], report["clusters"]["noise_voxels"]);
-  EXPECT_EQ(vx["floor"], report["floor"]["voxels"]);
+  EXPECT_EQ(data["voxels"]["noise"], report["clusters"]["noise_voxels"]);
+  EXPECT_EQ(data["voxels"]["floor"], report["floor"]["voxels"]);
 
   // Hulls: one per convex part, vertices (float32, relative to the shift) and triangles as written.
   const json& hulls = data["hulls"];
@@ -369,12 +369,43 @@ TEST(ViewPage, MoreVoxelsThanTheBudgetAreMergedAndTheDataSaysSo) {
   EXPECT_LE(page.instances, 500u);
   EXPECT_EQ(page.voxels, b.result.voxels.size());
   const json data = pageData(page.html);
-  EXPECT_EQ(data["voxels"]["factor"], page.merge_factor);
+  const json& finest = data["voxels"]["levels"][0];
+  EXPECT_EQ(finest["factor"], page.merge_factor);
   EXPECT_EQ(data["voxels"]["max_instances"], 500);
   EXPECT_EQ(data["voxels"]["total"], b.result.voxels.size()) << "the build's counts stay";
   std::size_t drawn = 0;
-  for (const auto& g : data["voxels"]["groups"]) drawn += g["count"].get<std::size_t>();
+  for (const auto& g : finest["groups"]) drawn += g["count"].get<std::size_t>();
   EXPECT_EQ(drawn, page.instances);
+  EXPECT_EQ(finest["instances"], page.instances);
+  EXPECT_EQ(typed<std::uint16_t>(finest["cells"]).size(), 3 * page.instances);
+}
+
+TEST(ViewVoxelCells, LevelsHalveTheirDetailDownToTheCoarsest) {
+  const Build& b = sharedBuild();
+  std::vector<Eigen::Vector3d> centers;
+  std::vector<std::int32_t> labels;
+  for (std::size_t i = 0; i < b.result.voxels.size(); ++i) {
+    centers.push_back(b.result.voxels[i].center);
+    labels.push_back(b.result.clusters.labels[i]);
+  }
+  const double r = b.result.map.resolution();
+  const auto levels = view::voxelLevels(centers, labels, r, 5000, 300);
+  const auto finest = view::mergeVoxelCells(centers, labels, r, 5000);
+  ASSERT_GE(levels.size(), 3u);
+  EXPECT_EQ(levels[0].factor, finest.factor);
+  EXPECT_EQ(levels[0].labels, finest.labels);
+  for (std::size_t k = 1; k < levels.size(); ++k) {
+    EXPECT_EQ(levels[k].factor, 2 * levels[k - 1].factor);
+    EXPECT_GT(levels[k - 1].centers.size(), 300u) << "a level is added only while the last holds more than 300";
+    // Each level is the merge of the voxels at its factor: the smallest budget that gives it back.
+    const auto same = view::mergeVoxelCells(centers, labels, r, levels[k].centers.size());
+    EXPECT_EQ(same.factor, levels[k].factor);
+    EXPECT_EQ(same.labels, levels[k].labels);
+    EXPECT_EQ(same.centers, levels[k].centers);
+  }
+  EXPECT_LE(levels.back().centers.size(), 300u);
+  // A page of few voxels holds one level.
+  EXPECT_EQ(view::voxelLevels(centers, labels, r, 1000000, centers.size()).size(), 1u);
 }
 
 TEST(ViewPage, TruthShapesAreWireframes) {

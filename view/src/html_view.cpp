@@ -223,7 +223,7 @@ void truthSegments(const pipeline::TruthShape& s, std::vector<std::pair<Eigen::V
   }
 }
 
-json pageData(const ViewScene& scene, const VoxelCells& cells, std::size_t max_instances) {
+json pageData(const ViewScene& scene, const std::vector<VoxelCells>& levels, std::size_t max_instances) {
   const Eigen::AlignedBox3d box = viewBox(scene);
   const Eigen::Vector3d shift = box.center();
   const json& report = scene.report;
@@ -262,7 +262,7 @@ json pageData(const ViewScene& scene, const VoxelCells& cells, std::size_t max_i
         {"axis_z", "#1f4fd1"}}},
   };
 
-  // Voxels: counts of the build, then the drawn cells as 16-bit indices from the first cell.
+  // Voxels: counts of the build, then each level's cells as 16-bit indices from its first cell.
   std::size_t clustered = 0, noise = 0, floor = 0, ceiling = 0;
   for (const std::int32_t l : scene.labels) {
     if (l >= 0) ++clustered;
@@ -270,20 +270,30 @@ json pageData(const ViewScene& scene, const VoxelCells& cells, std::size_t max_i
     else if (l == pipeline::kCeilingLabel) ++ceiling;
     else ++noise;
   }
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-  if (!cells.centers.empty()) {
-    origin = cells.centers.front();
-    for (const auto& c : cells.centers) origin = origin.cwiseMin(c);
-  }
-  Bytes cell_bytes;
-  json groups = json::array();
-  for (std::size_t i = 0; i < cells.centers.size(); ++i) {
-    for (int a = 0; a < 3; ++a)
-      cell_bytes.u16(static_cast<std::uint16_t>(std::llround((cells.centers[i][a] - origin[a]) / cells.cell)));
-    if (groups.empty() || groups.back()["label"] != cells.labels[i]) {
-      groups.push_back({{"label", cells.labels[i]}, {"count", 0}, {"colour", labelColour(cells.labels[i])}});
+  json level_data = json::array();
+  for (const VoxelCells& cells : levels) {
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+    if (!cells.centers.empty()) {
+      origin = cells.centers.front();
+      for (const auto& c : cells.centers) origin = origin.cwiseMin(c);
     }
-    groups.back()["count"] = groups.back()["count"].get<std::size_t>() + 1;
+    Bytes cell_bytes;
+    std::vector<std::pair<std::int32_t, std::size_t>> runs;  // label, cells: the cells come sorted by label
+    for (std::size_t i = 0; i < cells.centers.size(); ++i) {
+      for (int a = 0; a < 3; ++a)
+        cell_bytes.u16(static_cast<std::uint16_t>(std::llround((cells.centers[i][a] - origin[a]) / cells.cell)));
+      if (runs.empty() || runs.back().first != cells.labels[i]) runs.emplace_back(cells.labels[i], 0);
+      ++runs.back().second;
+    }
+    json groups = json::array();
+    for (const auto& [label, count] : runs)
+      groups.push_back({{"label", label}, {"count", count}, {"colour", labelColour(label)}});
+    level_data.push_back({{"factor", cells.factor},
+                          {"cell", cells.cell},
+                          {"instances", cells.centers.size()},
+                          {"origin", vec(origin)},
+                          {"groups", groups},
+                          {"cells", cell_bytes.base64()}});
   }
   data["voxels"] = {{"total", scene.centers.size()},
                     {"clustered", clustered},
@@ -291,11 +301,7 @@ json pageData(const ViewScene& scene, const VoxelCells& cells, std::size_t max_i
                     {"floor", floor},
                     {"ceiling", ceiling},
                     {"max_instances", max_instances},
-                    {"factor", cells.factor},
-                    {"cell", cells.cell},
-                    {"origin", vec(origin)},
-                    {"groups", groups},
-                    {"cells", cell_bytes.base64()}};
+                    {"levels", level_data}};
 
   // Obstacles and their hulls: one per convex part (the whole hull for an obstacle without parts).
   json obstacles = json::array();
@@ -451,16 +457,17 @@ ViewPage renderPage(const ViewScene& scene, const ViewParams& params) {
     throw Error::inParameter("resolution", "must be a positive finite number");
   const std::string three = readWhole(params.three_dir / "three.min.js");
   const std::string orbit = readWhole(params.three_dir / "examples" / "js" / "controls" / "OrbitControls.js");
-  const VoxelCells cells = mergeVoxelCells(scene.centers, scene.labels, scene.resolution, params.max_instances);
+  const std::vector<VoxelCells> levels = voxelLevels(scene.centers, scene.labels, scene.resolution, params.max_instances);
 
   ViewPage page;
   page.voxels = scene.centers.size();
-  page.instances = cells.centers.size();
-  page.merge_factor = cells.factor;
+  page.instances = levels.front().centers.size();
+  page.merge_factor = levels.front().factor;
+  for (const auto& level : levels) page.levels.push_back(level.centers.size());
   for (const auto& o : scene.obstacles) page.hulls += std::max<std::size_t>(1, o.parts.size());
   for (const auto& p : scene.paths) page.colliding_paths += p.check.first_colliding_segment.has_value();
 
-  const json data = pageData(scene, cells, params.max_instances);
+  const json data = pageData(scene, levels, params.max_instances);
   std::string& html = page.html;
   html += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   html += "<meta name=\"generator\" content=\"hullmap view\">\n";

@@ -119,9 +119,14 @@
     return new THREE.LineSegments(g, m);
   }
 
-  // ---- voxels: instanced cubes, one colour per instance -----------------------------------------
+  // ---- voxels: instanced cubes, one colour per instance, at levels of detail ----------------------
+  // The page holds its voxels at several levels (cells of 1, 2, 4, ... voxels a side, each cell in the
+  // colour of an obstacle it holds, else noise, else floor). It draws the finest level that a frame
+  // of this machine draws in about kFrameTargetMs (measured on the coarsest when the page loads);
+  // the legend's Detail list picks another.
+  var kFrameTargetMs = 100;
   var vx = data.voxels;
-  var cells = uint16s(vx.cells);
+  var levels = vx.levels;
   var cube = new THREE.BoxBufferGeometry(1, 1, 1);
   // r111's InstancedMesh has no per-instance colour: an instanceColor attribute replaces the
   // vertex colour in the Lambert shader.
@@ -134,18 +139,39 @@
     };
     return m;
   }
+  function voxelClass(label) { return label >= 0 ? 'voxels' : label === -1 ? 'noise' : 'surfaces'; }
   var voxelStats = {total: vx.total, clustered: vx.clustered, noise: vx.noise, floor: vx.floor, ceiling: vx.ceiling,
-                    instances: 0, cell: vx.cell, factor: vx.factor, merged: vx.factor > 1,
-                    max_instances: vx.max_instances, labels: {}};
+                    max_instances: vx.max_instances, target_ms: kFrameTargetMs,
+                    levels: levels.map(function (l) { return {factor: l.factor, cell: l.cell, instances: l.instances}; }),
+                    labels: {}};
+  // Per label of the finest level: its cubes and the sum of their centres (map frame).
   (function () {
-    var classes = {clustered: [], noise: [], surfaces: []};
+    var L = levels[0], cells = uint16s(L.cells), i = 0;
+    L.groups.forEach(function (g) {
+      var sum = [0, 0, 0];
+      for (var end = i + g.count; i < end; i++)
+        for (var a = 0; a < 3; a++) sum[a] += L.origin[a] + cells[3 * i + a] * L.cell;
+      voxelStats.labels[g.label] = {cells: g.count, sum: sum};
+    });
+  })();
+  var cellNote = levels[0].factor > 1 ? ' (merged cells)' : '';
+  var voxelLayers = {
+    voxels: layer('voxels', 'obstacle voxels', '#e68fac', text(vx.clustered) + ' voxels, coloured by obstacle' + cellNote),
+    noise: layer('noise', 'noise voxels', data.colours.noise, text(vx.noise) + ' voxels in no obstacle' + cellNote),
+    surfaces: layer('surfaces', 'floor and ceiling voxels', data.colours.floor,
+                    text(vx.floor) + ' floor, ' + text(vx.ceiling) + ' ceiling voxels, not clustered' + cellNote)};
+  var builtLevels = [];
+  function buildLevel(k) {
+    if (builtLevels[k]) return builtLevels[k];
+    var L = levels[k];
+    var cells = uint16s(L.cells);
+    var byClass = {voxels: [], noise: [], surfaces: []};
     var first = 0;
-    vx.groups.forEach(function (g) {
-      var cls = g.label >= 0 ? 'clustered' : g.label === -1 ? 'noise' : 'surfaces';
-      classes[cls].push({label: g.label, colour: g.colour, first: first, count: g.count});
+    L.groups.forEach(function (g) {
+      byClass[voxelClass(g.label)].push({colour: g.colour, first: first, count: g.count});
       first += g.count;
     });
-    var fill = 0.9 * vx.cell;  // a gap between cubes shows single voxels
+    var fill = 0.9 * L.cell;  // a gap between cubes shows single voxels
     function build(groups, opacity) {
       var count = 0;
       groups.forEach(function (g) { count += g.count; });
@@ -157,75 +183,115 @@
       var k = 0;
       groups.forEach(function (g) {
         var c = colour(g.colour);
-        var sum = [0, 0, 0];
         for (var i = g.first; i < g.first + g.count; i++, k++) {
           var o = 16 * k;
-          var x = vx.origin[0] + cells[3 * i] * vx.cell;
-          var y = vx.origin[1] + cells[3 * i + 1] * vx.cell;
-          var z = vx.origin[2] + cells[3 * i + 2] * vx.cell;
-          sum[0] += x; sum[1] += y; sum[2] += z;
           matrices[o] = fill; matrices[o + 5] = fill; matrices[o + 10] = fill; matrices[o + 15] = 1;
-          matrices[o + 12] = x - shift[0]; matrices[o + 13] = y - shift[1]; matrices[o + 14] = z - shift[2];
+          matrices[o + 12] = L.origin[0] + cells[3 * i] * L.cell - shift[0];
+          matrices[o + 13] = L.origin[1] + cells[3 * i + 1] * L.cell - shift[1];
+          matrices[o + 14] = L.origin[2] + cells[3 * i + 2] * L.cell - shift[2];
           colours[3 * k] = c.r; colours[3 * k + 1] = c.g; colours[3 * k + 2] = c.b;
         }
-        var entry = voxelStats.labels[g.label] || {cells: 0, sum: [0, 0, 0]};
-        entry.cells += g.count;
-        for (var a = 0; a < 3; a++) entry.sum[a] += sum[a];
-        voxelStats.labels[g.label] = entry;
       });
       geometry.setAttribute('instanceColor', new THREE.InstancedBufferAttribute(colours, 3));
       mesh.instanceMatrix.needsUpdate = true;
       // Three's culling would test the one cube at the origin, not the instances.
       mesh.frustumCulled = false;
-      voxelStats.instances += count;
       return mesh;
     }
-    var clustered = build(classes.clustered, 1);
-    var noise = build(classes.noise, 1);
-    var surfaces = build(classes.surfaces, 0.16);
+    var surfaces = build(byClass.surfaces, 0.16);
     if (surfaces) surfaces.renderOrder = 1;
-    var cellText = vx.factor > 1 ? ' (merged cells)' : '';
-    layer('voxels', 'obstacle voxels', '#e68fac', text(vx.clustered) + ' voxels, coloured by obstacle' + cellText).add(clustered || new THREE.Group());
-    layer('noise', 'noise voxels', data.colours.noise, text(vx.noise) + ' voxels in no obstacle' + cellText).add(noise || new THREE.Group());
-    layer('surfaces', 'floor and ceiling voxels', data.colours.floor,
-          text(vx.floor) + ' floor, ' + text(vx.ceiling) + ' ceiling voxels, not clustered' + cellText)
-      .add(surfaces || new THREE.Group());
-  })();
+    builtLevels[k] = {voxels: build(byClass.voxels, 1), noise: build(byClass.noise, 1), surfaces: surfaces};
+    return builtLevels[k];
+  }
+  var shownLevel = -1;
+  var detailSelect = null;
+  function showLevel(k) {
+    if (k < 0 || k >= levels.length) throw new Error('no level ' + k);
+    if (shownLevel >= 0) {
+      var old = builtLevels[shownLevel];
+      Object.keys(voxelLayers).forEach(function (c) { if (old[c]) voxelLayers[c].remove(old[c]); });
+    }
+    var b = buildLevel(k);
+    Object.keys(voxelLayers).forEach(function (c) { if (b[c]) voxelLayers[c].add(b[c]); });
+    shownLevel = k;
+    voxelStats.level = k;
+    voxelStats.instances = levels[k].instances;
+    voxelStats.cell = levels[k].cell;
+    voxelStats.factor = levels[k].factor;
+    voxelStats.merged = levels[k].factor > 1;
+    if (detailSelect) detailSelect.value = String(k);
+  }
   view.voxels = voxelStats;
 
   // ---- convex parts -----------------------------------------------------------------------------
-  var hullMeshes = [];
+  // All hulls in one translucent mesh and one set of edges (thousands of parts would otherwise be
+  // thousands of draw calls); the parts a path hits and the part clicked are drawn again on top.
+  var hulls = [];         // per hull: its item, first triangle in the merged mesh, its geometry
+  var hullFaces = null;   // the merged mesh, for picking
   view.parts = [];
+  var partsGroup = layer('parts', 'convex parts', '#875692', data.hulls.items.length + ' hulls of ' +
+                         data.obstacles.length + ' obstacles; click one');
+  function hullOverlay(h, opacity, edgeHex) {
+    var group = new THREE.Group();
+    group.add(new THREE.Mesh(h.faces, new THREE.MeshLambertMaterial({color: h.item.colour, transparent: true,
+                                                                     opacity: opacity, depthWrite: false})));
+    group.add(new THREE.LineSegments(h.edges, new THREE.LineBasicMaterial({color: edgeHex})));
+    return group;
+  }
   (function () {
     var H = data.hulls;
-    var group = layer('parts', 'convex parts', '#875692', H.items.length + ' hulls of ' + data.obstacles.length +
-                      ' obstacles; click one');
     var vertices = floats(H.vertices);
     var triangles = uint32s(H.triangles);
+    var faceCount = 0;
+    H.triangle_counts.forEach(function (n) { faceCount += n; });
+    var facePositions = new Float32Array(9 * faceCount), faceColours = new Float32Array(9 * faceCount);
+    var edgePositions = [], edgeColours = [];
     var vo = 0, to = 0;
     H.items.forEach(function (item, i) {
       var nv = H.vertex_counts[i], nt = H.triangle_counts[i];
       var geometry = new THREE.BufferGeometry();
       geometry.setAttribute('position', new THREE.BufferAttribute(vertices.slice(3 * vo, 3 * (vo + nv)), 3));
       geometry.setIndex(new THREE.BufferAttribute(new Uint16Array(triangles.subarray(3 * to, 3 * (to + nt))), 1));
-      var flat = geometry.toNonIndexed();
-      flat.computeVertexNormals();
-      var material = new THREE.MeshLambertMaterial({color: item.colour, transparent: true, opacity: 0.3,
-                                                   depthWrite: false, side: THREE.DoubleSide});
-      var mesh = new THREE.Mesh(flat, material);
-      mesh.userData.hull = i;
-      var edges = new THREE.LineSegments(new THREE.EdgesGeometry(geometry, 1),
-                                         new THREE.LineBasicMaterial({color: item.colour}));
-      group.add(mesh);
-      group.add(edges);
-      hullMeshes.push({mesh: mesh, edges: edges, item: item});
+      var faces = geometry.toNonIndexed();
+      faces.computeVertexNormals();
+      var edges = new THREE.EdgesGeometry(geometry, 1);
+      var c = colour(item.colour);
+      facePositions.set(faces.attributes.position.array, 9 * to);
+      for (var k = 9 * to; k < 9 * (to + nt); k += 3) { faceColours[k] = c.r; faceColours[k + 1] = c.g; faceColours[k + 2] = c.b; }
+      var e = edges.attributes.position.array;
+      for (k = 0; k < e.length; k += 3) {
+        edgePositions.push(e[k], e[k + 1], e[k + 2]);
+        edgeColours.push(c.r, c.g, c.b);
+      }
+      hulls.push({item: item, first: to, count: nt, faces: faces, edges: edges});
       view.parts.push({obstacle: item.obstacle, part: item.part, volume: item.volume, voxels: item.voxels,
                        vertices: nv, triangles: nt, colour: item.colour, flat: item.flat});
       vo += nv;
       to += nt;
     });
+    var merged = new THREE.BufferGeometry();
+    merged.setAttribute('position', new THREE.BufferAttribute(facePositions, 3));
+    merged.setAttribute('color', new THREE.BufferAttribute(faceColours, 3));
+    merged.computeVertexNormals();
+    // Outward triangles, seen from outside only: half the blending of both sides.
+    hullFaces = new THREE.Mesh(merged, new THREE.MeshLambertMaterial({vertexColors: THREE.VertexColors, transparent: true,
+                                                                      opacity: 0.3, depthWrite: false}));
+    partsGroup.add(hullFaces);
+    var lines = new THREE.BufferGeometry();
+    lines.setAttribute('position', new THREE.BufferAttribute(new Float32Array(edgePositions), 3));
+    lines.setAttribute('color', new THREE.BufferAttribute(new Float32Array(edgeColours), 3));
+    partsGroup.add(new THREE.LineSegments(lines, new THREE.LineBasicMaterial({vertexColors: THREE.VertexColors})));
   })();
   view.obstacles = data.obstacles;
+  // The hull a triangle of the merged mesh belongs to.
+  function hullOfFace(face) {
+    var lo = 0, hi = hulls.length - 1;
+    while (lo < hi) {
+      var mid = (lo + hi + 1) >> 1;
+      if (hulls[mid].first <= face) lo = mid; else hi = mid - 1;
+    }
+    return hulls[lo];
+  }
 
   // ---- floor and ceiling planes -------------------------------------------------------------------
   view.floor = data.floor;
@@ -316,11 +382,10 @@
     });
   }
   // The obstacle a path hits first: all its parts more opaque, the part hit outlined in red.
-  hullMeshes.forEach(function (h) {
+  hulls.forEach(function (h) {
     var hitObstacle = Object.keys(hitHulls).some(function (k) { return Number(k.split('/')[0]) === h.item.obstacle; });
     if (!hitObstacle) return;
-    h.mesh.material.opacity = 0.55;
-    if (hitHulls[h.item.obstacle + '/' + h.item.part]) h.edges.material.color = colour(data.colours.collides);
+    partsGroup.add(hullOverlay(h, 0.5, hitHulls[h.item.obstacle + '/' + h.item.part] ? data.colours.collides : h.item.colour));
   });
 
   // ---- roadmap --------------------------------------------------------------------------------------
@@ -433,12 +498,28 @@
   legend.appendChild(element('p', 'small', text(vx.total) + ' occupied voxels: ' + text(data.obstacles.length) +
                              ' obstacles, ' + text(vx.noise) + ' noise, ' + text(vx.floor) + ' floor, ' + text(vx.ceiling) +
                              ' ceiling; ' + text(data.hulls.items.length) + ' convex parts'));
-  if (vx.factor > 1) {
+  if (levels[0].factor > 1) {
     legend.appendChild(element('p', 'small notice', text(vx.total) + ' voxels are more than the ' + text(vx.max_instances) +
-                               ' cubes this page draws: they are merged into ' + text(voxelStats.instances) + ' cells of ' +
-                               text(vx.cell) + ' map units (' + vx.factor + ' x ' + vx.factor + ' x ' + vx.factor +
-                               ' voxels), each in the colour of an obstacle it holds, else noise, else floor'));
+                               ' cubes this page holds (hullmap view --max-instances): its finest level merges them into ' +
+                               text(levels[0].instances) + ' cells of ' + text(levels[0].cell) + ' map units (' +
+                               levels[0].factor + ' voxels a side)'));
   }
+  var detailRow = element('p', 'small');
+  detailRow.appendChild(document.createTextNode('Detail: '));
+  detailSelect = element('select');
+  detailSelect.id = 'detail';
+  levels.forEach(function (l, k) {
+    var option = element('option', '', l.factor === 1 ? 'every voxel, ' + text(l.instances) + ' cubes'
+                                       : 'cells of ' + text(l.cell) + ' (' + l.factor + ' voxels a side), ' +
+                                         text(l.instances) + ' cubes');
+    option.value = String(k);
+    detailSelect.appendChild(option);
+  });
+  detailSelect.addEventListener('change', function () { setDetail(Number(detailSelect.value)); });
+  detailRow.appendChild(detailSelect);
+  var detailNote = element('span', 'small');
+  detailRow.appendChild(detailNote);
+  legend.appendChild(detailRow);
   (data.warnings || []).forEach(function (w) { legend.appendChild(element('p', 'small', 'warning: ' + w)); });
   legend.appendChild(element('h2', '', 'Layers'));
   layerOrder.forEach(function (name) {
@@ -559,7 +640,11 @@
     var item = h.item;
     return {obstacle: item.obstacle, part: item.part, volume: item.volume, voxels: item.voxels};
   }
+  var selectedOverlay = null;
   function select(h) {
+    if (selectedOverlay) partsGroup.remove(selectedOverlay);
+    selectedOverlay = h ? hullOverlay(h, 0.65, '#000000') : null;
+    if (selectedOverlay) partsGroup.add(selectedOverlay);
     view.selected = h ? describe(h) : null;
     info.textContent = '';
     info.style.display = h ? 'block' : 'none';
@@ -576,9 +661,9 @@
     var rect = canvas.getBoundingClientRect();
     var ndc = new THREE.Vector2((x - rect.left) / rect.width * 2 - 1, -(y - rect.top) / rect.height * 2 + 1);
     raycaster.setFromCamera(ndc, camera);
-    var hits = raycaster.intersectObjects(hullMeshes.map(function (h) { return h.mesh; }));
-    var h = hits.length ? hullMeshes[hits[0].object.userData.hull] : null;
-    select(h);
+    var hits = raycaster.intersectObject(hullFaces);
+    select(hits.length ? hullOfFace(hits[0].faceIndex) : null);
+    render();
     return view.selected;
   }
   var down = null;
@@ -627,12 +712,57 @@
   };
   view.setLayer = setLayer;
   view.setCamera = setCamera;
+  view.setDetail = setDetail;
   view.pickAt = pickAt;
   view.project = project;
   view.measureFrames = measureFrames;
 
+  function setDetail(k) {
+    showLevel(k);
+    detailNote.textContent = voxelStats.merged ? ' (merged: each cell in the colour of an obstacle it holds, else noise, ' +
+                                                 'else floor)' : '';
+    render();
+  }
+  // One frame, drawn and read back: its wall time.
+  function timeFrame() {
+    var gl = renderer.getContext();
+    var t = performance.now();
+    renderer.render(scene, camera);
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+    return performance.now() - t;
+  }
+  // The finest level whose frames take about kFrameTargetMs here, from a frame of the coarsest one
+  // and one without voxels (each after a frame that compiles what it needs).
+  function chooseDetail() {
+    var coarsest = levels.length - 1;
+    showLevel(coarsest);
+    timeFrame();
+    var withVoxels = timeFrame();
+    Object.keys(voxelLayers).forEach(function (c) { voxelLayers[c].visible = false; });
+    var without = timeFrame();
+    Object.keys(voxelLayers).forEach(function (c) { voxelLayers[c].visible = true; });
+    var perCube = Math.max(withVoxels - without, 0) / Math.max(levels[coarsest].instances, 1);
+    var chosen = coarsest;
+    for (var k = 0; k < coarsest; k++) {
+      if (without + perCube * levels[k].instances <= kFrameTargetMs) {
+        chosen = k;
+        break;
+      }
+    }
+    voxelStats.chosen = chosen;
+    voxelStats.frame_ms = withVoxels;
+    voxelStats.frame_without_voxels_ms = without;
+    voxelStats.cube_us = 1000 * perCube;
+    return chosen;
+  }
+
   fitWindow();
   setCamera('free');
+  setDetail(levels.length > 1 ? chooseDetail() : 0);
+  if (levels.length > 1) {
+    detailNote.textContent += '; chosen here: a frame of ' + text(levels[levels.length - 1].instances) + ' cubes took ' +
+      text(voxelStats.frame_ms, 3) + ' ms, and the finest level drawn within about ' + kFrameTargetMs + ' ms a frame is shown';
+  }
   // Loaded: the first frame is drawn and read back.
   var gl = renderer.getContext();
   gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));

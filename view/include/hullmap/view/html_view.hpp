@@ -26,11 +26,17 @@ namespace hullmap::view {
 inline constexpr const char* kThreeDir = "/usr/share/javascript/three";
 inline constexpr const char* kThreePackage = "libjs-three";
 
-/// The most voxel cubes a page draws by default. A build with more occupied voxels is drawn merged
-/// into coarser cells (mergeVoxelCells). Measured in headless Chromium (software WebGL, 2 cores):
-/// a frame of 250,000 cubes takes about 0.2 s there, which keeps orbiting usable; any graphics card
-/// draws it at full rate (docs/FORMATS.md, bench/view_scale.py).
-inline constexpr std::size_t kDefaultMaxInstances = 250000;
+/// The most voxel cubes a page holds at its finest detail by default: a build with more occupied voxels
+/// is merged into coarser cells (mergeVoxelCells) even there. A page of a 1M-voxel build holds every
+/// voxel (about 8 MB of the page) and loads in a few seconds in headless Chromium (docs/BENCHMARKS.md).
+inline constexpr std::size_t kDefaultMaxInstances = 1000000;
+
+/// A page also holds coarser levels of its voxels, each cell twice the size of the last, down to
+/// the first of at most this many cubes (voxelLevels). It draws the finest level that its first frames
+/// say it can draw in about 0.1 s a frame (the user can pick another): with WebGL in software (no
+/// GPU, as headless Chromium in the tests) a cube costs about 10 to 40 microseconds a frame on 2
+/// cores, so only the coarsest level stays interactive there; a GPU draws 1M cubes at full rate.
+inline constexpr std::size_t kCoarsestCubes = 10000;
 
 /// A path to check and draw, map frame, map units.
 struct ViewPath {
@@ -91,7 +97,7 @@ ViewScene readScene(const std::filesystem::path& build_dir, ViewInputs inputs);
 /// How a page is written.
 struct ViewParams {
   std::filesystem::path three_dir = kThreeDir;       ///< holds three.min.js and examples/js/controls/OrbitControls.js
-  std::size_t max_instances = kDefaultMaxInstances;  ///< voxel cubes drawn at most (>= 1)
+  std::size_t max_instances = kDefaultMaxInstances;  ///< voxel cubes held at the finest level (>= 1)
 };
 
 /// Voxels merged for drawing: each cell of `cell` = `factor` x resolution (factor a power of two,
@@ -115,12 +121,19 @@ struct VoxelCells {
 VoxelCells mergeVoxelCells(const std::vector<Eigen::Vector3d>& centers, const std::vector<std::int32_t>& labels,
                            double resolution, std::size_t max_cells);
 
+/// The levels of detail a page holds: the first is mergeVoxelCells(centers, labels, resolution,
+/// max_cells); each next one merges cells of twice the factor (the same rule, from the voxels), until
+/// one holds at most `coarsest_cells` cells (or the factor reaches 65,536). Throws as mergeVoxelCells.
+std::vector<VoxelCells> voxelLevels(const std::vector<Eigen::Vector3d>& centers, const std::vector<std::int32_t>& labels,
+                                    double resolution, std::size_t max_cells, std::size_t coarsest_cells = kCoarsestCubes);
+
 /// What a page holds, for the command's summary and for tests.
 struct ViewPage {
   std::string html;                 ///< the document
   std::size_t voxels = 0;           ///< occupied voxels of the scene
-  std::size_t instances = 0;        ///< cubes drawn (cells after merging)
-  int merge_factor = 1;             ///< VoxelCells::factor
+  std::size_t instances = 0;        ///< cubes at the finest level (cells after merging)
+  int merge_factor = 1;             ///< VoxelCells::factor of the finest level
+  std::vector<std::size_t> levels;  ///< cubes at each level of detail, finest first
   std::size_t hulls = 0;            ///< convex parts drawn (whole hulls for obstacles without parts)
   std::size_t colliding_paths = 0;  ///< paths whose check found a collision
 };
