@@ -12,6 +12,7 @@
 #include "hullmap/core/error.hpp"
 #include "hullmap/pipeline/path_checker.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/pipeline/trajectory_file.hpp"
 #include "hullmap/planning/roadmap_json.hpp"
 #include "hullmap/plot/svg_plot.hpp"
 #include "option_checks.hpp"
@@ -72,6 +73,9 @@ void runPlot(const PlotOptions& o) {
   }
   const fs::path obstacles_json = fs::path(o.dir) / "obstacles.json";
   plot.obstacles = pipeline::readObstacles(obstacles_json);
+  plot.floor_label = pipeline::kFloorLabel;
+  if (const auto keyframes = pipeline::readBuildTrajectory(o.dir))
+    for (const auto& k : *keyframes) plot.keyframes.push_back(k.position);
   if (!o.roadmap.empty()) {
     const planning::Roadmap roadmap = planning::readRoadmapJson(o.roadmap);
     plot::PlotRoadmap drawn;
@@ -99,6 +103,7 @@ void runPlot(const PlotOptions& o) {
   std::cout << "plot: " << (o.side ? "side view (x-z)" : "top view (x-y)") << ", " << plot.centers.size()
             << " voxels drawn as " << picture.cells << " cells, " << plot.obstacles.size() << " obstacles";
   if (picture.hidden_voxels > 0) std::cout << ", " << picture.hidden_voxels << " far noise voxels not drawn";
+  if (!plot.keyframes.empty()) std::cout << ", " << plot.keyframes.size() << " keyframes";
   if (plot.roadmap) std::cout << ", roadmap of " << plot.roadmap->edges.size() << " edges";
   if (!plot.paths.empty()) std::cout << ", " << plot.paths.size() << " path" << (plot.paths.size() > 1 ? "s" : "");
   std::cout << "\n";
