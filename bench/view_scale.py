@@ -1,9 +1,8 @@
 #!/usr/bin/python3
 """Prints the "## The viewer" section of docs/BENCHMARKS.md (markdown) to stdout: how big `hullmap view`'s
 page is and how long it takes to load and to draw a frame in headless Chromium, for builds of about
-10k, 100k and 1M occupied voxels, at the default budget (voxels merged into coarser cells past
-view::kDefaultMaxInstances cubes) and with every voxel drawn; then the frame time against the cubes
-drawn, from which the budget is chosen.
+10k, 100k and 1M occupied voxels; then the frame time of each of the page's levels of detail against
+the cubes it draws (from which the page's choice of level and view::kCoarsestCubes come).
 
 usage: bench/view_scale.py BUILD_DIR [--quick]
 
@@ -62,76 +61,65 @@ for name, args, points in builds:
     _, seconds = run("build", *args, "-o", out)
     made.append((name, out, seconds))
 
-browser = headless_chromium.Browser(1280, 800, script_timeout=1800)
+browser = headless_chromium.Browser(1280, 800, script_timeout=3600)
 
 
-def measure(page, frames):
-    size = os.path.getsize(page)
-    loads = []
-    summary = None
-    for _ in range(1 if size > 50e6 else 3):
-        errors, summary = browser.load(page, timeout=600)
-        if errors or not summary or not summary.get("ready"):
-            sys.exit("view_scale.py: %s did not load: %s" % (page, errors))
-        loads.append(summary["load_ms"])
-    frame = browser.run("return hullmapView.measureFrames(arguments[0])", frames)
-    return {"size": size, "load_ms": statistics.median(loads), "frame_ms": frame["median_ms"],
-            "instances": summary["voxels"]["instances"], "voxels": summary["voxels"]["total"],
-            "factor": summary["voxels"]["factor"], "cell": summary["voxels"]["cell"], "parts": len(summary["parts"])}
+def load(page):
+    errors, summary = browser.load(page, timeout=600)
+    if errors or not summary or not summary.get("ready"):
+        sys.exit("view_scale.py: %s did not load: %s" % (page, errors))
+    return summary
 
 
 rows = []
-points = []  # (cubes drawn, frame ms)
+points = []  # (build, cubes drawn, frame ms)
 for name, out, build_seconds in made:
-    for budget in (None, "100000000"):
-        page = out + ("_all" if budget else "") + ".html"
-        args = ["view", out, "-o", page] + (["--max-instances", budget] if budget else [])
-        _, write_seconds = run(*args)
-        m = measure(page, 3 if budget else 5)
-        m.update(name=name, budget=budget, write_s=write_seconds)
-        rows.append(m)
-        points.append((m["instances"], m["frame_ms"]))
-    # Coarser cells of the same build, for the frame time against the cubes drawn.
-    for budget in ("50000", "20000"):
-        page = out + "_" + budget + ".html"
-        run("view", out, "-o", page, "--max-instances", budget)
-        m = measure(page, 5)
-        if m["instances"] not in [p[0] for p in points]:
-            points.append((m["instances"], m["frame_ms"]))
+    page = out + ".html"
+    _, write_seconds = run("view", out, "-o", page)
+    size = os.path.getsize(page)
+    loads = [load(page) for _ in range(1 if size > 50e6 else 3)]
+    summary = loads[-1]
+    v = summary["voxels"]
+    drawn = browser.run("return hullmapView.measureFrames(5)")["median_ms"]
+    rows.append({"name": name, "voxels": v["total"], "parts": len(summary["parts"]), "build_s": build_seconds,
+                 "size": size, "write_s": write_seconds, "load_ms": statistics.median(s["load_ms"] for s in loads),
+                 "levels": v["levels"], "level": v["level"], "frame_ms": drawn})
+    for k, level in enumerate(v["levels"]):
+        browser.run("hullmapView.setDetail(arguments[0])", k)
+        frames = 1 if level["instances"] > 300000 else 3
+        points.append((name, level["instances"], browser.run("return hullmapView.measureFrames(arguments[0])",
+                                                              frames)["median_ms"]))
 browser.quit()
 
-load = os.getloadavg()
+load_average = os.getloadavg()
 print("## The viewer: `hullmap view`")
 print()
-print("`bench/view_scale.py BUILD_DIR`: the page of a build (`hullmap view OUT`) loaded from file:// in headless")
-print("Chromium (Debian's, `--headless=new --use-angle=swiftshader`: WebGL in software on the CPU, no GPU), 1280 x 800.")
-print("*Load*: from navigation to the first frame drawn and read back (the page's `hullmapView.load_ms`), median of")
-print("3 loads. *Frame*: median of `hullmapView.measureFrames`, each frame drawn and read back before the next. The")
-print("builds: `maps/simple` as in the README; `hullmap generate --points N --obstacles 40 --room 20 --seed 42`, built")
-print("with `--up -y` and the eps/minPts given (convex parts at the defaults).")
+print("`bench/view_scale.py BUILD_DIR`: the page of a build (`hullmap view OUT`, default budget: every voxel up to")
+print("1M cubes) loaded from file:// in headless Chromium (Debian's, `--headless=new --use-angle=swiftshader`: WebGL in")
+print("software on the CPU, no GPU), 1280 x 800. *Load*: from navigation to the first frame drawn at the level the page")
+print("chose and read back (the page's `hullmapView.load_ms`), median of 3 loads; it includes the three frames the page")
+print("times to choose its level. *Frame*: median of `hullmapView.measureFrames` (each frame drawn and read back before")
+print("the next). The builds: `maps/simple` as in the README; `hullmap generate --points N --obstacles 40 --room 20")
+print("--seed 42`, built with `--up -y` and the eps/minPts given, convex parts at the defaults.")
 print()
-print("| build | voxels | convex parts | build s | page | cubes drawn | page MB | write s | load s | frame ms |")
-print("|---|---:|---:|---:|---|---:|---:|---:|---:|---:|")
+print("| build | voxels | convex parts | build s | page MB | write s | load s | levels of detail (cubes) | drawn | frame ms |")
+print("|---|---:|---:|---:|---:|---:|---:|---|---:|---:|")
 for r in rows:
-    build_s = [b[2] for b in made if b[0] == r["name"]][0]
-    page = "every voxel (`--max-instances 100000000`)" if r["budget"] else \
-        ("default budget" + (": merged into cells of %g (%d voxels a side)" % (r["cell"], r["factor"]) if r["factor"] > 1 else ""))
-    print("| %s | %s | %s | %.1f | %s | %s | %.1f | %.2f | %.2f | %.0f |" % (
-        r["name"], format(r["voxels"], ","), format(r["parts"], ","), build_s, page, format(r["instances"], ","),
-        r["size"] / 1e6, r["write_s"], r["load_ms"] / 1000, r["frame_ms"]))
+    print("| %s | %s | %s | %.1f | %.1f | %.2f | %.2f | %s | %s | %.0f |" % (
+        r["name"], format(r["voxels"], ","), format(r["parts"], ","), r["build_s"], r["size"] / 1e6, r["write_s"],
+        r["load_ms"] / 1000, ", ".join(format(l["instances"], ",") for l in r["levels"]),
+        format(r["levels"][r["level"]]["instances"], ","), r["frame_ms"]))
 print()
-points.sort()
-print("Frame time against the cubes drawn (every page above, and the same builds at `--max-instances` 50,000 and")
-print("20,000):")
+print("Frame time of each level (`hullmapView.setDetail(k)`, median of 3 frames, 1 above 300,000 cubes):")
 print()
-print("| cubes drawn | " + " | ".join(format(p[0], ",") for p in points) + " |")
+print("| build | " + " | ".join("%s cubes" % format(p[1], ",") for p in points) + " |")
 print("|---|" + "---:|" * len(points))
-print("| frame ms | " + " | ".join("%.0f" % p[1] for p in points) + " |")
+print("| frame ms | " + " | ".join("%.0f" % p[2] for p in points) + " |")
 print()
 if len(points) >= 2:
     n = len(points)
-    mx = sum(p[0] for p in points) / n
-    my = sum(p[1] for p in points) / n
-    slope = sum((p[0] - mx) * (p[1] - my) for p in points) / max(1e-9, sum((p[0] - mx) ** 2 for p in points))
-    print("Least squares: %.1f ms + %.2f ms per 1,000 cubes. Load average %.2f %.2f %.2f at the end." % (
-        my - slope * mx, 1000 * slope, *load))
+    mx = sum(p[1] for p in points) / n
+    my = sum(p[2] for p in points) / n
+    slope = sum((p[1] - mx) * (p[2] - my) for p in points) / max(1e-9, sum((p[1] - mx) ** 2 for p in points))
+    print("Least squares over the levels: %.0f ms + %.1f us per cube. Load average %.2f %.2f %.2f at the end." % (
+        my - slope * mx, 1000 * slope, *load_average))
