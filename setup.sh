@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # hullmap set-up: installs what is missing (Debian 12 packages), builds, then
-#   ./setup.sh demo   runs `hullmap build --align` on maps/room and prints `hullmap evaluate`'s verdict
+#   ./setup.sh demo   runs `hullmap build --align` on maps/room, prints `hullmap evaluate`'s verdict and
+#                     writes out/room.html (`hullmap view`)
 #   ./setup.sh test   runs the whole test suite (ctest)
 #   ./setup.sh bench  installs the peers (Open3D, scikit-learn) too and regenerates docs/BENCHMARKS.md
 #   ./setup.sh quality  installs Open3D and SciPy too and regenerates docs/QUALITY.md (bench/run_quality.sh)
@@ -17,13 +18,15 @@ jobs=${JOBS:-$(nproc)}
 packages=(build-essential cmake pkg-config liboctomap-dev libfcl-dev libcgal-dev libeigen3-dev
           libtbb-dev liblzf-dev libcli11-dev nlohmann-json3-dev libnanoflann-dev libgtest-dev libbenchmark-dev
           libompl-dev ccache)
+# three.js for `hullmap view`'s page (the demo writes one).
+packages+=(libjs-three)
 if [ "$mode" = test ]; then
   # python3-sklearn: DBSCAN oracle on real maps; librsvg2-bin: PNG rendering test;
   # clang + libclang-rt-14-dev: the libFuzzer targets that .ci/run runs briefly.
   packages+=(python3 python3-sklearn python3-numpy librsvg2-bin xz-utils clang libclang-rt-14-dev)
-  # hullmap view: three.js (libjs-three) for the page, and headless Chromium driven by selenium for
-  # test/view_browser_test.py (python3-pil reads its screenshots).
-  packages+=(libjs-three chromium chromium-driver python3-selenium python3-pil)
+  # hullmap view's test/view_browser_test.py: headless Chromium driven by selenium (python3-pil reads
+  # its screenshots).
+  packages+=(chromium chromium-driver python3-selenium python3-pil)
   # ROS1 (Debian's): hullmap_node and bag input are built only when found, so the tests install them;
   # pluginlib-dev holds headers that rosbag/bag.h includes; the python3-* message modules, rospy,
   # rosbag and ros-core (rosmaster) are what test/ros_*.py publish, record and run with.
@@ -36,6 +39,8 @@ if [ "$mode" = bench ]; then
   # The peers a user would pick instead (Open3D's and scikit-learn's DBSCAN), and /usr/bin/time.
   # python3-venv: a venv for the PyPI peer `dbscan` (Wang, Gu and Shun's exact parallel DBSCAN).
   packages+=(python3 python3-numpy python3-sklearn python3-open3d python3-venv time bc)
+  # bench/view_scale.py: hullmap view's page in headless Chromium.
+  packages+=(chromium chromium-driver python3-selenium python3-pil)
 fi
 if [ "$mode" = quality ]; then
   # The Open3D pipeline a user would assemble, numpy/scipy for the alignment and footprints, and
@@ -88,6 +93,9 @@ if [ "$mode" = demo ]; then
   "$hullmap" evaluate out/room --truth $m/ground_truth.json --radius 0.3
   echo "== $hullmap check out/room --radius 0.3 --segments $m/segments.txt"
   "$hullmap" check out/room --radius 0.3 --segments $m/segments.txt || [ $? -eq 1 ]
+  echo "== $hullmap view out/room -o out/room.html"
+  "$hullmap" view out/room -o out/room.html
+  echo "== open out/room.html in a browser to see the build in 3D"
   echo "== outputs in out/room: $(ls out/room | tr '\n' ' ')"
 else
   ctest --test-dir "$build_dir" --output-on-failure -j"$jobs"
