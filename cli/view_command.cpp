@@ -84,17 +84,17 @@ void runView(const ViewOptions& o) {
   const view::ViewScene scene = view::readScene(o.dir, std::move(inputs));
   const view::ViewPage page = view::writePage(scene, output, params);
 
-  std::cout << "view: " << page.voxels << " voxels drawn as " << page.instances;
+  std::cout << "view: " << page.voxels << " voxels, " << page.instances;
   if (page.merge_factor > 1) {
     std::cout << " cells of " << scene.resolution * page.merge_factor << " (" << page.merge_factor
-              << " voxels a side: more than --max-instances " << o.max_instances << ")";
+              << " voxels a side: more than --max-instances " << o.max_instances << ") at the finest level";
   } else {
-    std::cout << " cubes";
+    std::cout << " cubes at the finest level";
   }
   if (page.levels.size() > 1) {
-    std::cout << " (coarser levels: ";
+    std::cout << " (coarser: ";
     for (std::size_t k = 1; k < page.levels.size(); ++k) std::cout << (k > 1 ? ", " : "") << page.levels[k];
-    std::cout << " cubes)";
+    std::cout << ")";
   }
   std::cout << ", " << scene.obstacles.size() << " obstacles in " << page.hulls << " hulls";
   if (!scene.keyframes.empty()) std::cout << ", " << scene.keyframes.size() << " keyframes";

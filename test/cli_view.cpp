@@ -75,8 +75,9 @@ TEST(ViewCommand, WritesDirHtmlBesideTheBuildAndSaysWhatItDrew) {
   EXPECT_FALSE(fs::exists(dir / "out" / "out.html"));
   const json data = pageData(slurp(dir / "out.html"));
   std::ostringstream first;
-  first << "view: " << data["voxels"]["total"].get<std::size_t>() << " voxels drawn as "
-        << data["voxels"]["total"].get<std::size_t>() << " cubes, " << data["obstacles"].size() << " obstacles in "
+  first << "view: " << data["voxels"]["total"].get<std::size_t>() << " voxels, "
+        << data["voxels"]["total"].get<std::size_t>() << " cubes at the finest level, " << data["obstacles"].size()
+        << " obstacles in "
         << data["hulls"]["items"].size() << " hulls, 60 keyframes\n";
   EXPECT_EQ(r.out.rfind(first.str(), 0), 0u) << r.out;
   EXPECT_NE(r.out.find("wrote " + (dir / "out").string() + ".html"), std::string::npos) << r.out;
@@ -127,7 +128,7 @@ TEST(ViewCommand, MoreVoxelsThanMaxInstancesAreMergedAndSaid) {
   const fs::path dir = builtScene("view_merge");
   const auto r = runHullmap("view " + q(dir / "out") + " -o " + q(dir / "page.html") + " --max-instances 300");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("voxels a side: more than --max-instances 300)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("voxels a side: more than --max-instances 300) at the finest level"), std::string::npos) << r.out;
   const json data = pageData(slurp(dir / "page.html"));
   EXPECT_GT(data["voxels"]["levels"][0]["factor"].get<int>(), 1);
   EXPECT_LE(data["voxels"]["levels"][0]["instances"].get<std::size_t>(), 300u);

@@ -374,7 +374,7 @@
         hitHulls[s.obstacle + '/' + s.part] = true;
         pathGroup.add(label('first contact' + (data.paths.length > 1 ? ' (' + path.name + ')' : ''),
                             contact.clone().add(new THREE.Vector3(0, 0, 2.2 * Math.max(data.radius, rodRadius))),
-                            0.028 * size, data.colours.collides));
+                            0.018 * size, data.colours.collides));
       }
       view.paths.push({name: path.name, colour: path.colour, radius: data.radius, waypoints: path.waypoints,
                        segments: path.segments, collides: first !== null, first_colliding_segment: first,
@@ -480,7 +480,7 @@
     var perUnit = canvas.clientHeight / visible;
     var length = niceStep(120 / perUnit);
     scaleBar.style.width = Math.round(length * perUnit) + 'px';
-    scaleText.textContent = text(length) + ' map units at the orbit centre';
+    scaleText.textContent = text(length) + (length === 1 ? ' map unit' : ' map units') + ' at the orbit centre';
   }
 
   // ---- legend, toggles, cameras, picking --------------------------------------------------------------
@@ -636,6 +636,16 @@
     render();
   }
 
+  // The camera at `eye` looking at `target` (map frame): for tools that want a given picture.
+  function setView(eye, target) {
+    controls.target.copy(local(target));
+    camera.position.copy(local(eye));
+    controls.update();
+    Object.keys(buttons).forEach(function (k) { buttons[k].className = ''; });
+    view.camera = 'custom';
+    render();
+  }
+
   function describe(h) {
     var item = h.item;
     return {obstacle: item.obstacle, part: item.part, volume: item.volume, voxels: item.voxels};
@@ -713,6 +723,7 @@
   view.setLayer = setLayer;
   view.setCamera = setCamera;
   view.setDetail = setDetail;
+  view.setView = setView;
   view.pickAt = pickAt;
   view.project = project;
   view.measureFrames = measureFrames;
