@@ -112,9 +112,10 @@ for r in rows:
 print()
 print("Frame time of each level (`hullmapView.setDetail(k)`, median of 3 frames, 1 above 300,000 cubes):")
 print()
-print("| build | " + " | ".join("%s cubes" % format(p[1], ",") for p in points) + " |")
-print("|---|" + "---:|" * len(points))
-print("| frame ms | " + " | ".join("%.0f" % p[2] for p in points) + " |")
+print("| build | cubes | frame ms |")
+print("|---|---:|---:|")
+for p in points:
+    print("| %s | %s | %.0f |" % (p[0], format(p[1], ","), p[2]))
 print()
 for r in rows:
     mine = [p for p in points if p[0] == r["name"]]

@@ -1,10 +1,14 @@
 // A user's program: `hullmap build` on a point file through the installed hullmap::pipeline, the
-// output directory written, its obstacles read back and a segment checked among them.
+// output directory written, its obstacles read back and a segment checked among them, and the
+// build's page of hullmap::view (when Debian's libjs-three is there to inline).
 // Usage: consumer POINTS OUT_DIR; prints the obstacle count.
 #include <cstdio>
+#include <filesystem>
+#include <string>
 
 #include <hullmap/collision/path_check.hpp>
 #include <hullmap/pipeline/pipeline.hpp>
+#include <hullmap/view/html_view.hpp>
 
 int main(int argc, char** argv) {
   if (argc != 3) return 2;
@@ -16,4 +20,8 @@ int main(int argc, char** argv) {
   const hullmap::collision::HullChecker checker(obstacles);
   const auto hit = checker.check({Eigen::Vector3d(-4, 0, 1), Eigen::Vector3d(4, 0, 1)}, 0.3);
   std::printf("%zu obstacles, segment %s\n", obstacles.size(), hit.collides ? "collides" : "clear");
+  if (std::filesystem::exists(std::filesystem::path(hullmap::view::kThreeDir) / "three.min.js")) {
+    const auto page = hullmap::view::writePage(hullmap::view::readScene(argv[2], {}), std::string(argv[2]) + ".html");
+    std::printf("page of %zu voxels, %zu hulls\n", page.voxels, page.hulls);
+  }
 }
