@@ -46,13 +46,13 @@ def decode_png(data):
 class Browser:
     """One headless Chromium; `with Browser() as b: summary = b.load(path)`."""
 
-    def __init__(self, width=1280, height=800, script_timeout=120):
+    def __init__(self, width=1280, height=800, script_timeout=120, flags=()):
         from selenium import webdriver
         from selenium.webdriver.chrome.service import Service
         self.profile = tempfile.mkdtemp(prefix="hullmap-chromium-")
         options = webdriver.ChromeOptions()
         options.binary_location = CHROMIUM
-        for flag in FLAGS + ["--user-data-dir=" + self.profile, "--window-size=%d,%d" % (width, height)]:
+        for flag in FLAGS + list(flags) + ["--user-data-dir=" + self.profile, "--window-size=%d,%d" % (width, height)]:
             options.add_argument(flag)
         options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
         self.driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)

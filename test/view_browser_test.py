@@ -276,6 +276,14 @@ class Failures(unittest.TestCase):
         with self.assertRaises(AssertionError):
             load(broken)
 
+    def test_without_webgl_the_page_says_so_and_fails(self):
+        with headless_chromium.Browser(800, 600, flags=["--disable-3d-apis"]) as plain:
+            errors, summary = plain.load(os.path.join(TMP, "room.html"))
+            self.assertTrue(any("WebGL" in e for e in errors), errors)
+            self.assertFalse(summary["ready"])
+            self.assertIn("no WebGL", plain.driver.find_element("id", "hullmap-no-webgl").text)
+
+
 class Detail(unittest.TestCase):
     """The levels of detail: every voxel at the finest unless over the budget, the level drawn chosen
     from a frame, another picked in the legend."""

@@ -42,7 +42,20 @@
   var canvas = document.createElement('canvas');
   canvas.id = 'hullmap-canvas';
   document.body.appendChild(canvas);
-  var renderer = new THREE.WebGLRenderer({canvas: canvas, antialias: true, preserveDrawingBuffer: true});
+  var renderer;
+  try {
+    renderer = new THREE.WebGLRenderer({canvas: canvas, antialias: true, preserveDrawingBuffer: true});
+  } catch (e) {
+    // Without WebGL nothing can be drawn: say so on the page (hullmapView.ready stays false).
+    var message = element('div', '', 'hullmap view: this browser gives the page no WebGL (' + e.message + '), and ' +
+                          'the page draws with WebGL. Open it in a browser with WebGL on (any current Chromium or ' +
+                          'Firefox with graphics acceleration, or a software renderer). The build: ' + data.title + ', ' +
+                          data.voxels.total + ' voxels, ' + data.obstacles.length + ' obstacles.');
+    message.id = 'hullmap-no-webgl';
+    document.body.appendChild(message);
+    view.errors.push('no WebGL: ' + e.message);
+    return;
+  }
   renderer.setPixelRatio(window.devicePixelRatio || 1);
   renderer.setSize(window.innerWidth, window.innerHeight, false);
   var scene = new THREE.Scene();
