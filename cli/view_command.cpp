@@ -1,4 +1,5 @@
 #include <cctype>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -104,7 +105,9 @@ void runView(const ViewOptions& o) {
     std::cout << ", " << scene.paths.size() << " path" << (scene.paths.size() > 1 ? "s" : "") << " ("
               << page.colliding_paths << " colliding)";
   }
-  std::cout << "\nwrote " << output << " (" << (page.html.size() + 512 * 1024) / (1024 * 1024) << " MiB)\n";
+  char size[32];
+  std::snprintf(size, sizeof size, "%.1f MB", static_cast<double>(page.html.size()) / 1e6);
+  std::cout << "\nwrote " << output << " (" << size << ")\n";
   for (const auto& p : scene.paths) {
     if (!p.check.first_colliding_segment) continue;
     std::cout << (scene.paths.size() > 1 ? p.path.name + ": " : std::string())
