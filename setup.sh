@@ -5,19 +5,30 @@
 #   ./setup.sh test   runs the whole test suite (ctest)
 #   ./setup.sh bench  installs the peers (Open3D, scikit-learn) too and regenerates docs/BENCHMARKS.md
 #   ./setup.sh quality  installs Open3D and SciPy too and regenerates docs/QUALITY.md (bench/run_quality.sh)
+#   ./setup.sh packages MODE    prints MODE's package list, one a line (installs nothing)
+#   ./setup.sh cmake-args MODE  prints the cmake arguments MODE configures with
+# (.ci/check_packages.sh reads both to check that each mode installs all its build links and includes.)
 # Environment: BUILD_DIR (default build), JOBS (default: number of cores).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")"
 
+usage="usage: $0 demo|test|bench|quality, or $0 packages|cmake-args demo|test|bench|quality"
+query=""
+if [ "${1:-}" = packages ] || [ "${1:-}" = cmake-args ]; then
+  query=$1
+  shift
+  [ $# -eq 1 ] || { echo "$usage" >&2; exit 2; }
+fi
 mode=${1:-demo}
-case "$mode" in demo|test|bench|quality) ;; *) echo "usage: $0 demo|test|bench|quality" >&2; exit 2 ;; esac
+case "$mode" in demo|test|bench|quality) ;; *) echo "$usage" >&2; exit 2 ;; esac
 build_dir=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc)}
 
-# Library packages hullmap builds against, and the tools its tests use.
+# Library packages hullmap builds against, and the tools its tests use. OMPL's CMake config names
+# Boost's filesystem, serialization and system libraries, which libompl-dev does not depend on.
 packages=(build-essential cmake pkg-config liboctomap-dev libfcl-dev libcgal-dev libeigen3-dev
           libtbb-dev liblzf-dev libcli11-dev nlohmann-json3-dev libnanoflann-dev libgtest-dev libbenchmark-dev
-          libompl-dev ccache)
+          libompl-dev libboost-filesystem-dev libboost-serialization-dev libboost-system-dev ccache)
 # three.js for `hullmap view`'s page (the demo writes one).
 packages+=(libjs-three)
 if [ "$mode" = test ]; then
@@ -46,6 +57,20 @@ if [ "$mode" = quality ]; then
   # The Open3D pipeline a user would assemble, numpy/scipy for the alignment and footprints, and
   # rsvg-convert for the pictures.
   packages+=(python3 python3-numpy python3-scipy python3-open3d librsvg2-bin)
+fi
+
+# What each mode configures: the demo builds the library and the CLI only (ROS and the tests are
+# not installed for it); the test mode everything its packages allow.
+cmake_args=(-DHULLMAP_BUILD_TESTS=OFF -DHULLMAP_BUILD_ROS=OFF)
+[ "$mode" = test ] && cmake_args=(-DHULLMAP_BUILD_TESTS=ON -DHULLMAP_BUILD_ROS=ON)
+
+if [ "$query" = packages ]; then
+  printf '%s\n' "${packages[@]}"
+  exit 0
+fi
+if [ "$query" = cmake-args ]; then
+  echo "${cmake_args[*]}"
+  exit 0
 fi
 
 missing=()
@@ -79,7 +104,7 @@ if [ "$mode" = quality ]; then
 fi
 
 echo "== building in $build_dir"
-cmake -S . -B "$build_dir" -DHULLMAP_BUILD_TESTS=$([ "$mode" = test ] && echo ON || echo OFF) >/dev/null
+cmake -S . -B "$build_dir" "${cmake_args[@]}" >/dev/null
 cmake --build "$build_dir" -j"$jobs"
 
 if [ "$mode" = demo ]; then

@@ -40,6 +40,7 @@ struct BuildOptions {
   std::string align_format = "tum";
   double align_tolerance = mapper::AlignParams{}.stamp_tolerance;
   std::string floor = "auto";
+  std::string level = "auto";
   std::string ceiling = "none";
   std::string eps = "auto";
   std::string min_pts = "auto";
@@ -69,6 +70,7 @@ pipeline::BuildParams toParams(const BuildOptions& o) {
     params.align = align;
   }
   params.floor = mapper::parsePlaneSetting("--floor", o.floor);
+  params.level = o.level == "on" ? pipeline::Level::kOn : o.level == "off" ? pipeline::Level::kOff : pipeline::Level::kAuto;
   params.ceiling = mapper::parsePlaneSetting("--ceiling", o.ceiling);
   if (o.eps != "auto") params.eps = number(o.eps);
   if (o.min_pts != "auto") params.min_pts = std::stoi(o.min_pts);
@@ -129,7 +131,7 @@ void refuseMisfits(const CLI::App& cmd, const BuildOptions& options) {
   std::string given;
   for (const char* name : {"--trajectory", "--origin", "--up", "--scale", "--crop", "--z-min", "--z-max",
                            "--resolution", "--max-range", "--hit", "--miss", "--clamp-min", "--clamp-max",
-                           "--occupancy-threshold", "--align", "--floor", "--ceiling"}) {
+                           "--occupancy-threshold", "--align", "--floor", "--level", "--ceiling"}) {
     if (cmd.count(name) > 0) given += (given.empty() ? "" : ", ") + std::string(name);
   }
   if (given.empty()) return;
@@ -165,7 +167,10 @@ pipeline::BuildResult buildFromBag(const BuildOptions& options, const pipeline::
               << (bag.skipped == 1 ? "" : "s") << " on " << *options.topic << " skipped\n";
   }
   if (bag.points.empty()) throw Error(options.inputs.front() + ": topic " + *options.topic + " ends on an empty map");
-  return pipeline::buildFromPoints(std::move(bag.points), std::move(keyframes), params, options.inputs.front(),
+  // ORB-SLAM's map markers are in its first camera's frame; a PointCloud2 is taken as the frame it names.
+  pipeline::BuildParams bag_params = params;
+  if (!bag_params.camera_frame) bag_params.camera_frame = bag.type == "visualization_msgs/Marker";
+  return pipeline::buildFromPoints(std::move(bag.points), std::move(keyframes), bag_params, options.inputs.front(),
                                    options.inputs.front() + ":" + options.trajectory_topic.value_or(""));
 #else
   (void)params;
@@ -174,7 +179,7 @@ pipeline::BuildResult buildFromBag(const BuildOptions& options, const pipeline::
 #endif
 }
 
-std::string planeText(const pipeline::PlaneReport& r, const char* what) {
+std::string planeText(const pipeline::PlaneReport& r, const char* what, bool aligned) {
   std::ostringstream s;
   s << what << ": ";
   using Mode = mapper::PlaneSetting::Mode;
@@ -187,9 +192,13 @@ std::string planeText(const pipeline::PlaneReport& r, const char* what) {
   } else if (r.levelled) {
     s << "found, tilt " << r.fit.tilt_deg << " deg, " << 100.0 * r.fit.inlier_share
       << "% of the points; levelled to z = 0";
-  } else {
+  } else if (aligned) {
     s << "found at " << p.offset / p.normal.z() << " (normal " << p.normal.x() << ' ' << p.normal.y() << ' '
       << p.normal.z() << "), " << 100.0 * r.fit.inlier_share << "% of the points";
+  } else {
+    s << "found at " << p.offset / p.normal.z() << " (normal " << p.normal.x() << ' ' << p.normal.y() << ' '
+      << p.normal.z() << ", tilt " << r.fit.tilt_deg << " deg), " << 100.0 * r.fit.inlier_share << "% of the points";
+    if (std::string(what) == "floor") s << "; map kept in its frame";
   }
   s << "; " << r.voxels << " voxels not clustered";
   return s.str();
@@ -206,7 +215,8 @@ void printStages(const pipeline::BuildResult& result) {
               << a.matched << " keyframes matched, " << a.unmatched << " unmatched\n";
   }
   if (pipeline::readsOctree(result.params)) return;
-  std::cout << planeText(report.floor, "floor") << "\n" << planeText(report.ceiling, "ceiling") << "\n";
+  const bool aligned = report.alignment.has_value();
+  std::cout << planeText(report.floor, "floor", aligned) << "\n" << planeText(report.ceiling, "ceiling", aligned) << "\n";
 }
 
 void printClustering(const pipeline::BuildResult& result) {
@@ -267,9 +277,13 @@ void addBuildCommand(CLI::App& app, int& status) {
       ->capture_default_str();
   cmd->add_option("--scale", options->scale, "Scale applied to input coordinates (monocular maps)")
       ->check(numberAbove(0))->capture_default_str();
-  cmd->add_option("--crop", options->crop, "x0,y0,z0,x1,y1,z1: keep points inside this box (map frame)");
-  cmd->add_option("--z-min", options->z_min, "Keep points with z >= this (map frame)")->check(finiteNumber());
-  cmd->add_option("--z-max", options->z_max, "Keep points with z <= this (map frame)")->check(finiteNumber());
+  cmd->add_option("--crop", options->crop,
+                  "x0,y0,z0,x1,y1,z1: keep points inside this box (output frame: after --up/--scale or --align and "
+                  "levelling; the input frame when none moved the map)");
+  cmd->add_option("--z-min", options->z_min, "Keep points with z >= this (output frame, as --crop)")
+      ->check(finiteNumber());
+  cmd->add_option("--z-max", options->z_max, "Keep points with z <= this (output frame, as --crop)")
+      ->check(finiteNumber());
   auto& octree = options->params.octree;
   cmd->add_option("--resolution", octree.resolution, "Octree leaf size, map units")
       ->check(numberAbove(0))
@@ -296,9 +310,13 @@ void addBuildCommand(CLI::App& app, int& status) {
                   "Seconds within which a keyframe matches a reference stamp")
       ->check(numberAbove(0, true))->capture_default_str();
   cmd->add_option("--floor", options->floor,
-                  "auto: find the floor (level it at z = 0 unless --align), none, or its height Z; "
-                  "floor voxels are not clustered")
+                  "auto: find the floor, none, or its height Z; floor voxels are not clustered, and the floor is an "
+                  "obstacle for check and plan")
       ->check(wordOr({"auto", "none"}, finiteNumber()))->capture_default_str();
+  cmd->add_option("--level", options->level,
+                  "auto: level a found floor (rotate it level, move it to z = 0) only for a camera's frame (ORB-SLAM "
+                  "maps, --up other than z); on: always; off: never (the map stays in its input frame)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))->capture_default_str();
   cmd->add_option("--ceiling", options->ceiling, "auto, none, or its height Z: ceiling voxels are not clustered")
       ->check(wordOr({"auto", "none"}, finiteNumber()))->capture_default_str();
   cmd->add_option("--eps", options->eps,

@@ -12,6 +12,7 @@
 #include "hullmap/core/error.hpp"
 #include "hullmap/mapper/readers.hpp"
 #include "hullmap/pipeline/evaluate.hpp"
+#include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 
 namespace hullmap::cli {
@@ -58,7 +59,8 @@ void runEvaluate(const EvaluateOptions& o) {
   namespace fs = std::filesystem;
   const std::string obstacles_path =
       fs::is_directory(o.dir) ? (fs::path(o.dir) / "obstacles.json").string() : o.dir;
-  const auto obstacles = pipeline::readObstaclesJson(obstacles_path);
+  const pipeline::MapObstacles map = pipeline::readMapObstacles(obstacles_path);  // the floor is checked too
+  const auto& obstacles = map.obstacles;
   const pipeline::GroundTruth truth = pipeline::readGroundTruth(o.truth);
   std::vector<Eigen::Vector3d> points;
   std::vector<std::uint32_t> weights;
@@ -68,7 +70,7 @@ void runEvaluate(const EvaluateOptions& o) {
     if (!fs::is_directory(o.dir)) throw Error(o.dir + ": not a build directory; give --points for the map points");
     readVoxelPoints((fs::path(o.dir) / "voxels.csv").string(), points, weights);
   }
-  const pipeline::Evaluation e = pipeline::evaluate(obstacles, truth, points, weights, o.params);
+  const pipeline::Evaluation e = pipeline::evaluate(obstacles, truth, points, weights, o.params, map.surfaces);
   if (o.json) {
     std::cout << pipeline::evaluationToJson(e, o.params).dump(1) << '\n';
     return;

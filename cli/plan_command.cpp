@@ -14,7 +14,7 @@
 #include "hullmap/planning/fleet.hpp"
 #include "hullmap/planning/ompl_planner.hpp"
 #include "hullmap/planning/path_planner.hpp"
-#include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/pipeline/map_obstacles.hpp"
 #include "planning_args.hpp"
 
 namespace hullmap::cli {
@@ -30,6 +30,13 @@ struct PlanOptions {
   std::string output;
   std::string method = "roadmap";
   std::optional<double> time_limit;  ///< seconds, --method ompl
+  std::string frame = "map";
+};
+
+/// The query's frame: points in go through to_map, paths out come back through from_map.
+struct Frames {
+  mapper::Similarity to_map;
+  mapper::Similarity from_map;
 };
 
 Eigen::Vector3d point(const std::string& text, const std::string& option) {
@@ -78,27 +85,28 @@ void writeWaypoints(const std::string& path, const std::vector<Eigen::Vector3d>&
   });
 }
 
-void runSingle(const PlanOptions& o, const std::vector<clustering::Obstacle>& obstacles, int& status) {
+void runSingle(const PlanOptions& o, const pipeline::MapObstacles& map, const Frames& frames, int& status) {
   planning::PlanRequest request;
-  request.start = point(o.from, "--from");
-  request.goal = point(o.to, "--to");
+  request.start = frames.to_map(point(o.from, "--from"));
+  request.goal = frames.to_map(point(o.to, "--to"));
   request.radius = o.radius;
   planning::PlanResult result;
   if (o.method == "ompl") {
     planning::OmplParams params;
     if (o.time_limit) params.time_limit = *o.time_limit;
-    planning::OmplPlanResult found = planning::planPathOmpl(obstacles, request, params);
+    planning::OmplPlanResult found = planning::planPathOmpl(map.obstacles, request, params, map.surfaces);
     result.path = std::move(found.path);
     result.length = found.length;
     result.blocked = std::move(found.blocked);
   } else {
-    result = planning::planPath(obstacles, request);
+    result = planning::planPath(map.obstacles, request, std::nullopt, map.surfaces);
   }
   if (!result.path) {
     std::cout << "no path: " << result.blocked << "\n";
     status = 1;
     return;
   }
+  for (auto& p : *result.path) p = frames.from_map(p);
   if (o.output.empty()) {
     for (const auto& p : *result.path)
       std::cout << shortestNumber(p.x()) << " " << shortestNumber(p.y()) << " " << shortestNumber(p.z()) << "\n";
@@ -110,11 +118,13 @@ void runSingle(const PlanOptions& o, const std::vector<clustering::Obstacle>& ob
   status = 0;
 }
 
-void runFleet(const PlanOptions& o, const std::vector<clustering::Obstacle>& obstacles, int& status) {
+void runFleet(const PlanOptions& o, const pipeline::MapObstacles& map, const Frames& frames, int& status) {
+  const auto& obstacles = map.obstacles;
   if (o.output.empty()) throw Error("--robots: give the output directory with -o");
   if (!(o.speed > 0) || !std::isfinite(o.speed)) throw Error("--speed: must be > 0 with --robots");
   if (!(o.radius > 0)) throw Error("--radius: must be > 0 with --robots");
-  const auto tasks = readRobots(o.robots);
+  auto tasks = readRobots(o.robots);
+  for (auto& t : tasks) t = {frames.to_map(t.start), frames.to_map(t.goal)};
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(o.output, ec);
@@ -126,7 +136,8 @@ void runFleet(const PlanOptions& o, const std::vector<clustering::Obstacle>& obs
     points.push_back(t.goal);
   }
   const planning::PathPlanner planner(
-      obstacles, planning::buildRoadmap(obstacles, planning::roadmapParamsFor(obstacles, points, o.radius)));
+      obstacles, planning::buildRoadmap(obstacles, planning::roadmapParamsFor(obstacles, points, o.radius), map.surfaces),
+      map.surfaces);
   planning::FleetParams params;
   params.radius = o.radius;
   params.speed = o.speed;
@@ -137,10 +148,13 @@ void runFleet(const PlanOptions& o, const std::vector<clustering::Obstacle>& obs
     fs::remove(path, ec);  // a stale file from an earlier run must not pass for this one's
     if (!result.paths[i]) continue;
     core::writeFileAtomically(path, [&](std::ostream& out) {
-      out << "# t x y z: seconds, metres, z-up map frame; drone " << i << " of hullmap plan --robots\n";
-      for (const auto& w : *result.paths[i])
-        out << shortestNumber(w.t) << " " << shortestNumber(w.position.x()) << " " << shortestNumber(w.position.y())
-            << " " << shortestNumber(w.position.z()) << "\n";
+      out << "# t x y z: seconds, map units, " << (o.frame == "input" ? "the build's input frame" : "z-up map frame")
+          << "; drone " << i << " of hullmap plan --robots\n";
+      for (const auto& w : *result.paths[i]) {
+        const Eigen::Vector3d p = frames.from_map(w.position);
+        out << shortestNumber(w.t) << " " << shortestNumber(p.x()) << " " << shortestNumber(p.y()) << " "
+            << shortestNumber(p.z()) << "\n";
+      }
     });
     ++written;
   }
@@ -169,9 +183,12 @@ void runPlan(const PlanOptions& o, int& status) {
   if (o.time_limit && (!(*o.time_limit > 0) || !std::isfinite(*o.time_limit) || *o.time_limit > 86400))
     throw Error("--time-limit: must be > 0 and at most 86400 seconds, got " + shortestNumber(*o.time_limit));
   if (o.method == "ompl" && !single) throw Error("--method ompl: plans one drone (--from, --to), not --robots");
-  const auto obstacles = pipeline::readObstacles(obstaclesFile(o.input));
-  if (single) runSingle(o, obstacles, status);
-  else runFleet(o, obstacles, status);
+  const pipeline::MapObstacles map = pipeline::readMapObstacles(obstaclesFile(o.input));
+  Frames frames;
+  frames.to_map = pipeline::toMapFrame(map, pipeline::parseQueryFrame(o.frame));
+  frames.from_map = mapper::inverse(frames.to_map);
+  if (single) runSingle(o, map, frames, status);
+  else runFleet(o, map, frames, status);
 }
 
 }  // namespace
@@ -180,12 +197,19 @@ void addPlanCommand(CLI::App& app, int& status) {
   auto options = std::make_shared<PlanOptions>();
   auto* cmd = app.add_subcommand(
       "plan", "A path for a drone of --radius around a build's obstacles (exit 1 when there is none, naming where it "
-              "is blocked), or timed paths for several drones (--robots). Coordinates in the z-up map frame.");
+              "is blocked), or timed paths for several drones (--robots). The build's floor and ceiling are obstacles too. "
+              "Coordinates in the build's map frame, or with --frame input in the frame of the points it read.");
   cmd->add_option("input", options->input, "a `hullmap build` directory, or an obstacles.json")->required();
   cmd->add_option("--from", options->from, "start x,y,z");
   cmd->add_option("--to", options->to, "goal x,y,z");
   cmd->add_option("--robots", options->robots, "drones file: sx sy sz gx gy gz a line, # comments");
-  cmd->add_option("--radius,-r", options->radius, "drone radius, map units")->required();
+  cmd->add_option("--radius,-r", options->radius, "drone radius, map units (metres once aligned), in either frame")
+      ->required();
+  cmd->add_option("--frame", options->frame,
+                  "map: coordinates in the build's outputs' frame; input: in the frame of the points it read (paths "
+                  "are written in it too)")
+      ->check(CLI::IsMember({"map", "input"}))
+      ->capture_default_str();
   cmd->add_option("--method", options->method,
                   "roadmap (default: the Voronoi roadmap in the flight plane) or ompl (RRT* in 3D, exact capsule "
                   "sweep as motion check)");

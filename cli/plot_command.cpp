@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/path_checker.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/pipeline/trajectory_file.hpp"
@@ -71,8 +72,8 @@ void runPlot(const PlotOptions& o) {
     plot.centers.push_back(row.center);
     plot.labels.push_back(row.label);
   }
-  const fs::path obstacles_json = fs::path(o.dir) / "obstacles.json";
-  plot.obstacles = pipeline::readObstacles(obstacles_json);
+  const pipeline::MapObstacles map = pipeline::readMapObstacles(fs::path(o.dir) / "obstacles.json");
+  plot.obstacles = map.obstacles;
   plot.floor_label = pipeline::kFloorLabel;
   if (const auto keyframes = pipeline::readBuildTrajectory(o.dir))
     for (const auto& k : *keyframes) plot.keyframes.push_back(k.position);
@@ -88,7 +89,7 @@ void runPlot(const PlotOptions& o) {
   }
   if (!o.path_files.empty()) {
     checkRadius(o.radius);
-    const collision::HullChecker checker = pipeline::pathChecker(obstacles_json, plot.obstacles);
+    const collision::HullChecker checker = pipeline::pathChecker(map);
     for (const auto& file : o.path_files) {
       plot::PlotPath path;
       path.name = fs::path(file).filename().string();

@@ -6,7 +6,7 @@
 #include "commands.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/planning/roadmap.hpp"
-#include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/pipeline/map_obstacles.hpp"
 #include "planning_args.hpp"
 
 namespace hullmap::cli {
@@ -39,13 +39,18 @@ void runRoadmap(const RoadmapOptions& o, int& status) {
     params.bounds = planning::Bounds2d{b[0], b[1], b[2], b[3]};
   }
   const std::string output = o.output.empty() ? defaultOutput(o.input, "roadmap.json") : o.output;
-  const planning::Roadmap roadmap = planning::buildRoadmap(pipeline::readObstacles(obstaclesFile(o.input)), params);
+  const pipeline::MapObstacles map = pipeline::readMapObstacles(obstaclesFile(o.input));
+  const planning::Roadmap roadmap = planning::buildRoadmap(map.obstacles, params, map.surfaces);
   planning::writeRoadmapJson(output, roadmap);
   double length = 0;
   for (const auto& e : roadmap.edges) length += e.length;
   std::cout << "roadmap: " << roadmap.nodes.size() << " nodes, " << roadmap.edges.size() << " edges ("
             << shortestNumber(length) << " m, clearance >= " << shortestNumber(o.radius) << ") around "
-            << roadmap.footprints.size() << " obstacles -> " << output << "\n";
+            << roadmap.footprints.size() << " obstacles";
+  if (roadmap.z0 != params.z0 || roadmap.z1 != params.z1)
+    std::cout << " in the band " << shortestNumber(roadmap.z0) << " .. " << shortestNumber(roadmap.z1)
+              << " between the floor and ceiling";
+  std::cout << " -> " << output << "\n";
   status = 0;
 }
 
@@ -58,7 +63,9 @@ void addRoadmapCommand(CLI::App& app, int& status) {
                  "--radius from every obstacle, as roadmap.json (docs/PLANNING.md).");
   cmd->add_option("input", options->input, "a `hullmap build` directory, or an obstacles.json")->required();
   cmd->add_option("--radius,-r", options->radius, "drone radius, map units: narrower edges are dropped")->required();
-  cmd->add_option("--band", options->band, "z0,z1: only obstacles whose z range meets this band (default: all)");
+  cmd->add_option("--band", options->band,
+                  "z0,z1: only obstacles whose z range meets this band (default: all), cut to what lies between the "
+                  "build's floor and ceiling");
   cmd->add_option("--bounds", options->bounds, "x0,y0,x1,y1 (default: the footprints' bounds grown by 1)");
   cmd->add_option("--tolerance", options->tolerance, "parabolic arcs sampled within this distance")->capture_default_str();
   cmd->add_option("-o,--output", options->output, "roadmap file (default: roadmap.json beside the obstacles)");

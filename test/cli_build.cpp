@@ -346,6 +346,8 @@ void buildWholeFile(const hullmap::pipeline::BuildParams& params, const fs::path
     for (const auto& [reason, n] : in.dropped) account.dropped[reason] += n;
   }
   mapper::toMapFrame(params.frame, set.points);
+  result.report.input_to_output.scale = params.frame.scale;
+  result.report.input_to_output.rotation = mapper::upRotation(params.frame.up);
   mapper::InputStats dropped;
   mapper::applyFilters(params.filters, set.points, dropped);
   result.map = mapper::buildFromPoints(set.points, params.octree, dropped);

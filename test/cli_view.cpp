@@ -114,6 +114,7 @@ TEST(ViewCommand, PathsAreCheckedAsHullmapCheckChecksThem) {
       EXPECT_EQ(segments[s]["collides"], expected["collides"]) << files[p] << " segment " << s;
       EXPECT_EQ(segments[s]["obstacle"], expected["obstacle"]) << files[p] << " segment " << s;
       EXPECT_EQ(segments[s]["t"], expected["t"]) << files[p] << " segment " << s;
+      EXPECT_EQ(segments[s]["surface"], expected["surface"]) << files[p] << " segment " << s;
       EXPECT_EQ(segments[s]["clearance"], expected["clearance"]) << files[p] << " segment " << s;
       EXPECT_EQ(segments[s]["part"], expected.value("part", -1)) << files[p] << " segment " << s;
     }

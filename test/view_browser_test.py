@@ -159,7 +159,7 @@ class Summary(unittest.TestCase):
             expected = [json.loads(line) for line in lines]
             self.assertEqual(len(p["segments"]), len(expected))
             for s, e in zip(p["segments"], expected):
-                for key in ("collides", "obstacle", "t", "clearance"):
+                for key in ("collides", "obstacle", "surface", "t", "clearance"):
                     self.assertEqual(s[key], e[key], (p["name"], key))
                 self.assertEqual(s["part"], e.get("part", -1))
             colliding = [i for i, e in enumerate(expected) if e["collides"]]
@@ -168,7 +168,7 @@ class Summary(unittest.TestCase):
         self.assertFalse(paths[0]["collides"], "plan's path is clear by construction")
         self.assertTrue(paths[1]["collides"])
         hit = paths[1]["segments"][paths[1]["first_colliding_segment"]]
-        self.assertEqual(paths[1]["hit"], {"obstacle": hit["obstacle"], "part": hit["part"]})
+        self.assertEqual(paths[1]["hit"], {"obstacle": hit["obstacle"], "part": hit["part"], "surface": hit["surface"]})
 
     def test_roadmap_and_truth_are_drawn_whole(self):
         with open(os.path.join(TMP, "roadmap.json")) as f:

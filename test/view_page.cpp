@@ -18,6 +18,7 @@
 
 #include "hullmap/core/error.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/path_checker.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/view/html_view.hpp"
@@ -317,7 +318,7 @@ TEST(ViewPage, DataDecodesToTheBuildsVoxelsHullsKeyframesAndChecks) {
 
   // Paths: pipeline::pathChecker's answer, segment by segment; one collides, one is clear.
   ASSERT_EQ(data["paths"].size(), 2u);
-  const auto checker = pipeline::pathChecker(b.dir / "out" / "obstacles.json", b.result.obstacles);
+  const auto checker = pipeline::pathChecker(pipeline::readMapObstacles(b.dir / "out" / "obstacles.json"));
   for (std::size_t p = 0; p < 2; ++p) {
     const auto expected = checker.checkPath(inputs.paths[p].waypoints, 0.2);
     const json& path = data["paths"][p];

@@ -45,6 +45,48 @@ void checkSegment(const Segment& segment) {
   if (!segment.a.allFinite() || !segment.b.allFinite()) throw Error("segment has a non-finite coordinate");
 }
 
+void checkSurfaces(const std::vector<HalfSpace>& surfaces) {
+  for (const HalfSpace& h : surfaces) {
+    const std::string name = h.name.empty() ? std::string("a surface") : "\"" + h.name + "\"";
+    if (!h.normal.allFinite() || std::abs(h.normal.norm() - 1.0) > 1e-9)
+      throw Error::inParameter("surfaces", name + ": the normal must be a finite unit vector");
+    if (!std::isfinite(h.offset)) throw Error::inParameter("surfaces", name + ": the offset must be finite");
+  }
+}
+
+/// The capsule against one half-space, inputs already validated: the distance to the solid is
+/// linear along the segment, so its minimum is at an end and the first contact is where it falls
+/// to the radius.
+SegmentCheck sweepHalfSpace(const Segment& segment, double radius, const HalfSpace& surface) {
+  SegmentCheck result;
+  const double da = surface.distance(segment.a), db = surface.distance(segment.b);
+  const double nearest = std::min(da, db);
+  if (nearest > radius) {
+    result.clearance = nearest - radius;
+    return result;
+  }
+  result.collides = true;
+  result.clearance = 0.0;
+  result.surface = surface.name;
+  // da > radius >= db here unless the start is already within radius, so da - db > 0.
+  result.t = da <= radius ? 0.0 : std::clamp((da - radius) / (da - db), 0.0, 1.0);
+  return result;
+}
+
+/// Folds the surfaces into a check against the other obstacles: the earliest contact wins (a
+/// hull or voxel on a tie), and a clear segment's clearance is the least of all.
+void addSurfaces(const Segment& segment, double radius, const std::vector<HalfSpace>& surfaces,
+                 SegmentCheck& result) {
+  for (const HalfSpace& surface : surfaces) {
+    SegmentCheck s = sweepHalfSpace(segment, radius, surface);
+    if (s.collides) {
+      if (!result.collides || s.t < result.t) result = std::move(s);
+    } else if (!result.collides) {
+      result.clearance = std::min(result.clearance, s.clearance);
+    }
+  }
+}
+
 template <typename CheckOne>
 PathCheck checkWaypoints(const std::vector<Eigen::Vector3d>& waypoints, CheckOne&& check) {
   PathCheck path;
@@ -64,6 +106,13 @@ PathCheck checkWaypoints(const std::vector<Eigen::Vector3d>& waypoints, CheckOne
 }
 
 }  // namespace
+
+SegmentCheck checkHalfSpace(const Segment& segment, double radius, const HalfSpace& surface) {
+  checkRequest(CheckRequest{radius});
+  checkSegment(segment);
+  checkSurfaces({surface});
+  return sweepHalfSpace(segment, radius, surface);
+}
 
 // ---------------------------------------------------------------------------------------------
 // Hull mode
@@ -130,13 +179,19 @@ class TouchingHulls {
 }  // namespace
 
 struct HullChecker::Impl {
-  explicit Impl(const std::vector<clustering::Obstacle>& obstacles) : fcl(obstacles) {
+  Impl(const std::vector<clustering::Obstacle>& obstacles, std::vector<HalfSpace> given)
+      : fcl(obstacles), surfaces(std::move(given)) {
+    checkSurfaces(surfaces);
     for (std::size_t i = 0; i < fcl.size(); ++i) {
       ids.push_back(fcl.source(i).id);
       parts.push_back(fcl.source(i).part);
     }
   }
+  /// The check against the hulls alone.
+  SegmentCheck checkHulls(const Segment& segment, const CheckRequest& request) const;
+
   FclObstacles fcl;
+  std::vector<HalfSpace> surfaces;
   std::vector<int> ids;    ///< per FCL object: its obstacle's id
   std::vector<int> parts;  ///< per FCL object: its part index (-1: whole hull)
 };
@@ -195,19 +250,27 @@ bool visitHull(fcl::CollisionObjectd* object, fcl::CollisionObjectd*, void* data
 
 }  // namespace
 
-HullChecker::HullChecker(const std::vector<clustering::Obstacle>& obstacles)
-    : impl_(std::make_unique<Impl>(obstacles)) {}
+HullChecker::HullChecker(const std::vector<clustering::Obstacle>& obstacles, std::vector<HalfSpace> surfaces)
+    : impl_(std::make_unique<Impl>(obstacles, std::move(surfaces))) {}
 
 HullChecker::~HullChecker() = default;
 HullChecker::HullChecker(HullChecker&&) noexcept = default;
 HullChecker& HullChecker::operator=(HullChecker&&) noexcept = default;
 
+const std::vector<HalfSpace>& HullChecker::surfaces() const { return impl_->surfaces; }
+
 SegmentCheck HullChecker::check(const Segment& segment, const CheckRequest& request) const {
   checkRequest(request);
-  const double radius = request.radius;
   checkSegment(segment);
+  SegmentCheck result = impl_->checkHulls(segment, request);
+  addSurfaces(segment, request.radius, impl_->surfaces, result);
+  return result;
+}
+
+SegmentCheck HullChecker::Impl::checkHulls(const Segment& segment, const CheckRequest& request) const {
+  const double radius = request.radius;
   SegmentCheck result;
-  const FclObstacles& obstacles = impl_->fcl;
+  const FclObstacles& obstacles = fcl;
   if (obstacles.size() == 0) {
     result.clearance = std::numeric_limits<double>::infinity();
     return result;
@@ -247,8 +310,8 @@ SegmentCheck HullChecker::check(const Segment& segment, const CheckRequest& requ
     }
   }
   result.t = first;
-  result.obstacle = impl_->ids[std::size_t(first_hull)];
-  result.part = impl_->parts[std::size_t(first_hull)];
+  result.obstacle = ids[std::size_t(first_hull)];
+  result.part = parts[std::size_t(first_hull)];
   return result;
 }
 
@@ -271,6 +334,7 @@ std::vector<SegmentCheck> HullChecker::checkBatch(const std::vector<Segment>& se
 // Octree mode
 
 struct OctreeChecker::Impl {
+  std::vector<HalfSpace> surfaces;
   std::shared_ptr<const octomap::OcTree> tree;
   std::shared_ptr<fcl::OcTreed> geometry;
   std::unique_ptr<fcl::CollisionObjectd> object;
@@ -293,7 +357,10 @@ fcl::CollisionObjectd sweptSphere(const Segment& segment, double t, double radiu
 
 }  // namespace
 
-OctreeChecker::OctreeChecker(const octomap::OcTree& tree) : impl_(std::make_unique<Impl>()) {
+OctreeChecker::OctreeChecker(const octomap::OcTree& tree, std::vector<HalfSpace> surfaces)
+    : impl_(std::make_unique<Impl>()) {
+  checkSurfaces(surfaces);
+  impl_->surfaces = std::move(surfaces);
   impl_->tree = std::make_shared<const octomap::OcTree>(tree);
   impl_->geometry = std::make_shared<fcl::OcTreed>(impl_->tree);
   impl_->object = std::make_unique<fcl::CollisionObjectd>(impl_->geometry);
@@ -304,10 +371,18 @@ OctreeChecker::~OctreeChecker() = default;
 OctreeChecker::OctreeChecker(OctreeChecker&&) noexcept = default;
 OctreeChecker& OctreeChecker::operator=(OctreeChecker&&) noexcept = default;
 
+const std::vector<HalfSpace>& OctreeChecker::surfaces() const { return impl_->surfaces; }
+
 SegmentCheck OctreeChecker::check(const Segment& segment, const CheckRequest& request) const {
   checkRequest(request);
-  const double radius = request.radius;
   checkSegment(segment);
+  SegmentCheck result = checkVoxels(segment, request);
+  addSurfaces(segment, request.radius, impl_->surfaces, result);
+  return result;
+}
+
+SegmentCheck OctreeChecker::checkVoxels(const Segment& segment, const CheckRequest& request) const {
+  const double radius = request.radius;
   SegmentCheck result;
   auto collidesUpTo = [&](double t) {
     fcl::CollisionObjectd sweep = sweptSphere(segment, t, radius);

@@ -67,8 +67,21 @@ Eigen::Vector3d geodeticToEnu(const Eigen::Vector3d& geodetic, const Eigen::Vect
           cl * co * d.x() + cl * so * d.y() + sl * d.z()};       // up
 }
 
+namespace {
+
+/// Why a GPS line `t lat lon alt` holds no fix, or nullptr when it holds one.
+const char* missingFix(const double* v) {
+  for (int i = 0; i < 4; ++i)
+    if (!std::isfinite(v[i])) return "non_finite";
+  if (std::abs(v[1]) > 90.0 || v[2] < -180.0 || v[2] > 360.0) return "out_of_range";
+  if (v[1] == 0.0 && v[2] == 0.0) return "no_fix";
+  return nullptr;
+}
+
+}  // namespace
+
 std::vector<ReferencePose> parseReferenceTrajectory(std::string_view bytes, const std::string& name,
-                                                    ReferenceFormat format) {
+                                                    ReferenceFormat format, ReferenceStats* stats) {
   std::vector<ReferencePose> poses;
   Eigen::Vector3d origin;
   detail::forEachNumberRow(bytes, name, [&](const double* v, std::size_t count, std::size_t line) {
@@ -79,6 +92,13 @@ std::vector<ReferencePose> parseReferenceTrajectory(std::string_view bytes, cons
     if (format == ReferenceFormat::kGps && count != 4) {
       detail::failAt(name, line, "expected 4 numbers (t lat lon alt), got " + std::to_string(count));
     }
+    if (format == ReferenceFormat::kGps) {
+      // Receivers log lines before their first fix (0 0 0, NaN): those are no positions.
+      if (const char* reason = missingFix(v)) {
+        if (stats) ++stats->dropped[reason];
+        return;
+      }
+    }
     for (std::size_t i = 0; i < count; ++i) {
       if (!std::isfinite(v[i])) detail::failAt(name, line, "non-finite value");
     }
@@ -87,10 +107,6 @@ std::vector<ReferencePose> parseReferenceTrajectory(std::string_view bytes, cons
     if (format == ReferenceFormat::kTum) {
       pose.position = Eigen::Vector3d(v[1], v[2], v[3]);
     } else {
-      if (std::abs(v[1]) > 90.0) detail::failAt(name, line, "latitude outside [-90, 90] degrees");
-      if (v[2] < -180.0 || v[2] > 360.0) {
-        detail::failAt(name, line, "longitude outside [-180, 360] degrees");
-      }
       const Eigen::Vector3d fix(v[1], v[2], v[3]);
       if (poses.empty()) origin = fix;
       pose.position = geodeticToEnu(fix, origin);
@@ -100,10 +116,11 @@ std::vector<ReferencePose> parseReferenceTrajectory(std::string_view bytes, cons
   return poses;
 }
 
-std::vector<ReferencePose> readReferenceTrajectory(const std::string& path, ReferenceFormat format) {
+std::vector<ReferencePose> readReferenceTrajectory(const std::string& path, ReferenceFormat format,
+                                                   ReferenceStats* stats) {
   detail::ByteSource source(path, PointStreamParams{}.read_bytes);
   source.loadAll();
-  return parseReferenceTrajectory(source.view(0, source.end()), path, format);
+  return parseReferenceTrajectory(source.view(0, source.end()), path, format, stats);
 }
 
 Alignment alignTrajectory(const std::vector<Keyframe>& keyframes, const std::vector<ReferencePose>& reference,
@@ -164,6 +181,36 @@ Alignment alignTrajectory(const std::vector<Keyframe>& keyframes, const std::vec
   }
   result.rmse = std::sqrt(sum / static_cast<double>(result.matched));
   return result;
+}
+
+Similarity compose(const Similarity& second, const Similarity& first) {
+  Similarity out;
+  out.scale = second.scale * first.scale;
+  out.rotation = second.rotation * first.rotation;
+  out.translation = second(first.translation);
+  return out;
+}
+
+Similarity inverse(const Similarity& s) {
+  Similarity out;
+  out.scale = 1.0 / s.scale;
+  out.rotation = s.rotation.transpose();
+  out.translation = -out.scale * (out.rotation * s.translation);
+  return out;
+}
+
+Similarity fromIsometry(const Eigen::Isometry3d& t) {
+  Similarity out;
+  out.rotation = t.linear();
+  out.translation = t.translation();
+  return out;
+}
+
+Eigen::Matrix4d toMatrix(const Similarity& s) {
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.topLeftCorner<3, 3>() = s.scale * s.rotation;
+  m.topRightCorner<3, 1>() = s.translation;
+  return m;
 }
 
 void applySimilarity(const Similarity& s, Points& points) {

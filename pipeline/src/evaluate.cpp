@@ -301,7 +301,7 @@ GroundTruth readGroundTruth(const std::string& path) {
 
 Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const GroundTruth& truth,
                     const std::vector<V3>& points, const std::vector<std::uint32_t>& weights,
-                    const EvaluateParams& params) {
+                    const EvaluateParams& params, const std::vector<collision::HalfSpace>& surfaces) {
   if (!(params.radius >= 0) || !std::isfinite(params.radius))
     throw Error("evaluate: --radius must be >= 0, got " + std::to_string(params.radius));
   if (!weights.empty() && weights.size() != points.size())
@@ -440,7 +440,7 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
     verdict.push_back(v);
   }
   e.segments = segments.size();
-  const collision::HullChecker checker(obstacles);
+  const collision::HullChecker checker(obstacles, surfaces);
   const std::vector<collision::SegmentCheck> checks = checker.checkBatch(segments, params.radius);
   for (std::size_t k = 0; k < segments.size(); ++k) {
     if (verdict[k] == 1) {

@@ -1,6 +1,7 @@
 #include "hullmap/pipeline/obstacle_io.hpp"
 
 #include <array>
+#include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -120,13 +121,63 @@ json commonJson(const T& o) {
           {"footprint", footprintJson(o.footprint)}};
 }
 
+json surfacesJson(const std::vector<collision::HalfSpace>& surfaces) {
+  json list = json::array();
+  for (const auto& h : surfaces) list.push_back({{"name", h.name}, {"normal", vec3(h.normal)}, {"offset", h.offset}});
+  return list;
+}
+
+std::vector<collision::HalfSpace> surfacesFromJson(const Reader& r, const json& list) {
+  std::vector<collision::HalfSpace> surfaces;
+  r.array(list, "surfaces");
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const std::string at = "surfaces[" + std::to_string(k) + "]";
+    collision::HalfSpace h;
+    const json& name = r.field(list[k], "name", at);
+    if (!name.is_string()) r.fail(at + ".name", "expected a string");
+    h.name = name.get<std::string>();
+    h.normal = r.point3(r.field(list[k], "normal", at), at + ".normal");
+    if (!(std::abs(h.normal.norm() - 1.0) <= 1e-6)) r.fail(at + ".normal", "expected a unit vector");
+    h.normal.normalize();
+    h.offset = r.number(r.field(list[k], "offset", at), at + ".offset");
+    surfaces.push_back(std::move(h));
+  }
+  return surfaces;
+}
+
 }  // namespace
+
+json similarityJson(const mapper::Similarity& s) {
+  json rotation = json::array();
+  for (int i = 0; i < 3; ++i) rotation.push_back({s.rotation(i, 0), s.rotation(i, 1), s.rotation(i, 2)});
+  const Eigen::Matrix4d m = mapper::toMatrix(s);
+  json matrix = json::array();
+  for (int i = 0; i < 4; ++i) matrix.push_back({m(i, 0), m(i, 1), m(i, 2), m(i, 3)});
+  return {{"scale", s.scale}, {"rotation", rotation}, {"translation", vec3(s.translation)}, {"matrix", matrix}};
+}
+
+mapper::Similarity similarityFromJson(const json& j, const std::string& source, const std::string& where) {
+  const Reader r{source};
+  mapper::Similarity s;
+  s.scale = r.number(r.field(j, "scale", where), where + ".scale");
+  if (!(s.scale > 0.0) || !std::isfinite(s.scale)) r.fail(where + ".scale", "expected a number > 0");
+  const json& rows = r.array(r.field(j, "rotation", where), where + ".rotation");
+  if (rows.size() != 3) r.fail(where + ".rotation", "expected 3 rows of 3 numbers");
+  for (int i = 0; i < 3; ++i) s.rotation.row(i) = r.point3(rows[std::size_t(i)], where + ".rotation").transpose();
+  if (!((s.rotation * s.rotation.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-6) ||
+      !(s.rotation.determinant() > 0.0))
+    r.fail(where + ".rotation", "expected a proper rotation matrix");
+  s.translation = r.point3(r.field(j, "translation", where), where + ".translation");
+  return s;
+}
 
 json obstaclesToJson(const std::vector<clustering::Obstacle>& obstacles, const ObstaclesMeta& meta) {
   json doc;
   doc["format"] = kObstaclesFormatV2;
   doc["frame"] = meta.frame;
   doc["parameters"] = meta.parameters;
+  doc["surfaces"] = surfacesJson(meta.surfaces);
+  if (meta.input_to_output) doc["input_to_output"] = similarityJson(*meta.input_to_output);
   json list = json::array();
   for (const auto& o : obstacles) {
     json entry = commonJson(o);
@@ -164,6 +215,10 @@ std::vector<clustering::Obstacle> obstaclesFromJson(const json& doc, const std::
     if (!frame.is_string()) r.fail("frame", "expected a string");
     meta->frame = frame.get<std::string>();
     meta->parameters = r.field(doc, "parameters", "top level");
+    // Written since surfaces became obstacles for path checks; absent in older files: none.
+    if (const auto surfaces = doc.find("surfaces"); surfaces != doc.end()) meta->surfaces = surfacesFromJson(r, *surfaces);
+    if (const auto frame_change = doc.find("input_to_output"); frame_change != doc.end())
+      meta->input_to_output = similarityFromJson(*frame_change, source, "input_to_output");
   }
   std::vector<clustering::Obstacle> obstacles;
   const json& list = r.array(r.field(doc, "obstacles", "top level"), "obstacles");

@@ -2,9 +2,6 @@
 
 namespace hullmap::pipeline {
 
-collision::HullChecker pathChecker(const std::filesystem::path& /*obstacles_json*/,
-                                   const std::vector<clustering::Obstacle>& obstacles) {
-  return collision::HullChecker(obstacles);
-}
+collision::HullChecker pathChecker(const MapObstacles& map) { return collision::HullChecker(map.obstacles, map.surfaces); }
 
 }  // namespace hullmap::pipeline

@@ -161,7 +161,7 @@ struct Surfaces {
   Eigen::Isometry3d levelling = Eigen::Isometry3d::Identity();
 };
 
-Surfaces searchSurfaces(const BuildParams& params, const mapper::Points& sample) {
+Surfaces searchSurfaces(const BuildParams& params, const mapper::Points& sample, bool level) {
   Surfaces out;
   const bool aligned = params.align.has_value();
   mapper::PlaneSearchParams search;
@@ -175,7 +175,7 @@ Surfaces searchSurfaces(const BuildParams& params, const mapper::Points& sample)
   } else if (params.floor.mode == Mode::kAuto) {
     out.floor.fit = mapper::findBoundingPlane(sample, mapper::PlaneSide::kFloor, search);
     if (out.floor.fit.found) {
-      if (aligned) {
+      if (!level) {
         out.floor.plane = out.floor.fit.plane;
       } else {
         out.levelling = mapper::levelingTransform(out.floor.fit.plane);
@@ -200,8 +200,8 @@ Surfaces searchSurfaces(const BuildParams& params, const mapper::Points& sample)
   return out;
 }
 
-Surfaces findSurfaces(const BuildParams& params, const mapper::Points& sample) {
-  Surfaces out = searchSurfaces(params, sample);
+Surfaces findSurfaces(const BuildParams& params, const mapper::Points& sample, bool level) {
+  Surfaces out = searchSurfaces(params, sample, level);
   out.levelling = negligibleAsIdentity(out.levelling, sample, params.octree.resolution);
   if (out.floor.levelled && isIdentity(out.levelling)) {  // already level at z = 0
     out.floor.levelled = false;
@@ -217,17 +217,38 @@ void recordSurfaces(const Surfaces& surfaces, BuildResult& result) {
 }
 
 /// Reads the reference trajectory and fits the keyframes (input frame) to it.
-mapper::Alignment alignKeyframes(const AlignSettings& align, const std::vector<mapper::Keyframe>& keyframes) {
-  const auto reference = mapper::readReferenceTrajectory(align.reference.string(), align.format);
-  if (reference.empty()) throw Error(align.reference.string() + ": no reference poses");
+mapper::Alignment alignKeyframes(const AlignSettings& align, const std::vector<mapper::Keyframe>& keyframes,
+                                 BuildReport& report) {
+  mapper::ReferenceStats stats;
+  const auto reference = mapper::readReferenceTrajectory(align.reference.string(), align.format, &stats);
+  report.reference_dropped = stats.dropped;
+  std::size_t dropped = 0;
+  for (const auto& [reason, count] : stats.dropped) dropped += count;
+  const std::string without_fix =
+      dropped == 0 ? "" : "; " + std::to_string(dropped) + " line" + (dropped == 1 ? "" : "s") + " without a fix dropped";
+  if (reference.empty()) throw Error(align.reference.string() + ": no reference poses" + without_fix);
   try {
     return mapper::alignTrajectory(keyframes, reference, align.params);
   } catch (const Error& e) {
     // Named as the parameter, so that the CLI says --align.
     const std::string text = e.what();
     if (!e.parameter().empty() || text.rfind("align: ", 0) != 0) throw;
-    throw Error::inParameter("align", text.substr(7));
+    throw Error::inParameter("align", text.substr(7) + (without_fix.empty() ? "" : " (" + align.reference.string() +
+                                                                                 without_fix.substr(1) + ")"));
   }
+}
+
+/// Input -> output frame before levelling: the alignment, or the up axis and scale.
+mapper::Similarity frameTransform(const BuildParams& params, const BuildReport& report) {
+  if (report.alignment) return report.alignment->transform;
+  mapper::Similarity s;
+  s.scale = params.frame.scale;
+  s.rotation = mapper::upRotation(params.frame.up);
+  return s;
+}
+
+void recordFrame(const BuildParams& params, BuildReport& report) {
+  report.input_to_output = mapper::compose(mapper::fromIsometry(report.levelling), frameTransform(params, report));
 }
 
 /// The octree of points already read whole (map frame after this), with the keyframes' rays
@@ -251,7 +272,7 @@ void buildWhole(const BuildParams& params, mapper::Points points, BuildResult& r
   std::vector<Eigen::Vector3d> origin;
   if (params.origin) origin.push_back(*params.origin);
   if (params.align) {
-    result.report.alignment = alignKeyframes(*params.align, keyframes);
+    result.report.alignment = alignKeyframes(*params.align, keyframes, result.report);
     mapper::applySimilarity(result.report.alignment->transform, points);
     mapper::applySimilarity(result.report.alignment->transform, keyframes);
     timer.stage("align");
@@ -262,13 +283,14 @@ void buildWhole(const BuildParams& params, mapper::Points points, BuildResult& r
   }
   PointSample sample;
   sample.add(points);
-  const Surfaces surfaces = findSurfaces(params, sample.points());
+  const Surfaces surfaces = findSurfaces(params, sample.points(), levelsMap(params, result.report.inputs));
   if (!isIdentity(surfaces.levelling)) {
     applyIsometry(surfaces.levelling, points);
     applyIsometry(surfaces.levelling, keyframes);
     applyIsometry(surfaces.levelling, origin);
   }
   recordSurfaces(surfaces, result);
+  recordFrame(params, result.report);
   timer.stage("floor");
   mapper::InputStats filtered;
   mapper::applyFilters(params.filters, points, filtered);
@@ -355,8 +377,9 @@ void buildStreamed(const BuildParams& params, BuildResult& result, StageTimer& t
     throw noPoints(inputs);
   }
   const auto floor_start = Clock::now();
-  const Surfaces surfaces = findSurfaces(params, sample.points());
+  const Surfaces surfaces = findSurfaces(params, sample.points(), levelsMap(params, pass.inputs));
   recordSurfaces(surfaces, result);
+  recordFrame(params, result.report);
   const double floor_ms = msSince(floor_start);
   if (!isIdentity(surfaces.levelling)) {
     pass = streamPass(params, surfaces.levelling, nullptr);
@@ -396,6 +419,10 @@ void checkParams(const BuildParams& params) {
     if (params.frame.up != mapper::UpAxis::kPosZ || params.frame.scale != 1.0)
       throw Error::inParameter("align", "the reference trajectory sets the frame and scale: leave up and scale out");
   }
+  if (params.level == Level::kOn && params.align)
+    throw Error::inParameter("level", "cannot be on with align: the reference trajectory sets the frame");
+  if (params.level == Level::kOn && params.floor.mode != mapper::PlaneSetting::Mode::kAuto)
+    throw Error::inParameter("level", "on needs the floor found (floor auto): it is the found floor that is levelled");
   if (params.eps && !(*params.eps > 0.0 && std::isfinite(*params.eps)))
     throw Error::inParameter("eps", "must be a positive finite number");
   if (params.min_pts && *params.min_pts < 1) throw Error::inParameter("min_pts", "must be at least 1");
@@ -557,6 +584,44 @@ std::vector<Eigen::Vector3d> freeVoxelCentres(const mapper::OccupancyMap& map) {
   return free;
 }
 
+/// A floor kept in the input frame tilted by more than this (degrees) is warned about.
+constexpr double kKeptFloorTiltDeg = 3.0;
+
+/// The floor and ceiling as solid half-spaces: up to the plane, or to the far face of the highest
+/// voxel set aside as that surface when it lies beyond (the voxels lie inside completely).
+std::vector<collision::HalfSpace> surfaceHalfSpaces(const BuildReport& report, const std::vector<Eigen::Vector3d>& centers,
+                                                    const std::vector<std::int32_t>& labels, double resolution) {
+  std::vector<collision::HalfSpace> out;
+  const auto add = [&](const PlaneReport& surface, std::int32_t label, const char* name) {
+    if (!surface.plane) return;
+    const double norm = surface.plane->normal.norm();
+    collision::HalfSpace h{name, surface.plane->normal / norm, surface.plane->offset / norm};
+    // The support of a voxel cube along the normal, beyond its centre.
+    const double half = 0.5 * resolution * h.normal.cwiseAbs().sum();
+    for (std::size_t i = 0; i < centers.size(); ++i)
+      if (labels[i] == label) h.offset = std::max(h.offset, h.normal.dot(centers[i]) + half);
+    out.push_back(std::move(h));
+  };
+  add(report.floor, kFloorLabel, "floor");
+  add(report.ceiling, kCeilingLabel, "ceiling");
+  return out;
+}
+
+/// The floor's height for closing shells from below, when one height serves the whole map: the
+/// plane's height under the voxels' middle when its tilt moves it by at most a voxel across them
+/// (a levelled or aligned floor is exactly level).
+std::optional<double> levelFloorHeight(const mapper::Plane& floor, const std::vector<Eigen::Vector3d>& centers,
+                                       double resolution) {
+  const Eigen::Vector3d& n = floor.normal;
+  if (!(std::abs(n.z()) > 0.99) || centers.empty()) return std::nullopt;
+  Eigen::AlignedBox2d box;
+  for (const auto& c : centers) box.extend(c.head<2>());
+  const Eigen::Vector2d middle = box.center();
+  const double rise = n.head<2>().norm() / std::abs(n.z()) * 0.5 * box.diagonal().norm();
+  if (rise > resolution) return std::nullopt;
+  return (floor.offset - n.x() * middle.x() - n.y() * middle.y()) / n.z();
+}
+
 void clusterInto(BuildResult& result, StageTimer& timer) {
   const BuildParams& params = result.params;
   BuildReport& report = result.report;
@@ -644,6 +709,7 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
     if (labels[i] == kFloorLabel) ++report.floor.voxels;
     if (labels[i] == kCeilingLabel) ++report.ceiling.voxels;
   }
+  result.surfaces = surfaceHalfSpaces(report, centers, labels, resolution);
   timer.stage("obstacles");
 
   if (params.convex_parts) {
@@ -660,8 +726,7 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
       parts_params.adapt_flat_gap = true;
     }
     // A level floor closes the shells standing on it from below (their bottom is never seen).
-    if (report.floor.plane && std::abs(report.floor.plane->normal.z()) > 0.99 && !parts_params.floor_z)
-      parts_params.floor_z = report.floor.plane->offset / report.floor.plane->normal.z();
+    if (report.floor.plane && !parts_params.floor_z) parts_params.floor_z = levelFloorHeight(*report.floor.plane, centers, resolution);
     report.parts = clustering::addConvexParts(result.obstacles, centers, weights, cluster_labels, resolution,
                                               parts_params, known);
     report.keyframes_inside_hulls = report.parts->keyframes_in_voxels;
@@ -673,8 +738,20 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
   report.warnings = clustering::buildWarnings({obstacle_index.size(), result.clusters.noise, result.obstacles.size(),
                                                used.eps, used.min_pts, used.metric, resolution});
   if (!readsOctree(params) && !params.align && !report.floor.levelled) {
-    if (auto tilted = mapper::levelWarning(centers, resolution, upAxisText(params.frame.up)))
+    const PlaneReport& floor = report.floor;
+    if (floor.plane && floor.setting.mode == mapper::PlaneSetting::Mode::kAuto) {
+      if (floor.fit.tilt_deg > kKeptFloorTiltDeg) {
+        char text[320];
+        std::snprintf(text, sizeof text,
+                      "the floor found (%.0f%% of the points) is %.1f degrees from level, and the map was kept in "
+                      "its input frame: heights, --z-min/--z-max and footprints are slanted by as much; --level on "
+                      "levels it",
+                      100.0 * floor.fit.inlier_share, floor.fit.tilt_deg);
+        report.warnings.push_back(text);
+      }
+    } else if (auto tilted = mapper::levelWarning(centers, resolution, upAxisText(params.frame.up))) {
       report.warnings.push_back(*tilted);
+    }
   }
 }
 
@@ -718,6 +795,47 @@ std::string outputFrame(const BuildResult& result) {
   return s.str();
 }
 
+bool levelsMap(const BuildParams& params, const std::vector<mapper::InputStats>& inputs) {
+  if (params.align || readsOctree(params) || params.floor.mode != mapper::PlaneSetting::Mode::kAuto) return false;
+  if (params.level != Level::kAuto) return params.level == Level::kOn;
+  if (params.camera_frame) return *params.camera_frame;
+  if (params.frame.up != mapper::UpAxis::kPosZ) return true;
+  for (const auto& input : inputs)
+    if (mapper::looksLikeOrbSlam(input)) return true;
+  if (params.trajectory) {
+    mapper::InputStats trajectory;  // KeyFrameTrajectory.txt: a SLAM run's keyframes, in its camera's frame
+    trajectory.path = params.trajectory->string();
+    trajectory.format = "tum";
+    return mapper::looksLikeOrbSlam(trajectory);
+  }
+  return false;
+}
+
+namespace {
+
+/// Whether levelsMap may say yes once the inputs are read: their formats are sniffed here (the first
+/// bytes of each regular file); an input that cannot be sniffed without being consumed (a pipe) may.
+bool mayLevel(const BuildParams& params) {
+  if (params.align || params.floor.mode != mapper::PlaneSetting::Mode::kAuto || params.level == Level::kOff)
+    return false;
+  std::vector<mapper::InputStats> sniffed;
+  for (const auto& input : params.inputs) {
+    std::error_code ec;
+    if (!fs::is_regular_file(input, ec)) return true;
+    mapper::InputStats stats;
+    stats.path = input.string();
+    try {
+      stats.format = mapper::toString(mapper::detectPointFormat(stats.path));
+    } catch (const Error&) {
+      return true;  // the read names what is wrong with it
+    }
+    sniffed.push_back(stats);
+  }
+  return levelsMap(params, sniffed);
+}
+
+}  // namespace
+
 ClusteredVoxels clusterMap(const mapper::OccupancyMap& map, const clustering::DbscanParams& dbscan) {
   return clusterStages(map, dbscan, nullptr);
 }
@@ -748,7 +866,7 @@ BuildResult build(const BuildParams& params) {
       std::error_code ec;
       return fs::is_regular_file(p, ec);
     });
-    const bool may_level = params.floor.mode == mapper::PlaneSetting::Mode::kAuto && !params.align;
+    const bool may_level = mayLevel(params);
     // Levelling found in a streamed first pass costs a second pass (reading and octree again); inputs
     // small enough to hold (params.stream_above_bytes) are read whole once.
     std::uintmax_t input_bytes = 0;
@@ -850,7 +968,7 @@ nlohmann::json matrixRows(const Eigen::Matrix3d& m) {
   return rows;
 }
 
-nlohmann::json alignmentJson(const mapper::Alignment& a) {
+nlohmann::json alignmentJson(const mapper::Alignment& a, const std::map<std::string, std::size_t>& reference_dropped) {
   const auto& t = a.transform;
   return {{"scale", t.scale},
           {"rotation", matrixRows(t.rotation)},
@@ -858,7 +976,8 @@ nlohmann::json alignmentJson(const mapper::Alignment& a) {
           {"rmse", a.rmse},
           {"max_error", a.max_error},
           {"matched", a.matched},
-          {"unmatched", a.unmatched}};
+          {"unmatched", a.unmatched},
+          {"reference_dropped", reference_dropped}};
 }
 
 }  // namespace
@@ -900,6 +1019,7 @@ nlohmann::json parametersJson(const BuildParams& params) {
       {"align_format", params.align ? json(mapper::toString(params.align->format)) : json(nullptr)},
       {"align_tolerance", params.align ? json(params.align->params.stamp_tolerance) : json(nullptr)},
       {"floor", planeSettingJson(params.floor)},
+      {"level", params.level == Level::kOn ? "on" : params.level == Level::kOff ? "off" : "auto"},
       {"ceiling", planeSettingJson(params.ceiling)},
       {"eps", params.eps ? json(*params.eps) : json("auto")},
       {"min_pts", params.min_pts ? json(*params.min_pts) : json("auto")},
@@ -996,7 +1116,7 @@ nlohmann::json reportJson(const BuildResult& result) {
   if (readsOctree(result.params)) {
     // A finished octree is read as it is: record what it holds, not parameters that were not applied.
     const auto& tree = result.map.tree();
-    for (const char* key : {"trajectory", "origin", "up", "scale", "crop", "z_min", "z_max", "max_range"})
+    for (const char* key : {"trajectory", "origin", "up", "scale", "crop", "z_min", "z_max", "max_range", "level"})
       parameters[key] = nullptr;
     parameters["resolution"] = info.resolution;
     parameters["hit"] = tree.getProbHit();
@@ -1015,12 +1135,13 @@ nlohmann::json reportJson(const BuildResult& result) {
                   {"dropped", report.points.dropped},
                   {"used", report.points.used}}},
       {"keyframes", report.keyframes},
-      {"alignment", report.alignment ? alignmentJson(*report.alignment) : json(nullptr)},
+      {"alignment", report.alignment ? alignmentJson(*report.alignment, report.reference_dropped) : json(nullptr)},
       {"floor", readsOctree(result.params) ? json(nullptr) : planeReportJson(report.floor)},
       {"ceiling", readsOctree(result.params) ? json(nullptr) : planeReportJson(report.ceiling)},
       {"levelling", {{"rotation", matrixRows(report.levelling.linear())},
                      {"translation", {report.levelling.translation().x(), report.levelling.translation().y(),
                                       report.levelling.translation().z()}}}},
+      {"input_to_output", similarityJson(report.input_to_output)},
       {"octree", {{"resolution", info.resolution},
                   {"bounds", {{"min", {info.min.x(), info.min.y(), info.min.z()}},
                               {"max", {info.max.x(), info.max.y(), info.max.z()}}}},
@@ -1186,6 +1307,8 @@ void write(const BuildResult& result, const fs::path& dir, const WriteOptions& o
     ObstaclesMeta meta;
     meta.frame = outputFrame(result);
     meta.parameters = report["parameters"];
+    meta.surfaces = result.surfaces;
+    meta.input_to_output = result.report.input_to_output;
     writeObstaclesJson((staging / "obstacles.json").string(), result.obstacles, meta);
     writeObstaclesObj((staging / "obstacles.obj").string(), result.obstacles);
     runStage("wrote_obstacles");

@@ -146,7 +146,7 @@ Box3d omplBoxFor(const std::vector<clustering::Obstacle>& obstacles, const PlanR
 }
 
 OmplPlanResult planPathOmpl(const std::vector<clustering::Obstacle>& obstacles, const PlanRequest& request,
-                            const OmplParams& params) {
+                            const OmplParams& params, const std::vector<collision::HalfSpace>& surfaces) {
   if (!(params.time_limit > 0) || !std::isfinite(params.time_limit))
     throw Error("ompl time_limit: must be > 0 and finite seconds");
   if (!(params.clearance_weight >= 0) || !std::isfinite(params.clearance_weight))
@@ -163,7 +163,7 @@ OmplPlanResult planPathOmpl(const std::vector<clustering::Obstacle>& obstacles, 
   if (!box.min.allFinite() || !box.max.allFinite() || !(box.max.array() > box.min.array()).all())
     throw Error("ompl box: must be finite with max > min on every axis");
 
-  const collision::HullChecker checker(obstacles);
+  const collision::HullChecker checker(obstacles, surfaces);
   for (const auto& [which, p] : {std::pair<const char*, Eigen::Vector3d>{"start", request.start}, {"goal", request.goal}}) {
     std::ostringstream s;
     s.precision(6);
@@ -174,7 +174,7 @@ OmplPlanResult planPathOmpl(const std::vector<clustering::Obstacle>& obstacles, 
     }
     const collision::SegmentCheck c = checker.check({p, p}, r);
     if (c.collides) {
-      s << which << " " << xyz(p) << " is inside obstacle " << c.obstacle << " or within the radius " << r << " m of it";
+      s << which << " " << xyz(p) << " is inside " << hitName(c) << " or within the radius " << r << " m of it";
       result.blocked = s.str();
       return result;
     }

@@ -38,8 +38,8 @@ struct PathPlanner::Impl {
   collision::HullChecker checker;
   Graph graph;
 
-  Impl(const std::vector<clustering::Obstacle>& obstacles, Roadmap map)
-      : roadmap(std::move(map)), checker(obstacles) {
+  Impl(const std::vector<clustering::Obstacle>& obstacles, Roadmap map, std::vector<collision::HalfSpace> surfaces)
+      : roadmap(std::move(map)), checker(obstacles, std::move(surfaces)) {
     for (const auto& n : roadmap.nodes) graph.position.push_back(n.position);
     graph.links.resize(graph.position.size());
     for (const auto& e : roadmap.edges) {
@@ -223,8 +223,9 @@ struct PathPlanner::Impl {
   }
 };
 
-PathPlanner::PathPlanner(const std::vector<clustering::Obstacle>& obstacles, Roadmap roadmap)
-    : impl_(std::make_unique<Impl>(obstacles, std::move(roadmap))) {}
+PathPlanner::PathPlanner(const std::vector<clustering::Obstacle>& obstacles, Roadmap roadmap,
+                         std::vector<collision::HalfSpace> surfaces)
+    : impl_(std::make_unique<Impl>(obstacles, std::move(roadmap), std::move(surfaces))) {}
 PathPlanner::~PathPlanner() = default;
 PathPlanner::PathPlanner(PathPlanner&&) noexcept = default;
 PathPlanner& PathPlanner::operator=(PathPlanner&&) noexcept = default;
@@ -247,7 +248,7 @@ PlanResult PathPlanner::plan(const PlanRequest& request) const {
     const collision::SegmentCheck c = impl_->checker.check({p, p}, r);
     if (!c.collides) return false;
     std::ostringstream s;
-    s << which << " " << xyz(p) << " is inside obstacle " << c.obstacle << " or within the radius " << r << " m of it";
+    s << which << " " << xyz(p) << " is inside " << hitName(c) << " or within the radius " << r << " m of it";
     result.blocked = s.str();
     return true;
   };
@@ -340,12 +341,17 @@ RoadmapParams roadmapParamsFor(const std::vector<clustering::Obstacle>& obstacle
 }
 
 PlanResult planPath(const std::vector<clustering::Obstacle>& obstacles, const PlanRequest& request,
-                    std::optional<RoadmapParams> roadmap_params) {
+                    std::optional<RoadmapParams> roadmap_params, const std::vector<collision::HalfSpace>& surfaces) {
   const double z = request.flight_z.value_or(request.start.z());
   const RoadmapParams params = roadmap_params.value_or(roadmapParamsFor(
       obstacles, {request.start, request.goal, Eigen::Vector3d(request.start.x(), request.start.y(), z)}, request.radius));
-  const PathPlanner planner(obstacles, buildRoadmap(obstacles, params));
+  const PathPlanner planner(obstacles, buildRoadmap(obstacles, params, surfaces), surfaces);
   return planner.plan(request);
+}
+
+std::string hitName(const collision::SegmentCheck& check) {
+  if (!check.surface.empty()) return "the " + check.surface;
+  return "obstacle " + std::to_string(check.obstacle);
 }
 
 }  // namespace hullmap::planning

@@ -6,6 +6,9 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <sstream>
+#include <string>
+#include <tuple>
 #include <utility>
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
@@ -312,33 +315,64 @@ std::vector<Eigen::Vector2d> clipToBox(std::vector<Eigen::Vector2d> poly, const 
   return poly.size() >= 3 ? poly : std::vector<Eigen::Vector2d>{};
 }
 
+/// The band with the floor and ceiling taken out: above the highest point of each floor-like
+/// surface's solid over the bounds rectangle [lo, hi] (its normal up), below the lowest point of each
+/// ceiling-like one's. Throws hullmap::Error naming z0/z1 when nothing of the band is left.
+std::pair<double, double> bandBetweenSurfaces(double z0, double z1, const std::vector<collision::HalfSpace>& surfaces,
+                                              const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
+  const double given0 = z0, given1 = z1;
+  std::string limiting;
+  for (const auto& h : surfaces) {
+    if (std::abs(h.normal.z()) < 1e-9) continue;  // a wall-like surface bounds no height
+    double extreme = h.normal.z() > 0 ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector2d& c : {lo, Eigen::Vector2d(hi.x(), lo.y()), hi, Eigen::Vector2d(lo.x(), hi.y())}) {
+      const double z = (h.offset - h.normal.x() * c.x() - h.normal.y() * c.y()) / h.normal.z();
+      extreme = h.normal.z() > 0 ? std::max(extreme, z) : std::min(extreme, z);
+    }
+    if (h.normal.z() > 0 && extreme > z0) {
+      z0 = extreme;
+      limiting = h.name;
+    }
+    if (h.normal.z() < 0 && extreme < z1) {
+      z1 = extreme;
+      limiting = h.name;
+    }
+  }
+  if (!(z0 <= z1)) {
+    std::ostringstream s;
+    s << "the flight band " << given0 << " .. " << given1 << " lies inside the " << limiting
+      << " (its solid reaches " << (z0 > given1 ? z0 : z1) << " over the bounds): raise or lower the band";
+    throw Error::inParameter("z0/z1", s.str());
+  }
+  return {z0, z1};
+}
+
 }  // namespace
 
 double siteDistance(const SiteRef& site, const Eigen::Vector2d& p) {
   return site.is_point ? (p - site.a).norm() : segmentDistance(site.a, site.b, p);
 }
 
-Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const RoadmapParams& params) {
+Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const RoadmapParams& params,
+                     const std::vector<collision::HalfSpace>& surfaces) {
   if (!(params.tolerance > 0) || !std::isfinite(params.tolerance))
     throw Error("roadmap tolerance: must be > 0, got " + std::to_string(params.tolerance));
   if (!(params.z0 <= params.z1)) throw Error("roadmap band: z0 must be <= z1");
   if (!(params.min_clearance >= 0)) throw Error("roadmap min_clearance: must be >= 0");
 
   Roadmap map;
-  map.z0 = params.z0;
-  map.z1 = params.z1;
   map.min_clearance = params.min_clearance;
   map.tolerance = params.tolerance;
 
   // The sites: the footprints of the obstacles' convex parts (an obstacle without parts: its own
   // footprint), each in the band on its own, tagged with its obstacle's id.
-  std::vector<std::pair<const std::vector<Eigen::Vector2d>*, int>> band;
+  std::vector<std::pair<const clustering::Footprint*, int>> band;
   auto addFootprint = [&](const clustering::Footprint& f, int id) {
     if (f.z_max < params.z0 || f.z_min > params.z1) return;
     if (f.polygon.size() < 3)
       throw Error("obstacle " + std::to_string(id) + ": footprint has " + std::to_string(f.polygon.size()) +
                   " vertices, expected >= 3");
-    band.emplace_back(&f.polygon, id);
+    band.emplace_back(&f, id);
   };
   for (const auto& o : obstacles) {
     if (o.parts.empty()) addFootprint(o.footprint, o.id);
@@ -350,8 +384,8 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   } else {
     if (!(params.margin > 0)) throw Error("roadmap margin: must be > 0");
     double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
-    for (const auto& [polygon, id] : band)
-      for (const auto& p : *polygon) {
+    for (const auto& [footprint, id] : band)
+      for (const auto& p : footprint->polygon) {
         x0 = std::min(x0, p.x()); y0 = std::min(y0, p.y());
         x1 = std::max(x1, p.x()); y1 = std::max(y1, p.y());
       }
@@ -361,6 +395,12 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   const Bounds2d& bb = map.bounds;
   if (!(bb.x0 < bb.x1 && bb.y0 < bb.y1) || !std::isfinite(bb.x0 + bb.x1 + bb.y0 + bb.y1))
     throw Error("roadmap bounds: need x0 < x1 and y0 < y1");
+  // The floor and ceiling bound the band: the roadmap lies above the one and below the other, and
+  // only obstacles in what is left of the band count.
+  std::tie(map.z0, map.z1) = bandBetweenSurfaces(params.z0, params.z1, surfaces, {bb.x0, bb.y0}, {bb.x1, bb.y1});
+  band.erase(std::remove_if(band.begin(), band.end(),
+                            [&](const auto& entry) { return entry.first->z_max < map.z0 || entry.first->z_min > map.z1; }),
+             band.end());
 
   const double scale = std::max({std::abs(bb.x0), std::abs(bb.x1), std::abs(bb.y0), std::abs(bb.y1), 1.0});
 
@@ -372,12 +412,13 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   const double hair = 1e-6 * scale;
   std::vector<std::vector<Eigen::Vector2d>> clipped;
   std::vector<int> clipped_id;
-  for (const auto& [polygon, id] : band) {
-    auto c = clipToBox(*polygon, {bb.x0 + hair, bb.y0 + hair}, {bb.x1 - hair, bb.y1 - hair});
+  for (const auto& [footprint, id] : band) {
+    auto c = clipToBox(footprint->polygon, {bb.x0 + hair, bb.y0 + hair}, {bb.x1 - hair, bb.y1 - hair});
     if (c.empty()) continue;
     clipped.push_back(std::move(c));
     clipped_id.push_back(id);
   }
+
   auto box = [](const std::vector<Eigen::Vector2d>& poly) {
     Eigen::AlignedBox<double, 2> b(poly.front(), poly.front());
     for (const auto& p : poly) b.extend(p);

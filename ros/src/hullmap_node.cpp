@@ -43,6 +43,9 @@ struct PendingMap {
   ::ros::Time stamp;
   Clock::time_point received;
   std::shared_ptr<const std::vector<mapper::Keyframe>> keyframes;  ///< null: points-only octree
+  /// ORB-SLAM's map markers are in its first camera's frame (levelled under ~level auto); a cloud is
+  /// judged as a file is (its up axis).
+  std::optional<bool> camera_frame;
 };
 
 /// A finished rebuild, shared between the worker (writes) and the services (read).
@@ -89,7 +92,7 @@ class HullmapNode {
       skip(std::string("/ORB_SLAM/Map: ") + e.what());
       return;
     }
-    submit({orbslam_.points(), msg->header.stamp, Clock::now(), keyframes_});
+    submit({orbslam_.points(), msg->header.stamp, Clock::now(), keyframes_, true});
   }
 
   /// The whole keyframe trajectory (the last Path replaces the previous one); used from the next map on.
@@ -118,7 +121,7 @@ class HullmapNode {
       std::size_t non_finite = 0;
       mapper::Points points = cloudPoints(*msg, &non_finite);
       if (non_finite > 0) ROS_DEBUG("~cloud_in: %zu points with a non-finite coordinate skipped", non_finite);
-      submit({std::move(points), msg->header.stamp, received, keyframes_});
+      submit({std::move(points), msg->header.stamp, received, keyframes_, std::nullopt});
     } catch (const Error& e) {
       skip(std::string("~cloud_in: ") + e.what());
     }
@@ -177,11 +180,14 @@ class HullmapNode {
     const std::size_t points = map.points.size();
     if (!map.points.empty()) {
       try {
+        pipeline::BuildParams params = build_params_;
+        if (!params.camera_frame) params.camera_frame = map.camera_frame;
         pipeline::BuildResult result =
-            map.keyframes ? pipeline::buildFromPoints(std::move(map.points), *map.keyframes, build_params_, "map",
+            map.keyframes ? pipeline::buildFromPoints(std::move(map.points), *map.keyframes, params, "map",
                                                       "~keyframes")
-                          : pipeline::buildFromPoints(std::move(map.points), build_params_, "map");
-        collision::HullChecker checker(result.obstacles);
+                          : pipeline::buildFromPoints(std::move(map.points), params, "map");
+        // The floor and ceiling found are obstacles for ~check_path, as for `hullmap check`.
+        collision::HullChecker checker(result.obstacles, result.surfaces);
         snapshot = std::make_shared<Snapshot>(Snapshot{std::move(result), std::move(checker)});
       } catch (const std::exception& e) {
         failure = e.what();

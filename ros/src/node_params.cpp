@@ -77,6 +77,14 @@ pipeline::BuildParams readBuildParams(const ::ros::NodeHandle& nh) {
   // floor / ceiling: auto, none or a height; concavity: default, none or a length (map units).
   p.floor = mapper::parsePlaneSetting("~floor", wordOrNumber(nh, "floor", "auto"));
   p.ceiling = mapper::parsePlaneSetting("~ceiling", wordOrNumber(nh, "ceiling", "none"));
+  // level: auto (a camera's frame: ORB-SLAM's map markers, or ~up other than z), on or off.
+  std::string level = "auto";
+  nh.param("level", level, level);
+  if (level == "on" || level == "off") {
+    p.level = level == "on" ? pipeline::Level::kOn : pipeline::Level::kOff;
+  } else if (level != "auto") {
+    throw Error::inParameter("~level", "expected auto, on or off, got '" + level + "'");
+  }
   const std::string concavity = wordOrNumber(nh, "concavity", "default");
   if (concavity == "none") {
     p.convex_parts.reset();

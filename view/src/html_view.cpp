@@ -14,6 +14,7 @@
 
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/path_checker.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/pipeline/trajectory_file.hpp"
@@ -363,6 +364,7 @@ json pageData(const ViewScene& scene, const std::vector<VoxelCells>& levels, std
                           {"collides", c.collides},
                           {"obstacle", c.collides && c.obstacle >= 0 ? json(c.obstacle) : json(nullptr)},
                           {"part", c.part},
+                          {"surface", c.surface.empty() ? json(nullptr) : json(c.surface)},
                           {"t", c.collides ? json(c.t) : json(nullptr)},
                           {"clearance", number(c.clearance)}});
     }
@@ -433,12 +435,12 @@ ViewScene readScene(const fs::path& build_dir, ViewInputs inputs) {
     scene.centers.push_back(row.center);
     scene.labels.push_back(row.label);
   }
-  const fs::path obstacles_json = build_dir / "obstacles.json";
-  scene.obstacles = pipeline::readObstacles(obstacles_json);
+  const pipeline::MapObstacles map = pipeline::readMapObstacles(build_dir / "obstacles.json");
+  scene.obstacles = map.obstacles;
   if (auto keyframes = pipeline::readBuildTrajectory(build_dir)) scene.keyframes = std::move(*keyframes);
   scene.radius = inputs.radius;
   if (!inputs.paths.empty()) {
-    const collision::HullChecker checker = pipeline::pathChecker(obstacles_json, scene.obstacles);
+    const collision::HullChecker checker = pipeline::pathChecker(map);
     for (auto& p : inputs.paths) {
       CheckedPath checked;
       checked.check = checker.checkPath(p.waypoints, collision::CheckRequest{inputs.radius});

@@ -383,8 +383,8 @@
                                                                                   transparent: true, opacity: 0.6}), 16));
         }
         var s = path.segments[first];
-        hit = {obstacle: s.obstacle, part: s.part};
-        hitHulls[s.obstacle + '/' + s.part] = true;
+        hit = {obstacle: s.obstacle, part: s.part, surface: s.surface || null};
+        if (s.obstacle !== null) hitHulls[s.obstacle + '/' + s.part] = true;
         pathGroup.add(label('first contact' + (data.paths.length > 1 ? ' (' + path.name + ')' : ''),
                             contact.clone().add(new THREE.Vector3(0, 0, 2.2 * Math.max(data.radius, rodRadius))),
                             0.018 * size, data.colours.collides));
@@ -561,8 +561,9 @@
       row.appendChild(document.createTextNode((p.name || 'path ' + i) + ', ' + p.segments.length + ' segments: '));
       if (p.collides) {
         var s = p.segments[p.first_colliding_segment];
-        row.appendChild(element('span', 'collides', 'COLLIDES with obstacle ' + s.obstacle + (s.part >= 0 ? ' part ' + s.part : '') +
-                                ' on segment ' + p.first_colliding_segment + ' at ' + point(p.first_contact)));
+        var what = s.surface ? 'the ' + s.surface : 'obstacle ' + s.obstacle + (s.part >= 0 ? ' part ' + s.part : '');
+        row.appendChild(element('span', 'collides', 'COLLIDES with ' + what + ' on segment ' + p.first_colliding_segment +
+                                ' at ' + point(p.first_contact)));
       } else {
         var clearance = Math.min.apply(null, p.segments.map(function (s) { return s.clearance === null ? Infinity : s.clearance; }));
         row.appendChild(element('span', 'clear', 'clear' + (isFinite(clearance) ? ', min clearance ' + text(clearance) : '')));

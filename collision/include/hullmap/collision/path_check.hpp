@@ -2,6 +2,7 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -16,6 +17,19 @@ namespace hullmap::collision {
 struct Segment {
   Eigen::Vector3d a;
   Eigen::Vector3d b;
+};
+
+/// A surface that bounds the map (a floor, a ceiling) as a solid half-space: every point x with
+/// normal . x <= offset is inside it. `normal` is a unit vector pointing out of the solid, into the
+/// map: up for a floor (the solid below it), down for a ceiling (the solid above it). Map frame,
+/// map units. The checkers validate it (unit, finite normal; finite offset).
+struct HalfSpace {
+  std::string name;                                    ///< what it is: "floor", "ceiling"
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  double offset = 0.0;
+
+  /// Signed distance of p to the solid's boundary: > 0 outside the solid (in the map).
+  double distance(const Eigen::Vector3d& p) const { return normal.dot(p) - offset; }
 };
 
 /// Default of CheckRequest::contact_tolerance, map units.
@@ -37,6 +51,8 @@ struct SegmentCheck {
                             ///< or in octree mode (voxels have no id)
   int part = -1;            ///< HullChecker: index of that obstacle's convex part hit first; -1 when
                             ///< clear, in octree mode, or for an obstacle without parts
+  std::string surface;      ///< the name of the surface (HalfSpace) hit first ("floor"); empty when
+                            ///< clear or when a hull or voxel is hit first (obstacle, part then -1)
   double t = 1.0;           ///< first contact as a fraction of the segment (valid when collides)
   double clearance = 0.0;   ///< min distance to any obstacle minus r, map units; 0 when colliding
 };
@@ -48,6 +64,13 @@ struct PathCheck {
   std::optional<Eigen::Vector3d> first_contact;   ///< point on the path, map frame
 };
 
+/// A capsule (the segment swept by a sphere of `radius`) against one half-space, exactly: the
+/// half-space's distance is linear along the segment, so the first contact is where it falls to
+/// `radius` (t = 0 when the segment starts within radius of the solid). `surface` is set to the
+/// half-space's name when it collides; clearance is the smaller end's distance minus radius.
+/// Throws hullmap::Error as the checkers do on a bad radius, segment or half-space.
+SegmentCheck checkHalfSpace(const Segment& segment, double radius, const HalfSpace& surface);
+
 /// Hull mode: the obstacles' convex hulls (one per convex part when an obstacle has parts) as FCL objects in FCL's broadphase manager (FclObstacles);
 /// every answer from certified segment-hull distances (convex_distance.hpp), the first contact
 /// bracketed as firstContact does.
@@ -58,9 +81,15 @@ struct PathCheck {
 /// hullmap::Error naming `radius` (negative or not finite) or `contact_tolerance` (not > 0), or on a
 /// non-finite coordinate. Immutable after construction: concurrent checks from several threads are
 /// safe; checkBatch and checkPath themselves use all cores (TBB). Movable, not copyable.
+///
+/// `surfaces` (a found floor or ceiling: BuildResult::surfaces) are obstacles too: a segment that
+/// comes within radius of one collides with it (SegmentCheck::surface names it), whichever of the
+/// hulls and surfaces the sweep reaches first; clearance counts them. Throws hullmap::Error naming
+/// `surfaces` when one has a non-unit or non-finite normal or a non-finite offset.
 class HullChecker {
  public:
-  explicit HullChecker(const std::vector<clustering::Obstacle>& obstacles);
+  explicit HullChecker(const std::vector<clustering::Obstacle>& obstacles,
+                       std::vector<HalfSpace> surfaces = {});
   ~HullChecker();
   HullChecker(HullChecker&&) noexcept;
   HullChecker& operator=(HullChecker&&) noexcept;
@@ -78,6 +107,9 @@ class HullChecker {
     return checkBatch(segments, CheckRequest{radius});
   }
 
+  /// The surfaces it checks against, as given.
+  const std::vector<HalfSpace>& surfaces() const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
@@ -86,10 +118,12 @@ class HullChecker {
 /// Octree mode: the same questions against every occupied voxel of the map (FCL's OcTree and
 /// FCL's capsule-box narrowphase, the first contact found by bisection on the swept prefix to the
 /// request's tolerance). SegmentCheck::obstacle is always -1. The constructor copies the tree.
+/// `surfaces` are obstacles as in HullChecker: a sparse floor has gaps between its voxels that a
+/// thin sweep passes through, the floor's half-space has none.
 /// Units, frame, errors and thread safety as HullChecker's. Movable, not copyable.
 class OctreeChecker {
  public:
-  explicit OctreeChecker(const octomap::OcTree& tree);
+  explicit OctreeChecker(const octomap::OcTree& tree, std::vector<HalfSpace> surfaces = {});
   ~OctreeChecker();
   OctreeChecker(OctreeChecker&&) noexcept;
   OctreeChecker& operator=(OctreeChecker&&) noexcept;
@@ -103,7 +137,12 @@ class OctreeChecker {
     return checkPath(waypoints, CheckRequest{radius});
   }
 
+  /// The surfaces it checks against, as given.
+  const std::vector<HalfSpace>& surfaces() const;
+
  private:
+  SegmentCheck checkVoxels(const Segment& segment, const CheckRequest& request) const;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

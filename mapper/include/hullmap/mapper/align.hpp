@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,15 +32,26 @@ struct ReferencePose {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< metres, z up
 };
 
-/// Parses a reference trajectory (see ReferenceFormat). A line with the wrong count of numbers, a
-/// non-finite value, or (GPS) a latitude outside [-90, 90] / a longitude outside [-180, 360] is an
-/// Error "<name>:<line>: ...". An empty trajectory is returned as such (alignTrajectory refuses it).
+/// What parseReferenceTrajectory left out of a GPS log: lines without a fix, by reason.
+struct ReferenceStats {
+  /// "no_fix": latitude = longitude = 0 (what receivers write before their first fix);
+  /// "non_finite": a NaN or infinite stamp, latitude, longitude or altitude;
+  /// "out_of_range": a latitude outside [-90, 90] or a longitude outside [-180, 360] degrees.
+  /// A reason appears only when it dropped a line.
+  std::map<std::string, std::size_t> dropped;
+};
+
+/// Parses a reference trajectory (see ReferenceFormat). A line with the wrong count of numbers is an
+/// Error "<name>:<line>: ...", as is (TUM) a non-finite value. A GPS line without a fix is dropped
+/// and counted in `*stats` when given (see ReferenceStats); the ENU origin is the first valid fix.
+/// An empty trajectory is returned as such (alignTrajectory refuses it).
 std::vector<ReferencePose> parseReferenceTrajectory(std::string_view bytes, const std::string& name,
-                                                    ReferenceFormat format);
+                                                    ReferenceFormat format, ReferenceStats* stats = nullptr);
 
 /// Reads a reference trajectory file (see parseReferenceTrajectory). Throws hullmap::Error naming the
 /// file when it cannot be read.
-std::vector<ReferencePose> readReferenceTrajectory(const std::string& path, ReferenceFormat format);
+std::vector<ReferencePose> readReferenceTrajectory(const std::string& path, ReferenceFormat format,
+                                                   ReferenceStats* stats = nullptr);
 
 /// WGS84 geodetic (latitude, longitude in degrees, altitude in metres above the ellipsoid) to
 /// Earth-centred Earth-fixed metres.
@@ -57,6 +69,18 @@ struct Similarity {
 
   Eigen::Vector3d operator()(const Eigen::Vector3d& p) const { return scale * (rotation * p) + translation; }
 };
+
+/// second after first: p -> second(first(p)).
+Similarity compose(const Similarity& second, const Similarity& first);
+
+/// The similarity that undoes `s` (s.scale must be > 0).
+Similarity inverse(const Similarity& s);
+
+/// A rigid transform as a similarity of scale 1.
+Similarity fromIsometry(const Eigen::Isometry3d& t);
+
+/// The 4 x 4 homogeneous matrix [scale * rotation, translation; 0 0 0 1].
+Eigen::Matrix4d toMatrix(const Similarity& s);
 
 /// How keyframes are matched to a reference trajectory.
 struct AlignParams {

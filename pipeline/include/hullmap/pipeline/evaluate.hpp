@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/collision/path_check.hpp"
 
 namespace hullmap::pipeline {
 
@@ -111,11 +112,12 @@ struct Evaluation {
 /// segments whatever the obstacles, so two builds are scored on the same ones); the truth's smallest distance along a segment is taken
 /// at spacing <= sample_step, which brackets the exact value within sample_step / 2 (distance is
 /// 1-Lipschitz): a segment is deep or clear only when the bracket says so for certain, and neither
-/// otherwise. The hull side is collision::HullChecker. Volumes: volume_samples uniform points in each
+/// otherwise. The hull side is collision::HullChecker with `surfaces` (the build's floor and ceiling,
+/// obstacles for checks as in `hullmap check`). Volumes: volume_samples uniform points in each
 /// hull, a point counted for the union only in the first hull holding it.
 Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const GroundTruth& truth,
                     const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& weights,
-                    const EvaluateParams& params);
+                    const EvaluateParams& params, const std::vector<collision::HalfSpace>& surfaces = {});
 
 /// The result as JSON: params, per truth shape, totals.
 nlohmann::json evaluationToJson(const Evaluation& evaluation, const EvaluateParams& params);

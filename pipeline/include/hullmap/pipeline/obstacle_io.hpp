@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -7,6 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/collision/path_check.hpp"
+#include "hullmap/mapper/align.hpp"
 
 namespace hullmap::pipeline {
 
@@ -21,9 +24,25 @@ struct ObstaclesMeta {
   std::string format = kObstaclesFormatV2;               ///< the tag read (writing always uses /2)
   std::string frame = "z-up map";                        ///< e.g. "z-up map, up=-y of input"
   nlohmann::json parameters = nlohmann::json::object();  ///< the build's settings, verbatim
+  /// The floor and ceiling as solid half-spaces (top-level "surfaces"; absent in files written before
+  /// them: none). Path checks count them as obstacles.
+  std::vector<collision::HalfSpace> surfaces;
+  /// Input coordinates -> these coordinates (top-level "input_to_output"; absent in files written
+  /// before it: unknown).
+  std::optional<mapper::Similarity> input_to_output;
 };
 
-/// The obstacles.json document, format /2: format, frame, parameters, then per obstacle id,
+/// {"scale", "rotation" (3 rows), "translation", "matrix" (the 4 x 4 homogeneous matrix, 4 rows)}:
+/// how report.json and obstacles.json write a similarity (input_to_output).
+nlohmann::json similarityJson(const mapper::Similarity& s);
+
+/// Reads similarityJson's object (scale, rotation and translation; matrix is not read); throws
+/// hullmap::Error "<source>: <where>: <what>" when a field is missing or malformed, the scale not
+/// > 0, or the rotation not a proper rotation (within 1e-6).
+mapper::Similarity similarityFromJson(const nlohmann::json& j, const std::string& source, const std::string& where);
+
+/// The obstacles.json document, format /2: format, frame, parameters, surfaces, input_to_output
+/// (when known), then per obstacle id,
 /// voxel_count, point_weight, aabb {min,max}, centroid, volume, hull {vertices, triangles}, footprint
 /// {polygon, z_min, z_max} (the whole cluster) and "parts", one object per convex part with the same
 /// fields plus concavity_bound and free_voxels_inside (empty when the obstacle was not split).

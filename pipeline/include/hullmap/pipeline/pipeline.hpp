@@ -17,6 +17,7 @@
 #include "hullmap/clustering/convex_parts.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/collision/path_check.hpp"
 #include "hullmap/mapper/align.hpp"
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/frame.hpp"
@@ -36,6 +37,14 @@ namespace hullmap::pipeline {
 /// ceiling: they stay in the map but are not clustered (clustering::kNoise is -1).
 inline constexpr std::int32_t kFloorLabel = -2;
 inline constexpr std::int32_t kCeilingLabel = -3;
+
+/// Whether a floor found by the build levels the map: rotates the floor level and moves it to
+/// z = 0 (the points, the keyframes, the origin and every output with them).
+enum class Level {
+  kAuto,  ///< only a camera's frame (levelsMap): ORB-SLAM's maps, and inputs whose up axis is not z
+  kOn,    ///< always when a floor is found (needs floor kAuto; not with align: the reference sets the frame)
+  kOff,   ///< never: the map stays in the frame it came in
+};
 
 /// `--align REF`: a metric reference trajectory of the keyframes (see mapper::alignTrajectory).
 struct AlignSettings {
@@ -60,13 +69,23 @@ struct BuildParams {
   std::optional<AlignSettings> align;
   mapper::FrameParams frame;         ///< input -> z-up map frame (up axis, scale); not with `align`
   /// The floor: kAuto (default) searches it (mapper::findBoundingPlane on the points, band = the
-  /// resolution); found, it is levelled to z = 0 (rotation and shift) unless `align` gave the frame,
-  /// which then only sets its height. kHeight: the plane z = height (map frame, after align/frame).
-  /// Voxels within floor_band of it (or under it) are not clustered.
+  /// resolution; with `align` only its height, the reference defining up). Found, it is levelled to
+  /// z = 0 (rotation and shift) when `level` says so; else the map keeps its frame and the plane is
+  /// used as found (tilted or not). kHeight: the plane z = height (map frame, after align/frame).
+  /// Voxels within 1.25 voxels of it (or under it) are not clustered; it is an obstacle for path
+  /// checks (BuildResult::surfaces).
   mapper::PlaneSetting floor;
+  /// Whether a found floor levels the map; kAuto: only a camera's frame (levelsMap).
+  Level level = Level::kAuto;
+  /// For level kAuto: whether the points are in a camera's frame (a monocular SLAM map is in its
+  /// first camera's). nullopt: judged from the inputs (levelsMap). A live node sets it from the
+  /// topic (ORB-SLAM's map markers: true; a PointCloud2: false).
+  std::optional<bool> camera_frame;
   /// The ceiling, likewise (never moves the map); default kNone.
   mapper::PlaneSetting ceiling{mapper::PlaneSetting::Mode::kNone, 0.0};
-  mapper::FilterParams filters;      ///< crop box, z bounds, map frame (after levelling)
+  /// Crop box and z bounds, in the output frame: after up/scale or align, and after levelling (the
+  /// input frame itself when none of them moved the map).
+  mapper::FilterParams filters;
   mapper::OctreeParams octree;       ///< resolution 0.05, octomap's sensor model, unbounded rays
   /// DBSCAN radius, map units; nullopt (default): chosen from the map (clustering::chooseDbscanParams
   /// with `auto_rule`). A given value wins.
@@ -134,8 +153,15 @@ struct BuildReport {
   PointAccount points;
   std::size_t keyframes = 0;                                 ///< keyframes read (0 without a trajectory)
   std::optional<mapper::Alignment> alignment;                ///< with params.align
+  /// With params.align in GPS: reference lines dropped for having no fix, by reason ("no_fix":
+  /// latitude = longitude = 0; "non_finite"; "out_of_range"): see mapper::ReferenceStats.
+  std::map<std::string, std::size_t> reference_dropped;
   /// Map frame (after align/frame, before levelling) -> output frame: the floor's levelling.
   Eigen::Isometry3d levelling = Eigen::Isometry3d::Identity();
+  /// Input coordinates -> output coordinates: the product of the up axis and scale (or the
+  /// alignment) and the levelling; identity for an octree read as it is. `check` and `plan` take
+  /// input-frame coordinates through it (mapper::inverse for the way back).
+  mapper::Similarity input_to_output;
   PlaneReport floor;
   PlaneReport ceiling;
   ClusterParamsReport cluster_params;
@@ -164,6 +190,11 @@ struct BuildResult {
   /// and ceiling's voxels, which are counted in neither noise nor clusters).
   clustering::DbscanResult clusters;
   std::vector<clustering::Obstacle> obstacles;     ///< what collision::HullChecker takes (with parts)
+  /// The floor and ceiling found or given, as solid half-spaces for path checks (HullChecker's
+  /// surfaces): the solid reaches up to the plane, or to the top of its highest voxel when that is
+  /// higher (every voxel set aside as floor lies inside it completely, as a cluster's voxels lie
+  /// inside its hull). Named "floor" and "ceiling".
+  std::vector<collision::HalfSpace> surfaces;
   std::vector<mapper::Keyframe> keyframes;         ///< output frame (with params.trajectory)
   BuildReport report;
 };
@@ -171,6 +202,13 @@ struct BuildResult {
 /// Clusters the map's occupied voxels (each weighted by its map points) with `dbscan` and wraps each
 /// cluster in a convex obstacle (no floor, no parts). Throws hullmap::Error naming the parameter at fault.
 ClusteredVoxels clusterMap(const mapper::OccupancyMap& map, const clustering::DbscanParams& dbscan);
+
+/// Whether a build of `params` levels a floor it finds: level kOn yes, kOff no; kAuto when the
+/// input is in a camera's frame: camera_frame when given, else an up axis other than z, or an input
+/// or the trajectory recognisably ORB-SLAM's (mapper::looksLikeOrbSlam: an echo dump, or ORB-SLAM's
+/// file names). Never with align or for an octree input. `inputs` are the inputs as read (their
+/// formats known).
+bool levelsMap(const BuildParams& params, const std::vector<mapper::InputStats>& inputs);
 
 /// Runs read -> align or frame -> floor (level) -> filters -> octree -> surfaces -> auto eps/minPts
 /// -> DBSCAN -> obstacles -> convex parts on params.inputs; each stage is timed in

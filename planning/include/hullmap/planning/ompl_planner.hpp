@@ -73,7 +73,8 @@ Box3d omplBoxFor(const std::vector<clustering::Obstacle>& obstacles, const PlanR
 /// Throws hullmap::Error naming the parameter at fault: time_limit not > 0 and finite,
 /// clearance_weight < 0, clearance_scale <= 0, a negative radius, an empty box, non-finite
 /// coordinates; and on an invalid hull (naming its id).
+/// `surfaces` (floor, ceiling) are obstacles for the states, the motions and the final check.
 OmplPlanResult planPathOmpl(const std::vector<clustering::Obstacle>& obstacles, const PlanRequest& request,
-                            const OmplParams& params = {});
+                            const OmplParams& params = {}, const std::vector<collision::HalfSpace>& surfaces = {});
 
 }  // namespace hullmap::planning

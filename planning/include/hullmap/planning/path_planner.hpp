@@ -40,8 +40,11 @@ struct PlanResult {
 /// plan() calls after construction.
 class PathPlanner {
  public:
-  /// Throws hullmap::Error on an invalid hull (naming its id).
-  PathPlanner(const std::vector<clustering::Obstacle>& obstacles, Roadmap roadmap);
+  /// `surfaces` (floor, ceiling) are obstacles for every check, as in collision::HullChecker; the
+  /// roadmap should have been built with them. Throws hullmap::Error on an invalid hull (naming its
+  /// id) or surface.
+  PathPlanner(const std::vector<clustering::Obstacle>& obstacles, Roadmap roadmap,
+              std::vector<collision::HalfSpace> surfaces = {});
   ~PathPlanner();
   PathPlanner(PathPlanner&&) noexcept;
   PathPlanner& operator=(PathPlanner&&) noexcept;
@@ -79,8 +82,13 @@ RoadmapParams roadmapParamsFor(const std::vector<clustering::Obstacle>& obstacle
                                const std::vector<Eigen::Vector3d>& points, double radius);
 
 /// Builds the roadmap (roadmapParamsFor the start, goal and flight height unless `roadmap_params`
-/// is given) and plans. Throws hullmap::Error as buildRoadmap and plan do.
+/// is given) and plans, `surfaces` (floor, ceiling) being obstacles for both. Throws hullmap::Error
+/// as buildRoadmap and plan do.
 PlanResult planPath(const std::vector<clustering::Obstacle>& obstacles, const PlanRequest& request,
-                    std::optional<RoadmapParams> roadmap_params = std::nullopt);
+                    std::optional<RoadmapParams> roadmap_params = std::nullopt,
+                    const std::vector<collision::HalfSpace>& surfaces = {});
+
+/// What a check's hit is, for messages: "obstacle 3" or "the floor".
+std::string hitName(const collision::SegmentCheck& check);
 
 }  // namespace hullmap::planning

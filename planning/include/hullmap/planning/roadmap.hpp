@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/collision/path_check.hpp"
 
 namespace hullmap::planning {
 
@@ -54,7 +55,7 @@ struct RoadmapEdge {
 /// The roadmap graph and how it was made.
 struct Roadmap {
   Bounds2d bounds;
-  double z0 = 0.0, z1 = 0.0;
+  double z0 = 0.0, z1 = 0.0;     ///< the band used: as given, less what the surfaces take
   double min_clearance = 0.0;
   double tolerance = 0.0;
   /// The sites' polygons: the footprints of the obstacles' convex parts (an obstacle without
@@ -79,9 +80,14 @@ struct Roadmap {
 /// different obstacles or an obstacle and the bounds, drops edges touching the outside of the
 /// bounds, inside a footprint, or with clearance < min_clearance. The clearance of an edge is its
 /// exact minimum along the arc (closed form per bisector type: point-point, point-segment parabola,
-/// segment-segment line), not a sampled one. Throws hullmap::Error naming the parameter at fault
-/// (empty bounds, tolerance <= 0, a footprint with fewer than 3 vertices naming its id).
-Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const RoadmapParams& params);
+/// segment-segment line), not a sampled one. `surfaces` (a floor, a ceiling: solid half-spaces)
+/// bound the band: it is cut to what lies above every floor's solid and below every ceiling's over
+/// the bounds (Roadmap::z0, z1 say what is left), so no roadmap point is inside them; a planner's
+/// exact checks keep the drone's radius from them. Throws hullmap::Error naming the parameter at
+/// fault (empty bounds, tolerance <= 0, a footprint with fewer than 3 vertices naming its id, "z0/z1"
+/// when nothing of the band is left between the surfaces).
+Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const RoadmapParams& params,
+                     const std::vector<collision::HalfSpace>& surfaces = {});
 
 /// Distance from `p` to the site (point or segment), metres.
 double siteDistance(const SiteRef& site, const Eigen::Vector2d& p);

@@ -22,7 +22,7 @@ struct NodeParams {
 /// The build's parameters from the node's private parameters, named as `hullmap build`'s options
 /// with '_' for '-' and the same defaults (BuildParams'): ~resolution, ~eps, ~min_pts, ~up, ~scale,
 /// ~metric, ~z_min, ~z_max, ~max_range, ~hit, ~miss, ~clamp_min, ~clamp_max, ~occupancy_threshold,
-/// ~floor, ~ceiling, ~concavity, ~flat_gap, ~extension.
+/// ~floor, ~level, ~ceiling, ~concavity, ~flat_gap, ~extension.
 /// The one place where node parameters meet BuildParams fields. Throws hullmap::Error naming the
 /// parameter ("~up: ...") for a value `hullmap build` would refuse to parse.
 pipeline::BuildParams readBuildParams(const ::ros::NodeHandle& private_nh);
