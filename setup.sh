@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # hullmap set-up: installs what is missing (Debian 12 packages), builds, then
-#   ./setup.sh demo   runs `hullmap build --align` on maps/room and prints `hullmap evaluate`'s verdict
+#   ./setup.sh demo   runs `hullmap build --align` on maps/room, prints `hullmap evaluate`'s verdict and
+#                     writes out/room.html (`hullmap view`)
 #   ./setup.sh test   runs the whole test suite (ctest)
 #   ./setup.sh bench  installs the peers (Open3D, scikit-learn) too and regenerates docs/BENCHMARKS.md
 #   ./setup.sh quality  installs Open3D and SciPy too and regenerates docs/QUALITY.md (bench/run_quality.sh)
@@ -28,6 +29,8 @@ jobs=${JOBS:-$(nproc)}
 packages=(build-essential cmake pkg-config liboctomap-dev libfcl-dev libcgal-dev libeigen3-dev
           libtbb-dev liblzf-dev libcli11-dev nlohmann-json3-dev libnanoflann-dev libgtest-dev libbenchmark-dev
           libompl-dev libboost-filesystem-dev libboost-serialization-dev libboost-system-dev ccache)
+# three.js for `hullmap view`'s page (the demo writes one).
+packages+=(libjs-three)
 if [ "$mode" = test ]; then
   # python3-sklearn: DBSCAN oracle on real maps; librsvg2-bin: PNG rendering test;
   # clang + libclang-rt-14-dev: the libFuzzer targets that .ci/run runs briefly.
@@ -35,6 +38,9 @@ if [ "$mode" = test ]; then
   # The Python module (python/) and its pytest suite: pybind11 and the headers to build it, pytest,
   # venv and pip for the offline pip install test, Open3D for Map.to_open3d.
   packages+=(pybind11-dev python3-dev python3-pytest python3-venv python3-pip python3-open3d)
+  # hullmap view's test/view_browser_test.py: headless Chromium driven by selenium (python3-pil reads
+  # its screenshots).
+  packages+=(chromium chromium-driver python3-selenium python3-pil)
   # ROS1 (Debian's): hullmap_node and bag input are built only when found, so the tests install them;
   # pluginlib-dev holds headers that rosbag/bag.h includes; the python3-* message modules, rospy,
   # rosbag and ros-core (rosmaster) are what test/ros_*.py publish, record and run with.
@@ -49,6 +55,8 @@ if [ "$mode" = bench ]; then
   packages+=(python3 python3-numpy python3-sklearn python3-open3d python3-venv time bc)
   # The Python module, for the section that times it from Python.
   packages+=(pybind11-dev python3-dev)
+  # bench/view_scale.py: hullmap view's page in headless Chromium.
+  packages+=(chromium chromium-driver python3-selenium python3-pil)
 fi
 if [ "$mode" = quality ]; then
   # The Open3D pipeline a user would assemble, numpy/scipy for the alignment and footprints, and
@@ -115,6 +123,9 @@ if [ "$mode" = demo ]; then
   "$hullmap" evaluate out/room --truth $m/ground_truth.json --radius 0.3
   echo "== $hullmap check out/room --radius 0.3 --segments $m/segments.txt"
   "$hullmap" check out/room --radius 0.3 --segments $m/segments.txt || [ $? -eq 1 ]
+  echo "== $hullmap view out/room -o out/room.html"
+  "$hullmap" view out/room -o out/room.html
+  echo "== open out/room.html in a browser to see the build in 3D"
   echo "== outputs in out/room: $(ls out/room | tr '\n' ' ')"
 else
   ctest --test-dir "$build_dir" --output-on-failure -j"$jobs"

@@ -70,6 +70,9 @@ trap 'rm -f "$tmp"' EXIT
     echo
     sh "$root/bench/section_ros.sh" "$build"
   fi
+  echo
+  /usr/bin/python3 "$root/bench/view_scale.py" "$build" ||
+    echo "(The viewer's section did not run here: bench/view_scale.py said why on stderr.)"
 } >"$tmp"
 mv "$tmp" "$out"
 trap - EXIT

@@ -381,7 +381,8 @@ void addBuildCommand(CLI::App& app, int& status) {
     printClustering(result);
     std::cout << "wrote " << options->output_dir
               << "/{map.bt" << (options->params.write_ot ? ",map.ot" : "")
-              << ",voxels.csv,obstacles.json,obstacles.obj,report.json}\n";
+              << ",voxels.csv,obstacles.json,obstacles.obj,report.json"
+              << (result.keyframes.empty() ? "" : ",trajectory.txt") << "}\n";
     status = 0;
   });
 }

@@ -16,6 +16,7 @@
 #include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/pipeline/check_json.hpp"
 #include "hullmap/pipeline/map_obstacles.hpp"
+#include "hullmap/pipeline/path_checker.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "check_warnings.hpp"
 #include "option_checks.hpp"
@@ -111,7 +112,7 @@ void runCheck(const CheckOptions& o, int& status) {
     const pipeline::MapObstacles map = pipeline::readMapObstacles(obstacles_json);
     warnings = hullCheckWarnings(obstacles_json, map.obstacles.size());
     const auto [moved, moved_waypoints] = inMapFrame(map);
-    const collision::HullChecker checker(map.obstacles, map.surfaces);
+    const collision::HullChecker checker = pipeline::pathChecker(map);
     if (is_path) {
       path = checker.checkPath(moved_waypoints, request);
     } else {

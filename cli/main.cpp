@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
   using namespace hullmap::cli;
   const std::vector<AddCommand> commands = {addBuildCommand,   addInfoCommand,  addGenerateCommand, addClusterCommand,
                                             addSweepCommand,   addCheckCommand, addPlotCommand,     addRoadmapCommand,
-                                            addPlanCommand,    addEvaluateCommand};
+                                            addPlanCommand,    addEvaluateCommand, addViewCommand};
   // front.cpp decides what it runs itself by kCommandNames: they must be the names registered here.
   CLI::App names;
   int unused = 0;

@@ -10,7 +10,10 @@
 #include "commands.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/map_obstacles.hpp"
+#include "hullmap/pipeline/path_checker.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/pipeline/trajectory_file.hpp"
 #include "hullmap/planning/roadmap_json.hpp"
 #include "hullmap/plot/svg_plot.hpp"
 #include "option_checks.hpp"
@@ -69,7 +72,11 @@ void runPlot(const PlotOptions& o) {
     plot.centers.push_back(row.center);
     plot.labels.push_back(row.label);
   }
-  plot.obstacles = pipeline::readObstacles(fs::path(o.dir) / "obstacles.json");
+  const pipeline::MapObstacles map = pipeline::readMapObstacles(fs::path(o.dir) / "obstacles.json");
+  plot.obstacles = map.obstacles;
+  plot.floor_label = pipeline::kFloorLabel;
+  if (const auto keyframes = pipeline::readBuildTrajectory(o.dir))
+    for (const auto& k : *keyframes) plot.keyframes.push_back(k.position);
   if (!o.roadmap.empty()) {
     const planning::Roadmap roadmap = planning::readRoadmapJson(o.roadmap);
     plot::PlotRoadmap drawn;
@@ -82,7 +89,7 @@ void runPlot(const PlotOptions& o) {
   }
   if (!o.path_files.empty()) {
     checkRadius(o.radius);
-    const collision::HullChecker checker(plot.obstacles);
+    const collision::HullChecker checker = pipeline::pathChecker(map);
     for (const auto& file : o.path_files) {
       plot::PlotPath path;
       path.name = fs::path(file).filename().string();
@@ -97,6 +104,7 @@ void runPlot(const PlotOptions& o) {
   std::cout << "plot: " << (o.side ? "side view (x-z)" : "top view (x-y)") << ", " << plot.centers.size()
             << " voxels drawn as " << picture.cells << " cells, " << plot.obstacles.size() << " obstacles";
   if (picture.hidden_voxels > 0) std::cout << ", " << picture.hidden_voxels << " far noise voxels not drawn";
+  if (!plot.keyframes.empty()) std::cout << ", " << plot.keyframes.size() << " keyframes";
   if (plot.roadmap) std::cout << ", roadmap of " << plot.roadmap->edges.size() << " edges";
   if (!plot.paths.empty()) std::cout << ", " << plot.paths.size() << " path" << (plot.paths.size() > 1 ? "s" : "");
   std::cout << "\n";

@@ -313,6 +313,49 @@ TEST(PlotMap, TopViewIsValidXmlWithOneFootprintPerObstacleAndPaletteColours) {
   EXPECT_EQ(countClass(elements, "scale-bar"), 1u);
 }
 
+TEST(PlotMap, KeyframesAndTheFloorsOutlineAreDrawn) {
+  Scene s = makeScene(3, 0.05, 9);
+  // A floor of 20 x 12 voxels under the scene, at its own label (pipeline's kFloorLabel, -2).
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 12; ++j) {
+      s.plot.centers.emplace_back((10 + i + 0.5) * 0.05, (2 + j + 0.5) * 0.05, -0.025);
+      s.plot.labels.push_back(-2);
+    }
+  for (int k = 0; k < 7; ++k) s.plot.keyframes.emplace_back(0.3 + 0.2 * k, 0.9, 1.2);
+  const std::string without = hullmap::plot::renderMapSvg(s.plot).svg;
+  EXPECT_EQ(without.find("floor-outline"), std::string::npos) << "no outline without floor_label";
+  s.plot.floor_label = -2;
+  const std::string svg = hullmap::plot::renderMapSvg(s.plot).svg;
+  std::size_t keyframes = 0;
+  for (auto at = svg.find("class=\"keyframe\""); at != std::string::npos; at = svg.find("class=\"keyframe\"", at + 1))
+    ++keyframes;
+  EXPECT_EQ(keyframes, 7u);
+  EXPECT_NE(svg.find("<g class=\"trajectory\""), std::string::npos);
+  EXPECT_NE(svg.find("keyframe trajectory (dashed purple): 7 keyframes"), std::string::npos);
+  EXPECT_NE(svg.find("floor (light brown cells, dashed outline): 240 voxels"), std::string::npos);
+  EXPECT_NE(svg.find("data-label=\"-2\" fill=\"#ddd3bb\""), std::string::npos) << "floor cells, not black";
+  // The outline is the rectangle around the floor's cells: 4 corners, 20 x 12 voxels.
+  const auto at = svg.find("<polygon class=\"floor-outline\" points=\"");
+  ASSERT_NE(at, std::string::npos);
+  const auto start = svg.find("points=\"", at) + 8;
+  std::istringstream points(svg.substr(start, svg.find('"', start) - start));
+  std::vector<std::pair<double, double>> corners;
+  std::string pair;
+  while (points >> pair) {
+    const auto comma = pair.find(',');
+    corners.emplace_back(std::stod(pair.substr(0, comma)), std::stod(pair.substr(comma + 1)));
+  }
+  ASSERT_EQ(corners.size(), 4u);
+  double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
+  for (const auto& [x, y] : corners) {
+    x0 = std::min(x0, x);
+    x1 = std::max(x1, x);
+    y0 = std::min(y0, y);
+    y1 = std::max(y1, y);
+  }
+  EXPECT_NEAR((x1 - x0) / (y1 - y0), 20.0 / 12.0, 0.05);
+}
+
 TEST(PlotMap, EachTopCellDrawnOnceWithItsTopmostClusteredVoxel) {
   Scene s = makeScene(10, 0.1, 3);
   // A noise voxel above a cluster must not hide it; a higher cluster voxel hides a lower one.
@@ -582,11 +625,19 @@ TEST(PlotCommand, GenerateBuildPlotEndToEnd) {
   const auto out = dir / "out";
   auto r = hullmap::test::runHullmap("generate --points 6000 --obstacles 5 -o '" + scene.string() + "'");
   ASSERT_EQ(r.status, 0) << r.err;
-  r = hullmap::test::runHullmap("build '" + (scene / "map_points.txt").string() + "' --up -y --eps 0.15 --min-pts 5 -o '" +
+  r = hullmap::test::runHullmap("build '" + (scene / "map_points.txt").string() + "' --trajectory '" +
+                                (scene / "KeyFrameTrajectory.txt").string() + "' --up -y --eps 0.15 --min-pts 5 -o '" +
                                 out.string() + "'");
   ASSERT_EQ(r.status, 0) << r.err;
   r = hullmap::test::runHullmap("plot '" + out.string() + "' -o '" + (dir / "top.svg").string() + "'");
   ASSERT_EQ(r.status, 0) << r.err;
+  // The build's keyframes (trajectory.txt) and its floor are drawn.
+  EXPECT_NE(r.out.find(", 60 keyframes"), std::string::npos) << r.out;
+  {
+    const std::string top = hullmap::test::slurp(dir / "top.svg");
+    EXPECT_NE(top.find("<g class=\"trajectory\""), std::string::npos);
+    EXPECT_NE(top.find("<polygon class=\"floor-outline\""), std::string::npos);
+  }
   const auto obstacles = hullmap::pipeline::readObstaclesJson((out / "obstacles.json").string());
   ASSERT_FALSE(obstacles.empty());
   const std::string svg = hullmap::test::slurp(dir / "top.svg");
@@ -601,7 +652,7 @@ TEST(PlotCommand, GenerateBuildPlotEndToEnd) {
     EXPECT_EQ(countClass(elements, "obstacle-id"), obstacles.size());
     for (const auto& e : elements) {
       if (e.cls == "cells") {
-        EXPECT_EQ(e.fill, toHex(clusterColour(std::stoi(e.label))));
+        EXPECT_EQ(e.fill, e.label == "-2" ? "#ddd3bb" : toHex(clusterColour(std::stoi(e.label))));
       }
     }
   }

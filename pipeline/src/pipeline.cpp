@@ -30,6 +30,7 @@
 #include "hullmap/mapper/level_check.hpp"
 #include "hullmap/mapper/output_dir.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
+#include "hullmap/pipeline/trajectory_file.hpp"
 #include "input_points.hpp"
 
 namespace hullmap::pipeline {
@@ -1317,6 +1318,10 @@ void write(const BuildResult& result, const fs::path& dir, const WriteOptions& o
                               [&](std::ostream& os) { os << report.dump(2) << '\n'; });
     std::vector<std::string> written{"map.bt", "voxels.csv", "obstacles.json", "obstacles.obj", "report.json"};
     if (result.params.write_ot) written.push_back("map.ot");
+    if (!result.keyframes.empty()) {
+      writeTumTrajectory(staging / kTrajectoryFile, result.keyframes);
+      written.push_back(kTrajectoryFile);
+    }
     mapper::writeOutputMarker(staging.string(), written);
 
     runStage("move_into_place");

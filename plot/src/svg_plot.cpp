@@ -28,16 +28,22 @@ struct CellWinner {
 };
 using CellMap = std::map<std::pair<std::int64_t, std::int64_t>, CellWinner>;
 
+// The label a cell of the floor's voxels is drawn with (MapPlot::floor_label): after noise.
+constexpr std::int32_t kFloorCell = -2;
+constexpr const char* kFloorCellColour = "#ddd3bb";
+
+// A cell shows a clustered voxel before noise, noise before the floor; then the nearest.
+int cellRank(std::int32_t label) { return label >= 0 ? 0 : label == kFloorCell ? 2 : 1; }
+
 void offer(CellMap& cells, const Eigen::Vector2d& p, double cell, std::int32_t label, double depth) {
   const auto key = std::make_pair(static_cast<std::int64_t>(std::floor(p.y() / cell)),
                                   static_cast<std::int64_t>(std::floor(p.x() / cell)));
-  const std::int32_t l = label < 0 ? -1 : label;
+  const std::int32_t l = label < 0 && label != kFloorCell ? -1 : label;
   auto [it, inserted] = cells.try_emplace(key, CellWinner{l, depth});
   if (inserted) return;
   CellWinner& w = it->second;
-  const bool clustered = l >= 0;
-  const bool was_clustered = w.label >= 0;
-  if ((clustered && !was_clustered) || (clustered == was_clustered && depth > w.depth)) w = CellWinner{l, depth};
+  const int rank = cellRank(l), was = cellRank(w.label);
+  if (rank < was || (rank == was && depth > w.depth)) w = CellWinner{l, depth};
 }
 
 // Merges runs of equal cells per row; one <path> per label in cell coordinates, mapped to pixels
@@ -68,7 +74,7 @@ void writeCells(std::ostream& svg, const CellMap& cells, double cell, const View
   // stay visible in big maps.
   const bool tiny = cell * vp.scale < 3.0;
   for (const auto& [label, d] : paths) {
-    const std::string colour = toHex(clusterColour(label));
+    const std::string colour = label == kFloorCell ? kFloorCellColour : toHex(clusterColour(label));
     svg << "<path class=\"cells\" data-label=\"" << label << "\" fill=\"" << colour << "\" d=\"" << d << '"';
     if (tiny) svg << " stroke=\"" << colour << "\" stroke-width=\"1\" vector-effect=\"non-scaling-stroke\"";
     svg << "/>\n";
@@ -219,6 +225,46 @@ void writeRoadmap(std::ostream& svg, const PlotRoadmap& roadmap, const Viewport&
   svg << "</g>\n";
 }
 
+// The outline of the floor's voxels: the convex hull of their cells' corners in the view plane.
+std::vector<Eigen::Vector2d> floorOutline(const MapPlot& plot) {
+  std::vector<Eigen::Vector2d> corners;
+  const double h = plot.voxel_size / 2;
+  for (std::size_t i = 0; i < plot.centers.size(); ++i) {
+    if (plot.labels[i] != *plot.floor_label) continue;
+    const Eigen::Vector2d c = project(plot.centers[i], plot.view);
+    for (const double dx : {-h, h})
+      for (const double dy : {-h, h}) corners.emplace_back(c.x() + dx, c.y() + dy);
+  }
+  return clustering::convexHull2d(std::move(corners));
+}
+
+void writeFloorOutline(std::ostream& svg, const std::vector<Eigen::Vector2d>& outline, const Viewport& vp) {
+  std::string points;
+  for (const auto& p : outline) points += num(vp.px(p.x())) + ',' + num(vp.py(p.y())) + ' ';
+  if (!points.empty()) points.pop_back();
+  svg << "<polygon class=\"floor-outline\" points=\"" << points
+      << "\" fill=\"none\" stroke=\"#8b6f3a\" stroke-width=\"1.5\" stroke-dasharray=\"7 4\"/>\n";
+}
+
+// The keyframes as the camera's path: a dashed line through them and a dot at each.
+void writeTrajectory(std::ostream& svg, const std::vector<Eigen::Vector3d>& keyframes, PlotView view,
+                     const Viewport& vp) {
+  std::string points;
+  for (const auto& k : keyframes) {
+    const Eigen::Vector2d q = project(k, view);
+    points += num(vp.px(q.x())) + ',' + num(vp.py(q.y())) + ' ';
+  }
+  if (!points.empty()) points.pop_back();
+  svg << "<g class=\"trajectory\" stroke=\"#6d28d9\" fill=\"#6d28d9\">\n<polyline points=\"" << points
+      << "\" fill=\"none\" stroke-width=\"1.2\" stroke-dasharray=\"5 3\"/>\n";
+  for (const auto& k : keyframes) {
+    const Eigen::Vector2d q = project(k, view);
+    svg << "<circle class=\"keyframe\" cx=\"" << num(vp.px(q.x())) << "\" cy=\"" << num(vp.py(q.y()))
+        << "\" r=\"1.8\" stroke=\"none\"/>\n";
+  }
+  svg << "</g>\n";
+}
+
 // Draws the path in its colour; returns its caption line.
 std::string writePath(std::ostream& svg, const PlotPath& path, std::size_t index, PlotView view, const Viewport& vp) {
   const std::string colour = toHex(pathColour(index));
@@ -344,6 +390,7 @@ SvgPicture renderMapSvg(const MapPlot& plot) {
     for (const auto& e : plot.roadmap->edges)
       for (const auto& p : e) box.add(p);
   }
+  for (const auto& k : plot.keyframes) box.add(project(k, view));
   const Box2 shown = withNearby(box, noise, 4 * cell);  // noise voxels outside are hidden outliers
   box = shown;
   box.x0 -= cell / 2;
@@ -367,15 +414,19 @@ SvgPicture renderMapSvg(const MapPlot& plot) {
       ++picture.hidden_voxels;
       continue;
     }
-    offer(cells, p, cell, plot.labels[i], view == PlotView::kTop ? c.z() : -c.y());
+    const bool floor = plot.floor_label && plot.labels[i] == *plot.floor_label;
+    offer(cells, p, cell, floor ? kFloorCell : plot.labels[i] < 0 ? -1 : plot.labels[i],
+          view == PlotView::kTop ? c.z() : -c.y());
   }
   picture.cells = cells.size();
 
   std::set<std::int32_t> clusters;
-  std::size_t noise_voxels = 0;
+  std::size_t noise_voxels = 0, floor_voxels = 0;
   for (std::int32_t l : plot.labels) {
     if (l >= 0) {
       clusters.insert(l);
+    } else if (plot.floor_label && l == *plot.floor_label) {
+      ++floor_voxels;
     } else {
       ++noise_voxels;
     }
@@ -384,6 +435,10 @@ SvgPicture renderMapSvg(const MapPlot& plot) {
   std::ostringstream body;
   const double font = 12.0;
   writeCells(body, cells, cell, vp);
+  if (plot.floor_label) {
+    const auto outline = floorOutline(plot);
+    if (outline.size() >= 3) writeFloorOutline(body, outline, vp);
+  }
   writeObstacles(body, plot.obstacles, view, vp);
   std::vector<std::string> caption = plot.caption;
   caption.push_back(std::to_string(plot.centers.size()) + " voxels, " + std::to_string(clusters.size()) +
@@ -394,6 +449,14 @@ SvgPicture renderMapSvg(const MapPlot& plot) {
                         : "side view from -y: each x-z cell shows its nearest clustered voxel, else its nearest voxel");
   if (picture.hidden_voxels > 0) {
     caption.push_back(std::to_string(picture.hidden_voxels) + " far noise voxels outside the view, not drawn");
+  }
+  if (floor_voxels > 0) {
+    caption.push_back("floor (light brown cells, dashed outline): " + std::to_string(floor_voxels) +
+                      " voxels, not clustered");
+  }
+  if (!plot.keyframes.empty()) {
+    writeTrajectory(body, plot.keyframes, view, vp);
+    caption.push_back("keyframe trajectory (dashed purple): " + std::to_string(plot.keyframes.size()) + " keyframes");
   }
   if (plot.roadmap && view == PlotView::kTop) {
     writeRoadmap(body, *plot.roadmap, vp);

@@ -254,8 +254,9 @@ bool readsOctree(const BuildParams& params);
 /// The frame the outputs of `result` are in, as written into report.json and obstacles.json.
 std::string outputFrame(const BuildResult& result);
 
-/// Writes map.bt (+ map.ot with params.write_ot), voxels.csv, obstacles.json, obstacles.obj and
-/// report.json into `dir` whole or not at all: everything goes to a sibling staging directory
+/// Writes map.bt (+ map.ot with params.write_ot), voxels.csv, obstacles.json, obstacles.obj,
+/// report.json (+ trajectory.txt, the keyframes in the output frame, when the build had keyframes:
+/// writeTumTrajectory) into `dir` whole or not at all: everything goes to a sibling staging directory
 /// `.NAME.new<pid>` (locked while written) which then replaces `dir` in one atomic step (rename, or
 /// renameat2 RENAME_EXCHANGE when `dir` exists); a failed run leaves the previous `dir` as it was.
 /// Staging directories of killed runs are removed. `dir` may only be absent, empty or a previous

@@ -49,6 +49,12 @@ struct MapPlot {
   std::vector<clustering::Obstacle> obstacles;
   std::optional<PlotRoadmap> roadmap;       ///< drawn in the top view only (it is a ground-plane graph)
   std::vector<PlotPath> paths;               ///< one colour each (pathColour), drawn over the roadmap
+  /// Keyframe positions (map frame; a build's trajectory.txt), drawn as the camera's path; may be empty.
+  std::vector<Eigen::Vector3d> keyframes;
+  /// Voxels with this label are the floor's (pipeline::kFloorLabel): drawn light brown under noise
+  /// and clusters (data-label -2), and the outline of their cells in the view plane is drawn.
+  /// nullopt: they are drawn as noise.
+  std::optional<std::int32_t> floor_label;
   std::vector<std::string> caption;          ///< lines printed under the picture (parameters)
   PlotView view = PlotView::kTop;
 };
@@ -77,7 +83,10 @@ struct SvgPicture {
 /// is drawn as <g class="roadmap"> of <polyline class="roadmap-edge" data-clearance=".."> and
 /// <circle class="roadmap-node">. Each path is a <g class="path" data-index="i"> in pathColour(i)
 /// with a band of its radius; segments that collide are red lines of class "colliding-segment", the
-/// first contact a red circle of class "first-contact". Axes are in map units with a scale bar.
+/// first contact a red circle of class "first-contact". The keyframes are a dashed purple
+/// <g class="trajectory"> (a polyline and a dot each); the floor's voxels, with floor_label, are
+/// outlined by <polygon class="floor-outline"> (dashed), the convex hull of their cells in the view
+/// plane. Axes are in map units with a scale bar.
 /// Throws hullmap::Error on voxel_size <= 0 or a labels/centers size mismatch.
 SvgPicture renderMapSvg(const MapPlot& plot);
 
