@@ -104,11 +104,25 @@ void addEvaluateCommand(CLI::App& app, int& status) {
                   "Map points in the map frame (any point format); default: the build's voxels.csv, weighted");
   cmd->add_option("--segments", options->params.segments, "Random segments in the free volume (default 2000)");
   cmd->add_option("--seed", options->params.seed, "Seed of every random draw (default 1)");
-  cmd->add_flag("--json", options->json, "Print the result as JSON");
-  cmd->callback([options, &status] {
+  cmd->add_option("--clear-margin", options->params.clear_margin,
+                  "A clear segment keeps --radius plus this from every true obstacle, map units (default 0.1)")
+      ->check(CLI::NonNegativeNumber);
+  auto ends = std::make_shared<std::string>("free");
+  cmd->add_option("--ends", *ends,
+                  "Segment endpoints: free (around the truth, both free) or in-box (anywhere in the truth's box: "
+                  "a room's inside; default free)");
+  cmd->callback([options, ends, &status] {
+    if (*ends == "free") {
+      options->params.ends = pipeline::SegmentEnds::kFree;
+    } else if (*ends == "in-box") {
+      options->params.ends = pipeline::SegmentEnds::kInTruthBox;
+    } else {
+      throw Error("--ends: expected 'free' or 'in-box', got '" + *ends + "'");
+    }
     runEvaluate(*options);
     status = 0;
   });
+  cmd->add_flag("--json", options->json, "Print the result as JSON");
 }
 
 }  // namespace hullmap::cli

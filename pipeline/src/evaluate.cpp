@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <random>
 #include <sstream>
 
@@ -407,8 +408,11 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
   if (!lo.allFinite() || params.segments == 0) return e;
   // The segments depend on the truth and the seed only, so that two builds are scored on the same ones.
   rng.seed(params.seed + 1);
-  lo -= V3::Constant(params.radius + params.clear_margin + 0.5);
-  hi += V3::Constant(params.radius + params.clear_margin + 0.5);
+  const bool free_ends = params.ends == SegmentEnds::kFree;
+  if (free_ends) {
+    lo -= V3::Constant(params.radius + params.clear_margin + 0.5);
+    hi += V3::Constant(params.radius + params.clear_margin + 0.5);
+  }
   const double free_distance = params.radius + params.clear_margin;
   // Segments stay on the map's side of its floors and ceilings: nothing flies through a floor.
   double above = -kInf, below = kInf;
@@ -420,37 +424,60 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
   const auto onMapSide = [&](const V3& p) { return p.z() >= above && p.z() <= below; };
   std::vector<collision::Segment> segments;
   std::vector<int> verdict;  // 1 deep, 2 clear, 0 neither
+  std::vector<std::pair<std::size_t, double>> deepest;  // the shape nearest along it, radius - distance
   for (std::size_t tries = 0; segments.size() < params.segments && tries < 1000 * params.segments; ++tries) {
     const V3 a = lo + (hi - lo).cwiseProduct(V3(uniform(rng), uniform(rng), uniform(rng)));
     // A direction uniform on the sphere, and a length in [0.2, segment_length].
     const double z = 2 * uniform(rng) - 1, phi = 2 * kPi * uniform(rng), r = std::sqrt(1 - z * z);
     const double length = 0.2 + (params.segment_length - 0.2) * uniform(rng);
     const V3 b = a + length * V3(r * std::cos(phi), r * std::sin(phi), z);
-    if (truth.signedDistance(a) < free_distance || truth.signedDistance(b) < free_distance) continue;
+    if (free_ends && (truth.signedDistance(a) < free_distance || truth.signedDistance(b) < free_distance)) continue;
+    if (!free_ends && ((b.array() < lo.array()).any() || (b.array() > hi.array()).any())) continue;
     if (!onMapSide(a) || !onMapSide(b)) continue;
     const std::size_t steps = std::size_t(std::ceil(length / params.sample_step));
     const double spacing = length / double(steps);
     double nearest = kInf;
-    for (std::size_t k = 0; k <= steps; ++k) nearest = std::min(nearest, truth.signedDistance(a + (b - a) * (double(k) / double(steps))));
+    std::size_t nearest_shape = 0;
+    for (std::size_t k = 0; k <= steps; ++k) {
+      const V3 p = a + (b - a) * (double(k) / double(steps));
+      for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
+        const double d = truth.shapes[s].signedDistance(p);
+        if (d < nearest) {
+          nearest = d;
+          nearest_shape = s;
+        }
+      }
+    }
     // The exact minimum lies in [nearest - spacing / 2, nearest].
     int v = 0;
     if (nearest < params.radius - params.depth_margin) v = 1;
     else if (nearest - 0.5 * spacing > params.radius + params.clear_margin) v = 2;
     segments.push_back({a, b});
     verdict.push_back(v);
+    deepest.emplace_back(nearest_shape, params.radius - nearest);
   }
   e.segments = segments.size();
   const collision::HullChecker checker(obstacles);
   const std::vector<collision::SegmentCheck> checks = checker.checkBatch(segments, params.radius);
+  std::map<std::pair<int, int>, std::size_t> hit;
   for (std::size_t k = 0; k < segments.size(); ++k) {
     if (verdict[k] == 1) {
       ++e.deep;
-      if (!checks[k].collides) ++e.missed;
+      if (!checks[k].collides) {
+        ++e.missed;
+        e.missed_segments.push_back({segments[k].a, segments[k].b, truth.shapes[deepest[k].first].label, deepest[k].second});
+      }
     } else if (verdict[k] == 2) {
       ++e.clear;
-      if (checks[k].collides) ++e.false_alarms;
+      if (checks[k].collides) {
+        ++e.false_alarms;
+        ++hit[{checks[k].obstacle, checks[k].part}];
+      }
     }
   }
+  for (const auto& [hull, count] : hit) e.false_alarm_hulls.push_back({hull.first, hull.second, count});
+  std::stable_sort(e.false_alarm_hulls.begin(), e.false_alarm_hulls.end(),
+                   [](const FalseAlarmHull& a, const FalseAlarmHull& b) { return a.segments > b.segments; });
   return e;
 }
 
@@ -469,6 +496,13 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
                      {"parts", representing},
                      {"parts_touching", touching}});
   }
+  json missed = json::array();
+  for (const auto& m : e.missed_segments)
+    missed.push_back({{"from", {m.from.x(), m.from.y(), m.from.z()}}, {"to", {m.to.x(), m.to.y(), m.to.z()}},
+                      {"truth", m.truth}, {"depth", m.depth}});
+  json false_alarm_hulls = json::array();
+  for (const auto& h : e.false_alarm_hulls)
+    false_alarm_hulls.push_back({{"obstacle", h.obstacle}, {"part", h.part}, {"segments", h.segments}});
   json false_parts = json::array();
   for (const auto& [o, part] : e.false_parts) false_parts.push_back({{"obstacle", o}, {"part", part}});
   return {{"format", "hullmap-evaluation/1"},
@@ -476,6 +510,7 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
            {{"radius", p.radius}, {"surface_margin", p.surface_margin}, {"touch_margin", p.touch_margin},
             {"far_margin", p.far_margin}, {"depth_margin", p.depth_margin}, {"clear_margin", p.clear_margin},
             {"volume_samples", p.volume_samples}, {"segments", p.segments}, {"segment_length", p.segment_length},
+            {"segment_ends", p.ends == SegmentEnds::kFree ? "free" : "in_truth_box"},
             {"sample_step", p.sample_step}, {"seed", p.seed}}},
           {"truth", truth},
           {"parts", e.parts},
@@ -486,7 +521,8 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
             {"far_from_truth", e.far_volume}, {"far_from_truth_se", e.far_volume_se}}},
           {"segments",
            {{"count", e.segments}, {"deep", e.deep}, {"missed", e.missed}, {"clear", e.clear},
-            {"false_alarms", e.false_alarms}}}};
+            {"false_alarms", e.false_alarms}, {"false_alarm_hulls", false_alarm_hulls},
+            {"missed_segments", missed}}}};
 }
 
 }  // namespace hullmap::pipeline
