@@ -3,6 +3,7 @@
 #include <random>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
 #include "hullmap/clustering/dbscan.hpp"
@@ -14,31 +15,65 @@ namespace {
 
 using Points = std::vector<Eigen::Vector3d>;
 
-/// trimOutliers' rule by brute force: every pair of supporting points for every candidate.
+/// trimOutliers' rule by brute force: loners against every point, then each loner's patch, its
+/// slab along the covariance's least eigenvector and its 2D hull by gift wrapping.
 std::vector<std::int32_t> oracleTrim(const Points& points, const DbscanResult& r, const Points& support,
                                      const OutlierTrimParams& params) {
   const std::size_t n = points.size();
   const auto at = [&](std::size_t k) -> const Eigen::Vector3d& { return k < n ? points[k] : support[k - n]; };
   const double r2 = params.radius * params.radius, reach2 = params.reach * params.reach;
-  std::vector<std::int32_t> labels = r.labels;
+  std::vector<bool> loner(n, false);
   for (std::size_t i = 0; i < n; ++i) {
     if (r.labels[i] < 0 || r.core[i]) continue;
-    bool alone = true;
+    loner[i] = true;
     for (std::size_t k = 0; k < n + support.size(); ++k)
-      if (k != i && (at(k) - points[i]).squaredNorm() <= r2) alone = false;
-    if (!alone) continue;
-    bool on = false;
-    for (std::size_t a = 0; a < n + support.size(); ++a)
-      for (std::size_t b = a + 1; b < n + support.size(); ++b) {
-        if (a == i || b == i) continue;
-        if ((a < n && r.labels[a] < 0) || (b < n && r.labels[b] < 0)) continue;
-        if ((at(a) - points[i]).squaredNorm() > reach2 || (at(b) - points[i]).squaredNorm() > reach2) continue;
-        // Distance to the segment, sampled finely and exactly at its ends and foot.
-        const Eigen::Vector3d d = at(b) - at(a);
-        const double t = d.squaredNorm() > 0 ? std::clamp((points[i] - at(a)).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
-        on = on || (at(a) + t * d - points[i]).squaredNorm() <= r2;
+      if (k != i && (at(k) - points[i]).squaredNorm() <= r2) loner[i] = false;
+  }
+  std::vector<std::int32_t> labels = r.labels;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!loner[i]) continue;
+    Points q;
+    for (std::size_t k = 0; k < n + support.size(); ++k)
+      if (k != i && (k >= n || (r.labels[k] >= 0 && !loner[k])) && (at(k) - points[i]).squaredNorm() <= reach2)
+        q.push_back(at(k));
+    if (q.size() < 3) continue;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const auto& x : q) mean += x;
+    mean /= double(q.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const auto& x : q) cov += (x - mean) * (x - mean).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> pca(cov);
+    const Eigen::Vector3d nn = pca.eigenvectors().col(0), u = pca.eigenvectors().col(1), v = pca.eigenvectors().col(2);
+    double lo = 1e300, hi = -1e300;
+    for (const auto& x : q) {
+      lo = std::min(lo, nn.dot(x - mean));
+      hi = std::max(hi, nn.dot(x - mean));
+    }
+    const double off = nn.dot(points[i] - mean);
+    if (hi - lo > params.radius || (off <= hi + params.radius && off >= lo - params.radius)) continue;
+    // Inside the 2D hull: no projected point q sees p strictly beyond an edge of the hull, which by
+    // brute force is: p is inside when every directed pair (a, b) of hull edges keeps p on its left;
+    // equivalently, p is outside when some pair (a, b) of projected points has p strictly on its right
+    // while all the other points are on its left or on it.
+    std::vector<Eigen::Vector2d> f;
+    for (const auto& x : q) f.emplace_back(u.dot(x - mean), v.dot(x - mean));
+    const Eigen::Vector2d pp(u.dot(points[i] - mean), v.dot(points[i] - mean));
+    const auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+      return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+    };
+    bool outside = false, degenerate = true;
+    for (std::size_t a = 0; a < f.size() && !outside; ++a)
+      for (std::size_t b = 0; b < f.size() && !outside; ++b) {
+        if (a == b || f[a] == f[b]) continue;
+        bool edge = true;
+        for (std::size_t c = 0; c < f.size() && edge; ++c) {
+          const double x = cross(f[a], f[b], f[c]);
+          if (x < 0) edge = false;
+          if (x != 0) degenerate = false;
+        }
+        if (edge && cross(f[a], f[b], pp) < 0) outside = true;
       }
-    if (!on) labels[i] = kNoise;
+    if (!outside && !degenerate) labels[i] = kNoise;
   }
   return labels;
 }
@@ -92,7 +127,7 @@ TEST(OutlierTrim, MatchesOracleOnSparseScenes) {
   EXPECT_GT(candidates_kept, 0u);
 }
 
-TEST(OutlierTrim, DropsAPointInFrontOfAWallKeepsALegAndASparseWallsSample) {
+TEST(OutlierTrim, DropsAPointInFrontOfAWallKeepsALegAndAPointPastItsEdge) {
   // A wall sampled every 0.2 m (x = 0), a point 0.3 m in front of it, a "leg" of points 0.2 m apart
   // standing on the floor, and a point at the far corner of a table top sampled every 0.2 m.
   Points points;
@@ -118,21 +153,16 @@ TEST(OutlierTrim, DropsAPointInFrontOfAWallKeepsALegAndASparseWallsSample) {
   for (std::size_t k = leg; k < leg + 3; ++k) EXPECT_EQ(r.labels[k], 0) << k;
   EXPECT_EQ(r.noise, 1u);
   EXPECT_EQ(r.cluster_sizes[0], points.size() - 1);
-  // A sample of a sparser wall (every 0.4 m), alone in a hole of it, lies between its neighbours:
-  // kept. The same point 0.3 m past the wall's edge is supported by nothing: dropped.
-  Points sparse;
-  for (double y = 0.0; y <= 2.0 + 1e-9; y += 0.4)
-    for (double z = 0.0; z <= 2.0 + 1e-9; z += 0.4) sparse.emplace_back(0.0, y, z);
-  for (const auto& [where, dropped] : {std::pair<Eigen::Vector3d, std::size_t>{Eigen::Vector3d(0.0, 1.0, 1.0), 0},
-                                       {Eigen::Vector3d(0.0, 2.3, 1.0), 1}}) {
-    Points wall = sparse;
-    wall.push_back(where);
-    DbscanResult w;
-    w.labels.assign(wall.size(), 0);
-    w.core.assign(wall.size(), 1);
-    w.core.back() = 0;
-    w.cluster_sizes = {wall.size()};
-    EXPECT_EQ(trimOutliers(wall, w, {}, OutlierTrimParams{0.15, 0.6}).dropped, dropped) << where.transpose();
+  // The same point 0.3 m in front of the wall but beyond its edge (over no patch) stays, as does a
+  // point in the wall's plane past its edge.
+  for (const Eigen::Vector3d& where : {Eigen::Vector3d(0.3, 2.4, 1.0), Eigen::Vector3d(0.0, 2.3, 1.0)}) {
+    Points moved = points;
+    moved[outlier] = where;
+    DbscanResult m = r;
+    m.labels.assign(moved.size(), 0);
+    m.noise = 0;
+    m.cluster_sizes = {moved.size()};
+    EXPECT_EQ(trimOutliers(moved, m, floor, OutlierTrimParams{0.15, 0.6}).dropped, 0u) << where.transpose();
   }
   // A core point is never dropped, nor one with another point (noise too) within the radius.
   DbscanResult core = r;

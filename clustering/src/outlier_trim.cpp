@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <limits>
 #include <unordered_map>
 
+#include <Eigen/Eigenvalues>
+
+#include "hullmap/clustering/obstacles.hpp"
 #include "hullmap/core/error.hpp"
 #include "cell_hash.hpp"
 
@@ -20,12 +24,38 @@ struct CellKeyHash {
   std::size_t operator()(const CellKey& c) const { return static_cast<std::size_t>(detail::hashCell(c.x, c.y, c.z)); }
 };
 
-/// Squared distance from p to the segment q s (s != q).
-double segmentDistance2(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& s) {
-  const Eigen::Vector3d d = s - q;
-  if (d.squaredNorm() == 0.0) return (q - p).squaredNorm();
-  const double t = std::clamp((p - q).dot(d) / d.squaredNorm(), 0.0, 1.0);
-  return (q + t * d - p).squaredNorm();
+/// Whether p stands off the flat patch that the points q sample (see trimOutliers): q is at most
+/// `radius` thick along its least-variance axis, p lies farther than `radius` outside that slab, and
+/// p's projection on the patch's plane lies in the convex hull of q's projections.
+bool offAFlatPatch(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& q, double radius) {
+  if (q.size() < 3) return false;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& x : q) mean += x;
+  mean /= double(q.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& x : q) cov += (x - mean) * (x - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> pca(cov);
+  const Eigen::Vector3d n = pca.eigenvectors().col(0), u = pca.eigenvectors().col(1), v = pca.eigenvectors().col(2);
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& x : q) {
+    lo = std::min(lo, n.dot(x - mean));
+    hi = std::max(hi, n.dot(x - mean));
+  }
+  if (hi - lo > radius) return false;
+  const double offset = n.dot(p - mean);
+  if (offset <= hi + radius && offset >= lo - radius) return false;
+  std::vector<Eigen::Vector2d> flat;
+  flat.reserve(q.size());
+  for (const auto& x : q) flat.emplace_back(u.dot(x - mean), v.dot(x - mean));
+  const std::vector<Eigen::Vector2d> hull = convexHull2d(std::move(flat));
+  if (hull.size() < 3) return false;
+  const Eigen::Vector2d at(u.dot(p - mean), v.dot(p - mean));
+  for (std::size_t k = 0; k < hull.size(); ++k) {
+    const Eigen::Vector2d a = hull[k], b = hull[(k + 1) % hull.size()];
+    const Eigen::Vector2d e = b - a, w = at - a;
+    if (e.x() * w.y() - e.y() * w.x() < 0.0) return false;  // right of a counter-clockwise edge: outside
+  }
+  return true;
 }
 
 }  // namespace
@@ -64,36 +94,46 @@ OutlierTrim trimOutliers(const std::vector<Eigen::Vector3d>& points, DbscanResul
 
   const double radius2 = params.radius * params.radius;
   const double reach2 = params.reach * params.reach;
-  std::vector<std::size_t> drop;
-  std::vector<std::size_t> near;  // supporting points within reach of the candidate
-  for (const std::size_t i : candidates) {
-    const Eigen::Vector3d& p = points[i];
+  // The candidates alone within radius: they support nothing (two outliers do not hold each other up).
+  const auto forNear = [&](const Eigen::Vector3d& p, auto&& f) {
     const CellKey c = keyOf(p);
-    bool alone = true;
-    near.clear();
-    for (std::int64_t dx = -1; dx <= 1 && alone; ++dx)
-      for (std::int64_t dy = -1; dy <= 1 && alone; ++dy)
-        for (std::int64_t dz = -1; dz <= 1 && alone; ++dz) {
+    for (std::int64_t dx = -1; dx <= 1; ++dx)
+      for (std::int64_t dy = -1; dy <= 1; ++dy)
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
           const auto cell = grid.find(CellKey{c.x + dx, c.y + dy, c.z + dz});
           if (cell == grid.end()) continue;
-          for (const std::size_t k : cell->second) {
-            if (k == i) continue;
-            const double d2 = (at(k) - p).squaredNorm();
-            if (d2 <= radius2) {
-              alone = false;
-              break;
-            }
-            if (d2 <= reach2 && (k >= n || result.labels[k] >= 0)) near.push_back(k);
-          }
+          for (const std::size_t k : cell->second)
+            if (!f(k)) return;
         }
-    if (!alone) continue;
+  };
+  std::vector<char> alone(n, 0);
+  std::vector<std::size_t> lone;
+  for (const std::size_t i : candidates) {
+    bool none = true;
+    forNear(points[i], [&](std::size_t k) {
+      none = k == i || (at(k) - points[i]).squaredNorm() > radius2;
+      return none;
+    });
+    if (none) {
+      alone[i] = 1;
+      lone.push_back(i);
+    }
+  }
+  std::vector<std::size_t> drop;
+  std::vector<std::size_t> near;  // supporting points within reach of the candidate
+  std::vector<Eigen::Vector3d> patch;
+  for (const std::size_t i : lone) {
+    const Eigen::Vector3d& p = points[i];
+    near.clear();
+    forNear(p, [&](std::size_t k) {
+      if ((k >= n || (result.labels[k] >= 0 && !alone[k])) && (at(k) - p).squaredNorm() <= reach2) near.push_back(k);
+      return true;
+    });
     // In the order of the indices, so that the answer does not depend on the grid's layout.
     std::sort(near.begin(), near.end());
-    bool on_structure = false;
-    for (std::size_t a = 0; a < near.size() && !on_structure; ++a)
-      for (std::size_t b = a + 1; b < near.size() && !on_structure; ++b)
-        on_structure = segmentDistance2(p, at(near[a]), at(near[b])) <= radius2;
-    if (!on_structure) drop.push_back(i);
+    patch.clear();
+    for (const std::size_t k : near) patch.push_back(at(k));
+    if (offAFlatPatch(p, patch, params.radius)) drop.push_back(i);
   }
   for (const std::size_t i : drop) {
     --result.cluster_sizes[static_cast<std::size_t>(result.labels[i])];
