@@ -55,10 +55,12 @@ double boxDistance(const V& q_abs_minus_h) {
 /// A hull as half-spaces n . x <= d (n unit).
 struct HullPlanes {
   std::vector<std::pair<V3, double>> planes;
+  std::vector<V3> vertices;
   V3 lo, hi;
   int obstacle = 0;
   int part = -1;
   double volume = 0.0;
+  std::size_t voxels = 0;
   bool contains(const V3& p, double tolerance = 1e-9) const {
     if ((p.array() < lo.array() - tolerance).any() || (p.array() > hi.array() + tolerance).any()) return false;
     for (const auto& [n, d] : planes)
@@ -72,6 +74,7 @@ HullPlanes planesOf(const clustering::ConvexHull& hull, int obstacle, int part, 
   out.obstacle = obstacle;
   out.part = part;
   out.volume = volume;
+  out.vertices = hull.vertices;
   out.lo = out.hi = hull.vertices.empty() ? V3::Zero() : hull.vertices[0];
   for (const auto& v : hull.vertices) {
     out.lo = out.lo.cwiseMin(v);
@@ -90,11 +93,93 @@ HullPlanes planesOf(const clustering::ConvexHull& hull, int obstacle, int part, 
 std::vector<HullPlanes> hullsOf(const std::vector<clustering::Obstacle>& obstacles) {
   std::vector<HullPlanes> hulls;
   for (const auto& o : obstacles) {
-    if (o.parts.empty()) hulls.push_back(planesOf(o.hull, o.id, -1, o.volume));
-    for (std::size_t p = 0; p < o.parts.size(); ++p)
+    if (o.parts.empty()) {
+      hulls.push_back(planesOf(o.hull, o.id, -1, o.volume));
+      hulls.back().voxels = o.voxel_count;
+    }
+    for (std::size_t p = 0; p < o.parts.size(); ++p) {
       hulls.push_back(planesOf(o.parts[p].hull, o.id, int(p), o.parts[p].volume));
+      hulls.back().voxels = o.parts[p].voxel_count;
+    }
   }
   return hulls;
+}
+
+/// The point of a box or cylinder shape nearest p (p itself inside).
+V3 project(const TruthShape& s, const V3& p) {
+  const V3 d = p - s.center;
+  if (s.kind == TruthShape::Kind::kBox) {
+    const double c = std::cos(s.yaw), n = std::sin(s.yaw);
+    V3 local(c * d.x() + n * d.y(), -n * d.x() + c * d.y(), d.z());
+    local = local.cwiseMax(-0.5 * s.size).cwiseMin(0.5 * s.size);
+    return s.center + V3(c * local.x() - n * local.y(), n * local.x() + c * local.y(), local.z());
+  }
+  const double r = 0.5 * s.size.x(), radial = std::hypot(d.x(), d.y());
+  V3 q = d;
+  if (radial > r) q.head<2>() *= r / radial;
+  q.z() = std::clamp(q.z(), -0.5 * s.size.z(), 0.5 * s.size.z());
+  return s.center + q;
+}
+
+/// Distance from the convex hull of `vertices` to a box or cylinder shape (0 when they meet):
+/// Frank-Wolfe on f(x) = d(x)^2 / 2 over the hull (d the shape's distance, convex, f smooth with
+/// gradient x - project(x)), run until the duality gap is below 1e-12 of the squared extent or 200
+/// iterations; the value is exact to that gap (f(x) - gap <= f* <= f(x)).
+double convexDistance(const std::vector<V3>& vertices, const TruthShape& s) {
+  V3 x = vertices.front();
+  double fx = kInf;
+  for (const V3& v : vertices) {
+    const double f = 0.5 * (v - project(s, v)).squaredNorm();
+    if (f < fx) {
+      fx = f;
+      x = v;
+    }
+  }
+  for (int iteration = 0; iteration < 200 && fx > 0.0; ++iteration) {
+    const V3 g = x - project(s, x);
+    const V3* best = &vertices.front();
+    for (const V3& v : vertices)
+      if (v.dot(g) < best->dot(g)) best = &v;
+    const double gap = g.dot(x - *best);
+    if (gap <= 1e-12 * (1.0 + g.squaredNorm())) break;
+    // Line search on [x, best]: f is convex along it; ternary steps on the exact f.
+    double lo = 0.0, hi = 1.0;
+    const V3 d = *best - x;
+    for (int k = 0; k < 60; ++k) {
+      const double a = lo + (hi - lo) / 3.0, b = hi - (hi - lo) / 3.0;
+      const V3 pa = x + a * d, pb = x + b * d;
+      if ((pa - project(s, pa)).squaredNorm() <= (pb - project(s, pb)).squaredNorm()) hi = b;
+      else lo = a;
+    }
+    const V3 next = x + 0.5 * (lo + hi) * d;
+    const double fn = 0.5 * (next - project(s, next)).squaredNorm();
+    if (!(fn < fx)) break;
+    x = next;
+    fx = fn;
+  }
+  return std::sqrt(2.0 * fx);
+}
+
+/// Distance from a hull to a true shape: exact for boxes, cylinders and their unions
+/// (convexDistance); for a mesh the least over the hull's vertices and `samples` (points in it).
+double hullDistance(const std::vector<V3>& vertices, const std::vector<V3>& samples, const TruthShape& s) {
+  switch (s.kind) {
+    case TruthShape::Kind::kBox:
+    case TruthShape::Kind::kCylinder:
+      return convexDistance(vertices, s);
+    case TruthShape::Kind::kUnion: {
+      double best = kInf;
+      for (const auto& part : s.parts) best = std::min(best, convexDistance(vertices, part));
+      return best;
+    }
+    case TruthShape::Kind::kMesh: {
+      double best = kInf;
+      for (const V3& p : vertices) best = std::min(best, s.signedDistance(p));
+      for (const V3& p : samples) best = std::min(best, s.signedDistance(p));
+      return std::max(best, 0.0);
+    }
+  }
+  return kInf;
 }
 
 void finishShape(TruthShape& s) {
@@ -358,11 +443,13 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
     const HullPlanes& hull = hulls[h];
     e.hull_volume += hull.volume;
     std::vector<char> touches(truth.shapes.size(), 0);
+    std::vector<V3> inside_samples;  // for meshes' distances
     std::size_t got = 0, in_union = 0, outside = 0, far = 0;
     for (std::size_t tries = 0; got < params.volume_samples && tries < 200 * params.volume_samples; ++tries) {
       const V3 p = hull.lo + (hull.hi - hull.lo).cwiseProduct(V3(uniform(rng), uniform(rng), uniform(rng)));
       if (!hull.contains(p, 0.0)) continue;
       ++got;
+      inside_samples.push_back(p);
       double nearest = kInf;
       for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
         const double d = truth.shapes[s].signedDistance(p);
@@ -376,14 +463,18 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
       if (nearest > 0) ++outside;
       if (nearest > params.far_margin) ++far;
     }
-    bool any = false;
-    for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
-      if (touches[s]) {
-        e.truth[s].parts_touching.emplace_back(hull.obstacle, hull.part);
-        any = true;
+    for (std::size_t s = 0; s < truth.shapes.size(); ++s)
+      if (touches[s]) e.truth[s].parts_touching.emplace_back(hull.obstacle, hull.part);
+    // A false part: its hull comes no closer than false_tolerance to any true obstacle.
+    if (!hull.vertices.empty()) {
+      double nearest = kInf;
+      for (std::size_t s = 0; s < truth.shapes.size() && nearest > params.false_tolerance; ++s)
+        nearest = std::min(nearest, hullDistance(hull.vertices, inside_samples, truth.shapes[s]));
+      if (nearest > params.false_tolerance) {
+        e.false_parts.push_back({hull.obstacle, hull.part, hull.voxels, hull.volume, nearest});
+        e.false_volume += hull.volume;
       }
     }
-    if (!any) e.false_parts.emplace_back(hull.obstacle, hull.part);
     if (got == 0) continue;
     const double n = double(got);
     const auto add = [&](std::size_t count, double& value, double& var) {
@@ -504,17 +595,21 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
   for (const auto& h : e.false_alarm_hulls)
     false_alarm_hulls.push_back({{"obstacle", h.obstacle}, {"part", h.part}, {"segments", h.segments}});
   json false_parts = json::array();
-  for (const auto& [o, part] : e.false_parts) false_parts.push_back({{"obstacle", o}, {"part", part}});
+  for (const auto& f : e.false_parts)
+    false_parts.push_back({{"obstacle", f.obstacle}, {"part", f.part}, {"voxels", f.voxels}, {"volume", f.volume},
+                           {"distance", f.distance}});
   return {{"format", "hullmap-evaluation/1"},
           {"parameters",
            {{"radius", p.radius}, {"surface_margin", p.surface_margin}, {"touch_margin", p.touch_margin},
             {"far_margin", p.far_margin}, {"depth_margin", p.depth_margin}, {"clear_margin", p.clear_margin},
             {"volume_samples", p.volume_samples}, {"segments", p.segments}, {"segment_length", p.segment_length},
             {"segment_ends", p.ends == SegmentEnds::kFree ? "free" : "in_truth_box"},
+            {"false_tolerance", p.false_tolerance},
             {"sample_step", p.sample_step}, {"seed", p.seed}}},
           {"truth", truth},
           {"parts", e.parts},
           {"false_parts", false_parts},
+          {"false_volume", e.false_volume},
           {"volume",
            {{"hulls", e.hull_volume}, {"union", e.union_volume}, {"union_se", e.union_volume_se},
             {"outside_truth", e.outside_volume}, {"outside_truth_se", e.outside_volume_se},

@@ -69,6 +69,9 @@ struct EvaluateParams {
   double far_margin = 0.1;         ///< swallowed volume: hull volume farther than this from every shape
   double depth_margin = 0.1;       ///< deep collision: the capsule penetrates a shape by more than this
   double clear_margin = 0.1;       ///< clear segment: keeps radius + this from every shape
+  /// A part is *false* when its hull comes no closer than this to any true obstacle (map units; the
+  /// CLI's default is one voxel of the build, the resolution in obstacles.json).
+  double false_tolerance = 0.05;
   std::size_t volume_samples = 4000;  ///< Monte Carlo points per part hull
   std::size_t segments = 2000;        ///< random segments in the free volume
   double segment_length = 2.0;        ///< segments are 0.2 .. this long
@@ -95,6 +98,19 @@ struct TruthScore {
   std::vector<std::pair<int, int>> parts_touching;
 };
 
+/// A hull farther than EvaluateParams::false_tolerance from every true obstacle: an obstacle where
+/// the world has none (outlier voxels the clustering kept, as a rule).
+struct FalsePart {
+  int obstacle = 0;          ///< obstacle id
+  int part = -1;             ///< its part; -1 a whole hull
+  std::size_t voxels = 0;    ///< its voxels
+  double volume = 0.0;       ///< its hull's volume, map units^3: the free space it brings
+  /// Its hull's distance from the nearest true obstacle, map units: exact for boxes, cylinders and
+  /// their unions (Frank-Wolfe over the hull, to a duality gap of 1e-12), for a mesh the least over
+  /// the hull's vertices and its Monte Carlo points.
+  double distance = 0.0;
+};
+
 /// A hull that false alarms hit: the hull checker's first contact on that many clear segments.
 struct FalseAlarmHull {
   int obstacle = 0;  ///< obstacle id
@@ -114,7 +130,8 @@ struct MissedSegment {
 struct Evaluation {
   std::vector<TruthScore> truth;
   std::size_t parts = 0;                       ///< hulls scored (parts, or whole obstacles without parts)
-  std::vector<std::pair<int, int>> false_parts;  ///< parts touching no shape
+  std::vector<FalsePart> false_parts;          ///< parts farther than false_tolerance from every shape
+  double false_volume = 0.0;                   ///< their summed hull volume
   double hull_volume = 0.0;                    ///< summed part hull volume
   double union_volume = 0.0, union_volume_se = 0.0;      ///< volume of the union of the hulls
   double outside_volume = 0.0, outside_volume_se = 0.0;  ///< of the union, outside every shape
