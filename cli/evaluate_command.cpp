@@ -117,7 +117,7 @@ void runEvaluate(const EvaluateOptions& o) {
     }
     std::cout << ", " << single << " of them one voxel; " << e.false_volume << " in all ("
               << percent(e.false_volume, e.hull_volume, true) << " of the hulls' volume), the largest " << largest->volume
-              << " (" << largest->voxels << " voxels, " << largest->distance << " away); away from the truth: "
+              << " (" << largest->voxels << (largest->voxels == 1 ? " voxel, " : " voxels, ") << largest->distance << " away); away from the truth: "
               << by_distance[0] << " up to 0.1, " << by_distance[1] << " up to 0.2, " << by_distance[2]
               << " up to 0.5, " << by_distance[3] << " farther (at most " << farthest << ")";
   }
