@@ -622,7 +622,8 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
     std::vector<Eigen::Vector3d> surface_centers;
     for (std::size_t i = 0; i < n; ++i)
       if (labels[i] == kFloorLabel || labels[i] == kCeilingLabel) surface_centers.push_back(centers[i]);
-    chosen.trim_params = clustering::OutlierTrimParams{3.0 * resolution, chosen.extension_params->reach};
+    chosen.trim_params =
+        clustering::OutlierTrimParams{3.0 * resolution, std::max(3.0 * resolution, chosen.extension_params->reach)};
     chosen.trim = clustering::trimOutliers(obstacle_centers, sub, surface_centers, *chosen.trim_params);
     // A flat cluster in the plane of a larger one around it (a wall's foot that DBSCAN cut off the
     // sparse wall above it) joins it, so that the wall's parts can merge over it.

@@ -117,7 +117,7 @@ struct ClusterParamsReport {
   std::optional<clustering::ClusterExtensionParams> extension_params;
   clustering::ClusterExtension extension;
   /// With the extension: the outlier trim after it (clustering::trimOutliers, radius 3 voxels, reach
-  /// the extension's) and what it did.
+  /// the extension's, at least the radius) and what it did.
   std::optional<clustering::OutlierTrimParams> trim_params;
   clustering::OutlierTrim trim;
   /// With the extension: the coplanar merge after it (clustering::mergeCoplanarClusters, reach the
