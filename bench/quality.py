@@ -58,6 +58,21 @@ OLD_DEFAULTS = "--eps 0.1 --min-pts 10 --floor none --concavity none"
 
 TARGETS = {"missed": 0, "false_alarms": 5.0, "min_share": 98.0, "swallowed": 5.0, "parts": 1.5}
 
+# The cluttered rooms' sweep (issue 27): 8 x 6 x 3 m, 9-20 pieces of furniture, V1_01's density
+# (about 45 points per m^2) halved to doubled, the first camera pitched 0-30 degrees, monocular scale
+# 0.3-3, furniture standing free or half of it against the walls; `check` of 3000 random segments at
+# r = 0.3 with their ends anywhere in the room, clear when they keep r + 0.15 from every true surface.
+ROOM_SEEDS = tuple(range(201, 225))  # the sweep; built while the outlier trim was chosen
+ROOM_HELD_OUT = tuple(range(401, 413))  # held out: built for the first time by this document's run
+ROOM_PITCHES = (0, 10, 20, 30)
+ROOM_SCALES = (0.3, 1.0, 3.0)
+ROOM_DENSITIES = (22, 45, 90)
+ROOM_FURNITURE = (9, 12, 16, 20)
+ROOM_WALL_FRACTIONS = (0.0, 0.5)
+ROOM_SEGMENTS = 3000
+ROOM_CLEAR_MARGIN = 0.15
+ROOM_TARGETS = {"missed": 0, "false_alarms": 3.0}
+
 
 def run(cmd, **kw):
     res = subprocess.run(cmd, capture_output=True, text=True, **kw)
@@ -253,6 +268,60 @@ def scenes_part(hullmap, work, seeds, segments, log):
     return rows, template, why
 
 
+def room_params(k, seed):
+    """The k-th room of the sweep: pitch cycles with k, scale with k too (4 and 3 values: the first 12
+    rooms hold every pair), density every 4 rooms, furniture every 3, the wall share every 12."""
+    return {"seed": seed, "pitch": ROOM_PITCHES[k % len(ROOM_PITCHES)], "scale": ROOM_SCALES[k % len(ROOM_SCALES)],
+            "density": ROOM_DENSITIES[(k // 4) % len(ROOM_DENSITIES)],
+            "furniture": ROOM_FURNITURE[(k // 3) % len(ROOM_FURNITURE)],
+            "wall_fraction": ROOM_WALL_FRACTIONS[(k // 12) % len(ROOM_WALL_FRACTIONS)]}
+
+
+def rooms_part(hullmap, work, log, seeds=ROOM_SEEDS):
+    """The cluttered rooms' sweep: one build at the defaults (--trajectory --align) and one
+    `evaluate --ends in-box` per room."""
+    rows = []
+    for k, seed in enumerate(seeds):
+        p = room_params(k, seed)
+        furniture = p["furniture"]
+        scene = f"{work}/room-{seed}"
+        # Twenty pieces may not fit a room whose furniture all stands free; take fewer then.
+        while True:
+            try:
+                run([hullmap, "generate", "--layout", "room", "-o", scene, "--seed", str(seed), "--room", "8",
+                     "--room-width", "6", "--loop", "0.25", "--placement", "anywhere", "--wall-fraction",
+                     str(p["wall_fraction"]), "--obstacles", str(furniture), "--density", str(p["density"]),
+                     "--pitch", str(p["pitch"]), "--scale", str(p["scale"])])
+                break
+            except RuntimeError:
+                if furniture <= 9:
+                    raise
+                furniture -= 1
+        p["furniture"] = furniture
+        start = time.perf_counter()
+        run([hullmap, "build", f"{scene}/map_points.txt", "--trajectory", f"{scene}/KeyFrameTrajectory.txt",
+             "--align", f"{scene}/reference_trajectory.txt", "-o", f"{scene}/out"])
+        seconds = time.perf_counter() - start
+        e = json.loads(run([hullmap, "evaluate", f"{scene}/out", "--truth", f"{scene}/ground_truth.json",
+                            "--radius", str(RADIUS), "--segments", str(ROOM_SEGMENTS), "--ends", "in-box",
+                            "--clear-margin", str(ROOM_CLEAR_MARGIN), "--json"]))
+        seg = e["segments"]
+        walls = {h["obstacle"] for t in e["truth"] if t["label"].startswith("wall") for h in t["parts"]}
+        on_walls = sum(h["segments"] for h in seg["false_alarm_hulls"] if h["obstacle"] in walls)
+        report = json.load(open(f"{scene}/out/report.json"))
+        p.update({"points": report["points"]["used"], "deep": seg["deep"], "missed": seg["missed"],
+                  "clear": seg["clear"], "false_alarm_count": seg["false_alarms"],
+                  "false_alarms": 100.0 * seg["false_alarms"] / seg["clear"] if seg["clear"] else 0.0,
+                  "on_walls": on_walls, "parts": e["parts"],
+                  "dropped": ((report.get("clustering") or {}).get("outlier_trim") or {}).get("dropped", 0),
+                  "time": seconds})
+        rows.append(p)
+        log(f"room {seed}: pitch {p['pitch']} scale {p['scale']} density {p['density']} furniture {furniture} "
+            f"walls {p['wall_fraction']}: missed {p['missed']}/{p['deep']} false alarms {p['false_alarms']:.1f}% "
+            f"({on_walls} on the walls' obstacle)")
+    return rows
+
+
 def best_of(grid):
     """The grid's best member, safety first: the fewest missed deep collisions, then the fewest false
     alarms, then the least swallowed share."""
@@ -374,7 +443,65 @@ def method_cells(m):
             f"{fmt(m['parts'], 2)} ({m['parts_max']}) | {m['hulls']} | {fmt(m['time'], 2)}")
 
 
-def write_doc(out, rows, template, why, real, densities, args, seconds, hullmap):
+def room_table(w, rooms):
+    w("| seed | pitch ° | scale | points/m² | furniture | against walls | map points | deep | missed | clear | "
+      "false alarms % | of them on the walls' obstacle | outlier voxels dropped | build s |")
+    w("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in rooms:
+        w(f"| {r['seed']} | {r['pitch']} | {r['scale']} | {r['density']} | {r['furniture']} | {r['wall_fraction']} | "
+          f"{r['points']} | {r['deep']} | {'**' if r['missed'] else ''}{r['missed']}{'**' if r['missed'] else ''} | "
+          f"{r['clear']} | {'**' if r['false_alarms'] > ROOM_TARGETS['false_alarms'] else ''}{fmt(r['false_alarms'])}"
+          f"{'**' if r['false_alarms'] > ROOM_TARGETS['false_alarms'] else ''} | {r['on_walls']} | {r['dropped']} | "
+          f"{fmt(r['time'], 2)} |")
+
+
+def room_summary(rooms):
+    fa = [r["false_alarms"] for r in rooms]
+    ok = sum(r["missed"] <= ROOM_TARGETS["missed"] and r["false_alarms"] <= ROOM_TARGETS["false_alarms"] for r in rooms)
+    return (f"{ok} of {len(rooms)} rooms meet both targets; deep collisions missed: {sum(r['missed'] for r in rooms)} "
+            f"in all, at most {max(r['missed'] for r in rooms)} in a room; false alarms median {fmt(statistics.median(fa))} %, "
+            f"worst {fmt(max(fa))} %")
+
+
+def rooms_doc(w, rooms, held_out):
+    w("## Cluttered rooms: the sweep of issue 27")
+    w("")
+    w("**Rooms** like those of issue 27: `hullmap generate --layout room --room 8 --room-width 6 --loop 0.25 "
+      "--placement anywhere --wall-fraction F --obstacles N --density D --pitch A --scale S --seed K` "
+      "([maps/README.md](../maps/README.md)): 8 × 6 × 3 m with walls and a floor, the camera loop a quarter "
+      "of the way in, N = 9 to 20 pieces of furniture anywhere off the loop (when 20 do not fit, as many as "
+      "do), a share F (0 or 0.5) of them against the walls; D = 22, 45 or 90 map points per m² of visible "
+      "surface, half to twice V1_01's (about 45, above); the first camera pitched A = 0 to 30°, monocular "
+      "scale S = 0.3 to 3; 3 % outliers, 1 cm noise. Each room's parameters cycle through their values "
+      "(`room_params` in `bench/quality.py`): every pitch with every scale in 12 rooms.")
+    w("")
+    w("**Method**: `hullmap build map_points.txt --trajectory KeyFrameTrajectory.txt --align "
+      "reference_trajectory.txt` at the defaults, then `hullmap evaluate OUT --truth ground_truth.json "
+      f"--radius {RADIUS} --segments {ROOM_SEGMENTS} --ends in-box --clear-margin {ROOM_CLEAR_MARGIN}` "
+      "([CLI.md](CLI.md#evaluate)): random segments with their ends anywhere in the room (many pass through "
+      "furniture and walls), as the issue checked them. **Deep**: the r = 0.3 capsule goes more than 0.1 m "
+      f"into a true obstacle; **missed**: the hulls call it clear (target {ROOM_TARGETS['missed']}). **Clear**: it keeps "
+      f"r + {ROOM_CLEAR_MARGIN} from every true surface, the floor's included (the floor is a true surface: "
+      "both ends stay that high above it); **false alarms**: the clear ones the hulls call blocked (target ≤ "
+      f"{ROOM_TARGETS['false_alarms']:.0f} %). **On the walls' obstacle**: false alarms whose first contact is a part "
+      "of an obstacle holding a wall's hull (`evaluate`'s `false_alarm_hulls`). **Outlier voxels dropped**: "
+      "the build's outlier trim ([CLI.md](CLI.md#build), stage 5).")
+    w("")
+    w("`bench/quality_rooms.py BUILD/cli/hullmap` runs this section alone (`--seeds` for other rooms).")
+    w("")
+    w(f"**The sweep** (seeds {rooms[0]['seed']} to {rooms[-1]['seed']}; these rooms were built while the "
+      "outlier trim was chosen): " + room_summary(rooms) + ".")
+    w("")
+    room_table(w, rooms)
+    w("")
+    w(f"**Held out** (seeds {held_out[0]['seed']} to {held_out[-1]['seed']}, the same cycle of parameters; built "
+      "for the first time by this run): " + room_summary(held_out) + ".")
+    w("")
+    room_table(w, held_out)
+    w("")
+
+
+def write_doc(out, rows, template, why, real, densities, args, seconds, hullmap, rooms=None, held_out=None):
     rev = subprocess.run(["git", "-C", os.path.dirname(os.path.abspath(__file__)), "rev-parse", "--short", "HEAD"],
                          capture_output=True, text=True).stdout.strip() or "unknown"
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "unknown cpu")
@@ -523,6 +650,8 @@ def write_doc(out, rows, template, why, real, densities, args, seconds, hullmap)
             extra = f" (eps {r[key]['eps']}, minPts {r[key]['min_pts']})" if key == "open3d" else ""
             w(f"| {r['scene']} | {label}{extra} | {method_cells(r[key])} |")
     w("")
+    if rooms:
+        rooms_doc(w, rooms, held_out)
     w("## Real maps (no ground truth)")
     w("")
     w("The real ORB-SLAM maps of the shared data directory (read from there; they are GPL and not copied into")
@@ -577,8 +706,11 @@ def main():
     log = lambda s: print(s, file=sys.stderr, flush=True)
     start = time.perf_counter()
     rows, template, why = scenes_part(args.hullmap, work, args.seeds, args.segments, log)
+    rooms = rooms_part(args.hullmap, work, log)
+    held_out = rooms_part(args.hullmap, work, log, ROOM_HELD_OUT)
     real, densities = real_part(args.hullmap, work, args.img, data, log)
-    write_doc(args.out, rows, template, why, real, densities, args, time.perf_counter() - start, args.hullmap)
+    write_doc(args.out, rows, template, why, real, densities, args, time.perf_counter() - start, args.hullmap,
+              rooms, held_out)
     log(f"wrote {args.out} in {time.perf_counter() - start:.0f} s (scratch: {work})")
 
 

@@ -16,7 +16,7 @@ build=${1:-$root/build-bench}
 out=$root/docs/BENCHMARKS.md
 
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DHULLMAP_BUILD_BENCH=ON -DHULLMAP_BUILD_TESTS=OFF >/dev/null
-cmake --build "$build" -j"$(nproc)" --target hullmap hullmap_bench_dbscan hullmap_bench_insertion hullmap_bench_collision hullmap_bench_planning >/dev/null
+cmake --build "$build" -j"$(nproc)" --target hullmap hullmap_bench_dbscan hullmap_bench_insertion hullmap_bench_collision hullmap_bench_planning hullmap_bench_octomap_cloud >/dev/null
 # The Python module exists only when pybind11, Python 3's headers and numpy were found; its section is
 # left out otherwise.
 if cmake --build "$build" -j"$(nproc)" --target hullmap_python >/dev/null 2>&1; then
@@ -56,6 +56,8 @@ trap 'rm -f "$tmp"' EXIT
   sh "$root/bench/section_cluster_process.sh" "$build"
   echo
   sh "$root/bench/section_insertion.sh" "$build"
+  echo
+  sh "$root/bench/section_build_process.sh" "$build"
   echo
   sh "$root/bench/section_collision.sh" "$build"
   echo

@@ -228,6 +228,8 @@ void printClustering(const pipeline::BuildResult& result) {
     std::cout << "; extension: min-pts " << cp.extension_params->min_pts << " within reach "
               << cp.extension_params->reach << ", " << cp.extension.joined << " noise voxel"
               << (cp.extension.joined == 1 ? "" : "s") << " joined";
+    if (cp.trim.dropped > 0)
+      std::cout << ", " << cp.trim.dropped << " outlier voxel" << (cp.trim.dropped == 1 ? "" : "s") << " dropped";
     if (cp.coplanar.merged > 0)
       std::cout << ", " << cp.coplanar.merged << " flat cluster" << (cp.coplanar.merged == 1 ? "" : "s")
                 << " joined to the surface around " << (cp.coplanar.merged == 1 ? "it" : "them");

@@ -3,7 +3,9 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <array>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -12,7 +14,6 @@
 #include "hullmap/core/error.hpp"
 #include "hullmap/mapper/readers.hpp"
 #include "hullmap/pipeline/evaluate.hpp"
-#include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 
 namespace hullmap::cli {
@@ -24,6 +25,7 @@ struct EvaluateOptions {
   std::string points;
   pipeline::EvaluateParams params;
   bool json = false;
+  std::optional<double> false_tolerance;  ///< unset: one voxel of the build
 };
 
 /// The observed map points of a build: voxels.csv's voxel centres weighted by their map points
@@ -48,10 +50,13 @@ void readVoxelPoints(const std::string& path, std::vector<Eigen::Vector3d>& poin
   }
 }
 
-std::string percent(double part, double whole) {
+std::string percent(double part, double whole, bool small = false) {
   if (!(whole > 0)) return "-";
   std::ostringstream out;
-  out << std::fixed << std::setprecision(1) << 100.0 * part / whole << "%";
+  const double share = 100.0 * part / whole;
+  // `small`: shares below 1 % keep two significant digits (0.049%), so that they do not read as nothing.
+  const int digits = small && share > 0 && share < 0.1 ? 3 : small && share > 0 && share < 1 ? 2 : 1;
+  out << std::fixed << std::setprecision(digits) << share << "%";
   return out.str();
 }
 
@@ -59,8 +64,19 @@ void runEvaluate(const EvaluateOptions& o) {
   namespace fs = std::filesystem;
   const std::string obstacles_path =
       fs::is_directory(o.dir) ? (fs::path(o.dir) / "obstacles.json").string() : o.dir;
-  const pipeline::MapObstacles map = pipeline::readMapObstacles(obstacles_path);  // the floor is checked too
-  const auto& obstacles = map.obstacles;
+  pipeline::ObstaclesMeta meta;
+  const auto obstacles = pipeline::readObstaclesJson(obstacles_path, &meta);  // meta.surfaces: the floor is checked too
+  pipeline::EvaluateParams params = o.params;
+  // False parts: farther than a voxel of the build (its resolution) from every true obstacle, unless given.
+  std::string tolerance_why = "given";
+  if (o.false_tolerance) {
+    params.false_tolerance = *o.false_tolerance;
+  } else if (meta.parameters.contains("resolution") && meta.parameters["resolution"].is_number()) {
+    params.false_tolerance = meta.parameters["resolution"].get<double>();
+    tolerance_why = "one voxel of the build";
+  } else {
+    tolerance_why = "the default: no resolution in " + obstacles_path;
+  }
   const pipeline::GroundTruth truth = pipeline::readGroundTruth(o.truth);
   std::vector<Eigen::Vector3d> points;
   std::vector<std::uint32_t> weights;
@@ -70,13 +86,12 @@ void runEvaluate(const EvaluateOptions& o) {
     if (!fs::is_directory(o.dir)) throw Error(o.dir + ": not a build directory; give --points for the map points");
     readVoxelPoints((fs::path(o.dir) / "voxels.csv").string(), points, weights);
   }
-  const pipeline::Evaluation e = pipeline::evaluate(obstacles, truth, points, weights, o.params, map.surfaces);
+  const pipeline::Evaluation e = pipeline::evaluate(obstacles, truth, points, weights, params, meta.surfaces);
   if (o.json) {
-    std::cout << pipeline::evaluationToJson(e, o.params).dump(1) << '\n';
+    std::cout << pipeline::evaluationToJson(e, params).dump(1) << '\n';
     return;
   }
-  std::cout << "truth: " << truth.shapes.size() << " obstacles; hulls: " << e.parts << " ("
-            << e.false_parts.size() << " touching no true obstacle within " << o.params.touch_margin << ")\n";
+  std::cout << "truth: " << truth.shapes.size() << " obstacles; hulls: " << e.parts << "\n";
   for (const auto& t : e.truth)
     std::cout << "  " << t.label << ": " << percent(t.points_inside, t.points_near) << " of its "
               << t.points_near << " observed points inside hulls, " << t.parts.size() << " hulls representing it, "
@@ -86,6 +101,27 @@ void runEvaluate(const EvaluateOptions& o) {
             << ", outside the truth " << e.outside_volume << " +- " << e.outside_volume_se << ", farther than "
             << o.params.far_margin << ": " << e.far_volume << " +- " << e.far_volume_se << " ("
             << percent(e.far_volume, e.union_volume) << " of the union)\n";
+  // False parts: how many, how much space they take, how far off they are.
+  std::cout << "false parts (no closer than " << params.false_tolerance << " to any true obstacle: " << tolerance_why
+            << "): " << e.false_parts.size() << " of " << e.parts << " hulls";
+  if (!e.false_parts.empty()) {
+    std::size_t single = 0;
+    const pipeline::FalsePart* largest = &e.false_parts.front();
+    double farthest = 0.0;
+    std::array<std::size_t, 4> by_distance{};  // up to 0.1, 0.2, 0.5, beyond
+    for (const auto& f : e.false_parts) {
+      single += f.voxels == 1;
+      if (f.volume > largest->volume) largest = &f;
+      farthest = std::max(farthest, f.distance);
+      ++by_distance[f.distance <= 0.1 ? 0 : f.distance <= 0.2 ? 1 : f.distance <= 0.5 ? 2 : 3];
+    }
+    std::cout << ", " << single << " of them one voxel; " << e.false_volume << " in all ("
+              << percent(e.false_volume, e.hull_volume, true) << " of the hulls' volume), the largest " << largest->volume
+              << " (" << largest->voxels << (largest->voxels == 1 ? " voxel, " : " voxels, ") << largest->distance << " away); away from the truth: "
+              << by_distance[0] << " up to 0.1, " << by_distance[1] << " up to 0.2, " << by_distance[2]
+              << " up to 0.5, " << by_distance[3] << " farther (at most " << farthest << ")";
+  }
+  std::cout << "\n";
   std::cout << "segments (r = " << o.params.radius << "): " << e.segments << "; deep collisions " << e.deep
             << ", missed " << e.missed << "; clear " << e.clear << ", false alarms " << e.false_alarms << " ("
             << percent(double(e.false_alarms), double(e.clear)) << ")\n";
@@ -106,11 +142,29 @@ void addEvaluateCommand(CLI::App& app, int& status) {
                   "Map points in the map frame (any point format); default: the build's voxels.csv, weighted");
   cmd->add_option("--segments", options->params.segments, "Random segments in the free volume (default 2000)");
   cmd->add_option("--seed", options->params.seed, "Seed of every random draw (default 1)");
-  cmd->add_flag("--json", options->json, "Print the result as JSON");
-  cmd->callback([options, &status] {
+  cmd->add_option("--clear-margin", options->params.clear_margin,
+                  "A clear segment keeps --radius plus this from every true obstacle, map units (default 0.1)")
+      ->check(CLI::NonNegativeNumber);
+  auto ends = std::make_shared<std::string>("free");
+  cmd->add_option("--ends", *ends,
+                  "Segment endpoints: free (around the truth, both free) or in-box (anywhere in the truth's box: "
+                  "a room's inside; default free)");
+  cmd->callback([options, ends, &status] {
+    if (*ends == "free") {
+      options->params.ends = pipeline::SegmentEnds::kFree;
+    } else if (*ends == "in-box") {
+      options->params.ends = pipeline::SegmentEnds::kInTruthBox;
+    } else {
+      throw Error("--ends: expected 'free' or 'in-box', got '" + *ends + "'");
+    }
     runEvaluate(*options);
     status = 0;
   });
+  cmd->add_flag("--json", options->json, "Print the result as JSON");
+  cmd->add_option("--false-tolerance", options->false_tolerance,
+                  "A hull no closer than this to any true obstacle is a false part, map units (default: one voxel of "
+                  "the build, its resolution)")
+      ->check(CLI::NonNegativeNumber);
 }
 
 }  // namespace hullmap::cli

@@ -39,8 +39,29 @@ void addGenerateCommand(CLI::App& app, int& status) {
       ->capture_default_str();
   cmd->add_option("--pitch", params->camera_pitch_deg, "Room layout: cameras look down by this, degrees")
       ->capture_default_str();
+  cmd->add_option("--room-width", params->room_width,
+                  "Room layout: the room's side along y, metres (0: --room, a square room)")
+      ->capture_default_str();
+  cmd->add_option("--loop", params->loop_fraction,
+                  "Room layout: the camera loop's semi-axes as a fraction of the room's sides, in (0, 0.5)")
+      ->capture_default_str();
+  auto placement = std::make_shared<std::string>("inside-loop");
+  cmd->add_option("--placement", *placement,
+                  "Room layout: inside-loop: furniture inside the camera loop; anywhere: inside or outside it, "
+                  "some of it against the walls (--wall-fraction)")
+      ->capture_default_str();
+  cmd->add_option("--wall-fraction", params->wall_fraction,
+                  "Room layout, --placement anywhere: the share of the furniture placed against a wall, in [0, 1]")
+      ->capture_default_str();
   cmd->add_flag("--z-up", *zup, "Write in the z-up map frame (metres) instead of ORB-SLAM's (y down)");
-  cmd->callback([params, dir, zup, layout, &status] {
+  cmd->callback([params, dir, zup, layout, placement, &status] {
+    if (*placement == "inside-loop") {
+      params->placement = mapper::FurniturePlacement::kInsideLoop;
+    } else if (*placement == "anywhere") {
+      params->placement = mapper::FurniturePlacement::kAnywhere;
+    } else {
+      throw Error("--placement: expected 'inside-loop' or 'anywhere', got '" + *placement + "'");
+    }
     if (*layout == "obstacles") {
       params->layout = mapper::SceneLayout::kObstacles;
     } else if (*layout == "room") {

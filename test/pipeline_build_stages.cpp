@@ -345,6 +345,8 @@ TEST(PipelineStages, CoplanarMergeJoinsAWallsFootToTheWall) {
 // The extension after DBSCAN only adds noise voxels to the clusters plain DBSCAN found: same
 // clusters, none new, no clustered voxel relabelled; and on a sparse room with tables it brings
 // their legs' points inside the hulls.
+// The extension pass: the extension grows DBSCAN's clusters, then the outlier trim takes back to
+// noise only clustered voxels that are not core and have no other voxel within its radius.
 TEST(PipelineStages, ExtensionOnlyGrowsClustersAndOffIsPlainDbscan) {
   const Room room = writeRoom("stages_extension", 3, 6.0, 6, 30.0);
   pipeline::BuildParams params = alignedBuild(room);
@@ -363,7 +365,14 @@ TEST(PipelineStages, ExtensionOnlyGrowsClustersAndOffIsPlainDbscan) {
   EXPECT_DOUBLE_EQ(ext.reach, 1.5 * used.eps);
   const std::size_t joined = grown.report.cluster_params.extension.joined;
   EXPECT_GT(joined, 0u) << "a sparse room's table legs should join their tables";
-  EXPECT_EQ(grown.clusters.noise + joined, plain.clusters.noise);
+  ASSERT_TRUE(grown.report.cluster_params.trim_params);
+  EXPECT_FALSE(plain.report.cluster_params.trim_params);
+  const auto& trim = *grown.report.cluster_params.trim_params;
+  EXPECT_DOUBLE_EQ(trim.radius, 3.0 * grown.map.resolution());
+  EXPECT_DOUBLE_EQ(trim.reach, ext.reach);
+  const std::size_t dropped = grown.report.cluster_params.trim.dropped;
+  EXPECT_GT(dropped, 0u) << "a sparse room's outliers in front of its walls should be dropped";
+  EXPECT_EQ(grown.clusters.noise + joined, plain.clusters.noise + dropped);
   EXPECT_EQ(grown.obstacles.size(), plain.obstacles.size());
 
   // Unset, the extension follows min_pts: off when it is given (the clusters are then DBSCAN's),
@@ -391,8 +400,9 @@ TEST(PipelineStages, ExtensionOnlyGrowsClustersAndOffIsPlainDbscan) {
   params.extension_rule = {};
 
   // On the obstacle voxels (those DBSCAN saw: above the floor's band, where the rims rule may pick
-  // another neighbour) no clustered voxel changes its label, and every voxel that left the noise is
-  // dense at the extension's level (brute force over the obstacle voxels).
+  // another neighbour) no clustered voxel changes its label but to noise, and only one that is not
+  // core with no other voxel within the trim's radius; every voxel that left the noise is dense at
+  // the extension's level (brute force over the obstacle voxels).
   ASSERT_EQ(grown.voxels.size(), plain.voxels.size());
   ASSERT_TRUE(grown.report.floor.plane);
   ASSERT_FALSE(grown.report.ceiling.plane);
@@ -403,8 +413,11 @@ TEST(PipelineStages, ExtensionOnlyGrowsClustersAndOffIsPlainDbscan) {
   std::size_t left_noise = 0;
   for (std::size_t i : obstacle_voxels) {
     const auto before = plain.clusters.labels[i], after = grown.clusters.labels[i];
-    if (before >= 0) {
-      EXPECT_EQ(after, before) << i;
+    if (before >= 0 && after != before) {
+      EXPECT_EQ(after, hullmap::clustering::kNoise) << i;
+      EXPECT_FALSE(plain.clusters.core[i]) << i;
+      for (std::size_t j = 0; j < grown.voxels.size(); ++j)
+        EXPECT_TRUE(j == i || (grown.voxels[j].center - grown.voxels[i].center).norm() > trim.radius) << i << " " << j;
     }
     if (before != hullmap::clustering::kNoise || after < 0) continue;
     ++left_noise;
@@ -414,7 +427,9 @@ TEST(PipelineStages, ExtensionOnlyGrowsClustersAndOffIsPlainDbscan) {
         weight += grown.voxels[j].weight;
     EXPECT_GE(weight, ext.min_pts) << "voxel " << i << " joined without being dense";
   }
-  EXPECT_EQ(left_noise, joined);
+  // Every voxel the extension joined left the noise, unless the trim took it back.
+  EXPECT_LE(left_noise, joined);
+  EXPECT_GE(left_noise + dropped, joined);
 
   // Scored against the truth: every true obstacle keeps at least the share of its points inside
   // hulls, and no deep collision is missed.

@@ -240,9 +240,74 @@ TEST(Evaluate, SwallowedVolumeMatchesTheAnalyticValue) {
   EXPECT_NEAR(e.outside_volume, 1.0 + 0.125, 4 * e.outside_volume_se);
   EXPECT_NEAR(e.far_volume, 0.9 + 0.125, 4 * e.far_volume_se);
   ASSERT_EQ(e.false_parts.size(), 1u);
-  EXPECT_EQ(e.false_parts[0].first, 1);
+  EXPECT_EQ(e.false_parts[0].obstacle, 1);
+  EXPECT_NEAR(e.false_parts[0].distance, 4.0, 1e-9);
+  EXPECT_NEAR(e.false_parts[0].volume, 0.125, 1e-9);
+  EXPECT_NEAR(e.false_volume, 0.125, 1e-9);
   EXPECT_EQ(e.missed, 0u);
   EXPECT_GT(e.false_alarms, 0u);  // segments over the swallowed half
+}
+
+TEST(Evaluate, FalsePartsAtAToleranceWithTheirDistanceMatchBruteForce) {
+  // A rotated box and a cylinder; cubes of 1 to 3 voxels (0.1 m) strewn around them. A cube is a
+  // false part when its hull comes no closer than the tolerance to either; its distance is the
+  // exact hull-to-shape distance, against the least over a 5 mm grid inside the cube (which lies
+  // within 5 mm * sqrt(3) / 2 of the nearest point).
+  GroundTruth truth;
+  truth.shapes.push_back(box(V3(0.0, 0.0, 0.5), V3(1.0, 0.6, 1.0), 0.4));
+  TruthShape cyl;
+  cyl.kind = TruthShape::Kind::kCylinder;
+  cyl.center = V3(1.6, 0.2, 0.4);
+  cyl.size = V3(0.5, 0.5, 0.8);
+  cyl.aabb_min = cyl.center - cyl.size;
+  cyl.aabb_max = cyl.center + cyl.size;
+  truth.shapes.push_back(cyl);
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> u(-1.0, 2.5), z(-0.2, 1.2);
+  std::uniform_int_distribution<int> side(1, 3);
+  std::vector<clustering::Obstacle> obstacles;
+  std::vector<double> oracle;
+  const double tolerance = 0.05;
+  while (obstacles.size() < 60) {
+    const V3 lo(std::round(u(rng) * 20) / 20, std::round(u(rng) * 20) / 20, std::round(z(rng) * 20) / 20);
+    const V3 hi = lo + 0.1 * V3(side(rng), side(rng), side(rng));
+    double nearest = std::numeric_limits<double>::infinity();
+    for (double x = lo.x(); x <= hi.x() + 1e-9; x += 0.005)
+      for (double y = lo.y(); y <= hi.y() + 1e-9; y += 0.005)
+        for (double w = lo.z(); w <= hi.z() + 1e-9; w += 0.005) nearest = std::min(nearest, truth.signedDistance(V3(x, y, w)));
+    nearest = std::max(nearest, 0.0);
+    if (std::abs(nearest - tolerance) < 0.01) continue;  // too close to the tolerance for the grid to say
+    obstacles.push_back(filled(lo, hi, int(obstacles.size())));
+    oracle.push_back(nearest);
+  }
+  EvaluateParams params;
+  params.segments = 0;
+  params.volume_samples = 200;
+  params.false_tolerance = tolerance;
+  const Evaluation e = evaluate(obstacles, truth, {}, {}, params);
+  std::size_t expected = 0;
+  double volume = 0.0;
+  for (std::size_t k = 0; k < oracle.size(); ++k) {
+    const auto it = std::find_if(e.false_parts.begin(), e.false_parts.end(),
+                                 [&](const FalsePart& f) { return f.obstacle == int(k); });
+    EXPECT_EQ(it != e.false_parts.end(), oracle[k] > tolerance) << k << ": brute force " << oracle[k];
+    if (it == e.false_parts.end()) continue;
+    ++expected;
+    volume += obstacles[k].volume;
+    EXPECT_LE(it->distance, oracle[k] + 1e-9) << k;
+    EXPECT_GE(it->distance, oracle[k] - 0.005) << k;
+    EXPECT_NEAR(it->volume, obstacles[k].volume, 1e-12) << k;
+    EXPECT_EQ(it->part, -1);
+  }
+  EXPECT_EQ(e.false_parts.size(), expected);
+  EXPECT_GT(expected, 5u);
+  EXPECT_LT(expected, oracle.size());
+  EXPECT_NEAR(e.false_volume, volume, 1e-9);
+  const auto json = evaluationToJson(e, params);
+  EXPECT_EQ(json["parameters"]["false_tolerance"], tolerance);
+  ASSERT_EQ(json["false_parts"].size(), expected);
+  EXPECT_TRUE(json["false_parts"][0].contains("distance"));
+  EXPECT_TRUE(json["false_parts"][0].contains("volume"));
 }
 
 TEST(Evaluate, SameSeedSameNumbers) {
@@ -480,7 +545,7 @@ TEST(Evaluate, EachHullRepresentsOneTrueObstacle) {
   EXPECT_EQ(e.truth[3].parts_touching.size(), 3u);
   EXPECT_EQ(e.truth[4].parts_touching.size(), 2u);  // the crate's and the south wall's
   ASSERT_EQ(e.false_parts.size(), 1u);
-  EXPECT_EQ(e.false_parts[0].first, 5);
+  EXPECT_EQ(e.false_parts[0].obstacle, 5);
   const auto json = evaluationToJson(e, params);
   ASSERT_EQ(json["truth"][0]["parts"].size(), 1u);
   EXPECT_EQ(json["truth"][0]["parts"][0]["obstacle"], 0);

@@ -2,6 +2,7 @@
 // convex, sparse ORB-SLAM-like points, the first camera's frame at a monocular scale.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include <tbb/parallel_for.h>
@@ -169,25 +170,72 @@ SceneObject furniture(const SceneParams& p, SceneRandom& rng) {
   return f;
 }
 
+// The camera loop's ellipse (semi-axes lx, ly) sampled every 0.25 degrees, for the placement gaps.
+std::vector<Eigen::Vector2d> loopSamples(double lx, double ly) {
+  std::vector<Eigen::Vector2d> samples(1440);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const double a = 2.0 * kPi * static_cast<double>(i) / static_cast<double>(samples.size());
+    samples[i] = Eigen::Vector2d(lx * std::cos(a), ly * std::sin(a));
+  }
+  return samples;
+}
+
+// Distance from a footprint to the nearest sample of the loop.
+double loopGap(const Footprint& f, const std::vector<Eigen::Vector2d>& loop) {
+  double best = 1e300;
+  for (const auto& q : loop) best = std::min(best, (f.lo - q).cwiseMax(q - f.hi).cwiseMax(0.0).norm());
+  return best;
+}
+
+// FurniturePlacement::kAnywhere: the local footprint (lower corner at the origin, `extent`) moved to
+// a random place in the room of half sides (hx, hy): against a wall with chance `wall_fraction` (its
+// back 3 to 10 cm from the wall's face, anywhere along it), else kSceneObstacleGap from every wall.
+// Returns the shift, or nothing when the piece does not fit.
+std::optional<Eigen::Vector2d> anywhereShift(const Eigen::Vector2d& extent, double hx, double hy, double wall_fraction,
+                                             SceneRandom& rng) {
+  const double g = kSceneObstacleGap;
+  if (rng.uniform() < wall_fraction) {
+    const std::size_t wall = rng.index(4);  // -x, +x, -y, +y
+    const double back = rng.uniform(0.03, 0.10);
+    // `across`: the axis normal to the wall's face; `along`: the axis along it.
+    const int across = wall < 2 ? 0 : 1, along = 1 - across;
+    const Eigen::Vector2d half(hx, hy);
+    if (extent[along] > 2.0 * half[along] - 0.06 || extent[across] > 2.0 * half[across] - back) return std::nullopt;
+    Eigen::Vector2d shift;
+    shift[along] = rng.uniform(-half[along] + 0.03, half[along] - 0.03 - extent[along]);
+    shift[across] = wall % 2 == 0 ? -half[across] + back : half[across] - back - extent[across];
+    return shift;
+  }
+  if (extent.x() > 2.0 * (hx - g) || extent.y() > 2.0 * (hy - g)) return std::nullopt;
+  return Eigen::Vector2d(rng.uniform(-hx + g, hx - g - extent.x()), rng.uniform(-hy + g, hy - g - extent.y()));
+}
+
 }  // namespace
 
 Scene generateRoomScene(const SceneParams& p) {
   SceneRandom rng(p.seed);
-  const double half = 0.5 * p.room_size;
-  const double loop_radius = 0.4 * p.room_size;
+  const double half = 0.5 * p.room_size;  // x
+  const double half_y = 0.5 * (p.room_width > 0.0 ? p.room_width : p.room_size);
+  const double loop_x = p.loop_fraction * p.room_size, loop_y = p.loop_fraction * 2.0 * half_y;
   Scene scene;
 
   // Floor and walls (their inner faces are the room's boundary).
   const double t = kWallThickness;
-  SceneObject floor{SceneObject::Kind::kFloor, {box({-half - t, -half - t, -t}, {half + t, half + t, 0})}};
+  SceneObject floor{SceneObject::Kind::kFloor, {box({-half - t, -half_y - t, -t}, {half + t, half_y + t, 0})}};
   scene.objects.push_back(floor);
   const double zh = p.room_height;
-  scene.objects.push_back({SceneObject::Kind::kWall, {box({-half - t, -half - t, 0}, {-half, half + t, zh})}});
-  scene.objects.push_back({SceneObject::Kind::kWall, {box({half, -half - t, 0}, {half + t, half + t, zh})}});
-  scene.objects.push_back({SceneObject::Kind::kWall, {box({-half, -half - t, 0}, {half, -half, zh})}});
-  scene.objects.push_back({SceneObject::Kind::kWall, {box({-half, half, 0}, {half, half + t, zh})}});
+  scene.objects.push_back({SceneObject::Kind::kWall, {box({-half - t, -half_y - t, 0}, {-half, half_y + t, zh})}});
+  scene.objects.push_back({SceneObject::Kind::kWall, {box({half, -half_y - t, 0}, {half + t, half_y + t, zh})}});
+  scene.objects.push_back({SceneObject::Kind::kWall, {box({-half, -half_y - t, 0}, {half, -half_y, zh})}});
+  scene.objects.push_back({SceneObject::Kind::kWall, {box({-half, half_y, 0}, {half, half_y + t, zh})}});
 
-  // Furniture inside the camera loop, kSceneObstacleGap apart from each other and from the loop.
+  // Furniture kSceneObstacleGap apart from each other and from the camera loop: inside the loop, or
+  // (kAnywhere) anywhere in the room.
+  const bool circle = loop_x == loop_y;
+  const std::vector<Eigen::Vector2d> loop =
+      circle && p.placement == FurniturePlacement::kInsideLoop ? std::vector<Eigen::Vector2d>{} : loopSamples(loop_x, loop_y);
+  // The samples are at most 2 pi max(lx, ly) / 1440 apart: the gap to the curve is within half that.
+  const double loop_slack = kPi * std::max(loop_x, loop_y) / 1440.0;
   std::vector<Footprint> placed;
   for (std::size_t n = 0; n < p.obstacles; ++n) {
     bool done = false;
@@ -195,13 +243,36 @@ Scene generateRoomScene(const SceneParams& p) {
       SceneObject f = furniture(p, rng);
       const Footprint local = footprint(f);
       const Eigen::Vector2d extent = local.hi - local.lo;
-      const double reach = loop_radius - kSceneObstacleGap - 0.5 * extent.norm();
-      if (reach <= 0.0) continue;
-      const Eigen::Vector2d centre(rng.uniform(-reach, reach), rng.uniform(-reach, reach));
-      if (centre.norm() > reach) continue;
-      const Eigen::Vector2d shift = centre - 0.5 * extent;
+      Eigen::Vector2d shift;
+      if (p.placement == FurniturePlacement::kAnywhere) {
+        const auto where = anywhereShift(extent, half, half_y, p.wall_fraction, rng);
+        if (!where) continue;
+        shift = *where;
+      } else if (circle) {
+        const double reach = loop_x - kSceneObstacleGap - 0.5 * extent.norm();
+        if (reach <= 0.0) continue;
+        const Eigen::Vector2d centre(rng.uniform(-reach, reach), rng.uniform(-reach, reach));
+        if (centre.norm() > reach) continue;
+        shift = centre - 0.5 * extent;
+      } else {
+        // Inside the ellipse: the footprint grown by the gap has its corners inside it.
+        const double rx = loop_x - kSceneObstacleGap - 0.5 * extent.x(), ry = loop_y - kSceneObstacleGap - 0.5 * extent.y();
+        if (rx <= 0.0 || ry <= 0.0) continue;
+        const Eigen::Vector2d centre(rng.uniform(-rx, rx), rng.uniform(-ry, ry));
+        const Eigen::Vector2d h = 0.5 * extent + Eigen::Vector2d::Constant(kSceneObstacleGap);
+        bool inside = true;
+        for (int c = 0; c < 4 && inside; ++c) {
+          const Eigen::Vector2d q = centre + Eigen::Vector2d((c & 1) ? h.x() : -h.x(), (c & 2) ? h.y() : -h.y());
+          inside = (q.x() / loop_x) * (q.x() / loop_x) + (q.y() / loop_y) * (q.y() / loop_y) <= 1.0;
+        }
+        if (!inside) continue;
+        shift = centre - 0.5 * extent;
+      }
       for (auto& part : f.parts) part.center.head<2>() += shift;
       const Footprint fp = footprint(f);
+      if (!loop.empty() && p.placement == FurniturePlacement::kAnywhere &&
+          loopGap(fp, loop) < kSceneObstacleGap + loop_slack)
+        continue;
       done = std::all_of(placed.begin(), placed.end(),
                          [&fp](const Footprint& other) { return gap(fp, other) >= kSceneObstacleGap; });
       if (done) {
@@ -212,7 +283,7 @@ Scene generateRoomScene(const SceneParams& p) {
     if (!done) {
       throw Error("scene parameters: cannot place " + std::to_string(p.obstacles) + " pieces of furniture " +
                   std::to_string(kSceneObstacleGap) + " m apart in a room of " + std::to_string(p.room_size) +
-                  " m (obstacles too many for room_size)");
+                  " x " + std::to_string(2.0 * half_y) + " m (obstacles too many for room_size)");
     }
   }
   // Only furniture hides surfaces (a wall's foot on the floor is a visible edge, as is a box's).
@@ -234,8 +305,8 @@ Scene generateRoomScene(const SceneParams& p) {
           Patch top;
           top.c = Eigen::Vector3d(0, 0, 0);
           top.a = Eigen::Vector3d(half, 0, 0);
-          top.b = Eigen::Vector3d(0, half, 0);
-          top.area = p.room_size * p.room_size;
+          top.b = Eigen::Vector3d(0, half_y, 0);
+          top.area = 4.0 * half * half_y;
           top.part = part;
           patches.push_back(top);
         } else if (object.kind == SceneObject::Kind::kWall) {
@@ -246,9 +317,9 @@ Scene generateRoomScene(const SceneParams& p) {
           if (o.size.x() < o.size.y()) {
             const double x = o.center.x() > 0 ? half : -half;
             face.c = Eigen::Vector3d(x, 0, 0.5 * zh);
-            face.a = Eigen::Vector3d(0, half, 0);
+            face.a = Eigen::Vector3d(0, half_y, 0);
           } else {
-            const double y = o.center.y() > 0 ? half : -half;
+            const double y = o.center.y() > 0 ? half_y : -half_y;
             face.c = Eigen::Vector3d(0, y, 0.5 * zh);
             face.a = Eigen::Vector3d(half, 0, 0);
           }
@@ -295,7 +366,7 @@ Scene generateRoomScene(const SceneParams& p) {
         }
         q += p.noise_sigma * Eigen::Vector3d(local.normal(), local.normal(), local.normal());
       } else if (i < surface + outliers) {
-        q = Eigen::Vector3d(local.uniform(-half, half), local.uniform(-half, half), local.uniform(0.0, zh));
+        q = Eigen::Vector3d(local.uniform(-half, half), local.uniform(-half_y, half_y), local.uniform(0.0, zh));
       } else {
         q = local.uniform(1e5, 1e6) * local.unitVector();
       }
@@ -310,9 +381,10 @@ Scene generateRoomScene(const SceneParams& p) {
     const double a = 2.0 * kPi * static_cast<double>(i) / static_cast<double>(p.keyframes);
     Keyframe& k = scene.reference[i];
     k.stamp = 1.0 + 0.5 * static_cast<double>(i);
-    k.position = Eigen::Vector3d(loop_radius * std::cos(a), loop_radius * std::sin(a),
-                                 kCameraHeight + 0.05 * std::sin(3.0 * a));
-    const Eigen::Vector3d inward(-std::cos(a), -std::sin(a), 0.0);
+    k.position = Eigen::Vector3d(loop_x * std::cos(a), loop_y * std::sin(a), kCameraHeight + 0.05 * std::sin(3.0 * a));
+    // Toward the room's vertical axis.
+    const Eigen::Vector3d inward = circle ? Eigen::Vector3d(-std::cos(a), -std::sin(a), 0.0)
+                                          : Eigen::Vector3d(-k.position.x(), -k.position.y(), 0.0).normalized();
     const Eigen::Vector3d forward = std::cos(pitch) * inward - std::sin(pitch) * Eigen::Vector3d::UnitZ();
     const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
     const Eigen::Vector3d down = forward.cross(right);

@@ -115,7 +115,15 @@ void checkParams(const SceneParams& p) {
   } else {
     require(p.keyframes >= 3, "keyframes (--keyframes) must be at least 3 in a room (to align the trajectory)");
     require(std::isfinite(p.density) && p.density > 0.0, "density (--density) must be > 0 points per m^2");
-    require(p.density * p.room_size * p.room_size <= 1e9, "density (--density) x room area must be at most 1e9 points");
+    require(p.room_width == 0.0 || (std::isfinite(p.room_width) && p.room_width >= 4.0),
+            "room_width (--room-width) must be 0 (square) or at least 4 m");
+    require(std::isfinite(p.loop_fraction) && p.loop_fraction > 0.0 && p.loop_fraction < 0.5,
+            "loop_fraction (--loop) must be in (0, 0.5)");
+    require(std::isfinite(p.wall_fraction) && p.wall_fraction >= 0.0 && p.wall_fraction <= 1.0,
+            "wall_fraction (--wall-fraction) must be in [0, 1]");
+    const double width = p.room_width > 0.0 ? p.room_width : p.room_size;
+    require(p.density * p.room_size * std::max(width, p.room_size) <= 1e9,
+            "density (--density) x room area must be at most 1e9 points");
     require(std::isfinite(p.edge_fraction) && p.edge_fraction >= 0.0 && p.edge_fraction <= 1.0,
             "edge_fraction (--edge-fraction) must be in [0, 1]");
     require(std::isfinite(p.monocular_scale) && p.monocular_scale > 0.0, "monocular_scale (--scale) must be > 0");
@@ -367,7 +375,11 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
                    {"points", scene.points.size()},
                    {"furniture", params.obstacles},
                    {"room_size", params.room_size},
+                   {"room_width", params.room_width > 0.0 ? params.room_width : params.room_size},
                    {"room_height", params.room_height},
+                   {"loop_fraction", params.loop_fraction},
+                   {"placement", params.placement == FurniturePlacement::kAnywhere ? "anywhere" : "inside_loop"},
+                   {"wall_fraction", params.wall_fraction},
                    {"density", params.density},
                    {"edge_fraction", params.edge_fraction},
                    {"noise_sigma", params.noise_sigma},

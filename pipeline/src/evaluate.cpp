@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <random>
 #include <sstream>
 
@@ -54,10 +55,12 @@ double boxDistance(const V& q_abs_minus_h) {
 /// A hull as half-spaces n . x <= d (n unit).
 struct HullPlanes {
   std::vector<std::pair<V3, double>> planes;
+  std::vector<V3> vertices;
   V3 lo, hi;
   int obstacle = 0;
   int part = -1;
   double volume = 0.0;
+  std::size_t voxels = 0;
   bool contains(const V3& p, double tolerance = 1e-9) const {
     if ((p.array() < lo.array() - tolerance).any() || (p.array() > hi.array() + tolerance).any()) return false;
     for (const auto& [n, d] : planes)
@@ -71,6 +74,7 @@ HullPlanes planesOf(const clustering::ConvexHull& hull, int obstacle, int part, 
   out.obstacle = obstacle;
   out.part = part;
   out.volume = volume;
+  out.vertices = hull.vertices;
   out.lo = out.hi = hull.vertices.empty() ? V3::Zero() : hull.vertices[0];
   for (const auto& v : hull.vertices) {
     out.lo = out.lo.cwiseMin(v);
@@ -89,11 +93,93 @@ HullPlanes planesOf(const clustering::ConvexHull& hull, int obstacle, int part, 
 std::vector<HullPlanes> hullsOf(const std::vector<clustering::Obstacle>& obstacles) {
   std::vector<HullPlanes> hulls;
   for (const auto& o : obstacles) {
-    if (o.parts.empty()) hulls.push_back(planesOf(o.hull, o.id, -1, o.volume));
-    for (std::size_t p = 0; p < o.parts.size(); ++p)
+    if (o.parts.empty()) {
+      hulls.push_back(planesOf(o.hull, o.id, -1, o.volume));
+      hulls.back().voxels = o.voxel_count;
+    }
+    for (std::size_t p = 0; p < o.parts.size(); ++p) {
       hulls.push_back(planesOf(o.parts[p].hull, o.id, int(p), o.parts[p].volume));
+      hulls.back().voxels = o.parts[p].voxel_count;
+    }
   }
   return hulls;
+}
+
+/// The point of a box or cylinder shape nearest p (p itself inside).
+V3 project(const TruthShape& s, const V3& p) {
+  const V3 d = p - s.center;
+  if (s.kind == TruthShape::Kind::kBox) {
+    const double c = std::cos(s.yaw), n = std::sin(s.yaw);
+    V3 local(c * d.x() + n * d.y(), -n * d.x() + c * d.y(), d.z());
+    local = local.cwiseMax(-0.5 * s.size).cwiseMin(0.5 * s.size);
+    return s.center + V3(c * local.x() - n * local.y(), n * local.x() + c * local.y(), local.z());
+  }
+  const double r = 0.5 * s.size.x(), radial = std::hypot(d.x(), d.y());
+  V3 q = d;
+  if (radial > r) q.head<2>() *= r / radial;
+  q.z() = std::clamp(q.z(), -0.5 * s.size.z(), 0.5 * s.size.z());
+  return s.center + q;
+}
+
+/// Distance from the convex hull of `vertices` to a box or cylinder shape (0 when they meet):
+/// Frank-Wolfe on f(x) = d(x)^2 / 2 over the hull (d the shape's distance, convex, f smooth with
+/// gradient x - project(x)), run until the duality gap is below 1e-12 of the squared extent or 200
+/// iterations; the value is exact to that gap (f(x) - gap <= f* <= f(x)).
+double convexDistance(const std::vector<V3>& vertices, const TruthShape& s) {
+  V3 x = vertices.front();
+  double fx = kInf;
+  for (const V3& v : vertices) {
+    const double f = 0.5 * (v - project(s, v)).squaredNorm();
+    if (f < fx) {
+      fx = f;
+      x = v;
+    }
+  }
+  for (int iteration = 0; iteration < 200 && fx > 0.0; ++iteration) {
+    const V3 g = x - project(s, x);
+    const V3* best = &vertices.front();
+    for (const V3& v : vertices)
+      if (v.dot(g) < best->dot(g)) best = &v;
+    const double gap = g.dot(x - *best);
+    if (gap <= 1e-12 * (1.0 + g.squaredNorm())) break;
+    // Line search on [x, best]: f is convex along it; ternary steps on the exact f.
+    double lo = 0.0, hi = 1.0;
+    const V3 d = *best - x;
+    for (int k = 0; k < 60; ++k) {
+      const double a = lo + (hi - lo) / 3.0, b = hi - (hi - lo) / 3.0;
+      const V3 pa = x + a * d, pb = x + b * d;
+      if ((pa - project(s, pa)).squaredNorm() <= (pb - project(s, pb)).squaredNorm()) hi = b;
+      else lo = a;
+    }
+    const V3 next = x + 0.5 * (lo + hi) * d;
+    const double fn = 0.5 * (next - project(s, next)).squaredNorm();
+    if (!(fn < fx)) break;
+    x = next;
+    fx = fn;
+  }
+  return std::sqrt(2.0 * fx);
+}
+
+/// Distance from a hull to a true shape: exact for boxes, cylinders and their unions
+/// (convexDistance); for a mesh the least over the hull's vertices and `samples` (points in it).
+double hullDistance(const std::vector<V3>& vertices, const std::vector<V3>& samples, const TruthShape& s) {
+  switch (s.kind) {
+    case TruthShape::Kind::kBox:
+    case TruthShape::Kind::kCylinder:
+      return convexDistance(vertices, s);
+    case TruthShape::Kind::kUnion: {
+      double best = kInf;
+      for (const auto& part : s.parts) best = std::min(best, convexDistance(vertices, part));
+      return best;
+    }
+    case TruthShape::Kind::kMesh: {
+      double best = kInf;
+      for (const V3& p : vertices) best = std::min(best, s.signedDistance(p));
+      for (const V3& p : samples) best = std::min(best, s.signedDistance(p));
+      return std::max(best, 0.0);
+    }
+  }
+  return kInf;
 }
 
 void finishShape(TruthShape& s) {
@@ -357,11 +443,13 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
     const HullPlanes& hull = hulls[h];
     e.hull_volume += hull.volume;
     std::vector<char> touches(truth.shapes.size(), 0);
+    std::vector<V3> inside_samples;  // for meshes' distances
     std::size_t got = 0, in_union = 0, outside = 0, far = 0;
     for (std::size_t tries = 0; got < params.volume_samples && tries < 200 * params.volume_samples; ++tries) {
       const V3 p = hull.lo + (hull.hi - hull.lo).cwiseProduct(V3(uniform(rng), uniform(rng), uniform(rng)));
       if (!hull.contains(p, 0.0)) continue;
       ++got;
+      inside_samples.push_back(p);
       double nearest = kInf;
       for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
         const double d = truth.shapes[s].signedDistance(p);
@@ -375,14 +463,18 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
       if (nearest > 0) ++outside;
       if (nearest > params.far_margin) ++far;
     }
-    bool any = false;
-    for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
-      if (touches[s]) {
-        e.truth[s].parts_touching.emplace_back(hull.obstacle, hull.part);
-        any = true;
+    for (std::size_t s = 0; s < truth.shapes.size(); ++s)
+      if (touches[s]) e.truth[s].parts_touching.emplace_back(hull.obstacle, hull.part);
+    // A false part: its hull comes no closer than false_tolerance to any true obstacle.
+    if (!hull.vertices.empty()) {
+      double nearest = kInf;
+      for (std::size_t s = 0; s < truth.shapes.size() && nearest > params.false_tolerance; ++s)
+        nearest = std::min(nearest, hullDistance(hull.vertices, inside_samples, truth.shapes[s]));
+      if (nearest > params.false_tolerance) {
+        e.false_parts.push_back({hull.obstacle, hull.part, hull.voxels, hull.volume, nearest});
+        e.false_volume += hull.volume;
       }
     }
-    if (!any) e.false_parts.emplace_back(hull.obstacle, hull.part);
     if (got == 0) continue;
     const double n = double(got);
     const auto add = [&](std::size_t count, double& value, double& var) {
@@ -407,8 +499,11 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
   if (!lo.allFinite() || params.segments == 0) return e;
   // The segments depend on the truth and the seed only, so that two builds are scored on the same ones.
   rng.seed(params.seed + 1);
-  lo -= V3::Constant(params.radius + params.clear_margin + 0.5);
-  hi += V3::Constant(params.radius + params.clear_margin + 0.5);
+  const bool free_ends = params.ends == SegmentEnds::kFree;
+  if (free_ends) {
+    lo -= V3::Constant(params.radius + params.clear_margin + 0.5);
+    hi += V3::Constant(params.radius + params.clear_margin + 0.5);
+  }
   const double free_distance = params.radius + params.clear_margin;
   // Segments stay on the map's side of its floors and ceilings: nothing flies through a floor.
   double above = -kInf, below = kInf;
@@ -420,37 +515,60 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
   const auto onMapSide = [&](const V3& p) { return p.z() >= above && p.z() <= below; };
   std::vector<collision::Segment> segments;
   std::vector<int> verdict;  // 1 deep, 2 clear, 0 neither
+  std::vector<std::pair<std::size_t, double>> deepest;  // the shape nearest along it, radius - distance
   for (std::size_t tries = 0; segments.size() < params.segments && tries < 1000 * params.segments; ++tries) {
     const V3 a = lo + (hi - lo).cwiseProduct(V3(uniform(rng), uniform(rng), uniform(rng)));
     // A direction uniform on the sphere, and a length in [0.2, segment_length].
     const double z = 2 * uniform(rng) - 1, phi = 2 * kPi * uniform(rng), r = std::sqrt(1 - z * z);
     const double length = 0.2 + (params.segment_length - 0.2) * uniform(rng);
     const V3 b = a + length * V3(r * std::cos(phi), r * std::sin(phi), z);
-    if (truth.signedDistance(a) < free_distance || truth.signedDistance(b) < free_distance) continue;
+    if (free_ends && (truth.signedDistance(a) < free_distance || truth.signedDistance(b) < free_distance)) continue;
+    if (!free_ends && ((b.array() < lo.array()).any() || (b.array() > hi.array()).any())) continue;
     if (!onMapSide(a) || !onMapSide(b)) continue;
     const std::size_t steps = std::size_t(std::ceil(length / params.sample_step));
     const double spacing = length / double(steps);
     double nearest = kInf;
-    for (std::size_t k = 0; k <= steps; ++k) nearest = std::min(nearest, truth.signedDistance(a + (b - a) * (double(k) / double(steps))));
+    std::size_t nearest_shape = 0;
+    for (std::size_t k = 0; k <= steps; ++k) {
+      const V3 p = a + (b - a) * (double(k) / double(steps));
+      for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
+        const double d = truth.shapes[s].signedDistance(p);
+        if (d < nearest) {
+          nearest = d;
+          nearest_shape = s;
+        }
+      }
+    }
     // The exact minimum lies in [nearest - spacing / 2, nearest].
     int v = 0;
     if (nearest < params.radius - params.depth_margin) v = 1;
     else if (nearest - 0.5 * spacing > params.radius + params.clear_margin) v = 2;
     segments.push_back({a, b});
     verdict.push_back(v);
+    deepest.emplace_back(nearest_shape, params.radius - nearest);
   }
   e.segments = segments.size();
   const collision::HullChecker checker(obstacles, surfaces);
   const std::vector<collision::SegmentCheck> checks = checker.checkBatch(segments, params.radius);
+  std::map<std::pair<int, int>, std::size_t> hit;
   for (std::size_t k = 0; k < segments.size(); ++k) {
     if (verdict[k] == 1) {
       ++e.deep;
-      if (!checks[k].collides) ++e.missed;
+      if (!checks[k].collides) {
+        ++e.missed;
+        e.missed_segments.push_back({segments[k].a, segments[k].b, truth.shapes[deepest[k].first].label, deepest[k].second});
+      }
     } else if (verdict[k] == 2) {
       ++e.clear;
-      if (checks[k].collides) ++e.false_alarms;
+      if (checks[k].collides) {
+        ++e.false_alarms;
+        ++hit[{checks[k].obstacle, checks[k].part}];
+      }
     }
   }
+  for (const auto& [hull, count] : hit) e.false_alarm_hulls.push_back({hull.first, hull.second, count});
+  std::stable_sort(e.false_alarm_hulls.begin(), e.false_alarm_hulls.end(),
+                   [](const FalseAlarmHull& a, const FalseAlarmHull& b) { return a.segments > b.segments; });
   return e;
 }
 
@@ -469,24 +587,37 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
                      {"parts", representing},
                      {"parts_touching", touching}});
   }
+  json missed = json::array();
+  for (const auto& m : e.missed_segments)
+    missed.push_back({{"from", {m.from.x(), m.from.y(), m.from.z()}}, {"to", {m.to.x(), m.to.y(), m.to.z()}},
+                      {"truth", m.truth}, {"depth", m.depth}});
+  json false_alarm_hulls = json::array();
+  for (const auto& h : e.false_alarm_hulls)
+    false_alarm_hulls.push_back({{"obstacle", h.obstacle}, {"part", h.part}, {"segments", h.segments}});
   json false_parts = json::array();
-  for (const auto& [o, part] : e.false_parts) false_parts.push_back({{"obstacle", o}, {"part", part}});
+  for (const auto& f : e.false_parts)
+    false_parts.push_back({{"obstacle", f.obstacle}, {"part", f.part}, {"voxels", f.voxels}, {"volume", f.volume},
+                           {"distance", f.distance}});
   return {{"format", "hullmap-evaluation/1"},
           {"parameters",
            {{"radius", p.radius}, {"surface_margin", p.surface_margin}, {"touch_margin", p.touch_margin},
             {"far_margin", p.far_margin}, {"depth_margin", p.depth_margin}, {"clear_margin", p.clear_margin},
             {"volume_samples", p.volume_samples}, {"segments", p.segments}, {"segment_length", p.segment_length},
+            {"segment_ends", p.ends == SegmentEnds::kFree ? "free" : "in_truth_box"},
+            {"false_tolerance", p.false_tolerance},
             {"sample_step", p.sample_step}, {"seed", p.seed}}},
           {"truth", truth},
           {"parts", e.parts},
           {"false_parts", false_parts},
+          {"false_volume", e.false_volume},
           {"volume",
            {{"hulls", e.hull_volume}, {"union", e.union_volume}, {"union_se", e.union_volume_se},
             {"outside_truth", e.outside_volume}, {"outside_truth_se", e.outside_volume_se},
             {"far_from_truth", e.far_volume}, {"far_from_truth_se", e.far_volume_se}}},
           {"segments",
            {{"count", e.segments}, {"deep", e.deep}, {"missed", e.missed}, {"clear", e.clear},
-            {"false_alarms", e.false_alarms}}}};
+            {"false_alarms", e.false_alarms}, {"false_alarm_hulls", false_alarm_hulls},
+            {"missed_segments", missed}}}};
 }
 
 }  // namespace hullmap::pipeline

@@ -685,6 +685,14 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
     runStage("extension");
     chosen.extension_params = clustering::extensionParams(chosen.used, params.extension_rule);
     chosen.extension = clustering::extendClusters(obstacle_centers, obstacle_weights, sub, *chosen.extension_params);
+    // Stray map points that the eps, wide on a sparse map, took in off the surfaces go back to noise;
+    // the floor's and ceiling's voxels support what stands on them (a table leg's foot).
+    std::vector<Eigen::Vector3d> surface_centers;
+    for (std::size_t i = 0; i < n; ++i)
+      if (labels[i] == kFloorLabel || labels[i] == kCeilingLabel) surface_centers.push_back(centers[i]);
+    chosen.trim_params =
+        clustering::OutlierTrimParams{3.0 * resolution, std::max(3.0 * resolution, chosen.extension_params->reach)};
+    chosen.trim = clustering::trimOutliers(obstacle_centers, sub, surface_centers, *chosen.trim_params);
     // A flat cluster in the plane of a larger one around it (a wall's foot that DBSCAN cut off the
     // sparse wall above it) joins it, so that the wall's parts can merge over it.
     chosen.coplanar_params = clustering::CoplanarMergeParams{chosen.used.eps, 3.0 * resolution};
@@ -1084,6 +1092,10 @@ nlohmann::json reportJson(const BuildResult& result) {
                                       {"joined", cp.extension.joined},
                                       {"rounds", cp.extension.rounds}};
   }
+  clustering_params["outlier_trim"] = nullptr;
+  if (cp.trim_params)
+    clustering_params["outlier_trim"] = {
+        {"radius", cp.trim_params->radius}, {"reach", cp.trim_params->reach}, {"dropped", cp.trim.dropped}};
   clustering_params["coplanar_merge"] = nullptr;
   if (cp.coplanar_params) {
     clustering_params["coplanar_merge"] = {{"reach", cp.coplanar_params->reach},

@@ -666,7 +666,10 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     edge.site_a = siteRef(sa, oa, bounds_owner);
     edge.site_b = siteRef(sb, ob, bounds_owner);
     traceBisector(edge, a, b, params.tolerance);
-    if (edge.clearance < params.min_clearance) continue;
+    // The polyline's chords lie up to the tolerance nearer than the arc: an edge is kept only when
+    // they keep min_clearance too (the exact check counts touching as a collision).
+    const double keep = params.min_clearance + params.tolerance;
+    if (edge.clearance < keep) continue;
     // A guard on the construction: the polyline's chords against every footprint's boundary near
     // it. Where a Voronoi vertex constructed in double went astray, the edge may pass closer to a
     // third footprint than to its sites; its clearance is then what was measured. (Chords of a
@@ -690,7 +693,7 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
           }
       });
       if (measured < edge.clearance - params.tolerance) edge.clearance = measured;
-      if (edge.clearance < params.min_clearance) continue;
+      if (edge.clearance < keep) continue;
     }
     const Eigen::Vector2d mid = edge.polyline[edge.polyline.size() / 2] * 0.5 +
                                 edge.polyline[(edge.polyline.size() - 1) / 2] * 0.5;

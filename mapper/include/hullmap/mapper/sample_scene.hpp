@@ -26,6 +26,15 @@ struct SceneObstacle {
 ///   with a metric reference trajectory to align it.
 enum class SceneLayout { kObstacles, kRoom };
 
+/// Where a kRoom scene's furniture stands.
+/// - kInsideLoop: inside the camera loop, kSceneObstacleGap from it and from each other (the room
+///   of maps/room and the tests).
+/// - kAnywhere: a cluttered room: anywhere in the room, inside or outside the camera loop,
+///   kSceneObstacleGap from the loop and from each other; a share (SceneParams::wall_fraction) of
+///   the pieces stand against a wall (their back 3 to 10 cm from its face, in a corner when it falls
+///   there), the others kSceneObstacleGap from the walls.
+enum class FurniturePlacement { kInsideLoop, kAnywhere };
+
 /// One true object of a kRoom scene: a union of axis-aligned primitives (z-up map frame, metres).
 struct SceneObject {
   enum class Kind { kBox, kCylinder, kLShelf, kTable, kWall, kFloor } kind = Kind::kBox;
@@ -50,7 +59,7 @@ struct SceneParams {
   std::uint64_t seed = 42;
   std::size_t points = 20000;         ///< map points, outliers included
   std::size_t obstacles = 8;          ///< boxes and cylinders in the room
-  double room_size = 10.0;            ///< square room side, metres
+  double room_size = 10.0;            ///< square room side (kRoom: its side along x), metres
   double room_height = 3.0;
   double noise_sigma = 0.01;          ///< centimetre noise
   double outlier_fraction = 0.03;     ///< uniform outliers in the room
@@ -58,9 +67,9 @@ struct SceneParams {
   std::size_t keyframes = 60;
   bool orbslam_frame = true;          ///< write in ORB-SLAM's frame (y down): read back with --up -y
 
-  /// kRoom only (see SceneLayout). The room is room_size x room_size x room_height, floor at z = 0,
-  /// walls' inner faces at x, y = +-room_size / 2; `obstacles` pieces of furniture (0 allowed),
-  /// kSceneObstacleGap apart from each other, the walls and the camera loop. `points` is ignored:
+  /// kRoom only (see SceneLayout). The room is room_size x room_width x room_height, floor at z = 0,
+  /// walls' inner faces at x = +-room_size / 2, y = +-room_width / 2; `obstacles` pieces of furniture
+  /// (0 allowed), placed as `placement` says. `points` is ignored:
   /// visible surfaces get `density` points per m^2 (ORB-SLAM maps of EuRoC hold about 50 to 500,
   /// see maps/README.md), `edge_fraction` of them on face edges; outlier_fraction is of all points.
   /// With orbslam_frame the output frame is the first keyframe's camera frame (x right, y down,
@@ -71,6 +80,15 @@ struct SceneParams {
   double edge_fraction = 0.3;         ///< share of surface points on face edges, [0, 1]
   double monocular_scale = 0.37;      ///< map units per metre in the ORB-SLAM frame (> 0)
   double camera_pitch_deg = 20.0;     ///< cameras look down by this, [0, 80]
+  /// kRoom: the room's side along y, metres (>= 4); 0: room_size (a square room). The walls' inner
+  /// faces are then at x = +-room_size / 2 and y = +-room_width / 2.
+  double room_width = 0.0;
+  /// kRoom: the camera loop is an ellipse at about kCameraHeight whose semi-axes are this fraction
+  /// of the room's sides, in (0, 0.5) (0.4: 0.8 m from the walls of an 8 m room).
+  double loop_fraction = 0.4;
+  FurniturePlacement placement = FurniturePlacement::kInsideLoop;  ///< kRoom: where furniture stands
+  /// kRoom with kAnywhere: the chance that a piece is placed against a wall, [0, 1].
+  double wall_fraction = 0.5;
 };
 
 /// Smallest distance between two obstacles' axis-aligned footprints, and between an obstacle and

@@ -50,6 +50,15 @@ struct GroundTruth {
 /// fanned). Throws hullmap::Error "<path>: <what>" (line numbers for OBJ).
 GroundTruth readGroundTruth(const std::string& path);
 
+/// Where evaluate() draws its random segments' endpoints.
+/// - kFree: uniformly in the box of the truth grown by radius + clear_margin + 0.5, both keeping
+///   radius + clear_margin from the truth (segments around the truth, outside a room's walls too).
+/// - kInTruthBox: uniformly in the box of the truth itself, free or not (a room: anywhere inside its
+///   walls, or in them), as a user draws test paths in the room: many are deep, and the clear ones
+///   all lie inside the room.
+/// Both keep the endpoints radius + clear_margin above every true floor and below every ceiling.
+enum class SegmentEnds { kFree, kInTruthBox };
+
 /// Settings of evaluate(); every random draw comes from std::mt19937_64(seed) with hullmap's own
 /// transforms, so the numbers are the same on every machine.
 struct EvaluateParams {
@@ -61,9 +70,13 @@ struct EvaluateParams {
   double far_margin = 0.1;         ///< swallowed volume: hull volume farther than this from every shape
   double depth_margin = 0.1;       ///< deep collision: the capsule penetrates a shape by more than this
   double clear_margin = 0.1;       ///< clear segment: keeps radius + this from every shape
+  /// A part is *false* when its hull comes no closer than this to any true obstacle (map units; the
+  /// CLI's default is one voxel of the build, the resolution in obstacles.json).
+  double false_tolerance = 0.05;
   std::size_t volume_samples = 4000;  ///< Monte Carlo points per part hull
   std::size_t segments = 2000;        ///< random segments in the free volume
   double segment_length = 2.0;        ///< segments are 0.2 .. this long
+  SegmentEnds ends = SegmentEnds::kFree;  ///< where the endpoints are drawn
   double sample_step = 0.01;          ///< spacing of the truth's distance samples along a segment
   std::uint64_t seed = 1;
 };
@@ -86,11 +99,40 @@ struct TruthScore {
   std::vector<std::pair<int, int>> parts_touching;
 };
 
+/// A hull farther than EvaluateParams::false_tolerance from every true obstacle: an obstacle where
+/// the world has none (outlier voxels the clustering kept, as a rule).
+struct FalsePart {
+  int obstacle = 0;          ///< obstacle id
+  int part = -1;             ///< its part; -1 a whole hull
+  std::size_t voxels = 0;    ///< its voxels
+  double volume = 0.0;       ///< its hull's volume, map units^3: the free space it brings
+  /// Its hull's distance from the nearest true obstacle, map units: exact for boxes, cylinders and
+  /// their unions (Frank-Wolfe over the hull, to a duality gap of 1e-12), for a mesh the least over
+  /// the hull's vertices and its Monte Carlo points.
+  double distance = 0.0;
+};
+
+/// A hull that false alarms hit: the hull checker's first contact on that many clear segments.
+struct FalseAlarmHull {
+  int obstacle = 0;  ///< obstacle id
+  int part = -1;     ///< its part; -1 a whole hull
+  std::size_t segments = 0;
+};
+
+/// A deep segment the hulls called clear: the truth shape it penetrates deepest, and how deep
+/// (radius minus the truth's smallest sampled distance along it, map units).
+struct MissedSegment {
+  Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
+  std::string truth;  ///< TruthShape::label
+  double depth = 0.0;
+};
+
 /// What evaluate() measures. Volumes in map units^3, each with its Monte Carlo standard error.
 struct Evaluation {
   std::vector<TruthScore> truth;
   std::size_t parts = 0;                       ///< hulls scored (parts, or whole obstacles without parts)
-  std::vector<std::pair<int, int>> false_parts;  ///< parts touching no shape
+  std::vector<FalsePart> false_parts;          ///< parts farther than false_tolerance from every shape
+  double false_volume = 0.0;                   ///< their summed hull volume
   double hull_volume = 0.0;                    ///< summed part hull volume
   double union_volume = 0.0, union_volume_se = 0.0;      ///< volume of the union of the hulls
   double outside_volume = 0.0, outside_volume_se = 0.0;  ///< of the union, outside every shape
@@ -100,6 +142,9 @@ struct Evaluation {
   std::size_t missed = 0;         ///< of those, reported clear by the hull checker
   std::size_t clear = 0;          ///< segments keeping radius + clear_margin from the truth
   std::size_t false_alarms = 0;   ///< of those, reported colliding
+  /// The hulls the false alarms hit first, most hit first (ties by obstacle id, then part).
+  std::vector<FalseAlarmHull> false_alarm_hulls;
+  std::vector<MissedSegment> missed_segments;  ///< every missed one, in the order drawn
 };
 
 /// Scores the obstacles (their parts when they have some, else their whole hulls) against the

@@ -17,6 +17,7 @@
 #include "hullmap/clustering/convex_parts.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/clustering/outlier_trim.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/mapper/align.hpp"
 #include "hullmap/mapper/floor.hpp"
@@ -138,6 +139,10 @@ struct ClusterParamsReport {
   /// With BuildParams::extension: the parameters of the extension pass and what it did.
   std::optional<clustering::ClusterExtensionParams> extension_params;
   clustering::ClusterExtension extension;
+  /// With the extension: the outlier trim after it (clustering::trimOutliers, radius 3 voxels, reach
+  /// the extension's, at least the radius) and what it did.
+  std::optional<clustering::OutlierTrimParams> trim_params;
+  clustering::OutlierTrim trim;
   /// With the extension: the coplanar merge after it (clustering::mergeCoplanarClusters, reach the
   /// eps used, thickness 3 voxels) and what it did.
   std::optional<clustering::CoplanarMergeParams> coplanar_params;

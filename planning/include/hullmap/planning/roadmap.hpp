@@ -22,7 +22,9 @@ struct RoadmapParams {
   double z1 = 1e300;
   std::optional<Bounds2d> bounds;  ///< default: the obstacles' footprint bounds grown by `margin`
   double margin = 1.0;           ///< growth of the default bounds on every side, metres (> 0)
-  double min_clearance = 0.0;    ///< edges whose clearance is below this are dropped (the radius R)
+  /// Edges whose clearance is below this plus `tolerance` are dropped (this is the radius R): a kept
+  /// edge's polyline, whose chords lie up to `tolerance` nearer than its arc, keeps R.
+  double min_clearance = 0.0;
   double tolerance = 1e-3;       ///< parabolic arcs: every polyline point lies on the arc, and every
                                  ///< chord is within this distance of it (metres, > 0)
 };
@@ -78,7 +80,7 @@ struct Roadmap {
 /// polygon that may have holes: a ring of walls leaves the room inside free), its outer boundary and
 /// hole boundaries inserted as sites. Keeps the Voronoi edges between sites of
 /// different obstacles or an obstacle and the bounds, drops edges touching the outside of the
-/// bounds, inside a footprint, or with clearance < min_clearance. The clearance of an edge is its
+/// bounds, inside a footprint, or with clearance < min_clearance + tolerance. The clearance of an edge is its
 /// exact minimum along the arc (closed form per bisector type: point-point, point-segment parabola,
 /// segment-segment line), not a sampled one. `surfaces` (a floor, a ceiling: solid half-spaces)
 /// bound the band: it is cut to what lies above every floor's solid and below every ceiling's over
