@@ -100,6 +100,9 @@ TEST(LiveNodeParams, EachNumberLandsInItsField) {
   EXPECT_FALSE(words.build.filters.z_min.has_value());
   EXPECT_EQ(words.node.frame_id, "world");
   EXPECT_EQ(words.node.output_dir, "saved");
+  // ROS 2's YAML reads `extension: off` as false.
+  EXPECT_EQ(readSettings({{"extension", false}}, Checking::kStrict).build.extension, std::optional<bool>(false));
+  EXPECT_EQ(readSettings({{"extension", true}}, Checking::kStrict).build.extension, std::optional<bool>(true));
 }
 
 TEST(LiveNodeParams, TheTablesRangesAreWhatStrictReadingChecks) {

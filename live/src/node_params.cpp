@@ -286,8 +286,12 @@ NodeSettings readSettings(const ParameterValues& values, Checking checking, cons
     }
     p.convex_parts->flat_gap = g;
   }
-  // extension: auto (on when min_pts is auto), on or off, as `hullmap build --extension`.
-  const std::string extension = r.wordOrNumber("extension", "auto");
+  // extension: auto (on when min_pts is auto), on or off, as `hullmap build --extension`. ROS 2's
+  // YAML reads on and off as true and false (ROS 1 never hands a bool here).
+  const ParameterValue* extension_value = r.given("extension");
+  const bool* extension_bool = extension_value ? std::get_if<bool>(extension_value) : nullptr;
+  const std::string extension =
+      extension_bool ? (*extension_bool ? "on" : "off") : r.wordOrNumber("extension", "auto");
   if (extension == "on" || extension == "off") {
     p.extension = extension == "on";
   } else if (extension != "auto") {

@@ -35,7 +35,8 @@ enum class ParameterKind {
   kNumber,          ///< a number (an integer is taken as one)
   kOptionalNumber,  ///< a number, or unset ("none" where a value must be given, as in ROS 2)
   kWordOrNumber,    ///< one of `words`, or a number
-  kWord,            ///< one of `words` (a number given is refused naming the words)
+  kWord,            ///< one of `words` (a number given is refused naming the words; for extension,
+                    ///< true and false, as ROS 2's YAML reads on and off, are on and off)
   kText,            ///< any text (`words`, when given, list the accepted ones: parsing checks them)
 };
 
