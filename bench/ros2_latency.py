@@ -18,6 +18,7 @@ client run on a ROS_DOMAIN_ID of their own (test/ros2/ros2_support.claim_domain)
 """
 import json
 import os
+import shutil
 import signal
 import struct
 import subprocess
@@ -114,6 +115,7 @@ def main():
                 octo["octomap_insert_ms"], octo["octomap_insert_ms"] / median(e2e)))
             sys.stdout.flush()
     finally:
+        shutil.rmtree(tmp, ignore_errors=True)
         executor.shutdown()
         client.destroy_node()
         rclpy.shutdown()
