@@ -48,6 +48,12 @@ if [ "$mode" = test ]; then
              libsensor-msgs-dev libnav-msgs-dev libvisualization-msgs-dev libstd-srvs-dev
              python3-rospy python3-rosbag python3-yaml python3-std-msgs python3-geometry-msgs
              python3-sensor-msgs python3-nav-msgs python3-visualization-msgs python3-std-srvs)
+  # ROS 2: the test core beside the checkout (../shared/ros2, see its README) runs on these packages;
+  # ros2/build.sh sources it in its own process only, to build the ROS 2 package (test/ros2/ tests it).
+  if [ -f ../shared/ros2/debian-packages.txt ]; then
+    mapfile -t ros2_packages < <(grep -Ev '^[[:space:]]*(#|$)' ../shared/ros2/debian-packages.txt)
+    packages+=("${ros2_packages[@]}")
+  fi
 fi
 if [ "$mode" = bench ]; then
   # The peers a user would pick instead (Open3D's and scikit-learn's DBSCAN), and /usr/bin/time.
@@ -111,6 +117,10 @@ fi
 echo "== building in $build_dir"
 cmake -S . -B "$build_dir" "${cmake_args[@]}" >/dev/null
 cmake --build "$build_dir" -j"$jobs"
+if [ "$mode" = test ]; then
+  # The ROS 2 package against this build's hullmap; without ROS 2, one line says it was skipped.
+  ros2/build.sh "$build_dir"
+fi
 
 if [ "$mode" = demo ]; then
   hullmap="$build_dir/cli/hullmap"

@@ -23,8 +23,6 @@ import sys
 import tempfile
 import time
 
-node_binary, octomap_binary = sys.argv[1], sys.argv[2]
-repeats = int(sys.argv[3]) if len(sys.argv) > 3 else 3
 SIZES = [10_000, 20_000, 100_000, 1_000_000]
 ORIGIN = (5.0, 4.0, 1.5)
 
@@ -61,6 +59,8 @@ def median(values):
 
 
 def main():
+    node_binary, octomap_binary = sys.argv[1], sys.argv[2]
+    repeats = int(sys.argv[3]) if len(sys.argv) > 3 else 3
     tmp = tempfile.mkdtemp(prefix="hullmap_ros_latency_")
     port = free_port()
     os.environ.update(ROS_MASTER_URI="http://127.0.0.1:%d" % port, ROS_IP="127.0.0.1",

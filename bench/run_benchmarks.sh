@@ -27,6 +27,8 @@ fi
 # hullmap_node exists only when ROS1 was found; its section is left out otherwise.
 if cmake --build "$build" -j"$(nproc)" --target hullmap_node hullmap_bench_octomap_cloud >/dev/null 2>&1; then
   ros_section=yes
+  # The ROS 2 rows of that section: the ROS 2 package against this tree (skipped, saying so, without ROS 2).
+  "$root/ros2/build.sh" "$build" >&2
 else
   ros_section=no
 fi

@@ -4,7 +4,9 @@
 # usage: bench/section_ros.sh BUILD_DIR [repeats]
 #
 # BUILD_DIR holds ros/hullmap_node (ROS1 found) and bench/hullmap_bench_octomap_cloud. Needs Debian's
-# ros-core, python3-rospy and the python3-*-msgs modules (./setup.sh test installs them).
+# ros-core, python3-rospy and the python3-*-msgs modules (./setup.sh test installs them). The ROS 2
+# rows need the ROS 2 package built against BUILD_DIR (ros2/build.sh BUILD_DIR); ROS 2 is sourced for
+# them alone, as ros2/ros2_env.sh finds it.
 set -eu
 
 if [ $# -lt 1 ]; then
@@ -26,16 +28,32 @@ done
 cat <<'TEXT'
 ## ROS: map message to published obstacles
 
-`hullmap_node` ([ROS.md](ROS.md)) receives a whole map as a FLOAT32 `sensor_msgs/PointCloud2` on
-`~cloud_in` (as the ORB-SLAM2/3 wrappers send it) and publishes its obstacles on `~obstacles`; the peer
+The live node ([ROS.md](ROS.md)), in ROS 1 and in ROS 2, receives a whole map as a FLOAT32
+`sensor_msgs/PointCloud2` on `~cloud_in` (as the ORB-SLAM2/3 wrappers send it) and publishes its
+obstacles on `~obstacles`; the peer
 is the work octomap_server does on every such message, octomap's `insertPointCloud` of every point
 from one keyframe (the room's centre) into its tree, timed on the same points in the same run
 (`hullmap_bench_octomap_cloud`, median of the repeats). The map: a 10 x 8 x 3 m room, 8 boxes whose
 surfaces carry 90% of the points, 10% scattered (outliers); `hullmap build`'s defaults (resolution
-0.05, eps and min_pts chosen from the map, floor search, convex parts). **End-to-end**: from `publish()` in a rospy client to the `~obstacles`
+0.05, eps and min_pts chosen from the map, floor search, convex parts). **End-to-end**: from `publish()` in a client (rospy, rclpy) to the `~obstacles`
 message with the same stamp arriving back in it (serialisation and transport both ways included);
 **node latency_ms**: the node's own `~stats` (callback to obstacles published); **rebuild_ms**: the
 build alone. Medians of 3 messages per size. `bench/ros_latency.py`, `bench/section_ros.sh`.
 
+ROS 1, `hullmap_node` (rospy client, rosmaster on loopback):
+
 TEXT
 /usr/bin/python3 "$here/ros_latency.py" "$node" "$octomap" "$repeats"
+cat <<'TEXT'
+
+ROS 2, `hullmap_ros2`'s `hullmap_node` (Humble, rmw_cyclonedds_cpp on loopback; an rclpy client, the
+same maps and method, `bench/ros2_latency.py`; the node's cloud input made reliable through its QoS
+override, as ROS 1's TCP is):
+
+TEXT
+if [ -f "$build/ros2/status" ] && [ "$(cat "$build/ros2/status")" = built ]; then
+  bash -c 'source "$1/ros2/ros2_env.sh" && hullmap_ros2_env && set +u && source "$2/ros2/install/setup.bash" &&
+           exec /usr/bin/python3 "$1/bench/ros2_latency.py" "$3" "$4"' _ "$here/.." "$build" "$octomap" "$repeats"
+else
+  echo "(not measured: $(cat "$build/ros2/status" 2>/dev/null || echo "the ROS 2 package is not built in $build"))"
+fi

@@ -10,6 +10,7 @@
 
 #include "commands.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/live/ros2_bag.hpp"
 #include "hullmap/mapper/level_check.hpp"
 #include "hullmap/mapper/output_dir.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
@@ -34,7 +35,7 @@ struct BuildOptions {
   std::optional<double> z_min;
   std::optional<double> z_max;
   std::string metric = "xyz";
-  std::optional<std::string> topic;  ///< the input is a ROS1 bag: its map topic
+  std::optional<std::string> topic;  ///< the input is a ROS 1 or ROS 2 bag: its map topic
   std::optional<std::string> trajectory_topic;  ///< and its keyframe poses' topic
   std::optional<std::string> align;          ///< reference trajectory
   std::string align_format = "tum";
@@ -82,6 +83,17 @@ pipeline::BuildParams toParams(const BuildOptions& o) {
   if (params.convex_parts && o.flat_gap != "auto") params.convex_parts->flat_gap = number(o.flat_gap);
   if (o.extension != "auto") params.extension = o.extension == "on";
   return params;
+}
+
+/// An input: a file, - (standard input), or a ROS 2 bag's directory (with --topic).
+CLI::Validator inputFileOrBag() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::error_code ec;
+        if (text != "-" && std::filesystem::is_directory(text, ec) && live::isRos2Bag(text)) return "";
+        return existingFileOrStdin()(text);
+      },
+      "FILE, BAG or -");
 }
 
 /// Errors of the output directory named by the option that gave it.
@@ -154,29 +166,37 @@ void checkOutput(const BuildOptions& options, const pipeline::BuildParams& param
   }
 }
 
-/// The last map on --topic of the one bag given, built as hullmap_node would build it.
+/// The last map on --topic of the one bag given, built as hullmap_node would build it: a ROS 2 bag
+/// (a directory with metadata.yaml, a .db3 or .mcap file) read by rosbag2 through hullmap_ros2's
+/// reader, a ROS 1 bag by Debian's rosbag_storage.
 pipeline::BuildResult buildFromBag(const BuildOptions& options, const pipeline::BuildParams& params) {
-  if (options.inputs.size() != 1) throw Error("--topic: give exactly one input, a ROS1 bag");
+  if (options.inputs.size() != 1) throw Error("--topic: give exactly one input, a ROS 1 or ROS 2 bag");
   if (params.trajectory && options.trajectory_topic) throw Error("--trajectory and --trajectory-topic: give one or the other");
+  const std::string& path = options.inputs.front();
+  live::BagTopics bag;
+  if (live::isRos2Bag(path)) {
+    bag = live::readRos2Bag(path, *options.topic, options.trajectory_topic);
+  } else {
 #ifdef HULLMAP_HAS_ROSBAG
-  ros1::BagMap bag = ros1::readBagMap(options.inputs.front(), *options.topic);
-  std::optional<std::vector<mapper::Keyframe>> keyframes;
-  if (options.trajectory_topic) keyframes = ros1::readBagKeyframes(options.inputs.front(), *options.trajectory_topic);
-  if (bag.skipped > 0) {
-    std::cerr << "hullmap: warning: " << options.inputs.front() << ": " << bag.skipped << " malformed message"
-              << (bag.skipped == 1 ? "" : "s") << " on " << *options.topic << " skipped\n";
-  }
-  if (bag.points.empty()) throw Error(options.inputs.front() + ": topic " + *options.topic + " ends on an empty map");
-  // ORB-SLAM's map markers are in its first camera's frame; a PointCloud2 is taken as the frame it names.
-  pipeline::BuildParams bag_params = params;
-  if (!bag_params.camera_frame) bag_params.camera_frame = bag.type == "visualization_msgs/Marker";
-  return pipeline::buildFromPoints(std::move(bag.points), std::move(keyframes), bag_params, options.inputs.front(),
-                                   options.inputs.front() + ":" + options.trajectory_topic.value_or(""));
+    bag.map = ros1::readBagMap(path, *options.topic);
+    if (options.trajectory_topic) bag.keyframes = ros1::readBagKeyframes(path, *options.trajectory_topic);
 #else
-  (void)params;
-  throw Error("--topic: this hullmap was built without ROS1's rosbag_storage (install librosbag-storage-dev "
-              "and pluginlib-dev, then rebuild)");
+    (void)params;
+    throw Error("--topic: this hullmap was built without ROS1's rosbag_storage (install librosbag-storage-dev "
+                "and pluginlib-dev, then rebuild)");
 #endif
+  }
+  if (bag.map.skipped > 0) {
+    std::cerr << "hullmap: warning: " << path << ": " << bag.map.skipped << " malformed message"
+              << (bag.map.skipped == 1 ? "" : "s") << " on " << *options.topic << " skipped\n";
+  }
+  if (bag.map.points.empty()) throw Error(path + ": topic " + *options.topic + " ends on an empty map");
+  // ORB-SLAM's map markers are in its first camera's frame; a PointCloud2 is judged as a file is.
+  pipeline::BuildParams bag_params = params;
+  if (!bag_params.camera_frame && (bag.map.type == "visualization_msgs/Marker" || bag.map.type == "visualization_msgs/msg/Marker"))
+    bag_params.camera_frame = true;
+  return pipeline::buildFromPoints(std::move(bag.map.points), std::move(bag.keyframes), bag_params, path,
+                                   path + ":" + options.trajectory_topic.value_or(""));
 }
 
 std::string planeText(const pipeline::PlaneReport& r, const char* what, bool aligned) {
@@ -262,9 +282,10 @@ void addBuildCommand(CLI::App& app, int& status) {
   auto* cmd = app.add_subcommand(
       "build", "Read SLAM dumps (or a .bt), build the octree, cluster it, wrap obstacles; write OUT/");
   cmd->add_option("inputs", options->inputs,
-                  "Map-point files (ORB-SLAM echo dump, text/CSV, XYZ, PCD, PLY) unioned, or one .bt/.ot")
+                  "Map-point files (ORB-SLAM echo dump, text/CSV, XYZ, PCD, PLY) unioned, or one .bt/.ot, or one "
+                  "ROS 1 or ROS 2 bag with --topic")
       ->required()
-      ->check(existingFileOrStdin());
+      ->check(inputFileOrBag());
   cmd->add_option("-o,--output", options->output_dir,
                   "Output directory: new, empty, or a previous hullmap output (replaced whole on success); "
                   "any other directory is refused")
@@ -344,7 +365,8 @@ void addBuildCommand(CLI::App& app, int& status) {
       ->check(CLI::IsMember({"xyz", "xy"}))->capture_default_str();
   cmd->add_flag("--ot", options->params.write_ot, "Also write map.ot (full probabilities)");
   cmd->add_option("--topic", options->topic,
-                  "The input is a ROS1 bag: build its last map on this topic (visualization_msgs/Marker as "
+                  "The input is a ROS 1 bag (.bag) or a ROS 2 bag (its directory, .db3 or .mcap; read through the "
+                  "ROS 2 package hullmap_ros2): build its last map on this topic (visualization_msgs/Marker as "
                   "/ORB_SLAM/Map, or sensor_msgs/PointCloud2), as hullmap_node would");
   cmd->add_option("--trajectory-topic", options->trajectory_topic,
                   "With --topic: keyframe poses from the bag (geometry_msgs/PoseStamped, one keyframe a message; or "
@@ -355,6 +377,8 @@ void addBuildCommand(CLI::App& app, int& status) {
     for (const auto& input : options->inputs) {
       if (!options->topic && input.size() > 4 && input.compare(input.size() - 4, 4, ".bag") == 0)
         throw Error(input + ": a ROS1 bag: give --topic, the map topic to read (as /ORB_SLAM/Map)");
+      if (!options->topic && live::isRos2Bag(input))
+        throw Error(input + ": a ROS 2 bag: give --topic, the map topic to read (as /ORB_SLAM/Map)");
     }
     refuseMisfits(*cmd, *options);
     const pipeline::BuildParams params = toParams(*options);

@@ -89,13 +89,10 @@ std::vector<mapper::Keyframe> readBagKeyframes(const std::string& path, const st
   } catch (const ::ros::Exception& e) {
     throw Error(unreadable(path, e.what()));
   }
-  for (const auto& k : keyframes) {
-    if (!k.position.allFinite() || !k.orientation.coeffs().allFinite() || k.orientation.norm() < 1e-9) {
-      throw Error(path + ": topic " + topic + ": a keyframe pose is not finite or its quaternion is zero");
-    }
+  if (!live::normaliseKeyframes(keyframes)) {
+    throw Error(path + ": topic " + topic + ": a keyframe pose is not finite or its quaternion is zero");
   }
   if (keyframes.empty()) throw Error(path + ": topic " + topic + " holds no pose");
-  for (auto& k : keyframes) k.orientation.normalize();
   return keyframes;
 }
 
@@ -108,31 +105,18 @@ BagMap readBagMap(const std::string& path, const std::string& topic) {
     bag.open(path, rosbag::bagmode::Read);
     requireTopic(bag, path, topic);
     rosbag::View view(bag, rosbag::TopicQuery(topic));
-    OrbSlamMapMarkers markers;
-    bool clouds = false;
+    live::TopicMap topic_map;
     for (const rosbag::MessageInstance& m : view) {
-      ++map.messages;
-      map.type = m.getDataType();
-      // A malformed message is skipped and counted, as the node skips it.
       if (auto marker = m.instantiate<visualization_msgs::Marker>()) {
-        try {
-          markers.add(*marker);
-        } catch (const Error&) {
-          ++map.skipped;
-        }
+        topic_map.addMarker(m.getDataType(), markerKey(*marker), marker->points);
       } else if (auto cloud = m.instantiate<sensor_msgs::PointCloud2>()) {
-        clouds = true;
-        try {
-          map.points = cloudPoints(*cloud);  // each cloud is the whole map: the last good one stays
-        } catch (const Error&) {
-          ++map.skipped;
-        }
+        topic_map.addCloud(m.getDataType(), cloudLayout(*cloud), cloud->data.data(), cloud->data.size());
       } else {
-        throw Error(path + ": topic " + topic + " carries " + map.type +
+        throw Error(path + ": topic " + topic + " carries " + m.getDataType() +
                     ", expected visualization_msgs/Marker or sensor_msgs/PointCloud2");
       }
     }
-    if (!clouds) map.points = markers.points();
+    map = topic_map.result();
   } catch (const rosbag::BagException& e) {
     throw Error(unreadable(path, e.what()));
   } catch (const ::ros::Exception& e) {

@@ -5,23 +5,19 @@
 
 #include <vector>
 
+#include "hullmap/live/map_messages.hpp"
 #include "hullmap/mapper/point_cloud.hpp"
 #include "hullmap/mapper/readers.hpp"
 
 namespace hullmap::ros1 {
 
 /// The map a ROS1 bag's topic ends on, as hullmap_node would hold it after replaying the bag.
-struct BagMap {
-  mapper::Points points;          ///< input frame (the topic's), in message order
-  std::string type;               ///< the topic's message type
-  std::size_t messages = 0;       ///< messages read on the topic
-  std::size_t skipped = 0;        ///< malformed messages skipped (as the node skips them)
-};
+using BagMap = live::BagMap;
 
-/// Reads `topic` of the ROS1 bag at `path` (Debian's rosbag_storage) and returns its last map:
-/// for visualization_msgs/Marker the latest MapPoints id 0 plus id 6 (OrbSlamMapMarkers, ORB-SLAM
-/// v1's /ORB_SLAM/Map), for sensor_msgs/PointCloud2 the last cloud (cloudPoints). Malformed messages
-/// (a MapPoints marker with a NaN, a cloud without z) are skipped and counted, as the node does.
+/// Reads `topic` of the ROS1 bag at `path` (Debian's rosbag_storage) and returns its last map by
+/// live::TopicMap's rule: for visualization_msgs/Marker the latest MapPoints id 0 plus id 6 (ORB-SLAM
+/// v1's /ORB_SLAM/Map), for sensor_msgs/PointCloud2 the last cloud. Malformed messages (a MapPoints
+/// marker with a NaN, a cloud without z) are skipped and counted, as the node does.
 /// Throws hullmap::Error "<path>: not a readable ROS1 bag (rosbag_storage: <why>; the file holds N
 /// bytes)" for a bag that cannot be opened or read (truncated; a damaged version line, record
 /// header, chunk or index: ROS1 bags carry no checksum, so damage inside a message's bytes is not

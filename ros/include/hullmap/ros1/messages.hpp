@@ -13,20 +13,21 @@
 
 #include "hullmap/clustering/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/live/map_messages.hpp"
+#include "hullmap/live/outputs.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/mapper/point_cloud.hpp"
 
-/// Conversions between ROS1 messages and hullmap's types, for hullmap_node and the bag reader.
-/// No node handle, no publisher: plain functions on messages, testable without a ROS master.
+/// Conversions between ROS1 messages and hullmap's types, for hullmap_node and the bag reader: each
+/// copies a message's fields into hullmap::live's neutral types (or back) and calls live, which holds
+/// the rules both ROS nodes share. No node handle, no publisher: plain functions on messages,
+/// testable without a ROS master.
 /// Coordinates are taken and given as they are (the input frame in, hullmap's z-up map frame out);
 /// every function is reentrant.
 namespace hullmap::ros1 {
 
-/// ORB-SLAM (v1)'s map as its MapPublisher sends it on /ORB_SLAM/Map: namespace "MapPoints", id 0
-/// all map points and id 6 the reference points, each a POINTS marker re-sent whole; the map is the
-/// latest id 0 plus the latest id 6, exactly as `hullmap build` reads a `rostopic echo` dump
-/// (DELETE drops one of them, DELETEALL both; other namespaces and ids are keyframes and graph
-/// lines, not map points). Not thread-safe.
+/// ORB-SLAM (v1)'s map as its MapPublisher sends it on /ORB_SLAM/Map: live::OrbSlamMapMarkers
+/// (the rule, shared with the ROS 2 node) over ROS1 Markers. Not thread-safe.
 class OrbSlamMapMarkers {
  public:
   /// Takes one marker; true when the map changed. Throws hullmap::Error naming the marker
@@ -34,14 +35,13 @@ class OrbSlamMapMarkers {
   /// coordinate; the map is then left as it was.
   bool add(const visualization_msgs::Marker& marker);
   /// The map: the id 0 points, then the id 6 points (input frame).
-  mapper::Points points() const;
+  mapper::Points points() const { return markers_.points(); }
   /// True before any map-points marker (or after a DELETEALL).
-  bool empty() const { return !all_ && !reference_; }
-  void clear();
+  bool empty() const { return markers_.empty(); }
+  void clear() { markers_.clear(); }
 
  private:
-  std::optional<mapper::Points> all_;        ///< id 0
-  std::optional<mapper::Points> reference_;  ///< id 6
+  live::OrbSlamMapMarkers markers_;
 };
 
 /// The x, y and z fields of every point of a cloud (FLOAT32 or FLOAT64 fields, little-endian),
@@ -80,5 +80,20 @@ nav_msgs::OccupancyGrid projectedMap(const std::vector<clustering::Obstacle>& ob
 visualization_msgs::MarkerArray pathCheckMarkers(const std::vector<Eigen::Vector3d>& waypoints,
                                                  const collision::PathCheck& check, double line_width,
                                                  const std_msgs::Header& header);
+
+/// A neutral marker as a ROS1 Marker with `header`.
+visualization_msgs::Marker toMarker(const live::MarkerSpec& spec, const std_msgs::Header& header);
+
+/// Neutral markers as a MarkerArray with `header`.
+visualization_msgs::MarkerArray toMarkerArray(const std::vector<live::MarkerSpec>& specs, const std_msgs::Header& header);
+
+/// A neutral grid as an OccupancyGrid with `header` (map_load_time: the header's stamp).
+nav_msgs::OccupancyGrid toOccupancyGrid(const live::ProjectedGrid& grid, const std_msgs::Header& header);
+
+/// A marker's key for live::OrbSlamMapMarkers (a view of its namespace).
+live::MarkerKey markerKey(const visualization_msgs::Marker& marker);
+
+/// A cloud's layout for live::cloudPoints (views of its field names).
+live::CloudLayout cloudLayout(const sensor_msgs::PointCloud2& cloud);
 
 }  // namespace hullmap::ros1

@@ -1,0 +1,254 @@
+// hullmap::live::RebuildWorker against the pipeline it runs: what it publishes is what
+// pipeline::buildFromPoints gives on the same points and settings; folding, reset, live settings,
+// path checks and save, each asserted on counts and contents (waits only time out, nothing is timed).
+#include <condition_variable>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <mutex>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "hullmap/live/rebuild_worker.hpp"
+#include "hullmap/pipeline/check_json.hpp"
+#include "test_support.hpp"
+
+namespace hullmap::live {
+namespace {
+
+/// Everything the worker's hooks were given.
+class Recorder {
+ public:
+  RebuildWorker::Hooks hooks() {
+    RebuildWorker::Hooks h;
+    h.publish_map = [this](const MapPublication& p) { record([&] { publications_.push_back(p); }); };
+    h.publish_stats = [this](const std::string& json) { record([&] { stats_.push_back(nlohmann::json::parse(json)); }); };
+    h.rebuild_failed = [this](const std::string& why) { record([&] { failures_.push_back(why); }); };
+    return h;
+  }
+
+  /// Waits (at most 60 s) until `done` holds on what was recorded; false when it never did.
+  bool waitFor(const std::function<bool(const Recorder&)>& done) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return changed_.wait_for(lock, std::chrono::seconds(60), [&] { return done(*this); });
+  }
+
+  std::vector<MapPublication> publications_;
+  std::vector<nlohmann::json> stats_;
+  std::vector<std::string> failures_;
+
+ private:
+  void record(const std::function<void()>& f) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      f();
+    }
+    changed_.notify_all();
+  }
+
+  std::mutex mutex_;
+  std::condition_variable changed_;
+};
+
+/// Points on a grid filling an axis-aligned cube of half-width `half` around each centre.
+mapper::Points boxes(const std::vector<Eigen::Vector3d>& centres, double spacing = 0.04, double half = 0.1) {
+  const int n = int(std::round(2 * half / spacing));
+  mapper::Points points;
+  for (const auto& c : centres)
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; j <= n; ++j)
+        for (int k = 0; k <= n; ++k) points.emplace_back(c + Eigen::Vector3d(-half + i * spacing, -half + j * spacing, -half + k * spacing));
+  return points;
+}
+
+NodeSettings settings(double min_interval = 0.0) {
+  NodeSettings s;
+  s.build.octree.resolution = 0.05;
+  s.build.eps = 0.1;
+  s.build.min_pts = 5;
+  s.build.floor.mode = mapper::PlaneSetting::Mode::kNone;
+  s.build.convex_parts.reset();
+  s.node.min_interval = min_interval;
+  return s;
+}
+
+MapUpdate update(mapper::Points points, std::int64_t stamp_ns = 1) { return {std::move(points), stamp_ns, Clock::now(), nullptr, std::nullopt}; }
+
+/// id -> hull vertices, the comparison of two obstacle sets.
+std::map<int, std::vector<Eigen::Vector3d>> hulls(const std::vector<clustering::Obstacle>& obstacles) {
+  std::map<int, std::vector<Eigen::Vector3d>> out;
+  for (const auto& o : obstacles) out[o.id] = o.hull.vertices;
+  return out;
+}
+
+std::size_t rebuilds(const Recorder& r) { return r.stats_.empty() ? 0 : r.stats_.back()["rebuilds"].get<std::size_t>(); }
+
+TEST(LiveRebuildWorker, PublishesWhatBuildFromPointsGivesOnTheSamePoints) {
+  const mapper::Points points = boxes({{0, 0, 1}, {2, 0, 1}, {0, 3, 0.5}});
+  const pipeline::BuildResult expected = pipeline::buildFromPoints(points, settings().build, "map");
+  ASSERT_EQ(expected.obstacles.size(), 3u);
+  Recorder r;
+  RebuildWorker worker(settings(), r.hooks());
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return !r.stats_.empty(); }));  // the first stats
+  worker.submit(update(points, 42));
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 1 && !r.publications_.empty(); }));
+  const MapPublication& p = r.publications_.back();
+  ASSERT_TRUE(p.snapshot);
+  EXPECT_EQ(hulls(p.snapshot->result.obstacles), hulls(expected.obstacles));
+  EXPECT_EQ(p.stamp_ns, 42);
+  EXPECT_EQ(p.frame_id, "map");
+  const auto markers = obstacleMarkers(expected.obstacles, {});
+  ASSERT_EQ(p.obstacles.size(), markers.size());
+  for (std::size_t i = 0; i < markers.size(); ++i) EXPECT_EQ(p.obstacles[i].points, markers[i].points);
+  EXPECT_EQ(p.occupied_cells.back().points.size(), expected.voxels.size());
+  const nlohmann::json& stats = r.stats_.back();
+  EXPECT_EQ(stats["messages"], 1);
+  EXPECT_EQ(stats["points"], points.size());
+  EXPECT_EQ(stats["obstacles"], 3);
+  EXPECT_EQ(stats["voxels"], expected.voxels.size());
+}
+
+TEST(LiveRebuildWorker, MapsArrivingWhileItWaitsFoldIntoTheNewestAndMinIntervalChangesLive) {
+  Recorder r;
+  RebuildWorker worker(settings(), r.hooks());
+  worker.submit(update(boxes({{0, 0, 1}})));
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 1; }));
+  // A long min_interval holds the next rebuild back: the next nine maps all arrive while it waits.
+  worker.setSettings(settings(3600.0));
+  for (int i = 1; i <= 9; ++i) worker.submit(update(boxes({{0.5 * i, 0, 1}, {0.5 * i, 2, 1}})));
+  EXPECT_EQ(worker.stats().folded, 8u);
+  EXPECT_TRUE(worker.stats().pending);
+  worker.setSettings(settings(0.0));  // the wait ends at once
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 2; }));
+  const NodeStats stats = worker.stats();
+  EXPECT_EQ(stats.messages, 10u);
+  EXPECT_EQ(stats.rebuilds + stats.folded, 10u);
+  EXPECT_EQ(stats.max_waiting, 1u);
+  const auto last = pipeline::buildFromPoints(boxes({{4.5, 0, 1}, {4.5, 2, 1}}), settings().build, "map");
+  EXPECT_EQ(hulls(worker.latest()->result.obstacles), hulls(last.obstacles));
+}
+
+TEST(LiveRebuildWorker, BuildSettingsApplyAtTheNextRebuild) {
+  const mapper::Points points = boxes({{0, 0, 1}, {0.35, 0, 1}});
+  NodeSettings wide = settings();
+  wide.build.eps = 0.2;  // joins the two boxes 15 cm apart
+  const auto apart = pipeline::buildFromPoints(points, settings().build, "map");
+  const auto joined = pipeline::buildFromPoints(points, wide.build, "map");
+  ASSERT_NE(apart.obstacles.size(), joined.obstacles.size());
+  Recorder r;
+  RebuildWorker worker(settings(), r.hooks());
+  worker.submit(update(points));
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 1; }));
+  EXPECT_EQ(hulls(worker.latest()->result.obstacles), hulls(apart.obstacles));
+  worker.setSettings(wide);
+  EXPECT_EQ(hulls(worker.latest()->result.obstacles), hulls(apart.obstacles));  // nothing rebuilt yet
+  worker.submit(update(points));
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 2; }));
+  EXPECT_EQ(hulls(worker.latest()->result.obstacles), hulls(joined.obstacles));
+}
+
+TEST(LiveRebuildWorker, AFailedRebuildIsReportedAndTheOutputsStay) {
+  Recorder r;
+  RebuildWorker worker(settings(), r.hooks());
+  worker.submit(update(boxes({{0, 0, 1}})));
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 1; }));
+  const auto before = worker.latest();
+  NodeSettings bad = settings();
+  bad.build.eps = 0.0;
+  worker.setSettings(bad);
+  worker.submit(update(boxes({{3, 0, 1}})));
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return !r.failures_.empty(); }));
+  EXPECT_NE(r.failures_.back().find("eps"), std::string::npos) << r.failures_.back();
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return r.stats_.back()["failed"] == 1; }));
+  EXPECT_EQ(worker.latest(), before);
+  EXPECT_EQ(r.publications_.size(), 1u);
+}
+
+TEST(LiveRebuildWorker, ResetForgetsTheMapAndDeletesItsMarkers) {
+  Recorder r;
+  RebuildWorker worker(settings(), r.hooks());
+  worker.submit(update(boxes({{0, 0, 1}, {2, 0, 1}})));
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 1; }));
+  std::set<int> ids;
+  for (const auto& o : worker.latest()->result.obstacles) ids.insert(o.id);
+  worker.reset();
+  ASSERT_EQ(r.publications_.size(), 2u);
+  const MapPublication& empty = r.publications_.back();
+  EXPECT_FALSE(empty.snapshot);
+  EXPECT_EQ(empty.stamp_ns, 0);
+  std::set<std::pair<std::string, int>> deleted;
+  for (const auto& m : empty.obstacles) {
+    EXPECT_EQ(m.action, marker::kDelete);
+    deleted.insert({m.ns, m.id});
+  }
+  std::set<std::pair<std::string, int>> expected;
+  for (const char* ns : {"hulls", "footprints", "labels"})
+    for (int id : ids) expected.insert({ns, id});
+  EXPECT_EQ(deleted, expected);
+  EXPECT_FALSE(worker.latest());
+  EXPECT_EQ(r.stats_.back()["obstacles"], 0);
+  EXPECT_FALSE(worker.save().success);
+}
+
+TEST(LiveRebuildWorker, PathChecksAreHullCheckersOnTheLatestRebuild) {
+  const mapper::Points points = boxes({{0, 0, 1}, {2, 0, 1}});
+  const auto built = pipeline::buildFromPoints(points, settings().build, "map");
+  const collision::HullChecker checker(built.obstacles);
+  const std::vector<Eigen::Vector3d> path{{-1, 0, 1}, {1, 0, 1}, {1, -2, 1}};
+  Recorder r;
+  RebuildWorker worker(settings(), r.hooks());
+  const PathCheckAnswer before = worker.checkPath(path);
+  for (const auto& s : before.check.segments) EXPECT_FALSE(s.collides);  // no map yet: nothing to hit
+  worker.submit(update(points));
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 1; }));
+  for (const double radius : {0.25, 0.0, 1.5}) {
+    const PathCheckAnswer answer = radius == 0.25 ? worker.checkPath(path) : worker.checkPath(path, radius);
+    const collision::PathCheck expected = checker.checkPath(path, radius);
+    std::string lines;
+    for (std::size_t i = 0; i < expected.segments.size(); ++i)
+      lines += pipeline::segmentCheckJsonLine(i, expected.segments[i]) + "\n";
+    EXPECT_EQ(answer.json_lines, lines) << radius;
+    EXPECT_EQ(answer.check.first_colliding_segment, expected.first_colliding_segment);
+    ASSERT_EQ(answer.markers.size(), 1u);
+    EXPECT_EQ(answer.markers[0].points.size(), 4u);
+  }
+  EXPECT_TRUE(worker.checkPath(path).check.first_colliding_segment.has_value());
+  EXPECT_THROW(worker.checkPath(path, -1.0), Error);
+}
+
+TEST(LiveRebuildWorker, SaveWritesWhatWriteWritesForTheSameBuild) {
+  const mapper::Points points = boxes({{0, 0, 1}, {2, 0, 1}});
+  const auto dir = test::freshDir("save");
+  NodeSettings s = settings();
+  s.node.output_dir = (dir / "saved").string();
+  Recorder r;
+  RebuildWorker worker(s, r.hooks());
+  worker.submit(update(points));
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 1; }));
+  const SaveAnswer answer = worker.save();
+  ASSERT_TRUE(answer.success) << answer.message;
+  EXPECT_EQ(answer.message, std::filesystem::absolute(dir / "saved").string());
+  pipeline::write(pipeline::buildFromPoints(points, s.build, "map"), dir / "direct");
+  for (const char* file : {"map.bt", "voxels.csv", "obstacles.json", "obstacles.obj"}) {
+    std::ifstream a(dir / "saved" / file, std::ios::binary), b(dir / "direct" / file, std::ios::binary);
+    std::stringstream sa, sb;
+    sa << a.rdbuf();
+    sb << b.rdbuf();
+    EXPECT_FALSE(sa.str().empty()) << file;
+    EXPECT_EQ(sa.str(), sb.str()) << file;
+  }
+}
+
+TEST(LiveRebuildWorker, SkippedMessagesAreCountedAndPublished) {
+  Recorder r;
+  RebuildWorker worker(settings(), r.hooks());
+  worker.skip();
+  worker.skip();
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return r.stats_.back()["skipped"] == 2; }));
+  EXPECT_EQ(worker.stats().messages, 0u);
+}
+
+}  // namespace
+}  // namespace hullmap::live

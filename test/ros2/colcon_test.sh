@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# colcon builds hullmap's ROS 2 packages in a fresh workspace, both ways a user does (run by
+# test/ros2/run_test.sh, ROS 2 sourced):
+#   from source: this checkout in the workspace's src/ and a plain `colcon build`: colcon finds exactly
+#     hullmap_interfaces and hullmap_ros2 (colcon.pkg, COLCON_IGNORE), and hullmap_ros2 builds this
+#     source tree with it (its command line too);
+#   installed: the same workspace layout with an installed hullmap on CMAKE_PREFIX_PATH (ros2/build.sh's
+#     install in BUILD_DIR/ros2/hullmap), which hullmap_ros2 then uses.
+# Each install's node then starts (a bad parameter: exit 2, one line naming it), and the first's hullmap
+# command reads a bag through its hullmap_bag_reader.
+# usage: test/ros2/colcon_test.sh BUILD_DIR WORK_DIR
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+build=$(cd "$1" && pwd)
+work=$2
+rm -rf "$work"
+mkdir -p "$work"
+work=$(cd "$work" && pwd)
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+workspace() {  # a fresh workspace holding the checkout in src/
+  local ws="$work/$1"
+  mkdir -p "$ws/src"
+  ln -s "$root" "$ws/src/hullmap"
+  echo "$ws"
+}
+
+node_refuses_a_bad_parameter() {  # $1: a workspace's install
+  local out status=0
+  out=$(set +u; source "$1/setup.bash"; set -u
+        ros2 run hullmap_ros2 hullmap_node --ros-args -p radius:=0.0 2>&1) || status=$?
+  [ "$status" -eq 2 ] || fail "$1: hullmap_node with radius 0 exited $status: $out"
+  local lines
+  lines=$(echo "$out" | grep -v '^\[ros2run\]' | grep -c .)
+  [ "$lines" -eq 1 ] || fail "$1: expected one line, got: $out"
+  echo "$out" | grep -q 'hullmap: radius: ' || fail "$1: the line does not name radius: $out"
+}
+
+# From source.
+ws=$(workspace from_source)
+listed=$(cd "$ws" && colcon list --names-only 2>/dev/null | sort | tr '\n' ' ')
+[ "$listed" = "hullmap_interfaces hullmap_ros2 " ] || fail "colcon list in a workspace holding the checkout: '$listed'"
+start=$SECONDS
+(cd "$ws" && colcon build > "$work/from_source.log" 2>&1) || { tail -n 30 "$work/from_source.log" >&2; fail "colcon build from source"; }
+grep -q "hullmap_ros2: building hullmap from" "$ws/log/latest_build/hullmap_ros2/stdout.log" ||
+  fail "from source: hullmap_ros2 did not build the source tree"
+echo "from source: colcon build in $((SECONDS - start)) s"
+node_refuses_a_bad_parameter "$ws/install"
+[ -x "$ws/install/hullmap_ros2/bin/hullmap" ] || fail "from source: no hullmap command installed"
+
+# The workspace's own hullmap reads a ROS 2 bag through its own reader: a bag of one cloud, written
+# with rosbag2_py, built as the same points from a file.
+python3 - "$work/bag" "$work/points.xyz" <<'PY'
+import struct, sys
+import rclpy.serialization, rosbag2_py
+from sensor_msgs.msg import PointCloud2, PointField
+bag, xyz = sys.argv[1], sys.argv[2]
+points = [(0.04 * i, 0.04 * j, 1 + 0.04 * k) for i in range(6) for j in range(6) for k in range(6)]
+with open(xyz, "w") as f:
+    f.writelines("%r %r %r\n" % p for p in points)
+msg = PointCloud2(height=1, width=len(points), point_step=24, row_step=24 * len(points), is_dense=True)
+msg.fields = [PointField(name=n, offset=8 * i, datatype=PointField.FLOAT64, count=1) for i, n in enumerate("xyz")]
+msg.data = b"".join(struct.pack("<3d", *p) for p in points)
+writer = rosbag2_py.SequentialWriter()
+writer.open(rosbag2_py.StorageOptions(uri=bag, storage_id="sqlite3"), rosbag2_py.ConverterOptions("cdr", "cdr"))
+writer.create_topic(rosbag2_py.TopicMetadata(name="/cloud", type="sensor_msgs/msg/PointCloud2", serialization_format="cdr"))
+writer.write("/cloud", rclpy.serialization.serialize_message(msg), 1)
+PY
+(set +u; source "$ws/install/setup.bash"; set -u
+ hullmap build "$work/bag" --topic /cloud --eps 0.1 --min-pts 5 --floor none -o "$work/from_bag" >/dev/null 2>&1
+ hullmap build "$work/points.xyz" --eps 0.1 --min-pts 5 --floor none -o "$work/from_file" >/dev/null 2>&1)
+python3 -c 'import json, sys; a, b = (json.load(open(p))["obstacles"] for p in sys.argv[1:]); sys.exit(a != b or not a)' \
+  "$work/from_bag/obstacles.json" "$work/from_file/obstacles.json" || fail "the bag's obstacles differ from the file's"
+
+# Against the installed hullmap.
+[ -f "$build/ros2/hullmap/lib/cmake/hullmap/hullmapConfig.cmake" ] || fail "no installed hullmap in $build/ros2/hullmap"
+ws=$(workspace installed)
+start=$SECONDS
+(cd "$ws" && CMAKE_PREFIX_PATH="$build/ros2/hullmap${CMAKE_PREFIX_PATH:+:$CMAKE_PREFIX_PATH}" colcon build \
+   > "$work/installed.log" 2>&1) || { tail -n 30 "$work/installed.log" >&2; fail "colcon build against the installed hullmap"; }
+grep -q "hullmap_ros2: hullmap 0.1.0 from $build/ros2/hullmap" "$ws/log/latest_build/hullmap_ros2/stdout.log" ||
+  fail "installed: hullmap_ros2 did not use the installed hullmap"
+echo "installed: colcon build in $((SECONDS - start)) s"
+node_refuses_a_bad_parameter "$ws/install"
+echo "both ways built; the nodes refuse a bad parameter; the workspace's hullmap reads a ROS 2 bag"
