@@ -24,7 +24,7 @@
 #include "hullmap/clustering/convex_parts.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/mapper/frame.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 
 int main(int argc, char** argv) try {
@@ -75,7 +75,7 @@ int main(int argc, char** argv) try {
   }
   hullmap::clustering::KnownFreeSpace known;
   if (params.trajectory) {
-    std::vector<hullmap::mapper::Keyframe> keyframes = hullmap::mapper::readTumTrajectory(params.trajectory->string());
+    std::vector<hullmap::io::Keyframe> keyframes = hullmap::io::readTumTrajectory(params.trajectory->string());
     hullmap::mapper::toMapFrame(params.frame, keyframes);
     for (const auto& k : keyframes) known.keyframes.push_back(k.position);
   }

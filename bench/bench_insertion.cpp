@@ -36,8 +36,8 @@
 
 namespace {
 
-using hullmap::mapper::Point;
-using hullmap::mapper::Points;
+using hullmap::io::Point;
+using hullmap::io::Points;
 
 // Median wall time of `run`; `setup` (not timed) runs before each repetition.
 double millis(const std::function<void()>& run, int repeats, const std::function<void()>& setup = [] {}) {

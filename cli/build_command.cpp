@@ -66,7 +66,7 @@ pipeline::BuildParams toParams(const BuildOptions& o) {
   if (o.align) {
     pipeline::AlignSettings align;
     align.reference = *o.align;
-    align.format = mapper::parseReferenceFormat(o.align_format);
+    align.format = io::parseReferenceFormat(o.align_format);
     align.params.stamp_tolerance = o.align_tolerance;
     params.align = align;
   }
@@ -386,7 +386,7 @@ void addBuildCommand(CLI::App& app, int& status) {
     checkOutput(*options, params);
     if (options->trajectory_topic && !options->topic) throw Error("--trajectory-topic: needs --topic (a bag input)");
     pipeline::BuildResult result = options->topic ? buildFromBag(*options, params) : pipeline::build(params);
-    std::vector<mapper::InputStats> named = result.report.inputs;
+    std::vector<io::InputStats> named = result.report.inputs;
     if (options->trajectory) {
       named.emplace_back();
       named.back().path = *options->trajectory;  // KeyFrameTrajectory.txt names an ORB-SLAM run too

@@ -20,7 +20,7 @@
 #include "hullmap/core/number_text.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 
 namespace hullmap::cli {
 namespace {
@@ -37,9 +37,9 @@ struct ClusterOptions {
 };
 
 // The inputs' points, unioned in order, in the z-up map frame.
-mapper::Points loadMapPoints(const ClusterOptions& o) {
+io::Points loadMapPoints(const ClusterOptions& o) {
   const mapper::FrameParams frame{mapper::parseUpAxis(o.up), o.scale};
-  mapper::PointSet set = pipeline::readInputPoints(inputPaths(o.inputs));
+  io::PointSet set = pipeline::readInputPoints(inputPaths(o.inputs));
   mapper::toMapFrame(frame, set.points);
   return std::move(set.points);
 }
@@ -54,7 +54,7 @@ void appendNumber(std::string& line, double value) {
 /// One labels.csv row per point, in input order. Rows are formatted in parallel, a block of points at
 /// a time (shortest round-trip text for each coordinate, core::writeShortest, is most of the time), and written
 /// in order; memory stays at one block of text.
-void writeLabelsTo(std::ostream& out, const mapper::Points& points, const clustering::DbscanResult& result) {
+void writeLabelsTo(std::ostream& out, const io::Points& points, const clustering::DbscanResult& result) {
   out << "x,y,z,label,core\n";
   constexpr std::size_t kChunk = 8192;
   constexpr std::size_t kBlock = 64 * kChunk;
@@ -86,7 +86,7 @@ void writeLabelsTo(std::ostream& out, const mapper::Points& points, const cluste
   }
 }
 
-void writeLabels(const std::string& path, const mapper::Points& points, const clustering::DbscanResult& result) {
+void writeLabels(const std::string& path, const io::Points& points, const clustering::DbscanResult& result) {
   core::writeFileAtomically(path, [&](std::ostream& out) { writeLabelsTo(out, points, result); });
 }
 
@@ -109,7 +109,7 @@ void runCluster(const ClusterOptions& o) {
   }
   // With -o - the labels are standard output: the summary goes to standard error.
   std::FILE* const say = o.output == "-" ? stderr : stdout;
-  const mapper::Points points = loadMapPoints(o);
+  const io::Points points = loadMapPoints(o);
   // The eps suggestion's k-distances come from DBSCAN's own grid, on a sample of the points.
   const clustering::DbscanResult result =
       clustering::dbscan(points, {}, params, clustering::KDistanceRequest{clustering::kEpsSuggestionSamples});

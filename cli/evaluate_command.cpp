@@ -12,7 +12,7 @@
 
 #include "commands.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/pipeline/evaluate.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 
@@ -81,7 +81,7 @@ void runEvaluate(const EvaluateOptions& o) {
   std::vector<Eigen::Vector3d> points;
   std::vector<std::uint32_t> weights;
   if (!o.points.empty()) {
-    points = mapper::readPointFile(o.points).points;
+    points = io::readPointFile(o.points).points;
   } else {
     if (!fs::is_directory(o.dir)) throw Error(o.dir + ": not a build directory; give --points for the map points");
     readVoxelPoints((fs::path(o.dir) / "voxels.csv").string(), points, weights);

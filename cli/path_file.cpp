@@ -6,13 +6,13 @@
 #include <sstream>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/number_table.hpp"
+#include "hullmap/io/number_table.hpp"
 
 namespace hullmap::cli {
 
 std::vector<Eigen::Vector3d> readPathFile(const std::string& path) {
   std::vector<Eigen::Vector3d> waypoints;
-  for (const auto& r : mapper::readNumberTable(path, 3, "x y z")) waypoints.emplace_back(r[0], r[1], r[2]);
+  for (const auto& r : io::readNumberTable(path, 3, "x y z")) waypoints.emplace_back(r[0], r[1], r[2]);
   if (waypoints.size() < 2) {
     throw Error("--path " + path + ": a path needs at least two waypoints, got " + std::to_string(waypoints.size()) +
                 " (one position is the segment x,y,z,x,y,z)");
@@ -34,7 +34,7 @@ std::vector<Eigen::Vector3d> readPlainOrTimedPathFile(const std::string& path) {
   }
   if (fields != 4) return readPathFile(path);  // readPathFile says what is wrong, if anything
   std::vector<Eigen::Vector3d> waypoints;
-  for (const auto& r : mapper::readNumberTable(path, 4, "t x y z")) waypoints.emplace_back(r[1], r[2], r[3]);
+  for (const auto& r : io::readNumberTable(path, 4, "t x y z")) waypoints.emplace_back(r[1], r[2], r[3]);
   if (waypoints.size() < 2) {
     throw Error("--path " + path + ": a path needs at least two waypoints, got " + std::to_string(waypoints.size()));
   }
@@ -43,7 +43,7 @@ std::vector<Eigen::Vector3d> readPlainOrTimedPathFile(const std::string& path) {
 
 std::vector<collision::Segment> readSegmentsFile(const std::string& path) {
   std::vector<collision::Segment> segments;
-  for (const auto& r : mapper::readNumberTable(path, 6, "x0 y0 z0 x1 y1 z1"))
+  for (const auto& r : io::readNumberTable(path, 6, "x0 y0 z0 x1 y1 z1"))
     segments.push_back({{r[0], r[1], r[2]}, {r[3], r[4], r[5]}});
   return segments;
 }

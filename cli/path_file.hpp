@@ -9,7 +9,7 @@
 
 namespace hullmap::cli {
 
-/// The waypoints of a --path file (one "x y z" a line, map frame; mapper::readNumberTable's
+/// The waypoints of a --path file (one "x y z" a line, map frame; io::readNumberTable's
 /// rules: CSV, comments, a header line). One rule for check and plot: a path needs at least two
 /// waypoints ("--path p.txt: a path needs at least two waypoints, got 1"). Throws hullmap::Error.
 std::vector<Eigen::Vector3d> readPathFile(const std::string& path);

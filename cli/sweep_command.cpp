@@ -16,7 +16,7 @@
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/mapper/frame.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/plot/svg_plot.hpp"
 
 namespace hullmap::cli {
@@ -118,7 +118,7 @@ void runSweep(const SweepOptions& o) {
   // Looked up before the runs, so a PNG without a converter fails before the work.
   const auto converter = plot::findPngConverter();
   if (!o.plot.empty()) plot::checkPictureOutput(plot::PictureOutput{o.plot, false, "--plot"}, converter);
-  mapper::PointSet set = pipeline::readInputPoints(inputPaths(o.inputs));
+  io::PointSet set = pipeline::readInputPoints(inputPaths(o.inputs));
   mapper::toMapFrame(frame, set.points);
   // With -o - the CSV is standard output: the table goes to standard error.
   std::FILE* const say = o.output == "-" ? stderr : stdout;

@@ -338,7 +338,7 @@ void buildWholeFile(const hullmap::pipeline::BuildParams& params, const fs::path
   result.params = params;
   std::vector<std::string> inputs;
   for (const auto& p : params.inputs) inputs.push_back(p.string());
-  mapper::PointSet set = pipeline::readInputPoints(inputs);
+  io::PointSet set = pipeline::readInputPoints(inputs);
   result.report.inputs = set.inputs;
   auto& account = result.report.points;
   for (const auto& in : set.inputs) {
@@ -348,7 +348,7 @@ void buildWholeFile(const hullmap::pipeline::BuildParams& params, const fs::path
   mapper::toMapFrame(params.frame, set.points);
   result.report.input_to_output.scale = params.frame.scale;
   result.report.input_to_output.rotation = mapper::upRotation(params.frame.up);
-  mapper::InputStats dropped;
+  io::InputStats dropped;
   mapper::applyFilters(params.filters, set.points, dropped);
   result.map = mapper::buildFromPoints(set.points, params.octree, dropped);
   for (const auto& [reason, n] : dropped.dropped) account.dropped[reason] += n;
@@ -499,7 +499,7 @@ TEST(PipelineLibrary, BuildFromPointsInMemoryIsBuildOfTheFile) {
     params.frame.up = mapper::UpAxis::kNegY;
     if (with_origin) params.origin = Eigen::Vector3d(0, -1, 0);
     const pipeline::BuildResult from_file = pipeline::build(params);
-    mapper::Points points = mapper::readPointFile(file.string()).points;
+    io::Points points = io::readPointFile(file.string()).points;
     points.push_back(Eigen::Vector3d(std::nan(""), 0, 0));
     const pipeline::BuildResult from_memory = pipeline::buildFromPoints(points, params, "live");
     ASSERT_EQ(from_memory.voxels.size(), from_file.voxels.size());

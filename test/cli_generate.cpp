@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/mapper/align.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -18,16 +18,16 @@ TEST(GenerateCommand, RoomLayoutWritesPointsTrajectoriesAndTruth) {
   const auto r = runHullmap("generate --layout room --density 20 --scale 2.5 --obstacles 4 -o '" + dir.string() + "'");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("9 objects (floor, 4 walls, 4 pieces of furniture)"), std::string::npos) << r.out;
-  const auto kf = hullmap::mapper::readTumTrajectory((dir / "KeyFrameTrajectory.txt").string());
-  const auto ref = hullmap::mapper::readReferenceTrajectory((dir / "reference_trajectory.txt").string(),
-                                                            hullmap::mapper::ReferenceFormat::kTum);
+  const auto kf = hullmap::io::readTumTrajectory((dir / "KeyFrameTrajectory.txt").string());
+  const auto ref = hullmap::io::readReferenceTrajectory((dir / "reference_trajectory.txt").string(),
+                                                            hullmap::io::ReferenceFormat::kTum);
   const auto a = hullmap::mapper::alignTrajectory(kf, ref);
   EXPECT_NEAR(a.transform.scale, 1.0 / 2.5, 1e-6);
   std::ifstream in(dir / "ground_truth.json");
   const auto j = nlohmann::json::parse(in);
   EXPECT_EQ(j.at("obstacles").size(), 9u);
   EXPECT_EQ(j.at("obstacles")[0].at("kind"), "floor");
-  EXPECT_GT(hullmap::mapper::readPointFile((dir / "map_points.txt").string()).points.size(), 4000u);
+  EXPECT_GT(hullmap::io::readPointFile((dir / "map_points.txt").string()).points.size(), 4000u);
 }
 
 TEST(GenerateCommand, BadRoomOptionsExitTwoWithOneLine) {

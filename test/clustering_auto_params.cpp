@@ -16,7 +16,7 @@
 #include "hullmap/mapper/align.hpp"
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/frame.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 #include "test_support.hpp"
 
@@ -24,7 +24,7 @@ namespace {
 
 using hullmap::test::errorOf;
 using namespace hullmap::clustering;
-using hullmap::mapper::Points;
+using hullmap::io::Points;
 using hullmap::mapper::SceneObstacle;
 
 struct Voxels {
@@ -241,7 +241,7 @@ TEST(ClusteringAutoParams, RealisticRoomsClusterIntoWallsAndFurniture) {
 
 TEST(ClusteringAutoParams, RealEurocV101FewVoxelsAreNoise) {
   HULLMAP_REQUIRE_REAL_DATA(path, "orbslam2_euroc_V1_01_MapPoints.txt");
-  auto set = hullmap::mapper::readPointFile(path);
+  auto set = hullmap::io::readPointFile(path);
   hullmap::mapper::toMapFrame(hullmap::mapper::FrameParams{hullmap::mapper::UpAxis::kNegY, 1.0}, set.points);
   const Voxels v = voxelize(set.points, 0.05);
   const AutoParams a = chooseDbscanParams(v.centres, v.weights, 0.05);
@@ -266,10 +266,11 @@ namespace {
 // voxels out, choose eps/minPts from the rest, cluster: the walls and each piece of furniture.
 TEST(ClusteringAutoParams, MapsRoomAlignedLevelledAndClustered) {
   namespace m = hullmap::mapper;
+  namespace io = hullmap::io;
   const std::filesystem::path dir = std::filesystem::path(HULLMAP_SOURCE_DIR) / "maps" / "room";
-  auto points = m::readPointFile((dir / "map_points.txt").string()).points;
-  const auto keyframes = m::readTumTrajectory((dir / "KeyFrameTrajectory.txt").string());
-  const auto reference = m::readReferenceTrajectory((dir / "reference_trajectory.txt").string(), m::ReferenceFormat::kTum);
+  auto points = io::readPointFile((dir / "map_points.txt").string()).points;
+  const auto keyframes = io::readTumTrajectory((dir / "KeyFrameTrajectory.txt").string());
+  const auto reference = io::readReferenceTrajectory((dir / "reference_trajectory.txt").string(), io::ReferenceFormat::kTum);
   const m::Alignment alignment = m::alignTrajectory(keyframes, reference);
   EXPECT_NEAR(alignment.transform.scale, 1.0 / 0.37, 1e-6);
   m::applySimilarity(alignment.transform, points);

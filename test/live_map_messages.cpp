@@ -47,7 +47,7 @@ Cloud cloudOf(const std::vector<P>& points, std::uint32_t width, std::uint8_t da
   return c;
 }
 
-mapper::Points read(const Cloud& c, std::size_t* non_finite = nullptr) {
+io::Points read(const Cloud& c, std::size_t* non_finite = nullptr) {
   return cloudPoints(c.layout, c.data.data(), c.data.size(), non_finite);
 }
 
@@ -57,7 +57,7 @@ TEST(LiveCloudPoints, ReadsFloat32AndFloat64RowsWithPaddingAndCountsNonFinitePoi
                               {-1, -2, -3.25}, {0.1, 0.2, 0.3}};
   for (const std::uint8_t datatype : {kFloat32, kFloat64}) {
     std::size_t non_finite = 0;
-    const mapper::Points got = read(cloudOf(points, 3, datatype), &non_finite);
+    const io::Points got = read(cloudOf(points, 3, datatype), &non_finite);
     EXPECT_EQ(non_finite, 2u);
     const double last = datatype == kFloat32 ? double(0.1f) : 0.1;
     ASSERT_EQ(got.size(), 4u);
@@ -112,10 +112,10 @@ TEST(LiveOrbSlamMapMarkers, TheMapIsTheLatestId0PlusTheLatestId6) {
   EXPECT_FALSE(add(map, "KeyFrames", 1, {{5, 5, 5}}));
   EXPECT_FALSE(add(map, "MapPoints", 2, {{5, 5, 5}}));  // another id: not map points
   EXPECT_FALSE(add(map, "MapPoints", 0, {{5, 5, 5}}, marker::kAdd, marker::kLineList));
-  EXPECT_EQ(map.points(), (mapper::Points{{2, 0, 0}, {3, 0, 0}, {9, 9, 9}}));
+  EXPECT_EQ(map.points(), (io::Points{{2, 0, 0}, {3, 0, 0}, {9, 9, 9}}));
   EXPECT_TRUE(add(map, "MapPoints", 6, {}, marker::kDelete));
   EXPECT_FALSE(add(map, "MapPoints", 6, {}, marker::kDelete));  // nothing left to delete
-  EXPECT_EQ(map.points(), (mapper::Points{{2, 0, 0}, {3, 0, 0}}));
+  EXPECT_EQ(map.points(), (io::Points{{2, 0, 0}, {3, 0, 0}}));
   EXPECT_TRUE(add(map, "MapPoints", 0, {}, marker::kDeleteAll));
   EXPECT_TRUE(map.empty());
 }
@@ -129,7 +129,7 @@ TEST(LiveOrbSlamMapMarkers, ANonFinitePointRefusesTheMarkerAndKeepsTheMap) {
   } catch (const Error& e) {
     EXPECT_STREQ(e.what(), "MapPoints id 0: point 1 is not finite");
   }
-  EXPECT_EQ(map.points(), (mapper::Points{{1, 2, 3}}));
+  EXPECT_EQ(map.points(), (io::Points{{1, 2, 3}}));
 }
 
 TEST(LiveTopicMap, CloudsEndOnTheLastWellFormedCloudAndMarkersOnTheirMap) {
@@ -140,7 +140,7 @@ TEST(LiveTopicMap, CloudsEndOnTheLastWellFormedCloudAndMarkersOnTheirMap) {
   no_z.layout.fields.pop_back();
   for (const Cloud* c : {&first, &second, static_cast<const Cloud*>(&no_z)}) clouds.addCloud("PointCloud2", c->layout, c->data.data(), c->data.size());
   const BagMap cloud_map = clouds.result();
-  EXPECT_EQ(cloud_map.points, (mapper::Points{{2, 2, 2}, {3, 3, 3}}));
+  EXPECT_EQ(cloud_map.points, (io::Points{{2, 2, 2}, {3, 3, 3}}));
   EXPECT_EQ(cloud_map.messages, 3u);
   EXPECT_EQ(cloud_map.skipped, 1u);
   EXPECT_EQ(cloud_map.type, "PointCloud2");
@@ -153,13 +153,13 @@ TEST(LiveTopicMap, CloudsEndOnTheLastWellFormedCloudAndMarkersOnTheirMap) {
   markers.addMarker("Marker", {"MapPoints", 0, marker::kPoints, marker::kAdd}, bad);
   markers.addMarker("Marker", {"KeyFrames", 1, marker::kLineList, marker::kAdd}, all);
   const BagMap marker_map = markers.result();
-  EXPECT_EQ(marker_map.points, (mapper::Points{{1, 0, 0}, {0, 6, 0}}));
+  EXPECT_EQ(marker_map.points, (io::Points{{1, 0, 0}, {0, 6, 0}}));
   EXPECT_EQ(marker_map.messages, 4u);
   EXPECT_EQ(marker_map.skipped, 1u);
 }
 
 TEST(LiveKeyframes, NormalisedWhenFiniteRefusedWhole) {
-  std::vector<mapper::Keyframe> k(2);
+  std::vector<io::Keyframe> k(2);
   k[0].orientation = Eigen::Quaterniond(2, 0, 0, 0);
   k[1].orientation = Eigen::Quaterniond(0, 0, 0, 3);
   EXPECT_TRUE(normaliseKeyframes(k));

@@ -53,9 +53,9 @@ class Recorder {
 };
 
 /// Points on a grid filling an axis-aligned cube of half-width `half` around each centre.
-mapper::Points boxes(const std::vector<Eigen::Vector3d>& centres, double spacing = 0.04, double half = 0.1) {
+io::Points boxes(const std::vector<Eigen::Vector3d>& centres, double spacing = 0.04, double half = 0.1) {
   const int n = int(std::round(2 * half / spacing));
-  mapper::Points points;
+  io::Points points;
   for (const auto& c : centres)
     for (int i = 0; i <= n; ++i)
       for (int j = 0; j <= n; ++j)
@@ -74,7 +74,7 @@ NodeSettings settings(double min_interval = 0.0) {
   return s;
 }
 
-MapUpdate update(mapper::Points points, std::int64_t stamp_ns = 1) { return {std::move(points), stamp_ns, Clock::now(), nullptr, std::nullopt}; }
+MapUpdate update(io::Points points, std::int64_t stamp_ns = 1) { return {std::move(points), stamp_ns, Clock::now(), nullptr, std::nullopt}; }
 
 /// id -> hull vertices, the comparison of two obstacle sets.
 std::map<int, std::vector<Eigen::Vector3d>> hulls(const std::vector<clustering::Obstacle>& obstacles) {
@@ -86,7 +86,7 @@ std::map<int, std::vector<Eigen::Vector3d>> hulls(const std::vector<clustering::
 std::size_t rebuilds(const Recorder& r) { return r.stats_.empty() ? 0 : r.stats_.back()["rebuilds"].get<std::size_t>(); }
 
 TEST(LiveRebuildWorker, PublishesWhatBuildFromPointsGivesOnTheSamePoints) {
-  const mapper::Points points = boxes({{0, 0, 1}, {2, 0, 1}, {0, 3, 0.5}});
+  const io::Points points = boxes({{0, 0, 1}, {2, 0, 1}, {0, 3, 0.5}});
   const pipeline::BuildResult expected = pipeline::buildFromPoints(points, settings().build, "map");
   ASSERT_EQ(expected.obstacles.size(), 3u);
   Recorder r;
@@ -131,7 +131,7 @@ TEST(LiveRebuildWorker, MapsArrivingWhileItWaitsFoldIntoTheNewestAndMinIntervalC
 }
 
 TEST(LiveRebuildWorker, BuildSettingsApplyAtTheNextRebuild) {
-  const mapper::Points points = boxes({{0, 0, 1}, {0.35, 0, 1}});
+  const io::Points points = boxes({{0, 0, 1}, {0.35, 0, 1}});
   NodeSettings wide = settings();
   wide.build.eps = 0.2;  // joins the two boxes 15 cm apart
   const auto apart = pipeline::buildFromPoints(points, settings().build, "map");
@@ -193,7 +193,7 @@ TEST(LiveRebuildWorker, ResetForgetsTheMapAndDeletesItsMarkers) {
 }
 
 TEST(LiveRebuildWorker, PathChecksAreHullCheckersOnTheLatestRebuild) {
-  const mapper::Points points = boxes({{0, 0, 1}, {2, 0, 1}});
+  const io::Points points = boxes({{0, 0, 1}, {2, 0, 1}});
   const auto built = pipeline::buildFromPoints(points, settings().build, "map");
   const collision::HullChecker checker(built.obstacles);
   const std::vector<Eigen::Vector3d> path{{-1, 0, 1}, {1, 0, 1}, {1, -2, 1}};
@@ -219,7 +219,7 @@ TEST(LiveRebuildWorker, PathChecksAreHullCheckersOnTheLatestRebuild) {
 }
 
 TEST(LiveRebuildWorker, SaveWritesWhatWriteWritesForTheSameBuild) {
-  const mapper::Points points = boxes({{0, 0, 1}, {2, 0, 1}});
+  const io::Points points = boxes({{0, 0, 1}, {2, 0, 1}});
   const auto dir = test::freshDir("save");
   NodeSettings s = settings();
   s.node.output_dir = (dir / "saved").string();

@@ -15,6 +15,7 @@ namespace {
 using hullmap::Error;
 using hullmap::test::errorOf;
 using namespace hullmap::mapper;
+using namespace hullmap::io;
 
 constexpr double kPi = 3.14159265358979323846;
 

@@ -9,7 +9,7 @@
 
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/frame.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 #include "test_support.hpp"
 
@@ -17,6 +17,7 @@ namespace {
 
 using hullmap::test::errorOf;
 using namespace hullmap::mapper;
+using namespace hullmap::io;
 
 constexpr double kPi = 3.14159265358979323846;
 

@@ -12,6 +12,7 @@ namespace {
 
 using hullmap::Error;
 using namespace hullmap::mapper;
+using namespace hullmap::io;
 
 using hullmap::test::errorOf;
 

@@ -16,7 +16,7 @@
 
 #include "hullmap/core/error.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -24,6 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 using hullmap::Error;
 using namespace hullmap::mapper;
+using namespace hullmap::io;
 
 const fs::path kCorpus = fs::path(HULLMAP_SOURCE_DIR) / "test" / "fuzz" / "corpus";
 

@@ -15,6 +15,8 @@
 namespace hullmap::mapper {
 namespace {
 
+using namespace hullmap::io;
+
 using test::sameTree;
 
 void expectSameAsOctomap(const Points& points, const Point& origin, double resolution, double max_range,

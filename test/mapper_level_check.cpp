@@ -47,7 +47,7 @@ TEST(MapperLevelCheck, LevelWarningSpeaksAboveTenDegrees) {
 }
 
 TEST(MapperLevelCheck, OrbSlamInputsAreRecognised) {
-  using hullmap::mapper::InputStats;
+  using hullmap::io::InputStats;
   InputStats echo;
   echo.path = "dump.txt";
   echo.format = "orbslam_echo";

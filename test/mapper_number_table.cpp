@@ -1,10 +1,10 @@
-// mapper::readNumberTable (path and segment files): the point reader's text rules, exact errors.
+// io::readNumberTable (path and segment files): the point reader's text rules, exact errors.
 #include <filesystem>
 #include <fstream>
 
 #include <gtest/gtest.h>
 
-#include "hullmap/mapper/number_table.hpp"
+#include "hullmap/io/number_table.hpp"
 #include "hullmap/mapper/output_dir.hpp"
 #include "test_support.hpp"
 
@@ -23,16 +23,16 @@ std::string fileWith(const std::string& text) {
 
 TEST(MapperNumberTable, SpacesCommasCommentsAndAHeaderReadAlike) {
   const std::vector<std::vector<double>> want{{0, -4, 0.5}, {1, 2, 3}};
-  EXPECT_EQ(hullmap::mapper::readNumberTable(fileWith("0 -4 0.5\n1 2 3\n"), 3, "x y z"), want);
-  EXPECT_EQ(hullmap::mapper::readNumberTable(fileWith("x,y,z\r\n0,-4,0.5\r\n\n# c\n1, 2,\t3 # end\n"), 3, "x y z"),
+  EXPECT_EQ(hullmap::io::readNumberTable(fileWith("0 -4 0.5\n1 2 3\n"), 3, "x y z"), want);
+  EXPECT_EQ(hullmap::io::readNumberTable(fileWith("x,y,z\r\n0,-4,0.5\r\n\n# c\n1, 2,\t3 # end\n"), 3, "x y z"),
             want);
-  EXPECT_EQ(hullmap::mapper::readNumberTable(fileWith("pos_x pos_y pos_z\n0 -4 +0.5\n1 2 3\n"), 3, "x y z"), want);
+  EXPECT_EQ(hullmap::io::readNumberTable(fileWith("pos_x pos_y pos_z\n0 -4 +0.5\n1 2 3\n"), 3, "x y z"), want);
 }
 
 TEST(MapperNumberTable, ErrorsNameTheFileAndLine) {
   const auto read = [](const std::string& text, std::size_t columns = 3) {
     const std::string path = fileWith(text);
-    std::string message = errorOf([&] { hullmap::mapper::readNumberTable(path, columns, "x y z"); });
+    std::string message = errorOf([&] { hullmap::io::readNumberTable(path, columns, "x y z"); });
     return message.substr(path.size());  // the path is the message's start
   };
   EXPECT_EQ(read("0 0 0\n1 2\n"), ":2: expected 3 numbers (x y z), got 2");
@@ -43,7 +43,7 @@ TEST(MapperNumberTable, ErrorsNameTheFileAndLine) {
   EXPECT_EQ(read("1 2 3 4\n"), ":1: expected 3 numbers (x y z), got 4");
   EXPECT_EQ(read("0 0 0\nx y z\n"), ":2: 'x' is not a number") << "a header only opens the file";
   const std::string missing = (hullmap::test::freshDir("table_missing") / "nope.txt").string();
-  EXPECT_EQ(errorOf([&] { hullmap::mapper::readNumberTable(missing, 3, "x y z"); }),
+  EXPECT_EQ(errorOf([&] { hullmap::io::readNumberTable(missing, 3, "x y z"); }),
             missing + ": cannot open: No such file or directory");
 }
 

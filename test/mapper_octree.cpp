@@ -12,13 +12,15 @@
 #include "hullmap/core/error.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 #include "octree_oracle.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::mapper {
 namespace {
+
+using namespace hullmap::io;
 
 using test::sameTree;
 

@@ -13,12 +13,14 @@
 #include "hullmap/mapper/align.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/mapper/floor.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::mapper {
 namespace {
+
+using namespace hullmap::io;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -236,6 +238,8 @@ TEST(MapperRoomScene, SameSeedSameRoomAndBadParameters) {
 
 namespace hullmap::mapper {
 namespace {
+
+using namespace hullmap::io;
 
 // Every byte of a file (empty when it cannot be read).
 std::string fileBytes(const std::filesystem::path& path) {

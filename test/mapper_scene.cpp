@@ -15,6 +15,8 @@
 namespace hullmap::mapper {
 namespace {
 
+using namespace hullmap::io;
+
 // Exact distance from p to the surface of an obstacle (the oracle for "points lie on surfaces").
 double surfaceDistance(const SceneObstacle& o, const Eigen::Vector3d& p) {
   const Eigen::Vector3d h = 0.5 * o.size;

@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 #include <octomap/OcTree.h>
 
-#include "hullmap/mapper/point_cloud.hpp"
+#include "hullmap/io/point_cloud.hpp"
 
 namespace hullmap::test {
 
@@ -66,7 +66,7 @@ inline ::testing::AssertionResult sameTree(const octomap::OcTree& expected, cons
   return ::testing::AssertionSuccess();
 }
 
-inline octomap::Pointcloud toCloud(const mapper::Points& points) {
+inline octomap::Pointcloud toCloud(const io::Points& points) {
   octomap::Pointcloud cloud;
   for (const auto& p : points) {
     cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
@@ -74,13 +74,13 @@ inline octomap::Pointcloud toCloud(const mapper::Points& points) {
   return cloud;
 }
 
-inline octomap::point3d toPoint3d(const mapper::Point& p) {
+inline octomap::point3d toPoint3d(const io::Point& p) {
   return octomap::point3d(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
 }
 
 /// `x y z` text, one point a line (octomap_scan.dat).
-inline mapper::Points readXyz(const std::string& path) {
-  mapper::Points points;
+inline io::Points readXyz(const std::string& path) {
+  io::Points points;
   std::ifstream in(path);
   double x, y, z;
   while (in >> x >> y >> z) points.emplace_back(x, y, z);

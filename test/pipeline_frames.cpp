@@ -13,7 +13,7 @@
 #include <octomap/OcTree.h>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
@@ -27,7 +27,7 @@ using V3 = Eigen::Vector3d;
 
 std::string sample(const std::string& name) { return std::string(HULLMAP_SOURCE_DIR) + "/maps/" + name; }
 
-AlignSettings alignTo(const std::string& reference, mapper::ReferenceFormat format = mapper::ReferenceFormat::kTum) {
+AlignSettings alignTo(const std::string& reference, io::ReferenceFormat format = io::ReferenceFormat::kTum) {
   AlignSettings align;
   align.reference = reference;
   align.format = format;
@@ -73,10 +73,10 @@ TEST(PipelineFrames, MetricScanAtTheDefaultsIsOctomapsTreeInItsOwnFrame) {
 TEST(PipelineFrames, WhetherTheMapIsLevelled) {
   BuildParams params;
   const auto input = [](const std::string& path, const std::string& format) {
-    mapper::InputStats stats;
+    io::InputStats stats;
     stats.path = path;
     stats.format = format;
-    return std::vector<mapper::InputStats>{stats};
+    return std::vector<io::InputStats>{stats};
   };
   const auto xyz = input("scan.xyz", "text");
   EXPECT_FALSE(levelsMap(params, xyz));                                 // metric, z up
@@ -128,7 +128,7 @@ TEST(PipelineFrames, WhetherTheMapIsLevelled) {
 
 /// Every keyframe of the trajectory file, moved by input_to_output, is where the build put it.
 void expectKeyframesThroughTheTransform(const BuildResult& result, const std::string& trajectory) {
-  const auto input = mapper::readTumTrajectory(trajectory);
+  const auto input = io::readTumTrajectory(trajectory);
   ASSERT_EQ(input.size(), result.keyframes.size());
   const mapper::Similarity& t = result.report.input_to_output;
   for (std::size_t i = 0; i < input.size(); ++i) {
@@ -244,7 +244,7 @@ TEST(PipelineFrames, AGpsLogWhoseFirstLinesHaveNoFixAligns) {
   BuildParams params;
   params.inputs = {sample("room/map_points.txt")};
   params.trajectory = sample("room/KeyFrameTrajectory.txt");
-  params.align = alignTo(log, mapper::ReferenceFormat::kGps);
+  params.align = alignTo(log, io::ReferenceFormat::kGps);
   const BuildResult result = build(params);
   ASSERT_TRUE(result.report.alignment);
   EXPECT_EQ(result.report.alignment->matched, 60u);

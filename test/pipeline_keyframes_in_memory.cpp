@@ -6,13 +6,14 @@
 
 #include <gtest/gtest.h>
 
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 
 namespace {
 
 namespace pipeline = hullmap::pipeline;
 namespace mapper = hullmap::mapper;
+namespace io = hullmap::io;
 
 void expectSameBuild(const pipeline::BuildResult& a, const pipeline::BuildResult& b) {
   ASSERT_EQ(a.voxels.size(), b.voxels.size());
@@ -38,8 +39,8 @@ TEST(PipelineKeyframesInMemory, SameTreeAsTheTrajectoryFileInOrbSlamsFrame) {
   params.min_pts = 5;
   const pipeline::BuildResult from_file = pipeline::build(params);
 
-  mapper::PointSet set = mapper::readPointFile(dir + "map_points.txt");
-  auto keyframes = mapper::readTumTrajectory(dir + "KeyFrameTrajectory.txt");
+  io::PointSet set = io::readPointFile(dir + "map_points.txt");
+  auto keyframes = io::readTumTrajectory(dir + "KeyFrameTrajectory.txt");
   pipeline::BuildParams memory = params;
   memory.trajectory.reset();
   const pipeline::BuildResult in_memory =

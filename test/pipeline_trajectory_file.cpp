@@ -18,6 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 namespace pipeline = hullmap::pipeline;
 namespace mapper = hullmap::mapper;
+namespace io = hullmap::io;
 
 fs::path scene(const std::string& name) {
   mapper::SceneParams params;
@@ -57,7 +58,7 @@ TEST(TrajectoryFile, ABuildWithKeyframesWritesThemInTheOutputFrame) {
   const auto read = pipeline::readBuildTrajectory(dir / "out");
   ASSERT_TRUE(read.has_value());
   ASSERT_EQ(read->size(), result.keyframes.size());
-  const auto input = mapper::readTumTrajectory((dir / "KeyFrameTrajectory.txt").string());
+  const auto input = io::readTumTrajectory((dir / "KeyFrameTrajectory.txt").string());
   for (std::size_t i = 0; i < read->size(); ++i) {
     const auto& a = (*read)[i];
     const auto& b = result.keyframes[i];

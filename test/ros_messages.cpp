@@ -43,12 +43,12 @@ TEST(OrbSlamMapMarkers, TheMapIsTheLatestId0PlusTheLatestId6) {
   EXPECT_FALSE(map.add(keyframes));
   auto graph = mapPoints(2, {{5, 5, 5}});  // MapPoints namespace, another id: not map points
   EXPECT_FALSE(map.add(graph));
-  EXPECT_EQ(map.points(), (mapper::Points{{2, 0, 0}, {3, 0, 0}, {9, 9, 9}}));
+  EXPECT_EQ(map.points(), (io::Points{{2, 0, 0}, {3, 0, 0}, {9, 9, 9}}));
 
   auto remove = mapPoints(6, {});
   remove.action = visualization_msgs::Marker::DELETE;
   EXPECT_TRUE(map.add(remove));
-  EXPECT_EQ(map.points(), (mapper::Points{{2, 0, 0}, {3, 0, 0}}));
+  EXPECT_EQ(map.points(), (io::Points{{2, 0, 0}, {3, 0, 0}}));
   auto all = mapPoints(0, {});
   all.action = visualization_msgs::Marker::DELETEALL;
   EXPECT_TRUE(map.add(all));
@@ -66,7 +66,7 @@ TEST(OrbSlamMapMarkers, ANonFinitePointRefusesTheMarkerAndKeepsTheMap) {
     EXPECT_NE(std::string(e.what()).find("point 1 is not finite"), std::string::npos) << e.what();
   }
   EXPECT_THROW(map.add(mapPoints(6, {{std::numeric_limits<double>::infinity(), 0, 0}})), Error);
-  EXPECT_EQ(map.points(), (mapper::Points{{1, 2, 3}}));
+  EXPECT_EQ(map.points(), (io::Points{{1, 2, 3}}));
 }
 
 /// A cloud of FLOAT32 x, y, z plus a padding byte block, two rows with row padding.
@@ -97,9 +97,9 @@ TEST(CloudPoints, ReadsEveryFiniteXyzAndCountsTheOthers) {
   const std::vector<Eigen::Vector3f> points{{1.5f, 2, 3}, {nan, 0, 0}, {4, 5, 6},
                                             {7, 8, std::numeric_limits<float>::infinity()}, {-1, -2, -3.25f}, {0, 0, 0}};
   std::size_t non_finite = 0;
-  const mapper::Points got = cloudPoints(floatCloud(points, 3), &non_finite);
+  const io::Points got = cloudPoints(floatCloud(points, 3), &non_finite);
   EXPECT_EQ(non_finite, 2u);
-  EXPECT_EQ(got, (mapper::Points{{1.5, 2, 3}, {4, 5, 6}, {-1, -2, -3.25}, {0, 0, 0}}));
+  EXPECT_EQ(got, (io::Points{{1.5, 2, 3}, {4, 5, 6}, {-1, -2, -3.25}, {0, 0, 0}}));
 }
 
 TEST(CloudPoints, AMissingFieldOrShortDataIsNamed) {

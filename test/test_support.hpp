@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 
 namespace hullmap::test {
 
@@ -158,8 +158,8 @@ class FedPipe {
 /// its error with the input's name cut off the front (so that a pipe, named /dev/fd/N, and the
 /// file it carries compare equal).
 struct ReadOutcome {
-  mapper::Points points;
-  mapper::InputStats stats;
+  io::Points points;
+  io::InputStats stats;
   std::string error;
   std::size_t batches = 0;
   std::size_t largest_batch = 0;
@@ -169,7 +169,7 @@ struct ReadOutcome {
 template <typename Read>
 ReadOutcome readOutcome(const std::string& name, Read&& read) {
   ReadOutcome o;
-  const mapper::PointBatchConsumer consume = [&o](mapper::Points& batch) {
+  const io::PointBatchConsumer consume = [&o](io::Points& batch) {
     ++o.batches;
     o.largest_batch = std::max(o.largest_batch, batch.size());
     o.points.insert(o.points.end(), batch.begin(), batch.end());
@@ -211,8 +211,8 @@ inline ::testing::AssertionResult sameOutcome(const ReadOutcome& want, const Rea
 
 /// parsePoints's outcome: the whole-input reader, the reference of the streaming ones.
 inline ReadOutcome parseOutcome(const std::string& bytes, const std::string& name) {
-  return readOutcome(name, [&](const mapper::PointBatchConsumer& consume) {
-    mapper::PointSet set = mapper::parsePoints(bytes, name);
+  return readOutcome(name, [&](const io::PointBatchConsumer& consume) {
+    io::PointSet set = io::parsePoints(bytes, name);
     if (!set.points.empty()) consume(set.points);
     return set.inputs.at(0);
   });
@@ -220,20 +220,20 @@ inline ReadOutcome parseOutcome(const std::string& bytes, const std::string& nam
 
 /// streamPoints (bytes in memory) with `batch_points`.
 inline ReadOutcome streamOutcome(const std::string& bytes, const std::string& name, std::size_t batch_points) {
-  mapper::PointStreamParams params;
+  io::PointStreamParams params;
   params.batch_points = batch_points;
-  return readOutcome(name, [&](const mapper::PointBatchConsumer& consume) {
-    return mapper::streamPoints(bytes, name, params, consume);
+  return readOutcome(name, [&](const io::PointBatchConsumer& consume) {
+    return io::streamPoints(bytes, name, params, consume);
   });
 }
 
 /// streamPointFile on `path` (a file holding the bytes, or a pipe carrying them).
 inline ReadOutcome fileOutcome(const std::string& path, std::size_t batch_points, std::size_t read_bytes) {
-  mapper::PointStreamParams params;
+  io::PointStreamParams params;
   params.batch_points = batch_points;
   params.read_bytes = read_bytes;
-  return readOutcome(path, [&](const mapper::PointBatchConsumer& consume) {
-    return mapper::streamPointFile(path, params, consume);
+  return readOutcome(path, [&](const io::PointBatchConsumer& consume) {
+    return io::streamPointFile(path, params, consume);
   });
 }
 

@@ -1,5 +1,7 @@
 #include "hullmap/core/number_text.hpp"
 
+#include <string>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -97,5 +99,24 @@ char* writeShortest(char* first, double value, int& decimals) {
   for (int i = n; i < p; ++i) *out++ = '0';
   return writeDigits(out, m, n);
 }
+
+bool parseDouble(std::string_view token, double& value) {
+  if (token.empty()) return false;
+  const char* first = token.data();
+  const char* last = first + token.size();
+  if (*first == '+') {
+    ++first;
+    if (first == last || *first == '-' || *first == '+') return false;
+  }
+  const auto [ptr, ec] = std::from_chars(first, last, value);
+  if (ec == std::errc::result_out_of_range) {
+    // from_chars leaves `value` untouched on overflow/underflow: fall back to strtod's answer
+    // (±inf or a denormal/zero), which is what the writer meant.
+    value = std::strtod(std::string(token).c_str(), nullptr);
+    return ptr == last;
+  }
+  return ec == std::errc() && ptr == last;
+}
+
 
 }  // namespace hullmap::core

@@ -43,7 +43,7 @@ double readField(const std::uint8_t* point, const Field& field) {
 
 }  // namespace
 
-mapper::Points cloudPoints(const CloudLayout& cloud, const std::uint8_t* data, std::size_t size,
+io::Points cloudPoints(const CloudLayout& cloud, const std::uint8_t* data, std::size_t size,
                            std::size_t* non_finite) {
   if (cloud.is_bigendian) throw Error("PointCloud2: big-endian data is not read");
   const Field x = findField(cloud, "x");
@@ -57,7 +57,7 @@ mapper::Points cloudPoints(const CloudLayout& cloud, const std::uint8_t* data, s
     throw Error("PointCloud2: data holds " + std::to_string(size) + " bytes, its header says " +
                 std::to_string(std::uint64_t{cloud.row_step} * cloud.height));
   }
-  mapper::Points points;
+  io::Points points;
   points.reserve(count);
   std::size_t skipped = 0;
   for (std::uint32_t row = 0; row < cloud.height; ++row) {
@@ -76,7 +76,7 @@ mapper::Points cloudPoints(const CloudLayout& cloud, const std::uint8_t* data, s
   return points;
 }
 
-std::optional<bool> OrbSlamMapMarkers::decide(const MarkerKey& key, std::optional<mapper::Points>** slot) {
+std::optional<bool> OrbSlamMapMarkers::decide(const MarkerKey& key, std::optional<io::Points>** slot) {
   if (key.ns != "MapPoints") return false;
   if (key.action == marker::kDeleteAll) {
     const bool changed = !empty();
@@ -94,8 +94,8 @@ std::optional<bool> OrbSlamMapMarkers::decide(const MarkerKey& key, std::optiona
   return std::nullopt;
 }
 
-mapper::Points OrbSlamMapMarkers::points() const {
-  mapper::Points points;
+io::Points OrbSlamMapMarkers::points() const {
+  io::Points points;
   points.reserve((all_ ? all_->size() : 0) + (reference_ ? reference_->size() : 0));
   if (all_) points.insert(points.end(), all_->begin(), all_->end());
   if (reference_) points.insert(points.end(), reference_->begin(), reference_->end());
@@ -129,7 +129,7 @@ BagMap TopicMap::result() const {
   return map;
 }
 
-bool normaliseKeyframes(std::vector<mapper::Keyframe>& keyframes) {
+bool normaliseKeyframes(std::vector<io::Keyframe>& keyframes) {
   for (const auto& k : keyframes) {
     if (!k.position.allFinite() || !k.orientation.coeffs().allFinite() || k.orientation.norm() < 1e-9) return false;
   }

@@ -1,23 +1,16 @@
 #include "hullmap/mapper/align.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
-#include "byte_source.hpp"
 #include "hullmap/core/error.hpp"
-#include "read_detail.hpp"
 
 namespace hullmap::mapper {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kWgs84A = 6378137.0;                 // semi-major axis, metres
-constexpr double kWgs84F = 1.0 / 298.257223563;       // flattening
-constexpr double kWgs84E2 = kWgs84F * (2.0 - kWgs84F);  // first eccentricity squared
 
 // Singular values of the centred positions (3 x n), largest first: the square roots of the
 // eigenvalues of their 3 x 3 scatter matrix (an SVD of the 3 x n matrix itself instantiates
@@ -37,107 +30,21 @@ bool collinear(const Eigen::Matrix3Xd& positions) {
 
 }  // namespace
 
-ReferenceFormat parseReferenceFormat(const std::string& text) {
-  std::string lower = text;
-  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (lower == "tum") return ReferenceFormat::kTum;
-  if (lower == "gps") return ReferenceFormat::kGps;
-  throw Error::inParameter("align_format", "expected 'tum' or 'gps', got '" + text + "'");
-}
-
-std::string toString(ReferenceFormat format) { return format == ReferenceFormat::kTum ? "tum" : "gps"; }
-
-Eigen::Vector3d geodeticToEcef(double latitude_deg, double longitude_deg, double altitude_m) {
-  const double lat = latitude_deg * kPi / 180.0;
-  const double lon = longitude_deg * kPi / 180.0;
-  const double s = std::sin(lat);
-  const double n = kWgs84A / std::sqrt(1.0 - kWgs84E2 * s * s);  // prime vertical radius of curvature
-  return {(n + altitude_m) * std::cos(lat) * std::cos(lon), (n + altitude_m) * std::cos(lat) * std::sin(lon),
-          (n * (1.0 - kWgs84E2) + altitude_m) * s};
-}
-
-Eigen::Vector3d geodeticToEnu(const Eigen::Vector3d& geodetic, const Eigen::Vector3d& origin) {
-  const Eigen::Vector3d d =
-      geodeticToEcef(geodetic[0], geodetic[1], geodetic[2]) - geodeticToEcef(origin[0], origin[1], origin[2]);
-  const double lat = origin[0] * kPi / 180.0;
-  const double lon = origin[1] * kPi / 180.0;
-  const double sl = std::sin(lat), cl = std::cos(lat), so = std::sin(lon), co = std::cos(lon);
-  return {-so * d.x() + co * d.y(),                              // east
-          -sl * co * d.x() - sl * so * d.y() + cl * d.z(),       // north
-          cl * co * d.x() + cl * so * d.y() + sl * d.z()};       // up
-}
-
-namespace {
-
-/// Why a GPS line `t lat lon alt` holds no fix, or nullptr when it holds one.
-const char* missingFix(const double* v) {
-  for (int i = 0; i < 4; ++i)
-    if (!std::isfinite(v[i])) return "non_finite";
-  if (std::abs(v[1]) > 90.0 || v[2] < -180.0 || v[2] > 360.0) return "out_of_range";
-  if (v[1] == 0.0 && v[2] == 0.0) return "no_fix";
-  return nullptr;
-}
-
-}  // namespace
-
-std::vector<ReferencePose> parseReferenceTrajectory(std::string_view bytes, const std::string& name,
-                                                    ReferenceFormat format, ReferenceStats* stats) {
-  std::vector<ReferencePose> poses;
-  Eigen::Vector3d origin;
-  detail::forEachNumberRow(bytes, name, [&](const double* v, std::size_t count, std::size_t line) {
-    if (format == ReferenceFormat::kTum && count != 4 && count != 8) {
-      detail::failAt(name, line,
-                     "expected 4 or 8 numbers (t x y z [qx qy qz qw]), got " + std::to_string(count));
-    }
-    if (format == ReferenceFormat::kGps && count != 4) {
-      detail::failAt(name, line, "expected 4 numbers (t lat lon alt), got " + std::to_string(count));
-    }
-    if (format == ReferenceFormat::kGps) {
-      // Receivers log lines before their first fix (0 0 0, NaN): those are no positions.
-      if (const char* reason = missingFix(v)) {
-        if (stats) ++stats->dropped[reason];
-        return;
-      }
-    }
-    for (std::size_t i = 0; i < count; ++i) {
-      if (!std::isfinite(v[i])) detail::failAt(name, line, "non-finite value");
-    }
-    ReferencePose pose;
-    pose.stamp = v[0] > kNanosecondStampThreshold ? v[0] * 1e-9 : v[0];
-    if (format == ReferenceFormat::kTum) {
-      pose.position = Eigen::Vector3d(v[1], v[2], v[3]);
-    } else {
-      const Eigen::Vector3d fix(v[1], v[2], v[3]);
-      if (poses.empty()) origin = fix;
-      pose.position = geodeticToEnu(fix, origin);
-    }
-    poses.push_back(pose);
-  });
-  return poses;
-}
-
-std::vector<ReferencePose> readReferenceTrajectory(const std::string& path, ReferenceFormat format,
-                                                   ReferenceStats* stats) {
-  detail::ByteSource source(path, PointStreamParams{}.read_bytes);
-  source.loadAll();
-  return parseReferenceTrajectory(source.view(0, source.end()), path, format, stats);
-}
-
-Alignment alignTrajectory(const std::vector<Keyframe>& keyframes, const std::vector<ReferencePose>& reference,
+Alignment alignTrajectory(const std::vector<io::Keyframe>& keyframes, const std::vector<io::ReferencePose>& reference,
                           const AlignParams& params) {
   if (!(params.stamp_tolerance >= 0.0) || !std::isfinite(params.stamp_tolerance)) {
     throw Error("align: the timestamp tolerance must be finite and >= 0");
   }
-  std::vector<ReferencePose> sorted = reference;
+  std::vector<io::ReferencePose> sorted = reference;
   std::stable_sort(sorted.begin(), sorted.end(),
-                   [](const ReferencePose& a, const ReferencePose& b) { return a.stamp < b.stamp; });
+                   [](const io::ReferencePose& a, const io::ReferencePose& b) { return a.stamp < b.stamp; });
 
   Alignment result;
   std::vector<Eigen::Vector3d> from, to;
-  for (const Keyframe& k : keyframes) {
+  for (const io::Keyframe& k : keyframes) {
     const auto it = std::lower_bound(sorted.begin(), sorted.end(), k.stamp,
-                                     [](const ReferencePose& r, double t) { return r.stamp < t; });
-    const ReferencePose* best = nullptr;
+                                     [](const io::ReferencePose& r, double t) { return r.stamp < t; });
+    const io::ReferencePose* best = nullptr;
     if (it != sorted.end()) best = &*it;
     if (it != sorted.begin() && (best == nullptr || k.stamp - std::prev(it)->stamp <= best->stamp - k.stamp)) {
       best = &*std::prev(it);
@@ -213,13 +120,13 @@ Eigen::Matrix4d toMatrix(const Similarity& s) {
   return m;
 }
 
-void applySimilarity(const Similarity& s, Points& points) {
-  for (Point& p : points) p = s(p);
+void applySimilarity(const Similarity& s, io::Points& points) {
+  for (io::Point& p : points) p = s(p);
 }
 
-void applySimilarity(const Similarity& s, std::vector<Keyframe>& keyframes) {
+void applySimilarity(const Similarity& s, std::vector<io::Keyframe>& keyframes) {
   const Eigen::Quaterniond q(s.rotation);
-  for (Keyframe& k : keyframes) {
+  for (io::Keyframe& k : keyframes) {
     k.position = s(k.position);
     k.orientation = (q * k.orientation).normalized();
   }

@@ -8,7 +8,8 @@
 #include <Eigen/Eigenvalues>
 
 #include "hullmap/core/error.hpp"
-#include "read_detail.hpp"
+#include "hullmap/core/number_text.hpp"
+
 
 namespace hullmap::mapper {
 namespace {
@@ -35,9 +36,9 @@ struct Counts {
   std::size_t beyond = 0;
 };
 
-Counts count(const Points& points, const Plane& plane, double band) {
+Counts count(const io::Points& points, const Plane& plane, double band) {
   Counts c;
-  for (const Point& p : points) {
+  for (const io::Point& p : points) {
     const double d = plane.signedDistance(p);
     if (std::abs(d) <= band) ++c.inliers;
     else if (d < -band) ++c.beyond;
@@ -47,11 +48,11 @@ Counts count(const Points& points, const Plane& plane, double band) {
 
 // Least-squares plane through the inliers of `plane`: the smallest principal axis, oriented like
 // `plane`'s normal (or kept equal to it when the tilt is fixed: then only the offset moves).
-Plane refine(const Points& points, Plane plane, double band, bool fit_tilt) {
+Plane refine(const io::Points& points, Plane plane, double band, bool fit_tilt) {
   for (int round = 0; round < 2; ++round) {
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     std::size_t n = 0;
-    for (const Point& p : points) {
+    for (const io::Point& p : points) {
       if (std::abs(plane.signedDistance(p)) <= band) {
         mean += p;
         ++n;
@@ -61,7 +62,7 @@ Plane refine(const Points& points, Plane plane, double band, bool fit_tilt) {
     mean /= static_cast<double>(n);
     if (fit_tilt) {
       Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-      for (const Point& p : points) {
+      for (const io::Point& p : points) {
         if (std::abs(plane.signedDistance(p)) <= band) cov += (p - mean) * (p - mean).transpose();
       }
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(cov);
@@ -74,14 +75,14 @@ Plane refine(const Points& points, Plane plane, double band, bool fit_tilt) {
   return plane;
 }
 
-double coverage(const Points& points, const Plane& plane, double band, double cell) {
+double coverage(const io::Points& points, const Plane& plane, double band, double cell) {
   // In-plane axes.
   const Eigen::Vector3d a = plane.normal.unitOrthogonal();
   const Eigen::Vector3d b = plane.normal.cross(a);
   std::vector<double> us, vs;
   us.reserve(points.size());
   vs.reserve(points.size());
-  for (const Point& p : points) {
+  for (const io::Point& p : points) {
     us.push_back(a.dot(p));
     vs.push_back(b.dot(p));
   }
@@ -121,10 +122,10 @@ void checkParams(const PlaneSearchParams& p) {
 
 }  // namespace
 
-PlaneFit findBoundingPlane(const Points& points, PlaneSide side, const PlaneSearchParams& params) {
+PlaneFit findBoundingPlane(const io::Points& points, PlaneSide side, const PlaneSearchParams& params) {
   checkParams(params);
-  for (const Point& p : points) {
-    if (!detail::isFinite(p)) throw Error("--floor: non-finite point");
+  for (const io::Point& p : points) {
+    if (!p.allFinite()) throw Error("--floor: non-finite point");
   }
   PlaneFit fit;
   if (points.size() < 3) {
@@ -136,7 +137,7 @@ PlaneFit findBoundingPlane(const Points& points, PlaneSide side, const PlaneSear
   const double min_cos = std::cos(params.max_tilt_deg * kPi / 180.0);
 
   Draw draw(params.seed);
-  Points sample;
+  io::Points sample;
   if (points.size() <= params.sample_points) {
     sample = points;
   } else {
@@ -151,7 +152,7 @@ PlaneFit findBoundingPlane(const Points& points, PlaneSide side, const PlaneSear
   // before. A candidate that could win on the sample but ranks below the finalists on a tenth of it
   // is rare; counting every candidate on everything cost iterations x sample_points tests (20M:
   // most of a 20k-point build).
-  Points screen_points;
+  io::Points screen_points;
   if (sample.size() <= kScreenPoints) {
     screen_points = sample;
   } else {
@@ -164,10 +165,10 @@ PlaneFit findBoundingPlane(const Points& points, PlaneSide side, const PlaneSear
   std::vector<Plane> candidates;
   for (int it = 0; it < params.iterations; ++it) {
     Plane candidate;
-    const Point& p0 = sample[draw.index(sample.size())];
+    const io::Point& p0 = sample[draw.index(sample.size())];
     if (params.fit_tilt) {
-      const Point& p1 = sample[draw.index(sample.size())];
-      const Point& p2 = sample[draw.index(sample.size())];
+      const io::Point& p1 = sample[draw.index(sample.size())];
+      const io::Point& p2 = sample[draw.index(sample.size())];
       Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);
       const double len = n.norm();
       if (!(len > 0.0) || !std::isfinite(len)) continue;
@@ -207,8 +208,8 @@ PlaneFit findBoundingPlane(const Points& points, PlaneSide side, const PlaneSear
   }
   // Refinement and coverage on at most kEvaluationPoints of the points (a fixed draw): on a map of
   // millions they would otherwise cost more than the search; the counts below use every point.
-  const Points* evaluation = &points;
-  Points drawn;
+  const io::Points* evaluation = &points;
+  io::Points drawn;
   if (points.size() > kEvaluationPoints) {
     drawn.reserve(kEvaluationPoints);
     for (std::size_t i = 0; i < kEvaluationPoints; ++i) drawn.push_back(points[draw.index(points.size())]);
@@ -261,7 +262,7 @@ PlaneSetting parsePlaneSetting(const std::string& option, const std::string& tex
     return s;
   }
   double value = 0.0;
-  if (!detail::parseDouble(text, value) || !std::isfinite(value)) {
+  if (!core::parseDouble(text, value) || !std::isfinite(value)) {
     throw Error(option + ": expected auto, none or a height (a finite number), got '" + text + "'");
   }
   s.mode = PlaneSetting::Mode::kHeight;

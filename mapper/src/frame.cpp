@@ -3,12 +3,22 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <string_view>
 #include <vector>
 
 #include "hullmap/core/error.hpp"
-#include "read_detail.hpp"
+#include "hullmap/core/number_text.hpp"
 
 namespace hullmap::mapper {
+namespace {
+
+std::string_view trimmed(std::string_view s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  return s;
+}
+
+}  // namespace
 
 UpAxis parseUpAxis(const std::string& text) {
   std::string t;
@@ -71,27 +81,27 @@ void checkScale(double scale) {
 
 }  // namespace
 
-void toMapFrame(const FrameParams& frame, Points& points) {
+void toMapFrame(const FrameParams& frame, io::Points& points) {
   checkScale(frame.scale);
   const Eigen::Matrix3d m = upRotation(frame.up) * frame.scale;
-  for (Point& p : points) p = m * p;
+  for (io::Point& p : points) p = m * p;
 }
 
-void toMapFrame(const FrameParams& frame, std::vector<Keyframe>& keyframes) {
+void toMapFrame(const FrameParams& frame, std::vector<io::Keyframe>& keyframes) {
   checkScale(frame.scale);
   const Eigen::Matrix3d r = upRotation(frame.up);
   const Eigen::Quaterniond q(r);
-  for (Keyframe& k : keyframes) {
+  for (io::Keyframe& k : keyframes) {
     k.position = r * (frame.scale * k.position);
     k.orientation = (q * k.orientation).normalized();
   }
 }
 
-void applyFilters(const FilterParams& filters, Points& points, InputStats& stats) {
+void applyFilters(const FilterParams& filters, io::Points& points, io::InputStats& stats) {
   std::size_t outside = 0;
   std::size_t below = 0;
   std::size_t above = 0;
-  const auto keep = [&](const Point& p) {
+  const auto keep = [&](const io::Point& p) {
     if (filters.crop) {
       const Box& b = *filters.crop;
       if ((p.array() < b.min.array()).any() || (p.array() > b.max.array()).any()) {
@@ -109,7 +119,7 @@ void applyFilters(const FilterParams& filters, Points& points, InputStats& stats
     }
     return true;
   };
-  points.erase(std::remove_if(points.begin(), points.end(), [&](const Point& p) { return !keep(p); }),
+  points.erase(std::remove_if(points.begin(), points.end(), [&](const io::Point& p) { return !keep(p); }),
                points.end());
   if (outside) stats.dropped["outside_crop"] += outside;
   if (below) stats.dropped["below_z_min"] += below;
@@ -127,9 +137,9 @@ std::vector<double> parseNumbers(const std::string& option, const std::string& t
   while (true) {
     const std::size_t comma = view.find(',', start);
     const std::string_view token =
-        detail::trim(view.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start));
+        trimmed(view.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start));
     double v = 0;
-    if (!detail::parseDouble(token, v) || !std::isfinite(v)) bad = true;
+    if (!core::parseDouble(token, v) || !std::isfinite(v)) bad = true;
     values.push_back(v);
     if (comma == std::string_view::npos) break;
     start = comma + 1;

@@ -10,8 +10,8 @@
 
 #include <Eigen/Geometry>
 
-#include "hullmap/mapper/point_cloud.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/point_cloud.hpp"
+#include "hullmap/io/readers.hpp"
 
 namespace hullmap::mapper::detail {
 
@@ -20,7 +20,7 @@ namespace hullmap::mapper::detail {
 // growing Chebyshev rings, gives the same answer as the brute-force rule.
 class KeyframeIndex {
  public:
-  explicit KeyframeIndex(const std::vector<Keyframe>& keyframes) : keyframes_(keyframes) {
+  explicit KeyframeIndex(const std::vector<io::Keyframe>& keyframes) : keyframes_(keyframes) {
     lo_ = hi_ = keyframes.front().position;
     for (const auto& k : keyframes) {
       lo_ = lo_.cwiseMin(k.position);
@@ -39,7 +39,7 @@ class KeyframeIndex {
     }
   }
 
-  std::size_t lookup(const Point& p) const {
+  std::size_t lookup(const io::Point& p) const {
     const auto c = cellOf(p);
     long r0 = 0;  // first ring that meets the grid
     for (int i = 0; i < 3; ++i) r0 = std::max({r0, -c[i], c[i] - (dims_[i] - 1)});
@@ -79,7 +79,7 @@ class KeyframeIndex {
     }
   };
 
-  std::array<long, 3> cellOf(const Point& p) const {
+  std::array<long, 3> cellOf(const io::Point& p) const {
     std::array<long, 3> c{};
     for (int i = 0; i < 3; ++i) {
       const double v = std::floor((p[i] - lo_[i]) / cell_);
@@ -91,7 +91,7 @@ class KeyframeIndex {
     return static_cast<std::size_t>((x * dims_[1] + y) * dims_[2] + z);
   }
 
-  const std::vector<Keyframe>& keyframes_;
+  const std::vector<io::Keyframe>& keyframes_;
   std::vector<Eigen::Vector3d> forward_;
   Eigen::Vector3d lo_, hi_;
   double cell_ = 1.0;

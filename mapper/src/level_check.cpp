@@ -30,7 +30,7 @@ std::optional<std::string> levelWarning(const std::vector<Eigen::Vector3d>& poin
   return std::string(text);
 }
 
-bool looksLikeOrbSlam(const InputStats& input) {
+bool looksLikeOrbSlam(const io::InputStats& input) {
   if (input.format == "orbslam_echo") return true;
   std::string name = std::filesystem::path(input.path).filename().string();
   std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -39,7 +39,7 @@ bool looksLikeOrbSlam(const InputStats& input) {
   return false;
 }
 
-std::optional<std::string> orbSlamUpHint(const std::vector<InputStats>& inputs, bool up_given) {
+std::optional<std::string> orbSlamUpHint(const std::vector<io::InputStats>& inputs, bool up_given) {
   if (up_given) return std::nullopt;
   for (const auto& input : inputs) {
     if (looksLikeOrbSlam(input)) {

@@ -63,7 +63,7 @@ void checkParams(const OctreeParams& p) {
   require(!std::isnan(p.max_range), "max_range", "must be a number");
 }
 
-octomap::point3d toPoint3d(const Point& p) {
+octomap::point3d toPoint3d(const io::Point& p) {
   return octomap::point3d(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
 }
 
@@ -76,7 +76,7 @@ bool lessKey(const octomap::OcTreeKey& a, const octomap::OcTreeKey& b) {
 // Appends the codes (Morton << 1 | 1, count 1) of the points octomap can address (float
 // coordinates, as its point3d API) to `codes`, in input order; ok[i] says whether points[i] was one.
 // Returns how many were not.
-std::size_t appendCodes(const detail::KeyCaster& caster, const Point* points, std::size_t n,
+std::size_t appendCodes(const detail::KeyCaster& caster, const io::Point* points, std::size_t n,
                         std::vector<detail::VoxelUpdate>& codes, std::vector<char>& ok) {
   const std::size_t first = codes.size();
   codes.resize(first + n);
@@ -113,7 +113,7 @@ void collapseRuns(std::vector<detail::VoxelUpdate>& codes) {
 
 // Keys of the addressable points as sorted (Morton << 1 | 1, count) runs; the others are counted
 // as out_of_octree.
-std::vector<detail::VoxelUpdate> countPoints(const octomap::OcTree& tree, const Points& points,
+std::vector<detail::VoxelUpdate> countPoints(const octomap::OcTree& tree, const io::Points& points,
                                              std::vector<char>& addressable_flags, std::size_t& dropped) {
   std::vector<detail::VoxelUpdate> codes;
   dropped = appendCodes(detail::KeyCaster(tree), points.data(), points.size(), codes, addressable_flags);
@@ -128,7 +128,7 @@ void recordCounts(OccupancyMap& map, const std::vector<detail::VoxelUpdate>& run
   for (const auto& r : runs) counts[detail::mortonKey(r.code >> 1)] += r.count;
 }
 
-void addDropped(InputStats& stats, std::size_t dropped) {
+void addDropped(io::InputStats& stats, std::size_t dropped) {
   if (dropped > 0) stats.dropped["out_of_octree"] += dropped;
 }
 
@@ -211,7 +211,7 @@ std::vector<OccupiedVoxel> OccupancyMap::occupiedVoxels() const {
   return voxels;
 }
 
-bool addressable(const octomap::OcTree& tree, const Point& p) {
+bool addressable(const octomap::OcTree& tree, const io::Point& p) {
   const detail::KeyCaster caster(tree);
   int key[3];
   return caster.coordToKeyChecked(toPoint3d(p), key);
@@ -225,7 +225,7 @@ struct PointMapBuilder::State {
   // is pending.
   static constexpr std::size_t kMinPending = std::size_t(1) << 14;
 
-  void add(const Point* points, std::size_t n, InputStats& stats) {
+  void add(const io::Point* points, std::size_t n, io::InputStats& stats) {
     addDropped(stats, appendCodes(caster, points, n, pending, ok));
     if (pending.size() >= std::max(runs.size(), kMinPending)) merge();
   }
@@ -268,7 +268,7 @@ PointMapBuilder::~PointMapBuilder() = default;
 PointMapBuilder::PointMapBuilder(PointMapBuilder&&) noexcept = default;
 PointMapBuilder& PointMapBuilder::operator=(PointMapBuilder&&) noexcept = default;
 
-void PointMapBuilder::add(const Points& points, InputStats& stats) {
+void PointMapBuilder::add(const io::Points& points, io::InputStats& stats) {
   state_->add(points.data(), points.size(), stats);
 }
 
@@ -281,7 +281,7 @@ OccupancyMap PointMapBuilder::finish() {
   return map;
 }
 
-OccupancyMap buildFromPoints(const Points& points, const OctreeParams& params, InputStats& stats) {
+OccupancyMap buildFromPoints(const io::Points& points, const OctreeParams& params, io::InputStats& stats) {
   PointMapBuilder builder(params);
   // In slices: the keys of one slice at a time, not of all points, are held besides the runs.
   const std::size_t slice = std::size_t(1) << 20;
@@ -291,8 +291,8 @@ OccupancyMap buildFromPoints(const Points& points, const OctreeParams& params, I
   return builder.finish();
 }
 
-OccupancyMap buildWithTrajectory(const Points& points, const std::vector<Keyframe>& keyframes,
-                                 const OctreeParams& params, InputStats& stats) {
+OccupancyMap buildWithTrajectory(const io::Points& points, const std::vector<io::Keyframe>& keyframes,
+                                 const OctreeParams& params, io::InputStats& stats) {
   if (keyframes.empty()) throw Error::inParameter("keyframes", "none to cast free space from");
   OccupancyMap map(params);
   std::size_t dropped = 0;
@@ -312,28 +312,28 @@ OccupancyMap buildWithTrajectory(const Points& points, const std::vector<Keyfram
   std::vector<std::size_t> start(keyframes.size() + 1, 0);
   for (std::size_t i = 0; i < points.size(); ++i) start[owner[i] + 1] += ok[i];
   for (std::size_t k = 0; k < keyframes.size(); ++k) start[k + 1] += start[k];
-  Points grouped(start.back());
+  io::Points grouped(start.back());
   std::vector<std::size_t> next(start.begin(), start.end() - 1);
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (ok[i]) grouped[next[owner[i]]++] = points[i];
   }
   for (std::size_t k = 0; k < keyframes.size(); ++k) {
     if (start[k] == start[k + 1]) continue;
-    const Points scan(grouped.begin() + static_cast<std::ptrdiff_t>(start[k]),
+    const io::Points scan(grouped.begin() + static_cast<std::ptrdiff_t>(start[k]),
                       grouped.begin() + static_cast<std::ptrdiff_t>(start[k + 1]));
     insertScan(map.tree(), scan, keyframes[k].position, params.max_range);
   }
   return map;
 }
 
-OccupancyMap buildFromScan(const Points& points, const Point& origin, const OctreeParams& params,
-                           InputStats& stats) {
+OccupancyMap buildFromScan(const io::Points& points, const io::Point& origin, const OctreeParams& params,
+                           io::InputStats& stats) {
   OccupancyMap map(params);
   std::size_t dropped = 0;
   std::vector<char> ok;
   recordCounts(map, countPoints(map.tree(), points, ok, dropped));
   addDropped(stats, dropped);
-  Points addressable;
+  io::Points addressable;
   addressable.reserve(points.size() - dropped);
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (ok[i]) addressable.push_back(points[i]);

@@ -379,7 +379,7 @@ Scene generateRoomScene(const SceneParams& p) {
   scene.reference.resize(p.keyframes);
   for (std::size_t i = 0; i < p.keyframes; ++i) {
     const double a = 2.0 * kPi * static_cast<double>(i) / static_cast<double>(p.keyframes);
-    Keyframe& k = scene.reference[i];
+    io::Keyframe& k = scene.reference[i];
     k.stamp = 1.0 + 0.5 * static_cast<double>(i);
     k.position = Eigen::Vector3d(loop_x * std::cos(a), loop_y * std::sin(a), kCameraHeight + 0.05 * std::sin(3.0 * a));
     // Toward the room's vertical axis.
@@ -397,7 +397,7 @@ Scene generateRoomScene(const SceneParams& p) {
 
   // Output frame: the first camera's, scaled: p_out = s R0^T (p - t0).
   if (p.orbslam_frame) {
-    const Keyframe& first = scene.reference.front();
+    const io::Keyframe& first = scene.reference.front();
     scene.output_scale = p.monocular_scale;
     scene.output_rotation = first.orientation.toRotationMatrix().transpose();
     scene.output_translation = -p.monocular_scale * (scene.output_rotation * first.position);
@@ -411,7 +411,7 @@ Scene generateRoomScene(const SceneParams& p) {
   });
   const Eigen::Quaterniond rq(r);
   scene.keyframes = scene.reference;
-  for (Keyframe& k : scene.keyframes) {
+  for (io::Keyframe& k : scene.keyframes) {
     k.position = s * (r * k.position) + tr;
     k.orientation = (rq * k.orientation).normalized();
   }

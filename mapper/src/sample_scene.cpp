@@ -166,11 +166,11 @@ std::vector<SceneObstacle> placeObstacles(const SceneParams& p, double loop_radi
   return obstacles;
 }
 
-std::vector<Keyframe> cameraLoop(const SceneParams& p, double loop_radius) {
-  std::vector<Keyframe> keyframes(p.keyframes);
+std::vector<io::Keyframe> cameraLoop(const SceneParams& p, double loop_radius) {
+  std::vector<io::Keyframe> keyframes(p.keyframes);
   for (std::size_t i = 0; i < p.keyframes; ++i) {
     const double a = 2.0 * kPi * static_cast<double>(i) / static_cast<double>(p.keyframes);
-    Keyframe& k = keyframes[i];
+    io::Keyframe& k = keyframes[i];
     k.stamp = 1.0 + 0.5 * static_cast<double>(i);
     k.position = Eigen::Vector3d(loop_radius * std::cos(a), loop_radius * std::sin(a),
                                  kCameraHeight + 0.05 * std::sin(3.0 * a));
@@ -279,7 +279,7 @@ Scene generateScene(const SceneParams& p) {
       for (std::size_t i = chunk * kChunk; i < end; ++i) scene.points[i] = m * scene.points[i];
     });
     const Eigen::Quaterniond mq(m);
-    for (Keyframe& k : scene.keyframes) {
+    for (io::Keyframe& k : scene.keyframes) {
       k.position = m * k.position;
       k.orientation = (mq * k.orientation).normalized();
     }
@@ -314,7 +314,7 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
 
   core::writeFileAtomically((base / "KeyFrameTrajectory.txt").string(), [&scene](std::ostream& out) {
     char line[512];
-    for (const Keyframe& k : scene.keyframes) {
+    for (const io::Keyframe& k : scene.keyframes) {
       const Eigen::Quaterniond& q = k.orientation;
       std::snprintf(line, sizeof(line), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", k.stamp,
                     k.position.x(), k.position.y(), k.position.z(), q.x(), q.y(), q.z(), q.w());
@@ -330,7 +330,7 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
   if (params.layout == SceneLayout::kRoom) {
     core::writeFileAtomically((base / "reference_trajectory.txt").string(), [&scene](std::ostream& out) {
       char line[512];
-      for (const Keyframe& k : scene.reference) {
+      for (const io::Keyframe& k : scene.reference) {
         const Eigen::Quaterniond& q = k.orientation;
         std::snprintf(line, sizeof(line), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", k.stamp, k.position.x(),
                       k.position.y(), k.position.z(), q.x(), q.y(), q.z(), q.w());

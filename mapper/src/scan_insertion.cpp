@@ -553,12 +553,12 @@ constexpr std::size_t kMaxAllocatedCells = std::size_t{1} << 16;
 
 }  // namespace
 
-ScanUpdate computeScanUpdate(const octomap::OcTree& tree, const Points& points, const Point& origin_d,
+ScanUpdate computeScanUpdate(const octomap::OcTree& tree, const io::Points& points, const io::Point& origin_d,
                              double max_range) {
   const KeyCaster caster(tree);
   const octomap::point3d origin(static_cast<float>(origin_d.x()), static_cast<float>(origin_d.y()),
                                 static_cast<float>(origin_d.z()));
-  auto toPoint3d = [](const Point& q) {
+  auto toPoint3d = [](const io::Point& q) {
     return octomap::point3d(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z()));
   };
   // Where each ray ends, as insertPointCloud decides (the measured point, or cut at max_range).
@@ -869,12 +869,12 @@ void applyUpdates(octomap::OcTree& tree, std::vector<VoxelUpdate>& updates) {
 
 }  // namespace detail
 
-void insertScan(octomap::OcTree& tree, const Points& points, const Point& origin, double max_range) {
+void insertScan(octomap::OcTree& tree, const io::Points& points, const io::Point& origin, double max_range) {
   if (tree.bbxSet() || tree.isChangeDetectionEnabled()) {
     // Rare configurations: let octomap do it.
     octomap::Pointcloud cloud;
     cloud.reserve(points.size());
-    for (const Point& p : points) cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+    for (const io::Point& p : points) cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
     tree.insertPointCloud(cloud, octomap::point3d(static_cast<float>(origin.x()), static_cast<float>(origin.y()),
                                                   static_cast<float>(origin.z())),
                           max_range);

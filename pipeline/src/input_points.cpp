@@ -1,6 +1,6 @@
 #include "input_points.hpp"
 
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 
 namespace hullmap::pipeline {
@@ -11,8 +11,8 @@ Error noPoints(const std::vector<std::string>& inputs) {
   return Error(names + ": no points");
 }
 
-mapper::PointSet readInputPoints(const std::vector<std::string>& inputs) {
-  mapper::PointSet set = mapper::readPointFiles(inputs);
+io::PointSet readInputPoints(const std::vector<std::string>& inputs) {
+  io::PointSet set = io::readPointFiles(inputs);
   if (set.points.empty()) throw noPoints(inputs);
   return set;
 }

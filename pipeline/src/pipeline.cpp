@@ -77,7 +77,7 @@ bool isOctomapFile(const fs::path& path) {
   return ext == ".bt" || ext == ".ot";
 }
 
-void addDropped(PointAccount& account, const mapper::InputStats& stats) {
+void addDropped(PointAccount& account, const io::InputStats& stats) {
   for (const auto& [reason, count] : stats.dropped) account.dropped[reason] += count;
 }
 
@@ -99,11 +99,11 @@ void accountForInputs(BuildResult& result) {
 }
 
 /// Map frame -> output frame: x -> levelling * x.
-void applyIsometry(const Eigen::Isometry3d& t, mapper::Points& points) {
+void applyIsometry(const Eigen::Isometry3d& t, io::Points& points) {
   for (auto& p : points) p = t * p;
 }
 
-void applyIsometry(const Eigen::Isometry3d& t, std::vector<mapper::Keyframe>& keyframes) {
+void applyIsometry(const Eigen::Isometry3d& t, std::vector<io::Keyframe>& keyframes) {
   const Eigen::Quaterniond q(t.linear());
   for (auto& k : keyframes) {
     k.position = t * k.position;
@@ -119,7 +119,7 @@ bool isIdentity(const Eigen::Isometry3d& t) { return t.matrix().isIdentity(0.0);
 class PointSample {
  public:
   static constexpr std::size_t kSamplePoints = std::size_t(1) << 18;
-  void add(const mapper::Points& batch) {
+  void add(const io::Points& batch) {
     for (const auto& p : batch) {
       if (seen_++ % stride_ != 0) continue;
       points_.push_back(p);
@@ -130,17 +130,17 @@ class PointSample {
       }
     }
   }
-  const mapper::Points& points() const { return points_; }
+  const io::Points& points() const { return points_; }
 
  private:
-  mapper::Points points_;
+  io::Points points_;
   std::size_t seen_ = 0;
   std::size_t stride_ = 1;
 };
 
 /// Identity when `levelling` moves no corner of the points' bounding box by more than 5% of a
 /// voxel (a map already level with its floor at z = 0): the points are then left as they are.
-Eigen::Isometry3d negligibleAsIdentity(const Eigen::Isometry3d& levelling, const mapper::Points& points,
+Eigen::Isometry3d negligibleAsIdentity(const Eigen::Isometry3d& levelling, const io::Points& points,
                                        double resolution) {
   if (points.empty() || isIdentity(levelling)) return levelling;
   if (!levelling.matrix().allFinite()) return Eigen::Isometry3d::Identity();
@@ -161,7 +161,7 @@ struct Surfaces {
   Eigen::Isometry3d levelling = Eigen::Isometry3d::Identity();
 };
 
-Surfaces searchSurfaces(const BuildParams& params, const mapper::Points& sample, bool level) {
+Surfaces searchSurfaces(const BuildParams& params, const io::Points& sample, bool level) {
   Surfaces out;
   const bool aligned = params.align.has_value();
   mapper::PlaneSearchParams search;
@@ -187,8 +187,8 @@ Surfaces searchSurfaces(const BuildParams& params, const mapper::Points& sample,
   if (params.ceiling.mode == Mode::kHeight) {
     out.ceiling.plane = mapper::horizontalPlane(params.ceiling.height, mapper::PlaneSide::kCeiling);
   } else if (params.ceiling.mode == Mode::kAuto) {
-    mapper::Points levelled;
-    const mapper::Points* points = &sample;
+    io::Points levelled;
+    const io::Points* points = &sample;
     if (!isIdentity(out.levelling)) {
       levelled = sample;
       applyIsometry(out.levelling, levelled);
@@ -200,7 +200,7 @@ Surfaces searchSurfaces(const BuildParams& params, const mapper::Points& sample,
   return out;
 }
 
-Surfaces findSurfaces(const BuildParams& params, const mapper::Points& sample, bool level) {
+Surfaces findSurfaces(const BuildParams& params, const io::Points& sample, bool level) {
   Surfaces out = searchSurfaces(params, sample, level);
   out.levelling = negligibleAsIdentity(out.levelling, sample, params.octree.resolution);
   if (out.floor.levelled && isIdentity(out.levelling)) {  // already level at z = 0
@@ -217,11 +217,11 @@ void recordSurfaces(const Surfaces& surfaces, BuildResult& result) {
 }
 
 /// Reads the reference trajectory (or takes its poses in memory) and fits the keyframes (input frame) to it.
-mapper::Alignment alignKeyframes(const AlignSettings& align, const std::vector<mapper::Keyframe>& keyframes,
+mapper::Alignment alignKeyframes(const AlignSettings& align, const std::vector<io::Keyframe>& keyframes,
                                  BuildReport& report) {
-  mapper::ReferenceStats stats;
+  io::ReferenceStats stats;
   const auto reference = align.poses ? *align.poses
-                                     : mapper::readReferenceTrajectory(align.reference.string(), align.format, &stats);
+                                     : io::readReferenceTrajectory(align.reference.string(), align.format, &stats);
   report.reference_dropped = stats.dropped;
   std::size_t dropped = 0;
   for (const auto& [reason, count] : stats.dropped) dropped += count;
@@ -255,20 +255,20 @@ void recordFrame(const BuildParams& params, BuildReport& report) {
 /// The octree of points already read whole (map frame after this), with the keyframes' rays
 /// (trajectory), one scan's rays (origin), or points alone.
 /// `given` (keyframes in memory, input frame) stands for the trajectory file when not null.
-void buildWhole(const BuildParams& params, mapper::Points points, BuildResult& result, StageTimer& timer,
-                std::vector<mapper::Keyframe>* given = nullptr) {
+void buildWhole(const BuildParams& params, io::Points points, BuildResult& result, StageTimer& timer,
+                std::vector<io::Keyframe>* given = nullptr) {
   accountForInputs(result);
   timer.stage("read");
 
   runStage("frame_and_filters");
-  std::vector<mapper::Keyframe> keyframes;
+  std::vector<io::Keyframe> keyframes;
   // Keyframes in memory are in the input frame, as a trajectory file's: they change frame below
   // with the points (once).
   if (given) {
     keyframes = std::move(*given);
     if (keyframes.empty()) throw Error(params.trajectory->string() + ": no keyframes");
   } else if (params.trajectory) {
-    keyframes = mapper::readTumTrajectory(params.trajectory->string());
+    keyframes = io::readTumTrajectory(params.trajectory->string());
     if (keyframes.empty()) throw Error(params.trajectory->string() + ": no keyframes");
   }
   std::vector<Eigen::Vector3d> origin;
@@ -294,14 +294,14 @@ void buildWhole(const BuildParams& params, mapper::Points points, BuildResult& r
   recordSurfaces(surfaces, result);
   recordFrame(params, result.report);
   timer.stage("floor");
-  mapper::InputStats filtered;
+  io::InputStats filtered;
   mapper::applyFilters(params.filters, points, filtered);
   addDropped(result.report.points, filtered);
   if (points.empty()) throw noPointsInBounds();
   timer.stage("frame_and_filters");
 
   runStage("octree");
-  mapper::InputStats built;
+  io::InputStats built;
   if (params.trajectory) {
     result.map = mapper::buildWithTrajectory(points, keyframes, params.octree, built);
     result.report.keyframes = keyframes.size();
@@ -317,9 +317,9 @@ void buildWhole(const BuildParams& params, mapper::Points points, BuildResult& r
 
 /// One pass of the streamed build: read -> frame -> levelling -> filters -> octree batch by batch.
 struct StreamPass {
-  std::vector<mapper::InputStats> inputs;
-  mapper::InputStats filtered;
-  mapper::InputStats built;
+  std::vector<io::InputStats> inputs;
+  io::InputStats filtered;
+  io::InputStats built;
   std::size_t delivered = 0;
   std::size_t kept = 0;
   double read_ms = 0.0;
@@ -340,7 +340,7 @@ StreamPass streamPass(const BuildParams& params, const Eigen::Isometry3d& levell
     pass.bad_octree_params = std::current_exception();
   }
   const bool level = !isIdentity(levelling);
-  const auto consume = [&](mapper::Points& batch) {
+  const auto consume = [&](io::Points& batch) {
     const auto start = Clock::now();
     pass.delivered += batch.size();
     mapper::toMapFrame(params.frame, batch);
@@ -354,7 +354,7 @@ StreamPass streamPass(const BuildParams& params, const Eigen::Isometry3d& levell
     pass.octree_ms += msSince(filtered_at);
   };
   const auto start = Clock::now();
-  pass.inputs = mapper::streamPointFiles(pathStrings(params.inputs), mapper::PointStreamParams{}, consume);
+  pass.inputs = io::streamPointFiles(pathStrings(params.inputs), io::PointStreamParams{}, consume);
   pass.read_ms = msSince(start) - pass.frame_ms - pass.octree_ms;
   if (builder && pass.kept > 0) {
     const auto finish_start = Clock::now();
@@ -805,7 +805,7 @@ std::string outputFrame(const BuildResult& result) {
   return s.str();
 }
 
-bool levelsMap(const BuildParams& params, const std::vector<mapper::InputStats>& inputs) {
+bool levelsMap(const BuildParams& params, const std::vector<io::InputStats>& inputs) {
   if (params.align || readsOctree(params) || params.floor.mode != mapper::PlaneSetting::Mode::kAuto) return false;
   if (params.level != Level::kAuto) return params.level == Level::kOn;
   if (params.camera_frame) return *params.camera_frame;
@@ -813,7 +813,7 @@ bool levelsMap(const BuildParams& params, const std::vector<mapper::InputStats>&
   for (const auto& input : inputs)
     if (mapper::looksLikeOrbSlam(input)) return true;
   if (params.trajectory) {
-    mapper::InputStats trajectory;  // KeyFrameTrajectory.txt: a SLAM run's keyframes, in its camera's frame
+    io::InputStats trajectory;  // KeyFrameTrajectory.txt: a SLAM run's keyframes, in its camera's frame
     trajectory.path = params.trajectory->string();
     trajectory.format = "tum";
     return mapper::looksLikeOrbSlam(trajectory);
@@ -828,14 +828,14 @@ namespace {
 bool mayLevel(const BuildParams& params) {
   if (params.align || params.floor.mode != mapper::PlaneSetting::Mode::kAuto || params.level == Level::kOff)
     return false;
-  std::vector<mapper::InputStats> sniffed;
+  std::vector<io::InputStats> sniffed;
   for (const auto& input : params.inputs) {
     std::error_code ec;
     if (!fs::is_regular_file(input, ec)) return true;
-    mapper::InputStats stats;
+    io::InputStats stats;
     stats.path = input.string();
     try {
-      stats.format = mapper::toString(mapper::detectPointFormat(stats.path));
+      stats.format = io::toString(io::detectPointFormat(stats.path));
     } catch (const Error&) {
       return true;  // the read names what is wrong with it
     }
@@ -861,7 +861,7 @@ BuildResult build(const BuildParams& params) {
   if (readsOctree(params)) {
     // A finished map: no points to account for, voxels weigh 1 each.
     result.map = mapper::readMap(params.inputs.front().string());
-    mapper::InputStats stats;
+    io::InputStats stats;
     stats.path = params.inputs.front().string();
     stats.format = params.inputs.front().extension().string().substr(1);
     result.report.inputs.push_back(stats);
@@ -889,7 +889,7 @@ BuildResult build(const BuildParams& params) {
     if (!params.trajectory && !params.origin && (readable_twice || !may_level) && !(may_level && small)) {
       buildStreamed(params, result, timer);
     } else {
-      mapper::PointSet set = readInputPoints(pathStrings(params.inputs));
+      io::PointSet set = readInputPoints(pathStrings(params.inputs));
       result.report.inputs = set.inputs;
       buildWhole(params, std::move(set.points), result, timer);
     }
@@ -899,11 +899,11 @@ BuildResult build(const BuildParams& params) {
   return result;
 }
 
-BuildResult buildFromPoints(mapper::Points points, const BuildParams& params, const std::string& name) {
+BuildResult buildFromPoints(io::Points points, const BuildParams& params, const std::string& name) {
   return buildFromPoints(std::move(points), std::nullopt, params, name);
 }
 
-BuildResult buildFromPoints(mapper::Points points, std::optional<std::vector<mapper::Keyframe>> keyframes,
+BuildResult buildFromPoints(io::Points points, std::optional<std::vector<io::Keyframe>> keyframes,
                             const BuildParams& params, const std::string& name, const std::string& keyframes_name) {
   BuildResult result;
   result.params = params;
@@ -915,13 +915,13 @@ BuildResult buildFromPoints(mapper::Points points, std::optional<std::vector<map
   StageTimer timer(result.report);
   checkParams(result.params);
   runStage("read");
-  mapper::InputStats stats;
+  io::InputStats stats;
   stats.path = name;
   stats.format = "memory";
   stats.read = points.size();
   // Non-finite points are dropped as the file readers drop them.
   const auto finite_end = std::stable_partition(points.begin(), points.end(),
-                                                [](const mapper::Point& p) { return p.allFinite(); });
+                                                [](const io::Point& p) { return p.allFinite(); });
   const std::size_t non_finite = static_cast<std::size_t>(points.end() - finite_end);
   points.erase(finite_end, points.end());
   if (non_finite > 0) stats.dropped["non_finite"] = non_finite;
@@ -1026,7 +1026,7 @@ nlohmann::json parametersJson(const BuildParams& params) {
       {"occupancy_threshold", params.octree.sensor.occupancy_threshold},
       {"max_range", params.octree.max_range},
       {"align", params.align ? json(params.align->reference.string()) : json(nullptr)},
-      {"align_format", params.align ? json(mapper::toString(params.align->format)) : json(nullptr)},
+      {"align_format", params.align ? json(io::toString(params.align->format)) : json(nullptr)},
       {"align_tolerance", params.align ? json(params.align->params.stamp_tolerance) : json(nullptr)},
       {"floor", planeSettingJson(params.floor)},
       {"level", params.level == Level::kOn ? "on" : params.level == Level::kOff ? "off" : "auto"},

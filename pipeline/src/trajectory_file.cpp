@@ -7,7 +7,7 @@
 
 namespace hullmap::pipeline {
 
-void writeTumTrajectory(const std::filesystem::path& path, const std::vector<mapper::Keyframe>& keyframes) {
+void writeTumTrajectory(const std::filesystem::path& path, const std::vector<io::Keyframe>& keyframes) {
   core::writeFileAtomically(path.string(), [&](std::ostream& os) {
     os << "# t tx ty tz qx qy qz qw (TUM; camera-to-map, the build's output frame)\n";
     char buffer[core::kShortestTextMax];
@@ -29,11 +29,11 @@ void writeTumTrajectory(const std::filesystem::path& path, const std::vector<map
   });
 }
 
-std::optional<std::vector<mapper::Keyframe>> readBuildTrajectory(const std::filesystem::path& build_dir) {
+std::optional<std::vector<io::Keyframe>> readBuildTrajectory(const std::filesystem::path& build_dir) {
   const std::filesystem::path path = build_dir / kTrajectoryFile;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
-  return mapper::readTumTrajectory(path.string());
+  return io::readTumTrajectory(path.string());
 }
 
 }  // namespace hullmap::pipeline

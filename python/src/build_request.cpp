@@ -11,7 +11,7 @@
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 
 namespace hullmap::python {
 namespace {
@@ -99,13 +99,13 @@ std::optional<std::vector<std::filesystem::path>> paths(py::handle object) {
 
 /// The reference trajectory as an array: (K, 4) rows `t x y z` (TUM) or `t lat lon alt` (GPS),
 /// or (K, 8) TUM rows; parsed as the lines of a file would be.
-std::vector<mapper::ReferencePose> referencePoses(py::handle align, mapper::ReferenceFormat format) {
+std::vector<io::ReferencePose> referencePoses(py::handle align, io::ReferenceFormat format) {
   const bool eight = py::isinstance<py::array>(align) && py::reinterpret_borrow<py::array>(align).ndim() == 2 &&
                      py::reinterpret_borrow<py::array>(align).shape(1) == 8 &&
-                     format == mapper::ReferenceFormat::kTum;
+                     format == io::ReferenceFormat::kTum;
   const auto rows = rowsArray(align, eight ? 8 : 4, "align",
-                              format == mapper::ReferenceFormat::kGps ? "t lat lon alt" : "t x y z");
-  return mapper::parseReferenceTrajectory(rowsText(rows), "align", format);
+                              format == io::ReferenceFormat::kGps ? "t lat lon alt" : "t x y z");
+  return io::parseReferenceTrajectory(rowsText(rows), "align", format);
 }
 
 /// `hullmap build` refuses options that cannot apply to the run (recording them as applied would
@@ -171,7 +171,7 @@ BuildRequest buildRequest(py::handle points, py::handle trajectory, py::handle a
       params.trajectory = toPath(trajectory);
     } else {
       request.keyframes =
-          mapper::parseTumTrajectory(rowsText(rowsArray(trajectory, 8, "trajectory", "t x y z qx qy qz qw")),
+          io::parseTumTrajectory(rowsText(rowsArray(trajectory, 8, "trajectory", "t x y z qx qy qz qw")),
                                      "trajectory");
     }
   }
@@ -217,7 +217,7 @@ BuildRequest buildRequest(py::handle points, py::handle trajectory, py::handle a
     pipeline::AlignSettings settings;
     if (!format.is_none()) {
       if (!isWord(format)) throw Error::inParameter("align_format", "expected 'tum' or 'gps', got " + reprOf(format));
-      settings.format = mapper::parseReferenceFormat(word(format));
+      settings.format = io::parseReferenceFormat(word(format));
     }
     if (!tolerance.is_none()) settings.params.stamp_tolerance = number(tolerance, "align_tolerance");
     if (isPath(align)) {

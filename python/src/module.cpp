@@ -91,7 +91,7 @@ std::vector<std::string> pathStrings(py::handle object, const std::string& name)
 py::array_t<double> readPoints(py::handle path, const std::string& up, double scale) {
   const auto paths = pathStrings(path, "path");
   const mapper::FrameParams frame{mapper::parseUpAxis(up), scale};
-  mapper::PointSet set;
+  io::PointSet set;
   {
     py::gil_scoped_release release;
     set = pipeline::readInputPoints(paths);
@@ -151,7 +151,7 @@ std::unique_ptr<Map> build(py::handle points, py::handle trajectory, py::handle 
                                          "points", "trajectory");
     } else if (request.keyframes) {
       // Files with a trajectory array: the files are read whole (as any build with a trajectory does).
-      mapper::PointSet set = pipeline::readInputPoints(
+      io::PointSet set = pipeline::readInputPoints(
           std::vector<std::string>(request.params.inputs.begin(), request.params.inputs.end()));
       std::string name;
       for (const auto& input : request.params.inputs) name += (name.empty() ? "" : ",") + input.string();
@@ -162,7 +162,7 @@ std::unique_ptr<Map> build(py::handle points, py::handle trajectory, py::handle 
     }
   }
   // As `hullmap build`: the ORB-SLAM frame hint joins the warnings (report.json records them).
-  std::vector<mapper::InputStats> named = result.report.inputs;
+  std::vector<io::InputStats> named = result.report.inputs;
   if (request.params.trajectory) {
     named.emplace_back();
     named.back().path = request.params.trajectory->string();

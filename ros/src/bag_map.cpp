@@ -55,8 +55,8 @@ void requireTopic(const rosbag::Bag& bag, const std::string& path, const std::st
   throw Error(path + ": no message on topic " + topic + " (topics: " + (names.empty() ? "none" : names) + ")");
 }
 
-mapper::Keyframe keyframe(const std_msgs::Header& header, const geometry_msgs::Pose& pose) {
-  mapper::Keyframe k;
+io::Keyframe keyframe(const std_msgs::Header& header, const geometry_msgs::Pose& pose) {
+  io::Keyframe k;
   k.stamp = header.stamp.toSec();
   k.position = {pose.position.x, pose.position.y, pose.position.z};
   k.orientation = Eigen::Quaterniond(pose.orientation.w, pose.orientation.x, pose.orientation.y, pose.orientation.z);
@@ -65,9 +65,9 @@ mapper::Keyframe keyframe(const std_msgs::Header& header, const geometry_msgs::P
 
 }  // namespace
 
-std::vector<mapper::Keyframe> readBagKeyframes(const std::string& path, const std::string& topic) {
+std::vector<io::Keyframe> readBagKeyframes(const std::string& path, const std::string& topic) {
   const QuietConsoleBridge quiet;
-  std::vector<mapper::Keyframe> keyframes;
+  std::vector<io::Keyframe> keyframes;
   try {
     rosbag::Bag bag;
     bag.open(path, rosbag::bagmode::Read);

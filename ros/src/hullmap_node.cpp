@@ -66,9 +66,9 @@ class HullmapNode {
 
   /// The whole keyframe trajectory (the last Path replaces the previous one); used from the next map on.
   void onKeyframes(const nav_msgs::Path::ConstPtr& msg) {
-    auto keyframes = std::make_shared<std::vector<mapper::Keyframe>>();
+    auto keyframes = std::make_shared<std::vector<io::Keyframe>>();
     for (const auto& p : msg->poses) {
-      mapper::Keyframe k;
+      io::Keyframe k;
       k.stamp = p.header.stamp.toSec();
       k.position = {p.pose.position.x, p.pose.position.y, p.pose.position.z};
       const auto& o = p.pose.orientation;
@@ -87,7 +87,7 @@ class HullmapNode {
     const auto received = live::Clock::now();
     try {
       std::size_t non_finite = 0;
-      mapper::Points points = cloudPoints(*msg, &non_finite);
+      io::Points points = cloudPoints(*msg, &non_finite);
       if (non_finite > 0) ROS_DEBUG("~cloud_in: %zu points with a non-finite coordinate skipped", non_finite);
       worker_->submit({std::move(points), std::int64_t(msg->header.stamp.toNSec()), received, keyframes_, std::nullopt});
     } catch (const Error& e) {
@@ -159,7 +159,7 @@ class HullmapNode {
 
   const std::string frame_id_;
   OrbSlamMapMarkers orbslam_;  // callback thread only
-  std::shared_ptr<const std::vector<mapper::Keyframe>> keyframes_;  // callback thread only
+  std::shared_ptr<const std::vector<io::Keyframe>> keyframes_;  // callback thread only
 
   ::ros::Publisher obstacles_pub_, cells_pub_, grid_pub_, stats_pub_, path_check_pub_, path_markers_pub_;
   std::unique_ptr<live::RebuildWorker> worker_;  // after the publishers its hooks use, before the subscribers

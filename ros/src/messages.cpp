@@ -37,7 +37,7 @@ live::CloudLayout cloudLayout(const sensor_msgs::PointCloud2& cloud) {
 
 bool OrbSlamMapMarkers::add(const visualization_msgs::Marker& m) { return markers_.add(markerKey(m), m.points); }
 
-mapper::Points cloudPoints(const sensor_msgs::PointCloud2& cloud, std::size_t* non_finite) {
+io::Points cloudPoints(const sensor_msgs::PointCloud2& cloud, std::size_t* non_finite) {
   return live::cloudPoints(cloudLayout(cloud), cloud.data.data(), cloud.data.size(), non_finite);
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 
-// The format targets' check: one parser of mapper/src/read_detail.hpp run twice on the input, once
+// The format targets' check: one parser of io/src/read_detail.hpp run twice on the input, once
 // over all of its bytes in one view and one batch, once with the bytes arriving a few at a time
 // (as from a pipe) and the points leaving in batches of 3. Both runs must give the same points,
 // counts and error; a difference is a bug of the streaming readers.
@@ -16,22 +16,22 @@
 
 namespace hullmap::fuzz {
 
-using Parser = void (*)(mapper::detail::ByteSource&, const std::string&, mapper::detail::PointSink&,
-                        mapper::InputStats&);
+using Parser = void (*)(io::detail::ByteSource&, const std::string&, io::detail::PointSink&,
+                        io::InputStats&);
 
 struct ParseRun {
-  mapper::Points points;
-  mapper::InputStats stats;
+  io::Points points;
+  io::InputStats stats;
   std::string error;  ///< empty when the parser returned
 };
 
-inline ParseRun runParser(Parser parse, mapper::detail::ByteSource& source, std::size_t batch_points) {
+inline ParseRun runParser(Parser parse, io::detail::ByteSource& source, std::size_t batch_points) {
   ParseRun run;
-  const mapper::PointBatchConsumer consume = [&](mapper::Points& batch) {
+  const io::PointBatchConsumer consume = [&](io::Points& batch) {
     if (batch.empty() || batch.size() > batch_points) violated("a batch of the wrong size");
     run.points.insert(run.points.end(), batch.begin(), batch.end());
   };
-  mapper::detail::PointSink sink(batch_points, consume);
+  io::detail::PointSink sink(batch_points, consume);
   try {
     parse(source, kInputName, sink, run.stats);
     sink.flush();
@@ -44,11 +44,11 @@ inline ParseRun runParser(Parser parse, mapper::detail::ByteSource& source, std:
 /// Parses `bytes` whole and in chunks (1 to 16 bytes a read, chosen by the input's size), checks
 /// that both agree, then behaves as the whole parse: throws its Error, or checks its result.
 inline void checkParser(Parser parse, std::string_view bytes) {
-  mapper::detail::ByteSource whole_source(bytes);
+  io::detail::ByteSource whole_source(bytes);
   const ParseRun whole = runParser(parse, whole_source, std::numeric_limits<std::size_t>::max());
 
   std::size_t offset = 0;
-  mapper::detail::ByteSource chunked_source(
+  io::detail::ByteSource chunked_source(
       [&](char* buffer, std::size_t capacity) {
         const std::size_t n = std::min(capacity, bytes.size() - offset);
         std::memcpy(buffer, bytes.data() + offset, n);

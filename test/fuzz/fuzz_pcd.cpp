@@ -7,5 +7,5 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace hullmap;
-  return fuzz::guarded([&] { fuzz::checkParser(mapper::detail::parsePcd, fuzz::bytesOf(data, size)); });
+  return fuzz::guarded([&] { fuzz::checkParser(io::detail::parsePcd, fuzz::bytesOf(data, size)); });
 }

@@ -4,21 +4,21 @@
 #include <cstdint>
 
 #include "fuzz_support.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace hullmap;
   return fuzz::guarded([&] {
-    const mapper::PointSet set = mapper::parsePoints(fuzz::bytesOf(data, size), fuzz::kInputName);
+    const io::PointSet set = io::parsePoints(fuzz::bytesOf(data, size), fuzz::kInputName);
     if (set.inputs.size() != 1) fuzz::violated("parsePoints gave other than one InputStats");
     if (set.inputs.front().path != fuzz::kInputName) fuzz::violated("InputStats::path is not the name");
     fuzz::checkStats(set.points, set.inputs.front());
-    mapper::Points streamed;
-    mapper::PointStreamParams params;
+    io::Points streamed;
+    io::PointStreamParams params;
     params.batch_points = 3;
-    const mapper::InputStats stats = mapper::streamPoints(
+    const io::InputStats stats = io::streamPoints(
         fuzz::bytesOf(data, size), fuzz::kInputName, params,
-        [&](mapper::Points& batch) { streamed.insert(streamed.end(), batch.begin(), batch.end()); });
+        [&](io::Points& batch) { streamed.insert(streamed.end(), batch.begin(), batch.end()); });
     if (streamed != set.points) fuzz::violated("streamPoints gave other points than parsePoints");
     if (stats.read != set.inputs.front().read || stats.dropped != set.inputs.front().dropped)
       fuzz::violated("streamPoints gave other counts than parsePoints");

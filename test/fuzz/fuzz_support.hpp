@@ -12,7 +12,7 @@
 #include <string_view>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/point_cloud.hpp"
+#include "hullmap/io/point_cloud.hpp"
 
 namespace hullmap::fuzz {
 
@@ -33,8 +33,8 @@ inline void checkMessage(const hullmap::Error& e, const std::string& name = kInp
 
 /// What a reader returns is consistent: every point finite, every point read either kept or
 /// counted as dropped.
-inline void checkStats(const mapper::Points& points, const mapper::InputStats& stats) {
-  for (const mapper::Point& p : points) {
+inline void checkStats(const io::Points& points, const io::InputStats& stats) {
+  for (const io::Point& p : points) {
     if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z())) {
       violated("a non-finite point was kept");
     }

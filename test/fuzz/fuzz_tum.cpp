@@ -4,13 +4,13 @@
 #include <cstdint>
 
 #include "fuzz_support.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace hullmap;
   return fuzz::guarded([&] {
-    const auto keyframes = mapper::parseTumTrajectory(fuzz::bytesOf(data, size), fuzz::kInputName);
-    for (const mapper::Keyframe& k : keyframes) {
+    const auto keyframes = io::parseTumTrajectory(fuzz::bytesOf(data, size), fuzz::kInputName);
+    for (const io::Keyframe& k : keyframes) {
       if (!std::isfinite(k.stamp) || !k.position.allFinite() || !k.orientation.coeffs().allFinite()) {
         fuzz::violated("non-finite keyframe");
       }

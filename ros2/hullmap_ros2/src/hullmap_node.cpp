@@ -192,7 +192,7 @@ void HullmapNode::onCloud(const sensor_msgs::msg::PointCloud2& msg) {
   const auto received = live::Clock::now();
   try {
     std::size_t non_finite = 0;
-    mapper::Points points = cloudPoints(msg, &non_finite);
+    io::Points points = cloudPoints(msg, &non_finite);
     if (non_finite > 0) {
       RCLCPP_DEBUG(get_logger(), "~/cloud_in: %zu points with a non-finite coordinate skipped", non_finite);
     }
@@ -203,7 +203,7 @@ void HullmapNode::onCloud(const sensor_msgs::msg::PointCloud2& msg) {
 }
 
 void HullmapNode::onKeyframes(const nav_msgs::msg::Path& msg) {
-  auto poses = std::make_shared<std::vector<mapper::Keyframe>>(keyframes(msg));
+  auto poses = std::make_shared<std::vector<io::Keyframe>>(keyframes(msg));
   if (!live::normaliseKeyframes(*poses)) {
     skip("~/keyframes: a pose is not finite or its quaternion is zero");
     return;

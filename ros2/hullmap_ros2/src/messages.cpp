@@ -37,7 +37,7 @@ live::CloudLayout cloudLayout(const sensor_msgs::msg::PointCloud2& cloud) {
   return layout;
 }
 
-mapper::Points cloudPoints(const sensor_msgs::msg::PointCloud2& cloud, std::size_t* non_finite) {
+io::Points cloudPoints(const sensor_msgs::msg::PointCloud2& cloud, std::size_t* non_finite) {
   return live::cloudPoints(cloudLayout(cloud), cloud.data.data(), cloud.data.size(), non_finite);
 }
 
@@ -52,11 +52,11 @@ builtin_interfaces::msg::Time toStamp(std::int64_t nanoseconds) {
   return stamp;
 }
 
-std::vector<mapper::Keyframe> keyframes(const nav_msgs::msg::Path& path) {
-  std::vector<mapper::Keyframe> out;
+std::vector<io::Keyframe> keyframes(const nav_msgs::msg::Path& path) {
+  std::vector<io::Keyframe> out;
   out.reserve(path.poses.size());
   for (const auto& p : path.poses) {
-    mapper::Keyframe k;
+    io::Keyframe k;
     k.stamp = p.header.stamp.sec + 1e-9 * p.header.stamp.nanosec;  // as ROS 1's Time::toSec
     k.position = {p.pose.position.x, p.pose.position.y, p.pose.position.z};
     const auto& o = p.pose.orientation;

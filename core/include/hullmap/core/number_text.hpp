@@ -1,5 +1,7 @@
 #pragma once
 
+#include <string_view>
+
 namespace hullmap::core {
 
 /// Buffer size, in chars, that writeShortest needs for any double.
@@ -17,5 +19,9 @@ char* writeShortest(char* first, double value);
 /// `decimals` (any int; 0 to start) is set to the decimals written when the fast path wrote them.
 /// The text is the same whatever the guess.
 char* writeShortest(char* first, double value, int& decimals);
+
+/// Parses a whole token as a double ("1.5", "-2e-3", "+4", "nan", "inf"). False unless every
+/// character is consumed.
+bool parseDouble(std::string_view token, double& value);
 
 }  // namespace hullmap::core

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/point_cloud.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/point_cloud.hpp"
+#include "hullmap/io/readers.hpp"
 
 /// The contents of map messages turned into points, for both ROS nodes and both bag readers. No ROS
 /// type appears here: a front end passes a message's fields (a PointCloud2's layout and bytes, a
@@ -45,7 +45,7 @@ struct CloudLayout {
 /// (the holes of an organised cloud) are skipped and counted in `*non_finite` when given. Throws
 /// hullmap::Error when a field is missing ("PointCloud2: no field z"), of another type, lies beyond
 /// point_step, or the data is shorter than its header says.
-mapper::Points cloudPoints(const CloudLayout& layout, const std::uint8_t* data, std::size_t size,
+io::Points cloudPoints(const CloudLayout& layout, const std::uint8_t* data, std::size_t size,
                            std::size_t* non_finite = nullptr);
 
 /// visualization_msgs/Marker's types and actions (the same in ROS 1 and ROS 2).
@@ -83,7 +83,7 @@ class OrbSlamMapMarkers {
   template <typename PointRange>
   bool add(const MarkerKey& key, const PointRange& points);
   /// The map: the id 0 points, then the id 6 points (input frame).
-  mapper::Points points() const;
+  io::Points points() const;
   /// True before any map-points marker (or after a DELETEALL).
   bool empty() const { return !all_ && !reference_; }
   void clear();
@@ -91,17 +91,17 @@ class OrbSlamMapMarkers {
  private:
   /// What `key` does to the map without its points: the answer of add() when it is decided here
   /// (not a map-points ADD), else nullopt and `*slot` is the marker to replace.
-  std::optional<bool> decide(const MarkerKey& key, std::optional<mapper::Points>** slot);
+  std::optional<bool> decide(const MarkerKey& key, std::optional<io::Points>** slot);
 
-  std::optional<mapper::Points> all_;        ///< id 0
-  std::optional<mapper::Points> reference_;  ///< id 6
+  std::optional<io::Points> all_;        ///< id 0
+  std::optional<io::Points> reference_;  ///< id 6
 };
 
 template <typename PointRange>
 bool OrbSlamMapMarkers::add(const MarkerKey& key, const PointRange& points) {
-  std::optional<mapper::Points>* slot = nullptr;
+  std::optional<io::Points>* slot = nullptr;
   if (const auto decided = decide(key, &slot)) return *decided;
-  mapper::Points taken;
+  io::Points taken;
   taken.reserve(std::size(points));
   std::size_t i = 0;
   for (const auto& p : points) {
@@ -117,7 +117,7 @@ bool OrbSlamMapMarkers::add(const MarkerKey& key, const PointRange& points) {
 
 /// The map a topic of a bag ends on, as a node would hold it after the topic was replayed into it.
 struct BagMap {
-  mapper::Points points;          ///< input frame (the topic's), in message order
+  io::Points points;          ///< input frame (the topic's), in message order
   std::string type;               ///< the topic's message type, as the bag names it
   std::size_t messages = 0;       ///< messages read on the topic
   std::size_t skipped = 0;        ///< malformed messages skipped (as the node skips them)
@@ -151,6 +151,6 @@ class TopicMap {
 
 /// Keyframe poses as a topic gave them, checked: false (and `keyframes` left as given) when a
 /// position or quaternion is not finite or a quaternion is zero; else true, quaternions normalised.
-bool normaliseKeyframes(std::vector<mapper::Keyframe>& keyframes);
+bool normaliseKeyframes(std::vector<io::Keyframe>& keyframes);
 
 }  // namespace hullmap::live

@@ -25,10 +25,10 @@ using Clock = std::chrono::steady_clock;
 
 /// A whole map as a message brought it (every map message replaces the map).
 struct MapUpdate {
-  mapper::Points points;        ///< input frame
+  io::Points points;        ///< input frame
   std::int64_t stamp_ns = 0;    ///< the message's header stamp, ns; 0: none (outputs then get the time of publishing)
   Clock::time_point received;   ///< when the message arrived (latency_ms runs from here)
-  std::shared_ptr<const std::vector<mapper::Keyframe>> keyframes;  ///< null: a points-only octree
+  std::shared_ptr<const std::vector<io::Keyframe>> keyframes;  ///< null: a points-only octree
   /// Whether the points are in a camera's frame (ORB-SLAM's /ORB_SLAM/Map markers: its first
   /// camera's), for level auto (pipeline::BuildParams::camera_frame); nullopt: judged as a file is.
   std::optional<bool> camera_frame;

@@ -17,7 +17,7 @@ namespace hullmap::live {
 /// What a bag's topics hold, as the bag readers give it.
 struct BagTopics {
   BagMap map;                                              ///< the map topic's last map (TopicMap's rule)
-  std::optional<std::vector<mapper::Keyframe>> keyframes;  ///< the trajectory topic's poses, when asked
+  std::optional<std::vector<io::Keyframe>> keyframes;  ///< the trajectory topic's poses, when asked
 };
 
 /// True when `path` looks like a ROS 2 bag: a directory holding metadata.yaml, or a file ending in

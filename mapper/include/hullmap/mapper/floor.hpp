@@ -8,7 +8,7 @@
 
 #include <Eigen/Geometry>
 
-#include "hullmap/mapper/point_cloud.hpp"
+#include "hullmap/io/point_cloud.hpp"
 
 namespace hullmap::mapper {
 
@@ -82,7 +82,7 @@ struct PlaneFit {
 /// Cost: iterations x sample_points distance tests, plus two passes over the points. Throws
 /// hullmap::Error naming --floor on a band <= 0, non-finite parameters or points, or a zero up
 /// hint. Fewer than 3 points give found = false. Thread-safe (no shared state).
-PlaneFit findBoundingPlane(const Points& points, PlaneSide side, const PlaneSearchParams& params = {});
+PlaneFit findBoundingPlane(const io::Points& points, PlaneSide side, const PlaneSearchParams& params = {});
 
 /// The rigid transform that levels a floor: rotates its normal onto +z by the smallest rotation and
 /// moves the plane to z = 0. Apply it to points and keyframes (as Isometry3d: x -> R x + t).

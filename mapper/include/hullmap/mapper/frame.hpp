@@ -5,8 +5,8 @@
 
 #include <Eigen/Geometry>
 
-#include "hullmap/mapper/point_cloud.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/point_cloud.hpp"
+#include "hullmap/io/readers.hpp"
 
 namespace hullmap::mapper {
 
@@ -51,17 +51,17 @@ struct FilterParams {
 
 /// Applies the frame change in place: p -> R * (scale * p), R = upRotation(frame.up).
 /// Throws hullmap::Error naming --scale unless scale is finite and > 0.
-void toMapFrame(const FrameParams& frame, Points& points);
+void toMapFrame(const FrameParams& frame, io::Points& points);
 
 /// The same for keyframe poses (camera-to-map): position -> R * (scale * position),
 /// orientation -> R * orientation.
-void toMapFrame(const FrameParams& frame, std::vector<Keyframe>& keyframes);
+void toMapFrame(const FrameParams& frame, std::vector<io::Keyframe>& keyframes);
 
 /// Removes points outside the filter bounds, keeping the order of the rest. Each removed point is
 /// counted once in `stats.dropped`, under the first test it fails in this order: "outside_crop"
 /// (outside the inclusive crop box), "below_z_min" (z < z_min), "above_z_max" (z > z_max). A reason
 /// appears in the map only when it removed at least one point.
-void applyFilters(const FilterParams& filters, Points& points, InputStats& stats);
+void applyFilters(const FilterParams& filters, io::Points& points, io::InputStats& stats);
 
 /// Parses "x,y,z" (three finite numbers, spaces allowed around the commas) for command-line
 /// option `option` (e.g. "--origin"). Throws hullmap::Error naming the option and the text.

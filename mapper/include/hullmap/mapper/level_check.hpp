@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 
 namespace hullmap::mapper {
 
@@ -25,10 +25,10 @@ std::optional<std::string> levelWarning(const std::vector<Eigen::Vector3d>& poin
 
 /// True when `input` is recognisably an ORB-SLAM map: an echo dump, or a file whose name ORB-SLAM's
 /// savers use or mention it (MapPoints, KeyFrame, orbslam, orb_slam, case-insensitive).
-bool looksLikeOrbSlam(const InputStats& input);
+bool looksLikeOrbSlam(const io::InputStats& input);
 
 /// One line saying that ORB-SLAM maps are in the camera frame (y down), so they likely need
 /// --up -y, when an input looksLikeOrbSlam and `up_given` is false; else nullopt.
-std::optional<std::string> orbSlamUpHint(const std::vector<InputStats>& inputs, bool up_given);
+std::optional<std::string> orbSlamUpHint(const std::vector<io::InputStats>& inputs, bool up_given);
 
 }  // namespace hullmap::mapper

@@ -9,8 +9,8 @@
 
 #include <octomap/OcTree.h>
 
-#include "hullmap/mapper/point_cloud.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/point_cloud.hpp"
+#include "hullmap/io/readers.hpp"
 
 namespace hullmap::mapper {
 
@@ -65,7 +65,7 @@ class OccupancyMap {
 };
 
 /// True when octomap can address `p` at this resolution (inside +-2^15 leaves of the origin).
-bool addressable(const octomap::OcTree& tree, const Point& p);
+bool addressable(const octomap::OcTree& tree, const io::Point& p);
 
 /// Builds the map from points alone: each point an occupied endpoint, exactly as calling octomap's
 /// updateNode(point3d(p), true) once per point (float coordinates, so several points in one voxel
@@ -73,7 +73,7 @@ bool addressable(const octomap::OcTree& tree, const Point& p);
 /// 2^15 leaves from the origin: ORB-SLAM's gross outliers) are dropped and counted in `stats`
 /// under "out_of_octree". Uses all cores (TBB). The same map as PointMapBuilder given the points in
 /// any batches.
-OccupancyMap buildFromPoints(const Points& points, const OctreeParams& params, InputStats& stats);
+OccupancyMap buildFromPoints(const io::Points& points, const OctreeParams& params, io::InputStats& stats);
 
 /// Builds the points-only map of buildFromPoints from points given in batches, holding per voxel
 /// met, not per point: add() turns a batch's points into voxel keys (16 bytes a point) and merges
@@ -94,13 +94,13 @@ class PointMapBuilder {
 
   /// Adds one batch of points (map frame, map units). Points the tree cannot address are dropped
   /// and counted in `stats` under "out_of_octree", as in buildFromPoints.
-  void add(const Points& points, InputStats& stats);
+  void add(const io::Points& points, io::InputStats& stats);
 
   /// The map of every point added so far; the builder starts over empty.
   OccupancyMap finish();
 
  private:
-  friend OccupancyMap buildFromPoints(const Points& points, const OctreeParams& params, InputStats& stats);
+  friend OccupancyMap buildFromPoints(const io::Points& points, const OctreeParams& params, io::InputStats& stats);
   struct State;
   std::unique_ptr<State> state_;
 };
@@ -117,15 +117,15 @@ class PointMapBuilder {
 /// that keyframe's position, bounded by params.max_range, keyframes in trajectory order: the same
 /// tree as octomap's insertPointCloud per group. Unaddressable points are dropped and counted under
 /// "out_of_octree" before grouping (they cast no ray). Throws hullmap::Error without keyframes.
-OccupancyMap buildWithTrajectory(const Points& points, const std::vector<Keyframe>& keyframes,
-                                 const OctreeParams& params, InputStats& stats);
+OccupancyMap buildWithTrajectory(const io::Points& points, const std::vector<io::Keyframe>& keyframes,
+                                 const OctreeParams& params, io::InputStats& stats);
 
 /// Builds the map of one scan: `points` (map frame) inserted with insertScan from `origin`, rays
 /// bounded by params.max_range, and each point counted in its voxel. Points the tree cannot
 /// address are dropped first and counted under "out_of_octree" (they cast no ray). Keys are
 /// computed as insertScan computes them (float coordinates, octomap's coordToKey).
-OccupancyMap buildFromScan(const Points& points, const Point& origin, const OctreeParams& params,
-                           InputStats& stats);
+OccupancyMap buildFromScan(const io::Points& points, const io::Point& origin, const OctreeParams& params,
+                           io::InputStats& stats);
 
 /// Inserts one scan from `origin` exactly as octomap's insertPointCloud(points, origin, max_range)
 /// would with its defaults (lazy_eval and discretize off): same leaves, same log-odds, same pruning.
@@ -133,7 +133,7 @@ OccupancyMap buildFromScan(const Points& points, const Point& origin, const Octr
 /// wins over free), then applied in one depth-first pass in octree order. Points and origin are
 /// converted to float as octomap's point3d. Unlike octomap, rays longer than 100000 voxels are
 /// safe. With a bounding box or change detection set on `tree`, octomap's own insertPointCloud runs.
-void insertScan(octomap::OcTree& tree, const Points& points, const Point& origin,
+void insertScan(octomap::OcTree& tree, const io::Points& points, const io::Point& origin,
                 double max_range);
 
 /// Reads a .bt or .ot map (recognised by its header). The node stream is checked before octomap

@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "hullmap/mapper/point_cloud.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/point_cloud.hpp"
+#include "hullmap/io/readers.hpp"
 
 namespace hullmap::mapper {
 
@@ -96,11 +96,11 @@ struct SceneParams {
 inline constexpr double kSceneObstacleGap = 0.5;
 
 struct Scene {
-  Points points;                       ///< in the output frame (ORB-SLAM's if orbslam_frame)
-  std::vector<Keyframe> keyframes;     ///< camera-to-frame poses, in the output frame
+  io::Points points;                       ///< in the output frame (ORB-SLAM's if orbslam_frame)
+  std::vector<io::Keyframe> keyframes;     ///< camera-to-frame poses, in the output frame
   std::vector<SceneObstacle> obstacles;  ///< always z-up map frame; kRoom: every part of every object
   std::vector<SceneObject> objects;    ///< kRoom: the true objects (walls and floor included); else empty
-  std::vector<Keyframe> reference;     ///< kRoom: the same keyframes in the z-up map frame, metres
+  std::vector<io::Keyframe> reference;     ///< kRoom: the same keyframes in the z-up map frame, metres
   /// kRoom: output frame from the z-up map frame, p_out = scale * rotation * p + translation
   /// (identity when not orbslam_frame).
   double output_scale = 1.0;

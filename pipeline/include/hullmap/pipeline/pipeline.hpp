@@ -23,7 +23,7 @@
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 
 /// The whole build of `hullmap build` as a library: point files (or points in memory, or one .bt/.ot)
 /// -> map frame (a reference trajectory's, or an up axis and scale) -> floor found and levelled ->
@@ -50,12 +50,12 @@ enum class Level {
 /// `--align REF`: a metric reference trajectory of the keyframes (see mapper::alignTrajectory).
 struct AlignSettings {
   std::filesystem::path reference;                                ///< TUM or GPS file
-  mapper::ReferenceFormat format = mapper::ReferenceFormat::kTum;
+  io::ReferenceFormat format = io::ReferenceFormat::kTum;
   mapper::AlignParams params;                                     ///< timestamp tolerance, seconds
-  /// The reference poses already in memory, as mapper::parseReferenceTrajectory gives them (metres,
+  /// The reference poses already in memory, as io::parseReferenceTrajectory gives them (metres,
   /// z up; GPS fixes converted): used instead of reading `reference`, which then only names them
   /// (report.json's "align"). A front end that takes an array sets it.
-  std::optional<std::vector<mapper::ReferencePose>> poses = std::nullopt;
+  std::optional<std::vector<io::ReferencePose>> poses = std::nullopt;
 };
 
 /// Everything a build can be asked, typed. Defaults are `hullmap build`'s.
@@ -158,12 +158,12 @@ struct PointAccount {
 
 /// What a build did, as data; reportJson() makes report.json of it.
 struct BuildReport {
-  std::vector<mapper::InputStats> inputs;                    ///< per input file, in order
+  std::vector<io::InputStats> inputs;                    ///< per input file, in order
   PointAccount points;
   std::size_t keyframes = 0;                                 ///< keyframes read (0 without a trajectory)
   std::optional<mapper::Alignment> alignment;                ///< with params.align
   /// With params.align in GPS: reference lines dropped for having no fix, by reason ("no_fix":
-  /// latitude = longitude = 0; "non_finite"; "out_of_range"): see mapper::ReferenceStats.
+  /// latitude = longitude = 0; "non_finite"; "out_of_range"): see io::ReferenceStats.
   std::map<std::string, std::size_t> reference_dropped;
   /// Map frame (after align/frame, before levelling) -> output frame: the floor's levelling.
   Eigen::Isometry3d levelling = Eigen::Isometry3d::Identity();
@@ -204,7 +204,7 @@ struct BuildResult {
   /// higher (every voxel set aside as floor lies inside it completely, as a cluster's voxels lie
   /// inside its hull). Named "floor" and "ceiling".
   std::vector<collision::HalfSpace> surfaces;
-  std::vector<mapper::Keyframe> keyframes;         ///< output frame (with params.trajectory)
+  std::vector<io::Keyframe> keyframes;         ///< output frame (with params.trajectory)
   BuildReport report;
 };
 
@@ -217,7 +217,7 @@ ClusteredVoxels clusterMap(const mapper::OccupancyMap& map, const clustering::Db
 /// or the trajectory recognisably ORB-SLAM's (mapper::looksLikeOrbSlam: an echo dump, or ORB-SLAM's
 /// file names). Never with align or for an octree input. `inputs` are the inputs as read (their
 /// formats known).
-bool levelsMap(const BuildParams& params, const std::vector<mapper::InputStats>& inputs);
+bool levelsMap(const BuildParams& params, const std::vector<io::InputStats>& inputs);
 
 /// Runs read -> align or frame -> floor (level) -> filters -> octree -> surfaces -> auto eps/minPts
 /// -> DBSCAN -> obstacles -> convex parts on params.inputs; each stage is timed in
@@ -235,7 +235,7 @@ BuildResult build(const BuildParams& params);
 /// go through params.frame, params.filters, the octree (with params.trajectory or params.origin as
 /// for files) and clustering; params.inputs is ignored and the report lists one input named
 /// `name` with format "memory". Throws hullmap::Error as build().
-BuildResult buildFromPoints(mapper::Points points, const BuildParams& params,
+BuildResult buildFromPoints(io::Points points, const BuildParams& params,
                             const std::string& name = "points");
 
 /// The same with keyframe poses in memory (input frame, camera-to-map, as a bag or a live topic gives
@@ -243,7 +243,7 @@ BuildResult buildFromPoints(mapper::Points points, const BuildParams& params,
 /// params.trajectory file with the same poses, and the result's params.trajectory (report.json's
 /// "trajectory") is `keyframes_name`. params.trajectory must then be unset. Throws hullmap::Error
 /// as build(), "<keyframes_name>: no keyframes" for an empty list.
-BuildResult buildFromPoints(mapper::Points points, std::optional<std::vector<mapper::Keyframe>> keyframes,
+BuildResult buildFromPoints(io::Points points, std::optional<std::vector<io::Keyframe>> keyframes,
                             const BuildParams& params, const std::string& name,
                             const std::string& keyframes_name = "keyframes");
 
@@ -316,7 +316,7 @@ std::vector<VoxelRow> readVoxelsCsv(const std::filesystem::path& path);
 
 /// Reads and unions point files (any format the mapper reads); throws hullmap::Error naming them
 /// when none holds a point.
-mapper::PointSet readInputPoints(const std::vector<std::string>& inputs);
+io::PointSet readInputPoints(const std::vector<std::string>& inputs);
 
 namespace detail {
 /// Test-only: when set, build() and write() call it at the start of each stage with the stage's

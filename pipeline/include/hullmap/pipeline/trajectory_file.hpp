@@ -4,7 +4,7 @@
 #include <optional>
 #include <vector>
 
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 
 namespace hullmap::pipeline {
 
@@ -14,11 +14,11 @@ inline constexpr const char* kTrajectoryFile = "trajectory.txt";
 /// Writes `keyframes` atomically as a TUM trajectory (`t tx ty tz qx qy qz qw` a line, after a
 /// `#` header line): camera-to-map poses in the build's output frame (z-up map frame, map units),
 /// stamps in seconds, numbers in the shortest text that reads back exactly, so
-/// mapper::readTumTrajectory gives the same poses back. Throws hullmap::Error naming `path`.
-void writeTumTrajectory(const std::filesystem::path& path, const std::vector<mapper::Keyframe>& keyframes);
+/// io::readTumTrajectory gives the same poses back. Throws hullmap::Error naming `path`.
+void writeTumTrajectory(const std::filesystem::path& path, const std::vector<io::Keyframe>& keyframes);
 
 /// The keyframes of a build directory (its trajectory.txt), or nullopt when the build had none (no
 /// such file). Throws hullmap::Error "<file>:<line>: <what>" on a malformed file.
-std::optional<std::vector<mapper::Keyframe>> readBuildTrajectory(const std::filesystem::path& build_dir);
+std::optional<std::vector<io::Keyframe>> readBuildTrajectory(const std::filesystem::path& build_dir);
 
 }  // namespace hullmap::pipeline

@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "hullmap/live/map_messages.hpp"
-#include "hullmap/mapper/point_cloud.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/point_cloud.hpp"
+#include "hullmap/io/readers.hpp"
 
 namespace hullmap::ros1 {
 
@@ -30,6 +30,6 @@ BagMap readBagMap(const std::string& path, const std::string& topic);
 /// message holds every keyframe (a SLAM system re-sends its whole keyframe trajectory). Stamps are
 /// the headers' (a Path's poses' own). Throws hullmap::Error as readBagMap, and naming the topic
 /// when it holds neither type or no pose.
-std::vector<mapper::Keyframe> readBagKeyframes(const std::string& path, const std::string& topic);
+std::vector<io::Keyframe> readBagKeyframes(const std::string& path, const std::string& topic);
 
 }  // namespace hullmap::ros1

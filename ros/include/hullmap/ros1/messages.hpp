@@ -16,7 +16,7 @@
 #include "hullmap/live/map_messages.hpp"
 #include "hullmap/live/outputs.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "hullmap/mapper/point_cloud.hpp"
+#include "hullmap/io/point_cloud.hpp"
 
 /// Conversions between ROS1 messages and hullmap's types, for hullmap_node and the bag reader: each
 /// copies a message's fields into hullmap::live's neutral types (or back) and calls live, which holds
@@ -35,7 +35,7 @@ class OrbSlamMapMarkers {
   /// coordinate; the map is then left as it was.
   bool add(const visualization_msgs::Marker& marker);
   /// The map: the id 0 points, then the id 6 points (input frame).
-  mapper::Points points() const { return markers_.points(); }
+  io::Points points() const { return markers_.points(); }
   /// True before any map-points marker (or after a DELETEALL).
   bool empty() const { return markers_.empty(); }
   void clear() { markers_.clear(); }
@@ -48,7 +48,7 @@ class OrbSlamMapMarkers {
 /// in point order. Points with a NaN or infinite coordinate (the holes of an organised cloud) are
 /// skipped and counted in `*non_finite` when given. Throws hullmap::Error when a field is missing
 /// ("PointCloud2: no field z"), of another type, or the data is shorter than its header says.
-mapper::Points cloudPoints(const sensor_msgs::PointCloud2& cloud, std::size_t* non_finite = nullptr);
+io::Points cloudPoints(const sensor_msgs::PointCloud2& cloud, std::size_t* non_finite = nullptr);
 
 /// The obstacles as RViz markers, frame and stamp from `header`: ns "hulls" one TRIANGLE_LIST per
 /// obstacle (id = obstacle id, outward triangles; an obstacle in convex parts holds the triangles of

@@ -12,7 +12,7 @@
 
 #include "hullmap/clustering/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/pipeline/evaluate.hpp"
 
 /// `hullmap view` as a library: a build directory (and paths, a roadmap, ground truth) drawn in 3D as
@@ -81,7 +81,7 @@ struct ViewScene {
   std::vector<Eigen::Vector3d> centers;         ///< occupied voxel centres (voxels.csv)
   std::vector<std::int32_t> labels;             ///< per voxel: obstacle id, -1 noise, -2 floor, -3 ceiling
   std::vector<clustering::Obstacle> obstacles;  ///< with their convex parts (obstacles.json)
-  std::vector<mapper::Keyframe> keyframes;      ///< trajectory.txt; empty when the build had none
+  std::vector<io::Keyframe> keyframes;      ///< trajectory.txt; empty when the build had none
   std::vector<CheckedPath> paths;
   double radius = 0.0;                          ///< the paths' drone radius
   std::optional<ViewRoadmap> roadmap;

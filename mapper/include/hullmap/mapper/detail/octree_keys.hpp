@@ -8,7 +8,7 @@
 
 #include <octomap/OcTree.h>
 
-#include "hullmap/mapper/point_cloud.hpp"
+#include "hullmap/io/point_cloud.hpp"
 
 namespace hullmap::mapper::detail {
 
@@ -166,7 +166,7 @@ struct ScanUpdate {
 };
 
 /// One scan's update as insertPointCloud(points, origin, max_range) computes it (computeUpdate).
-ScanUpdate computeScanUpdate(const octomap::OcTree& tree, const Points& points, const Point& origin,
+ScanUpdate computeScanUpdate(const octomap::OcTree& tree, const io::Points& points, const io::Point& origin,
                              double max_range);
 
 /// Applies a scan's update as insertPointCloud's updateNode calls would (in any order: each voxel

@@ -47,7 +47,7 @@ class HullmapNode : public rclcpp::Node {
   live::ParameterValues values_;  // the parameters as set (parameter callbacks only)
   std::string frame_id_;          // read-only
   live::OrbSlamMapMarkers orbslam_;                                  // the node's callbacks only
-  std::shared_ptr<const std::vector<mapper::Keyframe>> keyframes_;   // the node's callbacks only
+  std::shared_ptr<const std::vector<io::Keyframe>> keyframes_;   // the node's callbacks only
 
   rclcpp::Publisher<visualization_msgs::msg::MarkerArray>::SharedPtr obstacles_pub_, cells_pub_, path_markers_pub_;
   rclcpp::Publisher<nav_msgs::msg::OccupancyGrid>::SharedPtr grid_pub_;

@@ -16,7 +16,7 @@
 #include "hullmap/live/map_messages.hpp"
 #include "hullmap/live/node_params.hpp"
 #include "hullmap/live/outputs.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 
 /// ROS 2 messages to and from hullmap::live's neutral types, for the ROS 2 node and its bag reader:
 /// copies of fields, nothing more (the rules are live's, shared with the ROS 1 node). Reentrant.
@@ -29,14 +29,14 @@ live::MarkerKey markerKey(const visualization_msgs::msg::Marker& marker);
 live::CloudLayout cloudLayout(const sensor_msgs::msg::PointCloud2& cloud);
 
 /// The cloud's finite points (live::cloudPoints). Throws hullmap::Error as it does.
-mapper::Points cloudPoints(const sensor_msgs::msg::PointCloud2& cloud, std::size_t* non_finite = nullptr);
+io::Points cloudPoints(const sensor_msgs::msg::PointCloud2& cloud, std::size_t* non_finite = nullptr);
 
 /// A stamp in nanoseconds, and back (exact).
 std::int64_t toNanoseconds(const builtin_interfaces::msg::Time& stamp);
 builtin_interfaces::msg::Time toStamp(std::int64_t nanoseconds);
 
 /// The poses of a Path as keyframes (stamps from the poses' headers, in seconds), unchecked.
-std::vector<mapper::Keyframe> keyframes(const nav_msgs::msg::Path& path);
+std::vector<io::Keyframe> keyframes(const nav_msgs::msg::Path& path);
 
 /// A neutral marker as a Marker with `header`.
 visualization_msgs::msg::Marker toMarker(const live::MarkerSpec& spec, const std_msgs::msg::Header& header);

@@ -11,7 +11,7 @@
 
 #include "hullmap/core/error.hpp"
 
-namespace hullmap::mapper::detail {
+namespace hullmap::io::detail {
 
 ByteSource::ByteSource(std::string_view bytes) { setWhole(bytes.data(), bytes.size()); }
 
@@ -125,4 +125,4 @@ void ByteSource::adviseReleased() {
   advised_ = upto;
 }
 
-}  // namespace hullmap::mapper::detail
+}  // namespace hullmap::io::detail

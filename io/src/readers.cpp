@@ -1,4 +1,4 @@
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -8,7 +8,7 @@
 
 #include "read_detail.hpp"
 
-namespace hullmap::mapper {
+namespace hullmap::io {
 namespace {
 
 constexpr std::size_t kSniffBytes = 64 * 1024;
@@ -215,4 +215,4 @@ std::vector<Keyframe> readTumTrajectory(const std::string& path) {
   return parseTumTrajectory(source.view(0, source.end()), path);
 }
 
-}  // namespace hullmap::mapper
+}  // namespace hullmap::io

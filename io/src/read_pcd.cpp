@@ -13,7 +13,7 @@
 
 #include "read_detail.hpp"
 
-namespace hullmap::mapper::detail {
+namespace hullmap::io::detail {
 namespace {
 
 struct Field {
@@ -318,4 +318,4 @@ void parsePcd(ByteSource& source, const std::string& name, PointSink& sink, Inpu
   }
 }
 
-}  // namespace hullmap::mapper::detail
+}  // namespace hullmap::io::detail

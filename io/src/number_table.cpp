@@ -1,4 +1,4 @@
-#include "hullmap/mapper/number_table.hpp"
+#include "hullmap/io/number_table.hpp"
 
 #include <cctype>
 #include <cerrno>
@@ -7,7 +7,7 @@
 
 #include "read_detail.hpp"
 
-namespace hullmap::mapper {
+namespace hullmap::io {
 
 std::vector<std::vector<double>> readNumberTable(const std::string& path, std::size_t columns,
                                                  const std::string& names) {
@@ -51,4 +51,4 @@ std::vector<std::vector<double>> readNumberTable(const std::string& path, std::s
   return rows;
 }
 
-}  // namespace hullmap::mapper
+}  // namespace hullmap::io

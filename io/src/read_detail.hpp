@@ -12,30 +12,13 @@
 
 #include "byte_source.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/point_cloud.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/core/number_text.hpp"
+#include "hullmap/io/point_cloud.hpp"
+#include "hullmap/io/readers.hpp"
 
-namespace hullmap::mapper::detail {
+namespace hullmap::io::detail {
 
-/// Parses a whole token as a double ("1.5", "-2e-3", "+4", "nan", "inf"). False unless every
-/// character is consumed.
-inline bool parseDouble(std::string_view token, double& value) {
-  if (token.empty()) return false;
-  const char* first = token.data();
-  const char* last = first + token.size();
-  if (*first == '+') {
-    ++first;
-    if (first == last || *first == '-' || *first == '+') return false;
-  }
-  const auto [ptr, ec] = std::from_chars(first, last, value);
-  if (ec == std::errc::result_out_of_range) {
-    // from_chars leaves `value` untouched on overflow/underflow: fall back to strtod's answer
-    // (±inf or a denormal/zero), which is what the writer meant.
-    value = std::strtod(std::string(token).c_str(), nullptr);
-    return ptr == last;
-  }
-  return ec == std::errc() && ptr == last;
-}
+using core::parseDouble;
 
 inline bool isFinite(const Point& p) {
   return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z());
@@ -204,4 +187,4 @@ void parseOrbSlamEcho(ByteSource& source, const std::string& name, PointSink& si
 void parsePcd(ByteSource& source, const std::string& name, PointSink& sink, InputStats& stats);
 void parsePly(ByteSource& source, const std::string& name, PointSink& sink, InputStats& stats);
 
-}  // namespace hullmap::mapper::detail
+}  // namespace hullmap::io::detail

@@ -10,7 +10,7 @@
 
 #include "read_detail.hpp"
 
-namespace hullmap::mapper::detail {
+namespace hullmap::io::detail {
 namespace {
 
 bool isWord(std::string_view token) {
@@ -238,4 +238,4 @@ void parseText(ByteSource& source, const std::string& name, PointSink& sink, Inp
   }
 }
 
-}  // namespace hullmap::mapper::detail
+}  // namespace hullmap::io::detail

@@ -7,7 +7,7 @@
 
 #include "read_detail.hpp"
 
-namespace hullmap::mapper::detail {
+namespace hullmap::io::detail {
 namespace {
 
 constexpr int kPointsType = 8;       // visualization_msgs::Marker::POINTS
@@ -184,4 +184,4 @@ void parseOrbSlamEcho(ByteSource& input, const std::string& name, PointSink& sin
   }
 }
 
-}  // namespace hullmap::mapper::detail
+}  // namespace hullmap::io::detail

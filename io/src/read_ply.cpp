@@ -9,7 +9,7 @@
 
 #include "read_detail.hpp"
 
-namespace hullmap::mapper::detail {
+namespace hullmap::io::detail {
 namespace {
 
 enum class Scalar { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kFloat32, kFloat64 };
@@ -333,4 +333,4 @@ void parsePly(ByteSource& source, const std::string& name, PointSink& sink, Inpu
   }
 }
 
-}  // namespace hullmap::mapper::detail
+}  // namespace hullmap::io::detail

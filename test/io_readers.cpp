@@ -21,14 +21,14 @@
 #include <liblzf/lzf.h>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/readers.hpp"
+#include "hullmap/io/readers.hpp"
 #include "test_support.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using hullmap::Error;
-using namespace hullmap::mapper;
+using namespace hullmap::io;
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 const double kInf = std::numeric_limits<double>::infinity();
@@ -187,7 +187,7 @@ std::vector<Eigen::Vector3d> finiteXyz(const PcdCloud& c, std::array<int, 3> col
 // ---------------------------------------------------------------------------------------------
 // Real data
 
-TEST(MapperReadersReal, OrbSlam2TextAndPcdHoldTheSame8704Points) {
+TEST(IoReadersReal, OrbSlam2TextAndPcdHoldTheSame8704Points) {
   HULLMAP_REQUIRE_REAL_DATA(txt, "orbslam2_euroc_V1_01_MapPoints.txt");
   HULLMAP_REQUIRE_REAL_DATA(pcd, "orbslam2_euroc_V1_01_MapPoints.pcd");
   const PointSet a = readPointFile(txt);
@@ -206,7 +206,7 @@ TEST(MapperReadersReal, OrbSlam2TextAndPcdHoldTheSame8704Points) {
   EXPECT_NEAR(a.points.back().z(), 1.2398679, 1e-12);
 }
 
-TEST(MapperReadersReal, OrbSlam3PointCloudsUnionTo12292) {
+TEST(IoReadersReal, OrbSlam3PointCloudsUnionTo12292) {
   HULLMAP_REQUIRE_REAL_DATA(plain, "orbslam3_euroc_MH_01_mono_pointcloud.txt");
   HULLMAP_REQUIRE_REAL_DATA(ref, "orbslam3_euroc_MH_01_mono_ref_pointcloud.txt");
   const PointSet set = readPointFiles({plain, ref});
@@ -222,7 +222,7 @@ TEST(MapperReadersReal, OrbSlam3PointCloudsUnionTo12292) {
 
 // Every real point file streams (from the file in batches of 1 and 4096, through a pipe read 4096
 // bytes at a time, and 1 byte at a time for the smaller ones) to what readPointFile reads.
-TEST(MapperReadersReal, EveryRealPointFileStreamsAsItIsReadWhole) {
+TEST(IoReadersReal, EveryRealPointFileStreamsAsItIsReadWhole) {
   std::size_t found = 0;
   for (const char* name : {"orbslam2_euroc_V1_01_MapPoints.txt", "orbslam2_euroc_V1_01_MapPoints.pcd",
                            "orbslam3_euroc_MH_01_mono_pointcloud.txt", "orbslam3_euroc_MH_01_mono_ref_pointcloud.txt",
@@ -280,19 +280,19 @@ void checkPclCloud(const std::string& pcd, const std::string& twin, std::size_t 
   expectPoints(set.points, want, 1e-5);  // the twin has 5 decimals
 }
 
-TEST(MapperReadersReal, PclTableSceneBinaryCompressedMatchesItsXyzTwin) {
+TEST(IoReadersReal, PclTableSceneBinaryCompressedMatchesItsXyzTwin) {
   HULLMAP_REQUIRE_REAL_DATA(pcd, "pcl_table_scene_mug_stereo_textured.pcd");
   HULLMAP_REQUIRE_REAL_DATA(twin, "pcl_table_scene_mug_stereo_textured_finite.xyz.xz");
   checkPclCloud(pcd, twin, 209280);
 }
 
-TEST(MapperReadersReal, PclFivePeopleBinaryCompressedMatchesItsXyzTwin) {
+TEST(IoReadersReal, PclFivePeopleBinaryCompressedMatchesItsXyzTwin) {
   HULLMAP_REQUIRE_REAL_DATA(pcd, "pcl_five_people.pcd");
   HULLMAP_REQUIRE_REAL_DATA(twin, "pcl_five_people_finite.xyz.xz");
   checkPclCloud(pcd, twin, 239075);
 }
 
-TEST(MapperReadersReal, OrbSlam3KeyFrameTrajectoryNanosecondStamps) {
+TEST(IoReadersReal, OrbSlam3KeyFrameTrajectoryNanosecondStamps) {
   HULLMAP_REQUIRE_REAL_DATA(path, "orbslam3_euroc_MH_01_mono_KeyFrameTrajectory.txt");
   const auto kfs = readTumTrajectory(path);
   ASSERT_EQ(kfs.size(), 310u);
@@ -305,7 +305,7 @@ TEST(MapperReadersReal, OrbSlam3KeyFrameTrajectoryNanosecondStamps) {
   EXPECT_NEAR(kfs[1].position.y(), 0.006067876, 1e-12);
 }
 
-TEST(MapperReadersReal, OctomapBinaryTreeIsNotAPointFile) {
+TEST(IoReadersReal, OctomapBinaryTreeIsNotAPointFile) {
   HULLMAP_REQUIRE_REAL_DATA(bt, "octomap_geb079.bt");
   const std::string msg = errorOf([&] { readPointFile(bt); });
   EXPECT_NE(msg.find(bt), std::string::npos) << msg;
@@ -324,14 +324,14 @@ std::vector<Eigen::Vector3d> lastPublication() {
   return want;
 }
 
-TEST(MapperReadersEcho, MapIsLastId0PlusLastId6) {
+TEST(IoReadersEcho, MapIsLastId0PlusLastId6) {
   const PointSet set = readPointFile(fixture("orbslam_echo_map.txt"));
   EXPECT_EQ(set.inputs.at(0).format, "orbslam_echo");
   EXPECT_EQ(set.inputs[0].read, 7u);
   expectPoints(set.points, lastPublication());
 }
 
-TEST(MapperReadersEcho, DumpCutOffMidMessageKeepsLastCompleteOne) {
+TEST(IoReadersEcho, DumpCutOffMidMessageKeepsLastCompleteOne) {
   const PointSet set = readPointFile(fixture("orbslam_echo_truncated.txt"));
   EXPECT_EQ(set.inputs.at(0).read, 7u);
   expectPoints(set.points, lastPublication());
@@ -350,7 +350,7 @@ std::string echoMarker(const std::string& ns, int id, int type, int action, cons
   return terminated ? s + "---\n" : s;
 }
 
-TEST(MapperReadersEcho, InlineListItemsNonFiniteAndOtherNamespaces) {
+TEST(IoReadersEcho, InlineListItemsNonFiniteAndOtherNamespaces) {
   // `- x: 1` (item and first key on one line), nan/inf coordinates, and a KeyFrames LINE_LIST with
   // points that must not be taken.
   const std::string text =
@@ -364,7 +364,7 @@ TEST(MapperReadersEcho, InlineListItemsNonFiniteAndOtherNamespaces) {
   expectPoints(set.points, {{1.5, -2.0, 0.03}, {-1.0, -1.0, -1.0}});
 }
 
-TEST(MapperReadersEcho, DeleteActionAndEmptyPointLists) {
+TEST(IoReadersEcho, DeleteActionAndEmptyPointLists) {
   const std::string one = "points: \n  - \n    x: 1.0\n    y: 2.0\n    z: 3.0\n";
   // id 6 deleted after being sent; id 0 sent with points then re-sent empty: no points at all.
   const std::string text = echoMarker("MapPoints", 0, 8, 0, one) + echoMarker("MapPoints", 6, 8, 0, one) +
@@ -378,7 +378,7 @@ TEST(MapperReadersEcho, DeleteActionAndEmptyPointLists) {
   expectPoints(last.points, {{1.0, 2.0, 3.0}});
 }
 
-TEST(MapperReadersEcho, MalformedCoordinateNamesFileAndLine) {
+TEST(IoReadersEcho, MalformedCoordinateNamesFileAndLine) {
   const std::string text = echoMarker("MapPoints", 0, 8, 0, "points: \n  - \n    x: 1.0\n    y: 2.O\n    z: 3.0\n");
   const std::string msg = errorOf([&] { parsePoints(text, "dump.txt"); });
   // Line 31 of the message is `    y: 2.O`.
@@ -396,7 +396,7 @@ TEST(MapperReadersEcho, MalformedCoordinateNamesFileAndLine) {
   EXPECT_NE(errorOf([&] { parsePoints(missing, "d.txt"); }).find("without x, y and z"), std::string::npos);
 }
 
-TEST(MapperReadersEcho, MessageThatIsNotAMarkerIsAnError) {
+TEST(IoReadersEcho, MessageThatIsNotAMarkerIsAnError) {
   const std::string text = "header: \n  seq: 1\n  stamp: \n    secs: 0\n    nsecs: 0\n  frame_id: ''\ndata: 5\n---\n";
   const std::string msg = errorOf([&] { parsePoints(text, "imu.txt"); });
   EXPECT_NE(msg.find("imu.txt:1:"), std::string::npos) << msg;
@@ -406,7 +406,7 @@ TEST(MapperReadersEcho, MessageThatIsNotAMarkerIsAnError) {
 // ---------------------------------------------------------------------------------------------
 // Plain text (ORB-SLAM2/3 map points, .xyz)
 
-TEST(MapperReadersText, SpacesCommasHeaderCommentsBlankLinesCrlf) {
+TEST(IoReadersText, SpacesCommasHeaderCommentsBlankLinesCrlf) {
   const std::string text =
       "# ORB-SLAM3 map points\r\n"
       "pos_x, pos_y, pos_z\r\n"
@@ -421,14 +421,14 @@ TEST(MapperReadersText, SpacesCommasHeaderCommentsBlankLinesCrlf) {
   expectPoints(set.points, {{1, 2, 3}, {-4.5, 0.5, 6}, {7, -8.25, 9}});
 }
 
-TEST(MapperReadersText, XyzWithExtraColumnsTakesTheFirstThree) {
+TEST(IoReadersText, XyzWithExtraColumnsTakesTheFirstThree) {
   const PointSet set = parsePoints("x y z nx ny nz\n1 2 3 0 0 1\n4 5 6 0 1 0\n", "cloud.xyz");
   expectPoints(set.points, {{1, 2, 3}, {4, 5, 6}});
   const std::string msg = errorOf([] { parsePoints("1 2 3 0 0 1\n4 5 6\n", "cloud.xyz"); });
   EXPECT_NE(msg.find("cloud.xyz:2: expected 6 numbers"), std::string::npos) << msg;
 }
 
-TEST(MapperReadersText, NonFiniteValuesAreDroppedAndCounted) {
+TEST(IoReadersText, NonFiniteValuesAreDroppedAndCounted) {
   const PointSet set = parsePoints("1 2 3\nnan 0 0\n0 inf 0\n0 0 -inf\n4 5 6\n1e999 0 0\n", "m.txt");
   EXPECT_EQ(set.inputs.at(0).read, 6u);
   EXPECT_EQ(set.inputs[0].dropped.at("non_finite"), 4u);
@@ -436,7 +436,7 @@ TEST(MapperReadersText, NonFiniteValuesAreDroppedAndCounted) {
   expectPoints(set.points, {{1, 2, 3}, {4, 5, 6}});
 }
 
-TEST(MapperReadersText, MalformedLinesNameFileAndLine) {
+TEST(IoReadersText, MalformedLinesNameFileAndLine) {
   struct Case {
     std::string text;
     std::string expect;
@@ -455,7 +455,7 @@ TEST(MapperReadersText, MalformedLinesNameFileAndLine) {
   }
 }
 
-TEST(MapperReadersText, EmptyAndBlankFilesGiveZeroPoints) {
+TEST(IoReadersText, EmptyAndBlankFilesGiveZeroPoints) {
   const auto dir = hullmap::test::freshDir("readers_empty");
   for (const std::string name : {"empty.txt", "empty.pcd", "blank.xyz"}) {
     const std::string path = writeFile(dir, name, name == "blank.xyz" ? " \n\n\t\n" : "");
@@ -470,7 +470,7 @@ TEST(MapperReadersText, EmptyAndBlankFilesGiveZeroPoints) {
   EXPECT_TRUE(parsePoints("# nothing yet\npos_x, pos_y, pos_z\n", "h.txt").points.empty());
 }
 
-TEST(MapperReadersText, MissingFileAndDirectoryNameThePath) {
+TEST(IoReadersText, MissingFileAndDirectoryNameThePath) {
   const auto dir = hullmap::test::freshDir("readers_missing");
   const std::string missing = (dir / "nope.txt").string();
   std::string msg = errorOf([&] { readPointFile(missing); });
@@ -483,14 +483,14 @@ TEST(MapperReadersText, MissingFileAndDirectoryNameThePath) {
   EXPECT_NE(msg.find(missing), std::string::npos) << msg;
 }
 
-TEST(MapperReadersText, BinaryGarbageIsNotAPointFile) {
+TEST(IoReadersText, BinaryGarbageIsNotAPointFile) {
   std::string garbage = "1 2 3\n";
   for (int i = 0; i < 200; ++i) garbage += static_cast<char>((i * 37 + 11) & 0xff);
   const std::string msg = errorOf([&] { parsePoints(garbage, "blob.bin"); });
   EXPECT_NE(msg.find("blob.bin: not a point file"), std::string::npos) << msg;
 }
 
-TEST(MapperReadersText, FormatComesFromContentNotExtension) {
+TEST(IoReadersText, FormatComesFromContentNotExtension) {
   const auto dir = hullmap::test::freshDir("readers_detect");
   PcdCloud c;
   c.fields = {{"x", 'F', 4}, {"y", 'F', 4}, {"z", 'F', 4}};
@@ -514,9 +514,9 @@ TEST(MapperReadersText, FormatComesFromContentNotExtension) {
 // ---------------------------------------------------------------------------------------------
 // PCD
 
-class MapperReadersPcd : public ::testing::TestWithParam<std::string> {};
+class IoReadersPcd : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(MapperReadersPcd, OrganizedCloudWithNaNsAndExtraFieldsRoundTrips) {
+TEST_P(IoReadersPcd, OrganizedCloudWithNaNsAndExtraFieldsRoundTrips) {
   const PcdCloud c = organizedCloud();
   const PointSet set = parsePoints(writePcd(c, GetParam()), "org.pcd");
   EXPECT_EQ(set.inputs.at(0).format, "pcd");
@@ -525,7 +525,7 @@ TEST_P(MapperReadersPcd, OrganizedCloudWithNaNsAndExtraFieldsRoundTrips) {
   expectPoints(set.points, finiteXyz(c, {0, 1, 2}));  // exact: every value is a float
 }
 
-TEST_P(MapperReadersPcd, DoubleFieldsCountsAndXyzAfterOtherFields) {
+TEST_P(IoReadersPcd, DoubleFieldsCountsAndXyzAfterOtherFields) {
   // `normal` has COUNT 3, `label` is I2, `z y x` are F8 in an unusual order.
   PcdCloud c;
   c.fields = {{"normal", 'F', 4, 3}, {"label", 'I', 2}, {"z", 'F', 8}, {"y", 'F', 8}, {"x", 'F', 8}, {"a", 'U', 1}};
@@ -541,7 +541,7 @@ TEST_P(MapperReadersPcd, DoubleFieldsCountsAndXyzAfterOtherFields) {
   expectPoints(set.points, want);
 }
 
-TEST_P(MapperReadersPcd, TruncatedDataIsAnErrorNamingTheFile) {
+TEST_P(IoReadersPcd, TruncatedDataIsAnErrorNamingTheFile) {
   const PcdCloud c = organizedCloud();
   std::string bytes = writePcd(c, GetParam());
   bytes.resize(bytes.size() - 6);
@@ -557,7 +557,7 @@ TEST_P(MapperReadersPcd, TruncatedDataIsAnErrorNamingTheFile) {
   }
 }
 
-TEST_P(MapperReadersPcd, HugePointCountIsRefusedBeforeAllocating) {
+TEST_P(IoReadersPcd, HugePointCountIsRefusedBeforeAllocating) {
   PcdCloud c;
   c.fields = {{"x", 'F', 4}, {"y", 'F', 4}, {"z", 'F', 4}};
   c.width = 1000000000000;  // 10^12 points claimed, none present
@@ -567,9 +567,9 @@ TEST_P(MapperReadersPcd, HugePointCountIsRefusedBeforeAllocating) {
   EXPECT_NE(msg.find("truncated"), std::string::npos) << msg;
 }
 
-INSTANTIATE_TEST_SUITE_P(DataTypes, MapperReadersPcd, ::testing::Values("ascii", "binary", "binary_compressed"));
+INSTANTIATE_TEST_SUITE_P(DataTypes, IoReadersPcd, ::testing::Values("ascii", "binary", "binary_compressed"));
 
-TEST(MapperReadersPcdErrors, BadHeadersNameTheLine) {
+TEST(IoReadersPcdErrors, BadHeadersNameTheLine) {
   const std::string head = "# .PCD v0.7\nVERSION 0.7\n";
   struct Case {
     std::string header;
@@ -593,7 +593,7 @@ TEST(MapperReadersPcdErrors, BadHeadersNameTheLine) {
   }
 }
 
-TEST(MapperReadersPcdErrors, CorruptCompressedDataAndAsciiLines) {
+TEST(IoReadersPcdErrors, CorruptCompressedDataAndAsciiLines) {
   const PcdCloud c = organizedCloud();
   std::string bytes = writePcd(c, "binary_compressed");
   const std::size_t data = pcdHeader(c, "binary_compressed").size();
@@ -685,7 +685,7 @@ std::string writePly(const std::string& format, bool dbl) {
   return out;
 }
 
-TEST(MapperReadersPly, AsciiAndBinaryFloatAndDoubleWithExtraPropertiesAndFaces) {
+TEST(IoReadersPly, AsciiAndBinaryFloatAndDoubleWithExtraPropertiesAndFaces) {
   for (const std::string format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
     for (const bool dbl : {false, true}) {
       SCOPED_TRACE(format + (dbl ? " double" : " float"));
@@ -704,7 +704,7 @@ TEST(MapperReadersPly, AsciiAndBinaryFloatAndDoubleWithExtraPropertiesAndFaces) 
   }
 }
 
-TEST(MapperReadersPly, TruncatedAndMalformedPlyNameTheFile) {
+TEST(IoReadersPly, TruncatedAndMalformedPlyNameTheFile) {
   std::string bytes = writePly("binary_little_endian", false);
   // Cut inside vertex 2: header, camera (1+4+1+8 = 13 bytes)... keep 2.5 vertices of 17 bytes.
   const std::size_t header = bytes.find("end_header\n") + 11;
@@ -843,7 +843,7 @@ std::vector<StreamCase> streamCases() {
   return cases;
 }
 
-TEST(MapperReadersStream, BatchesHoldWhatParsePointsReadsInOrderWithTheSameErrors) {
+TEST(IoReadersStream, BatchesHoldWhatParsePointsReadsInOrderWithTheSameErrors) {
   const auto dir = hullmap::test::freshDir("readers_stream");
   for (const StreamCase& c : streamCases()) {
     SCOPED_TRACE(c.name);
@@ -885,7 +885,7 @@ TEST(MapperReadersStream, BatchesHoldWhatParsePointsReadsInOrderWithTheSameError
 // is read front to back. Both give the same points, counts and first error, its line counted over
 // the chunks before it: bad lines are put at, just before and just after chunk cuts (every 256 KiB)
 // and in a later window of chunks (8 MiB).
-TEST(MapperReadersStream, TextReadInParallelChunksIsTheFrontToBackRead) {
+TEST(IoReadersStream, TextReadInParallelChunksIsTheFrontToBackRead) {
   const std::string text = textCloud(260000);
   ASSERT_GT(text.size(), std::size_t(34) << 18);  // past the first window
   std::vector<std::pair<std::string, std::string>> cases = {{"whole.txt", text}};
@@ -925,7 +925,7 @@ TEST(MapperReadersStream, TextReadInParallelChunksIsTheFrontToBackRead) {
 // errors that the front-to-back read of a pipe gives, which parses every token with from_chars.
 // Tokens at its edges (19 and 20 digits, 2^53 and 2^53 + 1, -0, a '+', exponents, "1.", ".5") and
 // every separator forEachToken knows, then one bad line after a good start.
-TEST(MapperReadersStream, PlainDecimalFastPathReadsAsFromChars) {
+TEST(IoReadersStream, PlainDecimalFastPathReadsAsFromChars) {
   std::mt19937_64 rng(17);
   const auto pick = [&rng](std::size_t n) { return std::size_t(rng() % n); };
   const std::vector<std::string> edges = {
@@ -988,7 +988,7 @@ TEST(MapperReadersStream, PlainDecimalFastPathReadsAsFromChars) {
   EXPECT_GE(errors, bad_lines.size());  // each bad line is an error, and some random ones
 }
 
-TEST(MapperReadersStream, SeveralFilesStreamInOrderAndStopAtTheFirstError) {
+TEST(IoReadersStream, SeveralFilesStreamInOrderAndStopAtTheFirstError) {
   const auto dir = hullmap::test::freshDir("readers_stream_files");
   const std::string a = writeFile(dir, "a.txt", textCloud(3000));
   const std::string b = writeFile(dir, "b.pcd", writePcd(pcdCloud(2000), "binary"));
@@ -1020,7 +1020,7 @@ TEST(MapperReadersStream, SeveralFilesStreamInOrderAndStopAtTheFirstError) {
   EXPECT_EQ(delivered, readPointFile(a).points.size());
 }
 
-TEST(MapperReadersStream, ZeroBatchOrReadSizeIsAnError) {
+TEST(IoReadersStream, ZeroBatchOrReadSizeIsAnError) {
   PointStreamParams params;
   params.batch_points = 0;
   const PointBatchConsumer ignore = [](Points&) {};
@@ -1047,7 +1047,7 @@ std::size_t statusBytes(const std::string& key) {
 
 // 48 MiB of text through the streaming reader: neither the file's pages (resident while mapped,
 // unless handed back) nor its 1.6 million points (38 MiB) may pile up.
-TEST(MapperReadersStream, ALargeFileIsNotHeldWholeMappedOrPiped) {
+TEST(IoReadersStream, ALargeFileIsNotHeldWholeMappedOrPiped) {
   const auto dir = hullmap::test::freshDir("readers_stream_large");
   std::string text;
   text.reserve(std::size_t(50) << 20);
@@ -1090,7 +1090,7 @@ TEST(MapperReadersStream, ALargeFileIsNotHeldWholeMappedOrPiped) {
 // ---------------------------------------------------------------------------------------------
 // TUM trajectories
 
-TEST(MapperReadersTum, SecondsNanosecondsCommentsAndNormalisation) {
+TEST(IoReadersTum, SecondsNanosecondsCommentsAndNormalisation) {
   const auto kfs = parseTumTrajectory(
       "# timestamp tx ty tz qx qy qz qw\n"
       "1.5 1 2 3 0 0 0 2\n"
@@ -1106,7 +1106,7 @@ TEST(MapperReadersTum, SecondsNanosecondsCommentsAndNormalisation) {
   EXPECT_NEAR(kfs[1].orientation.w(), std::sqrt(0.5), 1e-15);
 }
 
-TEST(MapperReadersTum, BadLinesNameFileAndLine) {
+TEST(IoReadersTum, BadLinesNameFileAndLine) {
   EXPECT_NE(errorOf([] { parseTumTrajectory("0 1 2 3 0 0 0 1\n0 1 2 3 0 0 1\n", "t.txt"); })
                 .find("t.txt:2: expected 8 numbers"),
             std::string::npos);

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-namespace hullmap::mapper::detail {
+namespace hullmap::io::detail {
 
 /// The bytes of one input by absolute offset, either all visible at once (bytes in memory, a mapped
 /// regular file) or arriving in chunks (pipes and other non-regular files: each fill appends what
@@ -91,4 +91,4 @@ class ByteSource {
   int fd_ = -1;
 };
 
-}  // namespace hullmap::mapper::detail
+}  // namespace hullmap::io::detail
