@@ -30,12 +30,15 @@
 
 #include <octomap/OcTree.h>
 
+#include "hullmap/core/constants.hpp"
+#include "hullmap/core/random.hpp"
 #include "hullmap/mapper/detail/octree_keys.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 
 namespace {
 
+using hullmap::kPi;
 using hullmap::io::Point;
 using hullmap::io::Points;
 
@@ -50,13 +53,6 @@ double millis(const std::function<void()>& run, int repeats, const std::function
   }
   std::sort(times.begin(), times.end());
   return times[times.size() / 2];
-}
-
-std::uint64_t splitMix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
 }
 
 // A spinning 64-beam lidar (elevations +2 to -24.9 degrees, as a Velodyne HDL-64E; 1024 steps of
@@ -81,7 +77,6 @@ LidarScan lidarScan() {
   const double pole_radius = 0.15, pole_height = 6.0;
   const double yard[2] = {60.0, 45.0};
   const Point origin(0.0, 0.0, 1.8);
-  constexpr double kPi = 3.14159265358979323846;
 
   LidarScan scan;
   scan.origin = origin;
@@ -124,8 +119,8 @@ LidarScan lidarScan() {
           if (hit > 0.0 && hit < t && origin.z() + hit * d.z() <= pole_height) t = hit;
         }
       }
-      const std::uint64_t h = splitMix64(static_cast<std::uint64_t>(beam) << 32 | static_cast<std::uint64_t>(step));
-      const double noise = 0.02 * (2.0 * static_cast<double>(h >> 11) * 0x1.0p-53 - 1.0);
+      const std::uint64_t h = hullmap::core::splitMix64(static_cast<std::uint64_t>(beam) << 32 | static_cast<std::uint64_t>(step));
+      const double noise = 0.02 * (2.0 * hullmap::core::unitInterval(h) - 1.0);
       scan.points.push_back(origin + (t + noise) * d);
     }
   }

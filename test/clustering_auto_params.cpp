@@ -125,7 +125,7 @@ TEST(ClusteringAutoParams, ClampsAndFollowsTheRuleOnALattice) {
 }
 
 TEST(ClusteringAutoParams, RejectsBadInput) {
-  EXPECT_NE(errorOf([] { chooseDbscanParams({}, {}, 0.0); }).find("--eps"), std::string::npos);
+  EXPECT_NE(errorOf([] { chooseDbscanParams({}, {}, 0.0); }).rfind("eps: auto: ", 0), std::string::npos);
   EXPECT_NE(errorOf([] { chooseDbscanParams({{0, 0, 0}}, {1, 2}, 0.05); }).find("weights"), std::string::npos);
   EXPECT_NE(errorOf([] { chooseDbscanParams({{0, 0, NAN}}, {}, 0.05); }).find("non-finite"), std::string::npos);
   AutoParamsRule r;

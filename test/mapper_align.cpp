@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "hullmap/core/constants.hpp"
 #include "hullmap/mapper/align.hpp"
 #include "hullmap/core/error.hpp"
 #include "test_support.hpp"
@@ -17,7 +18,7 @@ using hullmap::test::errorOf;
 using namespace hullmap::mapper;
 using namespace hullmap::io;
 
-constexpr double kPi = 3.14159265358979323846;
+using hullmap::kPi;
 
 Eigen::Matrix3d randomRotation(std::mt19937_64& rng) {
   std::normal_distribution<double> n(0.0, 1.0);

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "hullmap/core/constants.hpp"
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/io/readers.hpp"
@@ -19,7 +20,7 @@ using hullmap::test::errorOf;
 using namespace hullmap::mapper;
 using namespace hullmap::io;
 
-constexpr double kPi = 3.14159265358979323846;
+using hullmap::kPi;
 
 // A z-up room: a 6 x 6 m floor at z = 0 (`floor_points`), four walls (x or y = +-3, z 0..2.5) and a
 // table top at z = 0.75, with 1 cm noise, then uniform outliers in the room's volume; finally
@@ -131,10 +132,10 @@ TEST(MapperFloor, BoxesOnAnUnseenFloorShowItByTheirFeet) {
 TEST(MapperFloor, RejectsBadParameters) {
   PlaneSearchParams p;
   p.band = 0.0;
-  EXPECT_NE(errorOf([&] { findBoundingPlane({}, PlaneSide::kFloor, p); }).find("--floor"), std::string::npos);
+  EXPECT_NE(errorOf([&] { findBoundingPlane({}, PlaneSide::kFloor, p); }).rfind("floor: ", 0), std::string::npos);
   p = {};
   p.up = Eigen::Vector3d::Zero();
-  EXPECT_NE(errorOf([&] { findBoundingPlane({}, PlaneSide::kFloor, p); }).find("--floor"), std::string::npos);
+  EXPECT_NE(errorOf([&] { findBoundingPlane({}, PlaneSide::kFloor, p); }).rfind("floor: ", 0), std::string::npos);
   p = {};
   p.max_tilt_deg = 90.0;
   EXPECT_NE(errorOf([&] { findBoundingPlane({}, PlaneSide::kFloor, p); }).find("tilt"), std::string::npos);
@@ -178,7 +179,7 @@ TEST(MapperFloor, ClassifiesVoxelsWithinTheBand) {
     const double d = tilted.normal.dot(pts[i]) - 0.3;
     EXPECT_EQ(only_floor[i] == SurfaceClass::kFloor, d <= 0.1) << i;
   }
-  EXPECT_NE(errorOf([&] { classifySurfaces(c, floor, std::nullopt, -1.0); }).find("--floor"), std::string::npos);
+  EXPECT_NE(errorOf([&] { classifySurfaces(c, floor, std::nullopt, -1.0); }).rfind("floor: ", 0), std::string::npos);
   EXPECT_EQ(classifySurfaces(c, std::nullopt, std::nullopt, 0.05), std::vector<SurfaceClass>(c.size()));
 }
 

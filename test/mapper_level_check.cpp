@@ -4,11 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include "hullmap/core/constants.hpp"
 #include "hullmap/mapper/level_check.hpp"
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using hullmap::kPi;
 
 /// A 6 m x 6 m floor tilted `degrees` about the x axis (its normal (0, -sin, cos)), 0.05 m apart,
 /// plus `clutter` uniform points in a 6 m cube.

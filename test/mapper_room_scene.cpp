@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "hullmap/core/constants.hpp"
 #include "hullmap/mapper/align.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/mapper/floor.hpp"
@@ -22,7 +23,7 @@ namespace {
 
 using namespace hullmap::io;
 
-constexpr double kPi = 3.14159265358979323846;
+using hullmap::kPi;
 
 // Signed distance to a primitive's solid (negative inside): the oracle for "on a surface".
 double signedDistance(const SceneObstacle& o, const Eigen::Vector3d& p) {

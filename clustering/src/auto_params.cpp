@@ -8,26 +8,17 @@
 #include <unordered_set>
 
 #include "hullmap/core/error.hpp"
+#include "hullmap/core/lattice.hpp"
 
 namespace hullmap::clustering {
 namespace {
 
-struct CellHash {
-  std::size_t operator()(const Eigen::Vector3i& c) const {
-    std::uint64_t h = static_cast<std::uint32_t>(c.x());
-    h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(c.y());
-    h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(c.z());
-    return static_cast<std::size_t>(h ^ (h >> 29));
-  }
-};
-
-struct CellEqual {
-  bool operator()(const Eigen::Vector3i& a, const Eigen::Vector3i& b) const { return a == b; }
-};
+using core::Cell;
+using core::CellHash;
 
 void checkRule(const AutoParamsRule& r, double resolution) {
   auto require = [](bool ok, const std::string& what) {
-    if (!ok) throw Error("--eps auto: " + what);
+    if (!ok) throw Error::inParameter("eps", "auto: " + what);
   };
   require(std::isfinite(resolution) && resolution > 0.0, "the resolution must be finite and > 0");
   require(r.k >= 1, "k must be >= 1");
@@ -49,11 +40,11 @@ AutoParams chooseDbscanParams(const std::vector<Eigen::Vector3d>& centres, const
                               double resolution, Metric metric, const AutoParamsRule& rule) {
   checkRule(rule, resolution);
   if (!weights.empty() && weights.size() != centres.size()) {
-    throw Error("--eps auto: " + std::to_string(weights.size()) + " weights for " + std::to_string(centres.size()) +
-                " voxels");
+    throw Error::inParameter("eps", "auto: " + std::to_string(weights.size()) + " weights for " +
+                                        std::to_string(centres.size()) + " voxels");
   }
   for (const auto& c : centres) {
-    if (!c.allFinite()) throw Error("--eps auto: non-finite voxel centre");
+    if (!c.allFinite()) throw Error::inParameter("eps", "auto: non-finite voxel centre");
   }
   AutoParams out;
   const double max_eps = rule.max_eps_voxels * resolution;
@@ -74,12 +65,8 @@ AutoParams chooseDbscanParams(const std::vector<Eigen::Vector3d>& centres, const
   // Cells of side max_eps: every neighbour within max_eps is in the 27 cells around a voxel's cell.
   // Cells far out of int range (gross outliers) are clamped: they only ever hold far-away voxels.
   auto cellOf = [&](const Eigen::Vector3d& p) {
-    Eigen::Vector3i c;
-    for (int a = 0; a < 3; ++a) {
-      const double f = std::floor(p[a] / max_eps);
-      c[a] = static_cast<int>(std::clamp(f, -1e9, 1e9));
-    }
-    return c;
+    auto axis = [&](double v) { return static_cast<std::int64_t>(std::clamp(std::floor(v / max_eps), -1e9, 1e9)); };
+    return Cell{axis(p.x()), axis(p.y()), axis(p.z())};
   };
 
   // The sample: all voxels, or `sample` drawn with a fixed seed (portable: 128-bit multiply).
@@ -97,12 +84,12 @@ AutoParams chooseDbscanParams(const std::vector<Eigen::Vector3d>& centres, const
   out.sampled = sample.size();
 
   // Gather the voxels in the cells around the sample.
-  std::unordered_map<Eigen::Vector3i, std::vector<std::uint32_t>, CellHash, CellEqual> grid;
+  std::unordered_map<Cell, std::vector<std::uint32_t>, CellHash> grid;
   for (std::size_t s : sample) {
-    const Eigen::Vector3i c = cellOf(position(s));
+    const Cell c = cellOf(position(s));
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = xy ? 0 : -1; dz <= (xy ? 0 : 1); ++dz) grid.try_emplace(c + Eigen::Vector3i(dx, dy, dz));
+        for (int dz = xy ? 0 : -1; dz <= (xy ? 0 : 1); ++dz) grid.try_emplace(Cell{c.x + dx, c.y + dy, c.z + dz});
   }
   for (std::size_t i = 0; i < centres.size(); ++i) {
     const auto it = grid.find(cellOf(position(i)));
@@ -114,11 +101,11 @@ AutoParams chooseDbscanParams(const std::vector<Eigen::Vector3d>& centres, const
   const double max_eps2 = max_eps * max_eps;
   auto forEachNear = [&](std::size_t j, auto&& f) {
     const Eigen::Vector3d p = position(sample[j]);
-    const Eigen::Vector3i c = cellOf(p);
+    const Cell c = cellOf(p);
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dz = xy ? 0 : -1; dz <= (xy ? 0 : 1); ++dz) {
-          for (std::uint32_t i : grid.at(c + Eigen::Vector3i(dx, dy, dz))) {
+          for (std::uint32_t i : grid.at(Cell{c.x + dx, c.y + dy, c.z + dz})) {
             const double d2 = (position(i) - p).squaredNorm();
             if (d2 <= max_eps2) f(d2, i);
           }

@@ -11,19 +11,13 @@
 
 #include "hullmap/core/error.hpp"
 #include "hullmap/core/number_text.hpp"
-#include "cell_hash.hpp"
+#include "hullmap/core/lattice.hpp"
 
 namespace hullmap::clustering {
 namespace {
 
-struct Cell {
-  std::int64_t x = 0, y = 0, z = 0;
-  bool operator==(const Cell& o) const { return x == o.x && y == o.y && z == o.z; }
-};
-
-struct CellHash {
-  std::size_t operator()(const Cell& c) const { return static_cast<std::size_t>(detail::hashCell(c.x, c.y, c.z)); }
-};
+using core::Cell;
+using core::CellHash;
 
 /// Cell -> index, open addressing with linear probing (a lookup is about one cache miss: the
 /// extension looks up 27 cells for each noise point, most of them empty).

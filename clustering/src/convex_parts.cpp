@@ -1240,10 +1240,7 @@ ClusterLattice toLattice(const std::vector<Eigen::Vector3d>& centers, double vox
     return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
   });
   lattice.origin = *anchor - Eigen::Vector3d::Constant(0.5 * voxel_size);
-  for (const auto& c : centers) {
-    const Eigen::Vector3d rel = (c - lattice.origin) / voxel_size - Eigen::Vector3d::Constant(0.5);
-    lattice.cells.push_back({std::llround(rel.x()), std::llround(rel.y()), std::llround(rel.z())});
-  }
+  for (const auto& c : centers) lattice.cells.push_back(detail::latticeIndex(c, lattice.origin, voxel_size));
   return lattice;
 }
 

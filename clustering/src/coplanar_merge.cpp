@@ -12,7 +12,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "hullmap/core/error.hpp"
-#include "cell_hash.hpp"
+#include "hullmap/core/lattice.hpp"
 
 namespace hullmap::clustering {
 
@@ -86,7 +86,7 @@ CoplanarMerge mergeCoplanarClusters(const std::vector<Eigen::Vector3d>& points, 
   for (const auto& cluster : members)
     for (const auto i : cluster) {
       const auto c = cellOf(points[i]);
-      grid[detail::hashCell(c[0], c[1], c[2])].push_back(i);
+      grid[core::hashCell(c[0], c[1], c[2])].push_back(i);
     }
   const double reach2 = params.reach * params.reach, around2 = 4.0 * reach2;
   const auto larger = [&](std::size_t a, std::size_t b) {  // A may take B
@@ -106,7 +106,7 @@ CoplanarMerge mergeCoplanarClusters(const std::vector<Eigen::Vector3d>& points, 
       for (std::int64_t dx = -1; dx <= 1; ++dx)
         for (std::int64_t dy = -1; dy <= 1; ++dy)
           for (std::int64_t dz = -1; dz <= 1; ++dz) {
-            const auto hit = grid.find(detail::hashCell(c[0] + dx, c[1] + dy, c[2] + dz));
+            const auto hit = grid.find(core::hashCell(c[0] + dx, c[1] + dy, c[2] + dz));
             if (hit == grid.end()) continue;
             for (const auto j : hit->second) {
               const auto a = std::size_t(result.labels[j]);

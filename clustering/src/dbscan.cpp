@@ -22,7 +22,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "hullmap/core/error.hpp"
-#include "cell_hash.hpp"
+#include "hullmap/core/lattice.hpp"
 
 // Grid DBSCAN after Gunawan (2013), Wang, Gu and Shun (SIGMOD 2020) and ArborX's FDBSCAN-DenseBox:
 //  1. points are binned into cells of side slightly below eps/sqrt(d), so any two points of a cell are
@@ -51,16 +51,7 @@ namespace {
 using Index = std::uint32_t;
 constexpr Index kNone = std::numeric_limits<Index>::max();
 
-struct CellCoord {
-  std::int64_t x = 0, y = 0, z = 0;
-  std::int64_t operator[](int k) const { return k == 0 ? x : (k == 1 ? y : z); }
-  bool operator==(const CellCoord& o) const { return x == o.x && y == o.y && z == o.z; }
-  bool operator<(const CellCoord& o) const {
-    if (x != o.x) return x < o.x;
-    if (y != o.y) return y < o.y;
-    return z < o.z;
-  }
-};
+using CellCoord = core::Cell;
 
 /// Bounding box of a cell's points, in float rounded outwards where float cannot hold the bound.
 struct CellBox {
@@ -68,7 +59,7 @@ struct CellBox {
   std::array<float, 3> hi;
 };
 
-inline std::uint64_t hashCoord(const CellCoord& c) { return hashCell(c.x, c.y, c.z); }
+inline std::uint64_t hashCoord(const CellCoord& c) { return core::hashCell(c.x, c.y, c.z); }
 
 /// Interleaves the low 4 bits of x, y, z (Morton order inside a 16^3 block).
 inline std::uint64_t morton4(std::uint64_t x, std::uint64_t y, std::uint64_t z) {

@@ -3,6 +3,7 @@
 // shares.
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -12,6 +13,16 @@
 #include "hullmap/clustering/obstacles.hpp"
 
 namespace hullmap::clustering::detail {
+
+/// The lattice index of the voxel centred at `center` on the lattice whose cell (0, 0, 0) has its
+/// lower corner at `origin` (cells of side voxel_size): the nearest integers to the cell's offset, so
+/// centres a rounding error off the lattice still land in their own cell. buildObstacles and the
+/// convex split must index a cluster identically: both call this.
+inline std::array<std::int64_t, 3> latticeIndex(const Eigen::Vector3d& center, const Eigen::Vector3d& origin,
+                                                double voxel_size) {
+  const Eigen::Vector3d rel = (center - origin) / voxel_size - Eigen::Vector3d::Constant(0.5);
+  return {std::llround(rel.x()), std::llround(rel.y()), std::llround(rel.z())};
+}
 
 /// Corners (integer lattice, corner (i, j, k) of cell (i, j, k) is its lower corner) that can be
 /// vertices of the hull of all the cells' corners. Never drops a hull vertex; order unspecified.

@@ -301,8 +301,7 @@ Obstacle wrapCluster(int id, const std::vector<std::size_t>& members, const std:
   Eigen::Vector3d hi = -lo;
   for (const std::size_t i : members) {
     obstacle.point_weight += weights.empty() ? 1 : weights[i];
-    const Eigen::Vector3d rel = (centers[i] - origin) / voxel_size - Eigen::Vector3d::Constant(0.5);
-    cells.push_back({std::llround(rel.x()), std::llround(rel.y()), std::llround(rel.z())});
+    cells.push_back(latticeIndex(centers[i], origin, voxel_size));
     lo = lo.cwiseMin(centers[i] - Eigen::Vector3d::Constant(half));
     hi = hi.cwiseMax(centers[i] + Eigen::Vector3d::Constant(half));
   }

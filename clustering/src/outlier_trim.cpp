@@ -10,19 +10,13 @@
 
 #include "hullmap/clustering/obstacles.hpp"
 #include "hullmap/core/error.hpp"
-#include "cell_hash.hpp"
+#include "hullmap/core/lattice.hpp"
 
 namespace hullmap::clustering {
 namespace {
 
-struct CellKey {
-  std::int64_t x, y, z;
-  bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
-};
-
-struct CellKeyHash {
-  std::size_t operator()(const CellKey& c) const { return static_cast<std::size_t>(detail::hashCell(c.x, c.y, c.z)); }
-};
+using core::Cell;
+using core::CellHash;
 
 /// Whether p stands off the flat patch that the points q sample (see trimOutliers): q is at most
 /// `radius` thick along its least-variance axis, p lies farther than `radius` outside that slab, and
@@ -86,21 +80,21 @@ OutlierTrim trimOutliers(const std::vector<Eigen::Vector3d>& points, DbscanResul
   const double side = params.reach * (1.0 + 1e-9);
   const auto at = [&](std::size_t k) -> const Eigen::Vector3d& { return k < n ? points[k] : support[k - n]; };
   const auto keyOf = [&](const Eigen::Vector3d& p) {
-    return CellKey{static_cast<std::int64_t>(std::floor(p.x() / side)), static_cast<std::int64_t>(std::floor(p.y() / side)),
+    return Cell{static_cast<std::int64_t>(std::floor(p.x() / side)), static_cast<std::int64_t>(std::floor(p.y() / side)),
                    static_cast<std::int64_t>(std::floor(p.z() / side))};
   };
-  std::unordered_map<CellKey, std::vector<std::size_t>, CellKeyHash> grid;
+  std::unordered_map<Cell, std::vector<std::size_t>, CellHash> grid;
   for (std::size_t k = 0; k < n + support.size(); ++k) grid[keyOf(at(k))].push_back(k);
 
   const double radius2 = params.radius * params.radius;
   const double reach2 = params.reach * params.reach;
   // The candidates alone within radius: they support nothing (two outliers do not hold each other up).
   const auto forNear = [&](const Eigen::Vector3d& p, auto&& f) {
-    const CellKey c = keyOf(p);
+    const Cell c = keyOf(p);
     for (std::int64_t dx = -1; dx <= 1; ++dx)
       for (std::int64_t dy = -1; dy <= 1; ++dy)
         for (std::int64_t dz = -1; dz <= 1; ++dz) {
-          const auto cell = grid.find(CellKey{c.x + dx, c.y + dy, c.z + dz});
+          const auto cell = grid.find(Cell{c.x + dx, c.y + dy, c.z + dz});
           if (cell == grid.end()) continue;
           for (const std::size_t k : cell->second)
             if (!f(k)) return;

@@ -1,3 +1,4 @@
+#include "hullmap/core/constants.hpp"
 #include "hullmap/io/reference_trajectory.hpp"
 
 #include <algorithm>
@@ -11,7 +12,6 @@
 namespace hullmap::io {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kWgs84A = 6378137.0;                 // semi-major axis, metres
 constexpr double kWgs84F = 1.0 / 298.257223563;       // flattening
 constexpr double kWgs84E2 = kWgs84F * (2.0 - kWgs84F);  // first eccentricity squared

@@ -1,3 +1,4 @@
+#include "hullmap/core/constants.hpp"
 #include "hullmap/mapper/floor.hpp"
 
 #include <algorithm>
@@ -14,7 +15,6 @@
 namespace hullmap::mapper {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr std::size_t kEvaluationPoints = 200000;
 constexpr std::size_t kScreenPoints = 2000;  ///< RANSAC candidates are screened on this many sample points
 constexpr std::size_t kFinalists = 100;       ///< and the best this many counted on the whole sample
@@ -107,7 +107,7 @@ double coverage(const io::Points& points, const Plane& plane, double band, doubl
 
 void checkParams(const PlaneSearchParams& p) {
   auto require = [](bool ok, const std::string& what) {
-    if (!ok) throw Error("--floor: " + what);
+    if (!ok) throw Error::inParameter("floor", what);
   };
   require(std::isfinite(p.band) && p.band > 0.0, "the plane band must be finite and > 0");
   require(p.up.allFinite() && p.up.norm() > 0.0, "the up hint must be a finite non-zero vector");
@@ -125,7 +125,7 @@ void checkParams(const PlaneSearchParams& p) {
 PlaneFit findBoundingPlane(const io::Points& points, PlaneSide side, const PlaneSearchParams& params) {
   checkParams(params);
   for (const io::Point& p : points) {
-    if (!p.allFinite()) throw Error("--floor: non-finite point");
+    if (!p.allFinite()) throw Error::inParameter("floor", "non-finite point");
   }
   PlaneFit fit;
   if (points.size() < 3) {
@@ -273,7 +273,7 @@ PlaneSetting parsePlaneSetting(const std::string& option, const std::string& tex
 std::vector<SurfaceClass> classifySurfaces(const std::vector<Eigen::Vector3d>& centres,
                                            const std::optional<Plane>& floor, const std::optional<Plane>& ceiling,
                                            double band) {
-  if (!(band >= 0.0) || !std::isfinite(band)) throw Error("--floor: the surface band must be finite and >= 0");
+  if (!(band >= 0.0) || !std::isfinite(band)) throw Error::inParameter("floor", "the surface band must be finite and >= 0");
   std::vector<SurfaceClass> classes(centres.size(), SurfaceClass::kObstacle);
   for (std::size_t i = 0; i < centres.size(); ++i) {
     if (floor && floor->signedDistance(centres[i]) <= band) {

@@ -21,9 +21,8 @@ namespace {
 
 using detail::kCameraHeight;
 using detail::kChunk;
-using detail::kPi;
 using detail::SceneRandom;
-using detail::splitMix64;
+using core::splitMix64;
 
 // Samples the surface of one obstacle: half the points near edges, half on visible faces.
 class SurfaceSampler {

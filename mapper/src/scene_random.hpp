@@ -8,27 +8,23 @@
 
 #include <Eigen/Core>
 
+#include "hullmap/core/constants.hpp"
+#include "hullmap/core/random.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 
 namespace hullmap::mapper::detail {
 
-inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double kCameraHeight = 1.2;
 inline constexpr std::size_t kChunk = 65536;  // points per independently seeded generator
 
-inline std::uint64_t splitMix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
+using core::splitMix64;
 
 // Portable random numbers: the same bits give the same values with any standard library.
 class SceneRandom {
  public:
   explicit SceneRandom(std::uint64_t seed) : engine_(seed) {}
 
-  double uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
+  double uniform() { return core::unitInterval(engine_()); }
   double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
   std::size_t index(std::size_t n) {
     return static_cast<std::size_t>((static_cast<unsigned __int128>(engine_()) * n) >> 64);

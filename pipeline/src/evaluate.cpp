@@ -1,3 +1,5 @@
+#include "hullmap/core/constants.hpp"
+#include "hullmap/core/random.hpp"
 #include "hullmap/pipeline/evaluate.hpp"
 
 #include <algorithm>
@@ -18,10 +20,9 @@ namespace {
 
 using V3 = Eigen::Vector3d;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kPi = 3.141592653589793238462643383279502884;
 
 /// Uniform in [0, 1) from 53 random bits (the same on every standard library).
-double uniform(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1.0p-53; }
+double uniform(std::mt19937_64& rng) { return core::unitInterval(rng()); }
 
 /// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
 V3 closestOnTriangle(const V3& p, const V3& a, const V3& b, const V3& c) {

@@ -1,3 +1,4 @@
+#include "hullmap/core/constants.hpp"
 #include "hullmap/plot/colour.hpp"
 
 #include <algorithm>
@@ -15,7 +16,6 @@ constexpr std::array<std::uint32_t, 18> kKellyColours = {
     0xf99379, 0x604e97, 0xf6a600, 0xb3446c, 0xdcd300, 0x882d17, 0x8db600, 0x654522, 0xe25822};
 
 constexpr double kGoldenAngleDeg = 137.50776405003785;
-constexpr double kPi = 3.14159265358979323846;
 
 double srgbGamma(double linear) {
   return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;

@@ -1,0 +1,8 @@
+#pragma once
+
+namespace hullmap {
+
+/// π to double precision (std::numbers::pi is C++20).
+inline constexpr double kPi = 3.14159265358979323846;
+
+}  // namespace hullmap
