@@ -104,7 +104,7 @@ if [ "$mode" = bench ]; then
     echo "== installing the PyPI package dbscan into $venv"
     /usr/bin/python3 -m venv --system-site-packages "$venv" &&
       timeout 300 "$venv/bin/pip" install --quiet dbscan ||
-      echo "== could not install the PyPI package dbscan (is pypi.org reachable?); its column will say so"
+      echo "== could not install the PyPI package dbscan (is the Python package index reachable?); its column will say so"
   fi
   export HULLMAP_DBSCAN_VENV="$venv"
   exec bench/run_benchmarks.sh  # builds its own Release tree with the benchmarks
