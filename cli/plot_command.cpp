@@ -13,6 +13,8 @@
 #include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/path_checker.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/pipeline/voxels_csv.hpp"
+#include "hullmap/pipeline/report.hpp"
 #include "hullmap/pipeline/trajectory_file.hpp"
 #include "hullmap/planning/roadmap_json.hpp"
 #include "hullmap/plot/svg_plot.hpp"

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/report.hpp"
 #include "hullmap/live/node_params.hpp"
 
 namespace hullmap::live {

@@ -17,6 +17,7 @@
 #include "hullmap/mapper/sample_scene.hpp"
 #include "hullmap/pipeline/evaluate.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/pipeline/report.hpp"
 #include "test_support.hpp"
 
 namespace {

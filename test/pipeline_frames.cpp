@@ -17,6 +17,7 @@
 #include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/pipeline/report.hpp"
 #include "octree_oracle.hpp"
 #include "test_support.hpp"
 

@@ -21,6 +21,7 @@
 #include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/path_checker.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/pipeline/voxels_csv.hpp"
 #include "hullmap/view/html_view.hpp"
 #include "test_support.hpp"
 

@@ -19,12 +19,21 @@
 #include <tbb/parallel_for_each.h>
 
 #include "hullmap/core/error.hpp"
+#include "distance_transform.hpp"
 #include "lattice_hull.hpp"
 
 namespace hullmap::clustering {
 namespace {
 
-using Cell = std::array<std::int64_t, 3>;
+using detail::Cell;
+using detail::cross;
+using detail::dot;
+using detail::exactTransform;
+using detail::inside;
+using detail::FacetHull;
+using detail::facetHull;
+using detail::Plane;
+using detail::sub;
 
 /// Adapted flat gap (ConvexPartsParams::adapt_flat_gap): clusters of fewer voxels keep G; at most
 /// this many voxels are sampled for the density; the expected number of empty discs of the adapted
@@ -51,221 +60,13 @@ constexpr double kFaceLayers = 2.0;
 constexpr std::size_t kFaceMergeMinVoxels = 3;
 using Members = std::vector<std::uint32_t>;  ///< sorted indices into the cluster's cells
 
-/// A facet plane of a lattice hull: n . x <= d inside, x in corner-lattice coordinates (cell (i, j, k)
-/// is the cube [i, i+1] x [j, j+1] x [k, k+1]); n primitive.
-struct Plane {
-  Cell n;
-  std::int64_t d;
-  bool operator<(const Plane& o) const { return std::tie(n, d) < std::tie(o.n, o.d); }
-};
-
-struct LatticeHull {
-  std::vector<Plane> planes;  ///< sorted, one per facet
-  std::int64_t volume6 = 0;   ///< six times the volume, exact (cells^3)
-};
-
-Cell sub(const Cell& a, const Cell& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Cell cross(const Cell& a, const Cell& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-std::int64_t dot(const Cell& a, const Cell& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-/// Hull of integer points (at least four of them not coplanar) as triangles (indices into `points`)
-/// oriented outwards, exact: incremental construction whose orientation tests are exact integer
-/// determinants (128-bit), so lattice degeneracies (many coplanar points) cost nothing extra. A
-/// point on a face's plane does not see that face, so coplanar triangles may remain, and no
-/// triangle is degenerate. O(n * faces); the inputs here are the few candidate corners of a part.
-/// `Wide` holds the orientation determinants: 128 bits in general, 64 when the points span less
-/// than 2^18 cells on every axis (|n . (p - a)| < 6 * 2^54).
-template <class Wide>
-std::vector<std::array<std::uint32_t, 3>> integerHull(const std::vector<Cell>& points) {
-  struct Face {
-    std::array<std::uint32_t, 3> v;
-    Cell n;  // outward normal, (b - a) x (c - a)
-  };
-  const auto side = [&](const Face& f, const Cell& p) {  // > 0: p strictly outside the face's plane
-    const Cell& a = points[f.v[0]];
-    return Wide(f.n[0]) * (p[0] - a[0]) + Wide(f.n[1]) * (p[1] - a[1]) + Wide(f.n[2]) * (p[2] - a[2]);
-  };
-  std::vector<Face> faces;
-  const auto makeFace = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    return Face{{a, b, c}, cross(sub(points[b], points[a]), sub(points[c], points[a]))};
-  };
-  // A first tetrahedron.
-  const std::size_t n = points.size();
-  std::size_t i1 = 1, i2 = 0, i3 = 0;
-  while (i1 < n && points[i1] == points[0]) ++i1;
-  for (i2 = i1 + 1; i2 < n; ++i2)
-    if (cross(sub(points[i1], points[0]), sub(points[i2], points[0])) != Cell{0, 0, 0}) break;
-  for (i3 = i2 + 1; i3 < n; ++i3) {
-    const Face f = makeFace(0, std::uint32_t(i1), std::uint32_t(i2));
-    if (side(f, points[i3]) != 0) break;
-  }
-  if (i3 >= n) throw Error("convex parts: internal error: the corners of a part are coplanar");
-  const std::array<std::uint32_t, 4> t{0, std::uint32_t(i1), std::uint32_t(i2), std::uint32_t(i3)};
-  for (const auto& [a, b, c, opposite] : {std::array<int, 4>{0, 1, 2, 3}, {0, 1, 3, 2}, {0, 2, 3, 1}, {1, 2, 3, 0}}) {
-    Face f = makeFace(t[std::size_t(a)], t[std::size_t(b)], t[std::size_t(c)]);
-    if (side(f, points[t[std::size_t(opposite)]]) > 0) f = makeFace(t[std::size_t(a)], t[std::size_t(c)], t[std::size_t(b)]);
-    faces.push_back(f);
-  }
-  // Each point sees the faces it is strictly outside of; the edges of those faces whose reverse
-  // edge is on no seen face form the horizon, which the point is joined to.
-  std::vector<Face> kept;
-  std::vector<char> sees;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> seen_edges, sorted_edges, horizon;
-  for (std::size_t i = 1; i < n; ++i) {
-    if (i == i1 || i == i2 || i == i3) continue;
-    seen_edges.clear();
-    sees.resize(faces.size());
-    for (std::size_t f = 0; f < faces.size(); ++f) {
-      sees[f] = side(faces[f], points[i]) > 0;
-      if (sees[f])
-        for (int e = 0; e < 3; ++e) seen_edges.emplace_back(faces[f].v[std::size_t(e)], faces[f].v[std::size_t((e + 1) % 3)]);
-    }
-    if (seen_edges.empty()) continue;
-    horizon.clear();
-    if (seen_edges.size() <= 12) {
-      for (const auto& [u, v] : seen_edges)
-        if (std::find(seen_edges.begin(), seen_edges.end(), std::make_pair(v, u)) == seen_edges.end())
-          horizon.emplace_back(u, v);
-    } else {
-      sorted_edges = seen_edges;
-      std::sort(sorted_edges.begin(), sorted_edges.end());
-      for (const auto& [u, v] : seen_edges)
-        if (!std::binary_search(sorted_edges.begin(), sorted_edges.end(), std::make_pair(v, u))) horizon.emplace_back(u, v);
-    }
-    kept.clear();
-    for (std::size_t f = 0; f < faces.size(); ++f)
-      if (!sees[f]) kept.push_back(faces[f]);
-    for (const auto& [u, v] : horizon) kept.push_back(makeFace(u, v, std::uint32_t(i)));
-    faces.swap(kept);
-  }
-  std::vector<std::array<std::uint32_t, 3>> out;
-  for (const auto& f : faces) out.push_back(f.v);
-  return out;
-}
-
-/// Hull of the cells' corners, exact on the lattice: its facet planes and volume do not depend on
-/// how it is triangulated, so everything decided from them is deterministic.
-LatticeHull latticeHull(const std::vector<Cell>& cells) {
-  const std::vector<Cell> corners = detail::candidateCorners(cells);
-  LatticeHull hull;
-  const Cell& ref = corners[0];
-  Cell lo = corners[0], hi = corners[0];
-  for (const auto& c : corners)
-    for (std::size_t a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], c[a]);
-      hi[a] = std::max(hi[a], c[a]);
-    }
-  const bool narrow = hi[0] - lo[0] < (1 << 18) && hi[1] - lo[1] < (1 << 18) && hi[2] - lo[2] < (1 << 18);
-  for (const auto& t : narrow ? integerHull<std::int64_t>(corners) : integerHull<__int128>(corners)) {
-    const Cell& p = corners[t[0]];
-    const Cell& q = corners[t[1]];
-    const Cell& r = corners[t[2]];
-    hull.volume6 += dot(sub(p, ref), cross(sub(q, ref), sub(r, ref)));
-    Cell n = cross(sub(q, p), sub(r, p));
-    const std::int64_t g = std::gcd(std::gcd(std::abs(n[0]), std::abs(n[1])), std::abs(n[2]));
-    for (auto& x : n) x /= g;
-    hull.planes.push_back({n, dot(n, p)});
-  }
-  std::sort(hull.planes.begin(), hull.planes.end());
-  hull.planes.erase(std::unique(hull.planes.begin(), hull.planes.end(), [](const Plane& a, const Plane& b) {
-                      return !(a < b) && !(b < a);
-                    }),
-                    hull.planes.end());
-  return hull;
-}
-
-bool inside(const LatticeHull& hull, const Eigen::Vector3d& x) {
-  for (const auto& p : hull.planes)
-    if (double(p.n[0]) * x.x() + double(p.n[1]) * x.y() + double(p.n[2]) * x.z() > double(p.d) + 1e-9) return false;
-  return true;
-}
-
-/// Squared Euclidean distance transform along one line (Felzenszwalb and Huttenlocher 2012).
-void distanceTransform1d(std::vector<double>& f, std::vector<double>& out, std::vector<int>& v, std::vector<double>& z) {
-  const int n = int(f.size());
-  v.resize(std::size_t(n));
-  z.resize(std::size_t(n) + 1);
-  int k = 0;
-  v[0] = 0;
-  z[0] = -std::numeric_limits<double>::infinity();
-  z[1] = std::numeric_limits<double>::infinity();
-  const auto meet = [&](int q, int r) {
-    return ((f[std::size_t(q)] + double(q) * q) - (f[std::size_t(r)] + double(r) * r)) / (2.0 * q - 2.0 * r);
-  };
-  for (int q = 1; q < n; ++q) {
-    double s = meet(q, v[std::size_t(k)]);
-    while (k > 0 && s <= z[std::size_t(k)]) s = meet(q, v[std::size_t(--k)]);
-    ++k;
-    v[std::size_t(k)] = q;
-    z[std::size_t(k)] = s;
-    z[std::size_t(k) + 1] = std::numeric_limits<double>::infinity();
-  }
-  out.resize(std::size_t(n));
-  k = 0;
-  for (int q = 0; q < n; ++q) {
-    while (z[std::size_t(k) + 1] < q) ++k;
-    const double d = q - v[std::size_t(k)];
-    out[std::size_t(q)] = d * d + f[std::size_t(v[std::size_t(k)])];
-  }
-}
-
-/// Exact squared Euclidean distance transform in place (Felzenszwalb-Huttenlocher, one pass per
-/// axis) over a box of `dims` cells stored x fastest: `d2` holds 0 at the sites and a large value
-/// elsewhere (kept below 1e20; lines holding only 0 and 1e20 take a faster, exactly equal path).
-void exactTransform(std::vector<float>& d2, const std::array<std::int64_t, 3>& dims) {
-  constexpr double kFar = 1e20;
-  const std::array<std::int64_t, 3> stride{1, dims[0], dims[0] * dims[1]};
-  std::vector<double> f, out, z;
-  std::vector<int> v;
-  for (int axis = 0; axis < 3; ++axis) {
-    const std::size_t a = std::size_t(axis), b = std::size_t((axis + 1) % 3), c = std::size_t((axis + 2) % 3);
-    const std::int64_t n = dims[a], s = stride[a];
-    f.resize(std::size_t(n));
-    // Every line along `axis`: its first cell runs over the other two axes.
-    for (std::int64_t ib = 0; ib < dims[b]; ++ib)
-      for (std::int64_t ic = 0; ic < dims[c]; ++ic) {
-        const std::int64_t base = ib * stride[b] + ic * stride[c];
-        // A line holding no finite value stays as it is (every value kFar after the transform too),
-        // and on the first pass, where the values are 0 (sites) or kFar, the transform is the
-        // squared distance to the nearest site along the line: two sweeps give the same exact
-        // integers as the lower envelope of parabolas.
-        bool any = false, binary = true;
-        for (std::int64_t q = 0; q < n; ++q) {
-          const float x = d2[std::size_t(base + q * s)];
-          any = any || x < float(kFar);
-          binary = binary && (x == 0.0f || x >= float(kFar));
-        }
-        if (!any) continue;
-        if (axis == 0 && binary) {
-          std::int64_t last = -1;  // the nearest site at or before q
-          for (std::int64_t q = 0; q < n; ++q) {
-            if (d2[std::size_t(base + q * s)] == 0.0f) last = q;
-            f[std::size_t(q)] = last < 0 ? kFar : double(q - last) * double(q - last);
-          }
-          last = -1;  // the nearest site at or after q
-          for (std::int64_t q = n - 1; q >= 0; --q) {
-            if (d2[std::size_t(base + q * s)] == 0.0f) last = q;
-            const double after = last < 0 ? kFar : double(last - q) * double(last - q);
-            d2[std::size_t(base + q * s)] = float(std::min(std::min(f[std::size_t(q)], after), kFar));
-          }
-          continue;
-        }
-        for (std::int64_t q = 0; q < n; ++q) f[std::size_t(q)] = d2[std::size_t(base + q * s)];
-        distanceTransform1d(f, out, v, z);
-        for (std::int64_t q = 0; q < n; ++q) d2[std::size_t(base + q * s)] = float(std::min(out[std::size_t(q)], kFar));
-      }
-  }
-}
-
 /// The check of one part against T (see splitConvexParts).
 struct Check {
   bool ok = true;
   bool too_big = false;            ///< box over max_check_cells: not checked
   std::int64_t worst_d2 = 0;       ///< largest squared centre distance (cells^2) over the hull's cells
   Eigen::Vector3d split_point = Eigen::Vector3d::Zero();  ///< where to cut, lattice coordinates
-  LatticeHull hull;
+  FacetHull hull;
   std::size_t keyframes_in_voxels = 0;
   bool flat = false;               ///< passed as a flat part (hull width <= T, distances within G)
   bool filled = false;             ///< enclosed cells counted as the part's own
@@ -307,7 +108,7 @@ class ClusterSplitter {
     // Parts to check, with their hulls when the split already built them. The halves of a split
     // are independent, so they are checked in parallel; the order in which parts are done does not
     // matter (merge orders them by their first cell).
-    using Work = std::pair<Members, std::optional<LatticeHull>>;
+    using Work = std::pair<Members, std::optional<FacetHull>>;
     std::vector<Work> start;
     start.emplace_back(std::move(all), std::nullopt);
     std::mutex done_mutex;
@@ -321,7 +122,7 @@ class ClusterSplitter {
         const std::lock_guard<std::mutex> lock(done_mutex);
         for (const auto i : shed) {
           Check single;
-          single.hull = latticeHull({cells_[i]});
+          single.hull = facetHull({cells_[i]});
           done.emplace_back(Members{i}, std::move(single));
         }
       }
@@ -363,11 +164,11 @@ class ClusterSplitter {
 
   /// `need_split_point`: when false (the merge), a failed check only reports that it failed
   /// (worst_d2 and split_point unset). `hull`: the part's lattice hull when already known.
-  Check checkPart(const Members& part, bool need_split_point = true, const LatticeHull* hull = nullptr,
+  Check checkPart(const Members& part, bool need_split_point = true, const FacetHull* hull = nullptr,
                   bool faces = false) const {
     Check check;
     const std::vector<Cell> cells = gather(part);
-    check.hull = hull ? *hull : latticeHull(cells);
+    check.hull = hull ? *hull : facetHull(cells);
     if (part.size() == 1) return check;
     Cell lo, hi;
     box(part, lo, hi);
@@ -613,7 +414,7 @@ class ClusterSplitter {
     Cell n;
     std::int64_t lo, hi;
   };
-  std::optional<Slab> thinSlab(const LatticeHull& hull, const std::vector<Cell>& cells) const {
+  std::optional<Slab> thinSlab(const FacetHull& hull, const std::vector<Cell>& cells) const {
     for (const auto& p : hull.planes) {
       const double norm = std::sqrt(double(dot(p.n, p.n)));
       const std::int64_t corner = std::min<std::int64_t>(p.n[0], 0) + std::min<std::int64_t>(p.n[1], 0) +
@@ -864,7 +665,7 @@ class ClusterSplitter {
   /// max(T, G); 0 at the sites): the squared distance of the farthest cell that is farther than T
   /// from every site and not within G of a site in the slab of a facet whose slab holds it, that
   /// cell in `worst`; -1 when there is none.
-  std::int64_t faceHoles(const LatticeHull& hull, const Cell& lo, const Cell& hi, const std::vector<float>& d2,
+  std::int64_t faceHoles(const FacetHull& hull, const Cell& lo, const Cell& hi, const std::vector<float>& d2,
                          const std::vector<std::pair<std::int64_t, std::int64_t>>& columns, Cell& worst) const {
     struct FacetSlab {
       Cell n;
@@ -933,7 +734,7 @@ class ClusterSplitter {
   /// Whether the hull is at most T wide along one of its facet normals (so it is at most T thick:
   /// the width along a facet normal bounds the hull's least width from above). A facet's width is
   /// its plane's value minus the least value of n . x over the cells' cubes (exact integers).
-  bool flat(const LatticeHull& hull, const std::vector<Cell>& cells) const {
+  bool flat(const FacetHull& hull, const std::vector<Cell>& cells) const {
     for (const auto& p : hull.planes) {
       const double norm = std::sqrt(double(dot(p.n, p.n)));
       // Wider than T once some cube reaches below d - T |n|.
@@ -961,7 +762,7 @@ class ClusterSplitter {
   /// Two non-empty halves of a part that failed its check.
   struct Halves {
     Members left, right;
-    std::optional<LatticeHull> left_hull, right_hull;
+    std::optional<FacetHull> left_hull, right_hull;
   };
   Halves split(const Members& part, const Check& check) const {
     Cell lo, hi;
@@ -993,9 +794,9 @@ class ClusterSplitter {
         if (std::any_of(cuts.begin(), cuts.end(), [&](const auto& cut) { return cut.first == left; })) continue;
         cuts.emplace_back(std::move(left), std::move(right));
       }
-      std::vector<LatticeHull> sides(2 * cuts.size());
+      std::vector<FacetHull> sides(2 * cuts.size());
       tbb::parallel_for(std::size_t(0), sides.size(), [&](std::size_t k) {
-        sides[k] = latticeHull(gather(k % 2 ? cuts[k / 2].second : cuts[k / 2].first));
+        sides[k] = facetHull(gather(k % 2 ? cuts[k / 2].second : cuts[k / 2].first));
       });
       const auto volume = [&](std::size_t c) { return sides[2 * c].volume6 + sides[2 * c + 1].volume6; };
       std::optional<std::size_t> best;
@@ -1089,7 +890,7 @@ class ClusterSplitter {
     std::sort(nodes.begin(), nodes.end(), [](const Node& a, const Node& b) { return a.members[0] < b.members[0]; });
     using Candidate = std::tuple<std::int64_t, std::size_t, std::size_t>;  // added volume, a, b
     std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue;
-    std::map<std::pair<std::size_t, std::size_t>, LatticeHull> union_hulls;  ///< of the queued pairs
+    std::map<std::pair<std::size_t, std::size_t>, FacetHull> union_hulls;  ///< of the queued pairs
     const auto near = [&](const Node& a, const Node& b) {
       for (std::size_t k = 0; k < 3; ++k)
         if (a.lo[k] - b.hi[k] - 1 > reach_ || b.lo[k] - a.hi[k] - 1 > reach_) return false;
@@ -1162,11 +963,11 @@ class ClusterSplitter {
             (!faces || std::min(nodes[a].members.size(), nodes[b].members.size()) >= kFaceMergeMinVoxels))
           pairs.emplace_back(a, b);
       std::vector<char> fails(pairs.size());
-      std::vector<LatticeHull> hulls(pairs.size());
+      std::vector<FacetHull> hulls(pairs.size());
       tbb::parallel_for(std::size_t(0), pairs.size(), [&](std::size_t k) {
         const auto [a, b] = pairs[k];
         fails[k] = surelyFails(a, b);
-        if (!fails[k]) hulls[k] = latticeHull(gather(unite(nodes[a].members, nodes[b].members)));
+        if (!fails[k]) hulls[k] = facetHull(gather(unite(nodes[a].members, nodes[b].members)));
       });
       for (std::size_t k = 0; k < pairs.size(); ++k) {
         if (fails[k]) continue;
@@ -1184,7 +985,7 @@ class ClusterSplitter {
       const auto [added, a, b] = queue.top();
       queue.pop();
       const auto hull = union_hulls.find({a, b});
-      const LatticeHull union_hull = std::move(hull->second);
+      const FacetHull union_hull = std::move(hull->second);
       union_hulls.erase(hull);
       if (!nodes[a].alive || !nodes[b].alive) continue;
       Members both = unite(nodes[a].members, nodes[b].members);

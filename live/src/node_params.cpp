@@ -1,4 +1,5 @@
 #include "hullmap/live/node_params.hpp"
+#include "hullmap/pipeline/report.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -2,36 +2,29 @@
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
-#include <charconv>
 #include <cmath>
 #include <functional>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <exception>
-#include <fcntl.h>
 #include <filesystem>
-#include <fstream>
-#include <iomanip>
 #include <limits>
 #include <optional>
 #include <sstream>
-#include <sys/file.h>
 #include <tuple>
 #include <unordered_map>
 #include <sys/resource.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/clustering/build_warnings.hpp"
 #include "hullmap/mapper/level_check.hpp"
-#include "hullmap/mapper/output_dir.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
-#include "hullmap/pipeline/trajectory_file.hpp"
 #include "input_points.hpp"
+#include "stages.hpp"
+#include "surfaces.hpp"
+#include "hullmap/pipeline/report.hpp"
+#include "hullmap/pipeline/voxels_csv.hpp"
 
 namespace hullmap::pipeline {
 namespace {
@@ -45,10 +38,6 @@ double peakRssMb() {
 }
 
 using Clock = std::chrono::steady_clock;
-
-void runStage(const char* stage) {
-  if (detail::stage_hook != nullptr) detail::stage_hook(stage);
-}
 
 double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -79,12 +68,6 @@ bool isOctomapFile(const fs::path& path) {
 
 void addDropped(PointAccount& account, const io::InputStats& stats) {
   for (const auto& [reason, count] : stats.dropped) account.dropped[reason] += count;
-}
-
-std::vector<std::string> pathStrings(const std::vector<fs::path>& paths) {
-  std::vector<std::string> strings;
-  for (const auto& p : paths) strings.push_back(p.string());
-  return strings;
 }
 
 Error noPointsInBounds() {
@@ -477,152 +460,14 @@ ClusteredVoxels clusterStages(const mapper::OccupancyMap& map, const clustering:
 
 }  // namespace
 
-namespace detail {
-
-void attachSurfaceRims(const std::vector<Eigen::Vector3d>& centers, double resolution, double reach,
-                       std::vector<std::int32_t>& labels) {
-  if (centers.size() != labels.size())
-    throw Error::inParameter("labels", "one label per voxel centre expected");
-  // Lattice cells: centres lie at (k + 1/2) * resolution, so floor() gives k without ties.
-  const auto cell = [&](double v) { return static_cast<std::int64_t>(std::floor(v / resolution)); };
-  const auto columnKey = [](std::int64_t i, std::int64_t j) {
-    return static_cast<std::uint64_t>(i + (std::int64_t(1) << 31)) << 32 |
-           (static_cast<std::uint64_t>(j + (std::int64_t(1) << 31)) & 0xffffffffu);
-  };
-  const std::int64_t layers = static_cast<std::int64_t>(std::floor(std::max(2.0, reach / resolution) + 1e-9));
-  // The reach in whole cells (lattice distances are compared squared, in cells^2).
-  const double reach_cells = std::max(reach / resolution, 0.0);
-  const double reach2 = reach_cells * reach_cells + 1e-9;
-  const std::int64_t span = static_cast<std::int64_t>(std::floor(reach_cells + 1e-9));
-  // The clustered voxels of each column, by layer.
-  using Column = std::vector<std::pair<std::int64_t, std::int32_t>>;
-  std::unordered_map<std::uint64_t, Column> columns;
-  for (std::size_t i = 0; i < centers.size(); ++i)
-    if (labels[i] >= 0)
-      columns[columnKey(cell(centers[i].x()), cell(centers[i].y()))].emplace_back(cell(centers[i].z()), labels[i]);
-  for (auto& [key, column] : columns) std::sort(column.begin(), column.end());
-  // Calls f(layer, label) for the clustered voxels of column (i, j) with layers in [lo, hi], in
-  // order, until f returns true; returns whether it did.
-  const auto scan = [&](std::int64_t i, std::int64_t j, std::int64_t lo, std::int64_t hi, auto&& f) {
-    const auto hit = columns.find(columnKey(i, j));
-    if (hit == columns.end() || lo > hi) return false;
-    const Column& column = hit->second;
-    for (auto it = std::lower_bound(column.begin(), column.end(), std::make_pair(lo, std::int32_t(-1)));
-         it != column.end() && it->first <= hi; ++it)
-      if (f(it->first, it->second)) return true;
-    return false;
-  };
-  // Whether the clustered voxel of `label` at (i, j, k) is the near end of a face of its cluster
-  // that stands on the surface (sign +1, a floor) or hangs from it (-1, a ceiling): its cluster has
-  // two voxels within `reach` of it (centre distance) at least 2 layers farther from the surface. One
-  // is not enough: a lone stray voxel (an outlier DBSCAN took in) above a table top is no face.
-  std::unordered_map<std::uint64_t, std::unordered_map<std::int64_t, bool>> face_memo[2];  // floor, ceiling
-  const auto onFace = [&](std::int64_t i, std::int64_t j, std::int64_t k, std::int32_t label, std::int64_t sign) {
-    auto& memo = face_memo[sign > 0 ? 0 : 1][columnKey(i, j)];
-    if (const auto found = memo.find(k); found != memo.end()) return found->second;
-    const std::int64_t lo = sign > 0 ? k + 2 : k - span, hi = sign > 0 ? k + span : k - 2;
-    int evidence = 0;
-    for (std::int64_t di = -span; di <= span && evidence < 2; ++di)
-      for (std::int64_t dj = -span; dj <= span && evidence < 2; ++dj) {
-        if (double(di * di + dj * dj) > reach2) continue;
-        scan(i + di, j + dj, lo, hi, [&](std::int64_t layer, std::int32_t l) {
-          const std::int64_t dk = layer - k;
-          if (l == label && double(di * di + dj * dj + dk * dk) <= reach2) ++evidence;
-          return evidence >= 2;
-        });
-      }
-    return memo[k] = evidence >= 2;
-  };
-  struct Candidate {
-    std::int64_t distance;  ///< squared lattice distance to the surface voxel
-    std::int32_t label;
-    std::int64_t i, j, k;
-    bool operator<(const Candidate& o) const { return std::tie(distance, label) < std::tie(o.distance, o.label); }
-  };
-  std::vector<std::pair<std::size_t, std::int32_t>> joins;
-  std::vector<Candidate> candidates;
-  for (std::size_t v = 0; v < centers.size(); ++v) {
-    if (labels[v] != kFloorLabel && labels[v] != kCeilingLabel) continue;
-    const std::int64_t sign = labels[v] == kFloorLabel ? 1 : -1;
-    const std::int64_t ci = cell(centers[v].x()), cj = cell(centers[v].y()), ck = cell(centers[v].z());
-    // Layers from the surface voxel's on its far side (a floor's: its layer and above; a ceiling's:
-    // its layer and below), up to n.
-    const auto lo = [&](std::int64_t n) { return sign > 0 ? ck : ck - n; };
-    const auto hi = [&](std::int64_t n) { return sign > 0 ? ck + n : ck; };
-    // 1 and 2: the clustered voxels of the 3 x 3 columns on the far side within 2 * layers, nearest
-    // first. Within `layers` the nearest joins (2 + layers^2 < (layers + 1)^2: these come first);
-    // farther, the nearest that is the near end of a face.
-    candidates.clear();
-    for (std::int64_t di = -1; di <= 1; ++di)
-      for (std::int64_t dj = -1; dj <= 1; ++dj)
-        scan(ci + di, cj + dj, lo(2 * layers), hi(2 * layers), [&](std::int64_t layer, std::int32_t l) {
-          const std::int64_t dk = layer - ck;
-          candidates.push_back({di * di + dj * dj + dk * dk, l, ci + di, cj + dj, layer});
-          return false;
-        });
-    std::sort(candidates.begin(), candidates.end());
-    for (const Candidate& c : candidates)
-      if (std::abs(c.k - ck) <= layers || onFace(c.i, c.j, c.k, c.label, sign)) {
-        joins.emplace_back(v, c.label);
-        break;
-      }
-  }
-  for (const auto& [v, label] : joins) labels[v] = label;
-}
-
-}  // namespace detail
 
 namespace {
 
-/// Centres of the observed-free leaves of the map (each pruned leaf once).
-std::vector<Eigen::Vector3d> freeVoxelCentres(const mapper::OccupancyMap& map) {
-  std::vector<Eigen::Vector3d> free;
-  const auto& tree = map.tree();
-  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
-    if (tree.isNodeOccupied(*it)) continue;
-    const auto c = it.getCoordinate();
-    free.emplace_back(c.x(), c.y(), c.z());
-  }
-  return free;
-}
 
 /// A floor kept in the input frame tilted by more than this (degrees) is warned about.
 constexpr double kKeptFloorTiltDeg = 3.0;
 
-/// The floor and ceiling as solid half-spaces: up to the plane, or to the far face of the highest
-/// voxel set aside as that surface when it lies beyond (the voxels lie inside completely).
-std::vector<collision::HalfSpace> surfaceHalfSpaces(const BuildReport& report, const std::vector<Eigen::Vector3d>& centers,
-                                                    const std::vector<std::int32_t>& labels, double resolution) {
-  std::vector<collision::HalfSpace> out;
-  const auto add = [&](const PlaneReport& surface, std::int32_t label, const char* name) {
-    if (!surface.plane) return;
-    const double norm = surface.plane->normal.norm();
-    collision::HalfSpace h{name, surface.plane->normal / norm, surface.plane->offset / norm};
-    // The support of a voxel cube along the normal, beyond its centre.
-    const double half = 0.5 * resolution * h.normal.cwiseAbs().sum();
-    for (std::size_t i = 0; i < centers.size(); ++i)
-      if (labels[i] == label) h.offset = std::max(h.offset, h.normal.dot(centers[i]) + half);
-    out.push_back(std::move(h));
-  };
-  add(report.floor, kFloorLabel, "floor");
-  add(report.ceiling, kCeilingLabel, "ceiling");
-  return out;
-}
 
-/// The floor's height for closing shells from below, when one height serves the whole map: the
-/// plane's height under the voxels' middle when its tilt moves it by at most a voxel across them
-/// (a levelled or aligned floor is exactly level).
-std::optional<double> levelFloorHeight(const mapper::Plane& floor, const std::vector<Eigen::Vector3d>& centers,
-                                       double resolution) {
-  const Eigen::Vector3d& n = floor.normal;
-  if (!(std::abs(n.z()) > 0.99) || centers.empty()) return std::nullopt;
-  Eigen::AlignedBox2d box;
-  for (const auto& c : centers) box.extend(c.head<2>());
-  const Eigen::Vector2d middle = box.center();
-  const double rise = n.head<2>().norm() / std::abs(n.z()) * 0.5 * box.diagonal().norm();
-  if (rise > resolution) return std::nullopt;
-  return (floor.offset - n.x() * middle.x() - n.y() * middle.y()) / n.z();
-}
 
 void clusterInto(BuildResult& result, StageTimer& timer) {
   const BuildParams& params = result.params;
@@ -771,17 +616,6 @@ namespace detail {
 void (*stage_hook)(const char* stage) = nullptr;
 }  // namespace detail
 
-std::string upAxisText(mapper::UpAxis up) {
-  const std::string text = mapper::toString(up);
-  return text[0] == '+' ? text.substr(1) : text;
-}
-
-std::string frameDescription(const mapper::FrameParams& frame) {
-  std::ostringstream s;
-  s << "z-up map frame: input axis " << upAxisText(frame.up) << " rotated to +z";
-  if (frame.scale != 1.0) s << ", scaled by " << frame.scale;
-  return s.str();
-}
 
 bool readsOctree(const BuildParams& params) {
   return params.inputs.size() == 1 && isOctomapFile(params.inputs.front());
@@ -937,423 +771,7 @@ std::vector<clustering::Obstacle> readObstacles(const fs::path& obstacles_json) 
   return readObstaclesJson(obstacles_json.string());
 }
 
-namespace {
 
-nlohmann::json planeSettingJson(const mapper::PlaneSetting& setting) {
-  switch (setting.mode) {
-    case mapper::PlaneSetting::Mode::kAuto: return "auto";
-    case mapper::PlaneSetting::Mode::kNone: return "none";
-    case mapper::PlaneSetting::Mode::kHeight: break;
-  }
-  return setting.height;
-}
 
-nlohmann::json planeJson(const mapper::Plane& plane) {
-  return {{"normal", {plane.normal.x(), plane.normal.y(), plane.normal.z()}}, {"offset", plane.offset}};
-}
-
-nlohmann::json planeReportJson(const PlaneReport& r) {
-  using nlohmann::json;
-  json out = {{"setting", planeSettingJson(r.setting)},
-              {"found", r.plane.has_value()},
-              {"plane", r.plane ? planeJson(*r.plane) : json(nullptr)},
-              {"levelled", r.levelled},
-              {"voxels", r.voxels}};
-  if (r.setting.mode == mapper::PlaneSetting::Mode::kAuto) {
-    out["search"] = {{"found", r.fit.found},
-                     {"reason", r.fit.found ? json(nullptr) : json(r.fit.reason)},
-                     {"candidate", planeJson(r.fit.plane)},
-                     {"tilt_deg", r.fit.tilt_deg},
-                     {"inliers", r.fit.inliers},
-                     {"inlier_share", r.fit.inlier_share},
-                     {"beyond_share", r.fit.beyond_share},
-                     {"coverage", r.fit.coverage}};
-  }
-  return out;
-}
-
-nlohmann::json matrixRows(const Eigen::Matrix3d& m) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (int r = 0; r < 3; ++r) rows.push_back({m(r, 0), m(r, 1), m(r, 2)});
-  return rows;
-}
-
-nlohmann::json alignmentJson(const mapper::Alignment& a, const std::map<std::string, std::size_t>& reference_dropped) {
-  const auto& t = a.transform;
-  return {{"scale", t.scale},
-          {"rotation", matrixRows(t.rotation)},
-          {"translation", {t.translation.x(), t.translation.y(), t.translation.z()}},
-          {"rmse", a.rmse},
-          {"max_error", a.max_error},
-          {"matched", a.matched},
-          {"unmatched", a.unmatched},
-          {"reference_dropped", reference_dropped}};
-}
-
-}  // namespace
-
-nlohmann::json parametersJson(const BuildParams& params) {
-  using nlohmann::json;
-  const auto numbers = [](std::initializer_list<double> values) {
-    std::string text;
-    for (double v : values) {
-      char buffer[32];
-      text += (text.empty() ? "" : ",") + std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, v).ptr);
-    }
-    return text;
-  };
-  json origin = nullptr;
-  if (params.origin) origin = numbers({params.origin->x(), params.origin->y(), params.origin->z()});
-  json crop = nullptr;
-  if (params.filters.crop) {
-    const auto& box = *params.filters.crop;
-    crop = numbers({box.min.x(), box.min.y(), box.min.z(), box.max.x(), box.max.y(), box.max.z()});
-  }
-  return {
-      {"inputs", pathStrings(params.inputs)},
-      {"trajectory", params.trajectory ? json(params.trajectory->string()) : json(nullptr)},
-      {"origin", origin},
-      {"up", upAxisText(params.frame.up)},
-      {"scale", params.frame.scale},
-      {"crop", crop},
-      {"z_min", params.filters.z_min ? json(*params.filters.z_min) : json(nullptr)},
-      {"z_max", params.filters.z_max ? json(*params.filters.z_max) : json(nullptr)},
-      {"resolution", params.octree.resolution},
-      {"hit", params.octree.sensor.hit},
-      {"miss", params.octree.sensor.miss},
-      {"clamp_min", params.octree.sensor.clamp_min},
-      {"clamp_max", params.octree.sensor.clamp_max},
-      {"occupancy_threshold", params.octree.sensor.occupancy_threshold},
-      {"max_range", params.octree.max_range},
-      {"align", params.align ? json(params.align->reference.string()) : json(nullptr)},
-      {"align_format", params.align ? json(io::toString(params.align->format)) : json(nullptr)},
-      {"align_tolerance", params.align ? json(params.align->params.stamp_tolerance) : json(nullptr)},
-      {"floor", planeSettingJson(params.floor)},
-      {"level", params.level == Level::kOn ? "on" : params.level == Level::kOff ? "off" : "auto"},
-      {"ceiling", planeSettingJson(params.ceiling)},
-      {"eps", params.eps ? json(*params.eps) : json("auto")},
-      {"min_pts", params.min_pts ? json(*params.min_pts) : json("auto")},
-      {"metric", clustering::toString(params.metric)},
-      {"concavity", !params.convex_parts ? json("none")
-                    : params.convex_parts->concavity > 0.0 ? json(params.convex_parts->concavity)
-                                                           : json("default")},
-      {"flat_gap", !params.convex_parts || !params.convex_parts->flat_gap ? json("auto")
-                                                                           : json(*params.convex_parts->flat_gap)},
-      {"extension", !params.extension ? "auto" : *params.extension ? "on" : "off"},
-      {"ot", params.write_ot},
-  };
-}
-
-nlohmann::json reportJson(const BuildResult& result) {
-  using nlohmann::json;
-  const BuildReport& report = result.report;
-  json inputs = json::array();
-  for (const auto& in : report.inputs) {
-    inputs.push_back({{"path", in.path}, {"format", in.format}, {"points_read", in.read},
-                      {"points_dropped", in.dropped}});
-  }
-  json timings = json::object();
-  double total = 0.0;
-  for (const auto& [stage, ms] : report.timings_ms) {
-    timings[stage] = ms;
-    total += ms;
-  }
-  timings["total"] = total;
-  json peak = json::object();
-  for (const auto& [stage, mb] : report.peak_rss_mb) peak[stage] = mb;
-  const auto info = mapper::describe(result.map.tree());
-  std::vector<std::size_t> largest(result.clusters.cluster_sizes);
-  std::sort(largest.rbegin(), largest.rend());
-  if (largest.size() > 10) largest.resize(10);
-  std::size_t core = 0;
-  for (auto c : result.clusters.core) core += c;
-
-  json parameters = parametersJson(result.params);
-  const ClusterParamsReport& cp = report.cluster_params;
-  parameters["eps"] = cp.used.eps;
-  parameters["min_pts"] = cp.used.min_pts;
-  parameters["eps_auto"] = cp.eps_auto;
-  parameters["min_pts_auto"] = cp.min_pts_auto;
-  json clustering_params = {{"eps", cp.used.eps}, {"eps_auto", cp.eps_auto},
-                            {"min_pts", cp.used.min_pts}, {"min_pts_auto", cp.min_pts_auto}};
-  if (cp.chosen) {
-    const auto& c = *cp.chosen;
-    clustering_params["auto"] = {{"knn", std::isfinite(c.knn) ? json(c.knn) : json(nullptr)},
-                                 {"eps_unclamped", std::isfinite(c.eps_unclamped) ? json(c.eps_unclamped) : json(nullptr)},
-                                 {"sampled", c.sampled},
-                                 {"structured", c.structured},
-                                 {"eps", c.eps},
-                                 {"min_pts", c.min_pts}};
-  }
-  clustering_params["extension"] = nullptr;
-  if (cp.extension_params) {
-    clustering_params["extension"] = {{"min_pts", cp.extension_params->min_pts},
-                                      {"reach", cp.extension_params->reach},
-                                      {"joined", cp.extension.joined},
-                                      {"rounds", cp.extension.rounds}};
-  }
-  clustering_params["outlier_trim"] = nullptr;
-  if (cp.trim_params)
-    clustering_params["outlier_trim"] = {
-        {"radius", cp.trim_params->radius}, {"reach", cp.trim_params->reach}, {"dropped", cp.trim.dropped}};
-  clustering_params["coplanar_merge"] = nullptr;
-  if (cp.coplanar_params) {
-    clustering_params["coplanar_merge"] = {{"reach", cp.coplanar_params->reach},
-                                           {"thickness", cp.coplanar_params->thickness},
-                                           {"merged", cp.coplanar.merged},
-                                           {"points", cp.coplanar.points}};
-  }
-  json parts = nullptr;
-  if (report.parts) {
-    const auto& p = *report.parts;
-    std::size_t split = 0, largest = 0;
-    for (const auto& o : result.obstacles) {
-      split += o.parts.size() > 1;
-      largest = std::max(largest, o.parts.size());
-    }
-    parts = {{"count", p.parts},
-             {"concavity", p.concavity},
-             {"flat_gap", p.flat_gap},
-             {"flat_gap_max", p.flat_gap_max},
-             {"flat_parts", p.flat_parts},
-             {"face_parts", p.face_parts},
-             {"per_obstacle", result.obstacles.empty() ? 0.0 : double(p.parts) / double(result.obstacles.size())},
-             {"obstacles_split", split},
-             {"most_parts_of_one_obstacle", largest},
-             {"hull_volume_before", p.hull_volume_before},
-             {"hull_volume_after", p.hull_volume_after},
-             {"voxel_volume", p.voxel_volume},
-             {"free_voxels_inside", p.free_voxels_inside},
-             {"free_voxels_off_surface", p.free_voxels_off_surface},
-             {"keyframes_inside_hulls", report.keyframes_inside_hulls}};
-  }
-  if (readsOctree(result.params)) {
-    // A finished octree is read as it is: record what it holds, not parameters that were not applied.
-    const auto& tree = result.map.tree();
-    for (const char* key : {"trajectory", "origin", "up", "scale", "crop", "z_min", "z_max", "max_range", "level"})
-      parameters[key] = nullptr;
-    parameters["resolution"] = info.resolution;
-    parameters["hit"] = tree.getProbHit();
-    parameters["miss"] = tree.getProbMiss();
-    parameters["clamp_min"] = tree.getClampingThresMin();
-    parameters["clamp_max"] = tree.getClampingThresMax();
-    parameters["occupancy_threshold"] = tree.getOccupancyThres();
-  }
-  return {
-      {"hullmap_version", HULLMAP_VERSION},
-      {"frame", outputFrame(result)},
-      {"parameters", parameters},
-      {"warnings", report.warnings},
-      {"inputs", inputs},
-      {"points", {{"read", report.points.read},
-                  {"dropped", report.points.dropped},
-                  {"used", report.points.used}}},
-      {"keyframes", report.keyframes},
-      {"alignment", report.alignment ? alignmentJson(*report.alignment, report.reference_dropped) : json(nullptr)},
-      {"floor", readsOctree(result.params) ? json(nullptr) : planeReportJson(report.floor)},
-      {"ceiling", readsOctree(result.params) ? json(nullptr) : planeReportJson(report.ceiling)},
-      {"levelling", {{"rotation", matrixRows(report.levelling.linear())},
-                     {"translation", {report.levelling.translation().x(), report.levelling.translation().y(),
-                                      report.levelling.translation().z()}}}},
-      {"input_to_output", similarityJson(report.input_to_output)},
-      {"octree", {{"resolution", info.resolution},
-                  {"bounds", {{"min", {info.min.x(), info.min.y(), info.min.z()}},
-                              {"max", {info.max.x(), info.max.y(), info.max.z()}}}},
-                  {"occupied_leaves", info.occupied_leaves},
-                  {"free_leaves", info.free_leaves},
-                  {"nodes", info.nodes},
-                  {"memory_bytes", info.memory_bytes},
-                  {"occupied_voxels", result.voxels.size()}}},
-      {"clusters", {{"count", result.clusters.cluster_sizes.size()},
-                    {"noise_voxels", result.clusters.noise},
-                    {"core_voxels", core},
-                    {"largest_voxel_counts", largest}}},
-      {"clustering", clustering_params},
-      {"obstacles", result.obstacles.size()},
-      {"parts", parts},
-      {"timings_ms", timings},
-      {"peak_rss_mb", peak},
-  };
-}
-
-nlohmann::json readReport(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path.string() + ": cannot open (is this a hullmap build directory?)");
-  nlohmann::json report;
-  try {
-    in >> report;
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(path.string() + ": not valid JSON: " + e.what());
-  }
-  const auto params = report.find("parameters");
-  if (params == report.end() || !params->is_object()) throw Error(path.string() + ": no \"parameters\" object");
-  const auto resolution = params->find("resolution");
-  if (resolution == params->end() || !resolution->is_number() || !(resolution->get<double>() > 0.0)) {
-    throw Error(path.string() + ": parameters.resolution missing or not a positive number");
-  }
-  return report;
-}
-
-void writeVoxelsCsv(const fs::path& path, const std::vector<mapper::OccupiedVoxel>& voxels,
-                    const clustering::DbscanResult& clusters) {
-  core::writeFileAtomically(path.string(), [&](std::ostream& os) {
-    os << "x,y,z,weight,label,core\n" << std::setprecision(9);
-    for (std::size_t i = 0; i < voxels.size(); ++i) {
-      const auto& v = voxels[i];
-      os << v.center.x() << ',' << v.center.y() << ',' << v.center.z() << ',' << v.weight << ','
-         << clusters.labels[i] << ',' << int(clusters.core[i]) << '\n';
-    }
-  });
-}
-
-std::vector<VoxelRow> readVoxelsCsv(const fs::path& path) {
-  const std::string name = path.string();
-  std::ifstream in(path);
-  if (!in) throw Error(name + ": cannot open (is this a hullmap build directory?)");
-  std::string line;
-  if (!std::getline(in, line) || line.rfind("x,y,z,weight,label", 0) != 0) {
-    throw Error(name + ":1: expected header x,y,z,weight,label,core");
-  }
-  std::vector<VoxelRow> rows;
-  std::size_t number = 1;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.empty() || line == "\r") continue;
-    std::istringstream fields(line);
-    double v[6] = {0, 0, 0, 0, 0, 0};
-    char comma = 0;
-    bool ok = static_cast<bool>(fields >> v[0]);
-    for (int i = 1; ok && i < 5; ++i) ok = (fields >> comma) && comma == ',' && (fields >> v[i]);
-    if (ok && (fields >> comma)) ok = comma == ',' && (fields >> v[5]);
-    if (!ok || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
-      throw Error(name + ":" + std::to_string(number) + ": expected x,y,z,weight,label,core numbers");
-    }
-    VoxelRow row;
-    row.center = Eigen::Vector3d(v[0], v[1], v[2]);
-    row.weight = static_cast<std::uint32_t>(v[3]);
-    row.label = static_cast<std::int32_t>(v[4]);
-    row.core = v[5] != 0.0;
-    rows.push_back(row);
-  }
-  return rows;
-}
-
-namespace {
-
-/// Holds an exclusive flock(2) on a staging directory while a run writes into it. The kernel drops
-/// the lock when the process ends, however it ends (SIGKILL included), so "can this directory be
-/// locked?" tells a killed run's leftovers from a live run's work. The pid in the name cannot tell:
-/// pids are reused, and by the next run a killed run's pid may belong to any process.
-class StagingLock {
- public:
-  explicit StagingLock(const fs::path& dir) : fd_(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)) {
-    if (fd_ < 0 || ::flock(fd_, LOCK_EX) != 0)
-      throw Error(dir.string() + ": cannot lock staging directory: " + std::strerror(errno));
-    // A run sweeping stale staging directories may have locked and removed this one in the moment
-    // between its creation and the lock above.
-    struct stat st {};
-    if (::fstat(fd_, &st) != 0 || st.st_nlink == 0)
-      throw Error(dir.string() + ": staging directory was removed by another run into the same output");
-  }
-  StagingLock(const StagingLock&) = delete;
-  StagingLock& operator=(const StagingLock&) = delete;
-  ~StagingLock() { ::close(fd_); }
-
- private:
-  int fd_;
-};
-
-/// Removes `.NAME.new<pid>` siblings left by runs that were killed: those nobody holds a lock on.
-/// Those of a live run (another hullmap writing the same output) are locked and left alone.
-void removeStaleStaging(const fs::path& parent, const std::string& name) {
-  const std::string prefix = "." + name + ".new";
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(parent, ec)) {
-    const std::string file = entry.path().filename().string();
-    if (file.size() <= prefix.size() || file.compare(0, prefix.size(), prefix) != 0) continue;
-    if (file.find_first_not_of("0123456789", prefix.size()) != std::string::npos) continue;
-    const int fd = ::open(entry.path().c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (fd < 0) continue;
-    if (::flock(fd, LOCK_EX | LOCK_NB) == 0) {  // held while removing: a racing creator waits
-      std::error_code ignored;
-      fs::remove_all(entry.path(), ignored);
-    }
-    ::close(fd);
-  }
-}
-
-}  // namespace
-
-void checkOutputDir(const fs::path& dir, const BuildParams& params, const WriteOptions& options) {
-  mapper::OutputDirPolicy policy;
-  for (const auto& input : params.inputs) policy.inputs.push_back(input.string());
-  if (params.trajectory) policy.inputs.push_back(params.trajectory->string());
-  policy.make_parents = options.make_parents;
-  mapper::checkOutputDir(dir.string(), policy);
-}
-
-void write(const BuildResult& result, const fs::path& dir, const WriteOptions& options) {
-  const std::string name = dir.string();
-  checkOutputDir(dir, result.params, options);  // again: the build may have run for a while
-  fs::path out = fs::absolute(dir).lexically_normal();
-  if (out.filename().empty()) out = out.parent_path();  // "out/" is "out"
-  const fs::path parent = out.parent_path();
-  std::error_code ec;
-  fs::create_directories(parent, ec);
-  if (ec) throw Error(name + ": cannot create " + parent.string() + ": " + ec.message());
-  removeStaleStaging(parent, out.filename().string());
-
-  const fs::path staging = parent / ("." + out.filename().string() + ".new" + std::to_string(::getpid()));
-  fs::remove_all(staging, ec);
-  fs::create_directories(staging, ec);
-  if (ec) {
-    throw Error(name + ": cannot create its staging directory " + staging.string() + ": " + ec.message());
-  }
-  try {
-    const StagingLock lock(staging);
-    runStage("write");
-    mapper::writeMap(result.map, (staging / "map.bt").string());
-    if (result.params.write_ot) mapper::writeMap(result.map, (staging / "map.ot").string());
-    runStage("wrote_map");
-    writeVoxelsCsv(staging / "voxels.csv", result.voxels, result.clusters);
-    runStage("wrote_voxels");
-    const nlohmann::json report = reportJson(result);
-    ObstaclesMeta meta;
-    meta.frame = outputFrame(result);
-    meta.parameters = report["parameters"];
-    meta.surfaces = result.surfaces;
-    meta.input_to_output = result.report.input_to_output;
-    writeObstaclesJson((staging / "obstacles.json").string(), result.obstacles, meta);
-    writeObstaclesObj((staging / "obstacles.obj").string(), result.obstacles);
-    runStage("wrote_obstacles");
-    core::writeFileAtomically((staging / "report.json").string(),
-                              [&](std::ostream& os) { os << report.dump(2) << '\n'; });
-    std::vector<std::string> written{"map.bt", "voxels.csv", "obstacles.json", "obstacles.obj", "report.json"};
-    if (result.params.write_ot) written.push_back("map.ot");
-    if (!result.keyframes.empty()) {
-      writeTumTrajectory(staging / kTrajectoryFile, result.keyframes);
-      written.push_back(kTrajectoryFile);
-    }
-    mapper::writeOutputMarker(staging.string(), written);
-
-    runStage("move_into_place");
-    checkOutputDir(dir, result.params, options);  // a file put there during the build is not removed with the old output
-    // One atomic step puts the finished directory in place: a rename when there is no previous
-    // output, else an exchange of the two directories (Linux renameat2), after which the staging
-    // name holds the previous output. At no instant is there no OUT/ or a half-written one.
-    if (!fs::exists(out)) {
-      fs::rename(staging, out, ec);
-      if (ec) throw Error(name + ": cannot move into place: " + ec.message());
-    } else {
-      if (::renameat2(AT_FDCWD, staging.c_str(), AT_FDCWD, out.c_str(), RENAME_EXCHANGE) != 0)
-        throw Error(name + ": cannot replace: " + std::strerror(errno));
-      fs::remove_all(staging, ec);  // the previous output
-    }
-  } catch (...) {
-    std::error_code ignored;
-    fs::remove_all(staging, ignored);
-    throw;
-  }
-}
 
 }  // namespace hullmap::pipeline

@@ -3,6 +3,8 @@
 #include <system_error>
 
 #include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/voxels_csv.hpp"
+#include "hullmap/pipeline/report.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 
 namespace hullmap::python {

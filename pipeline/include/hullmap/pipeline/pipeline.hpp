@@ -9,7 +9,6 @@
 #include <vector>
 
 #include <Eigen/Core>
-#include <nlohmann/json.hpp>
 
 #include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/clustering/cluster_extension.hpp"
@@ -280,39 +279,6 @@ void checkOutputDir(const std::filesystem::path& dir, const BuildParams& params,
 /// The obstacles of an obstacles.json written by write() (or writeObstaclesJson), each with its id.
 /// Throws hullmap::Error "<path>: <what>" on a missing file, another format or any malformed field.
 std::vector<clustering::Obstacle> readObstacles(const std::filesystem::path& obstacles_json);
-
-/// The report.json document of a result (parameters, inputs, point account, octree, clusters,
-/// obstacles, timings, peak memory).
-nlohmann::json reportJson(const BuildResult& result);
-
-/// The parameters object of report.json and obstacles.json.
-nlohmann::json parametersJson(const BuildParams& params);
-
-/// Reads a report.json written by write(); throws hullmap::Error naming `path` unless it is JSON
-/// with a "parameters" object whose "resolution" is a positive number.
-nlohmann::json readReport(const std::filesystem::path& path);
-
-/// The frame description written into every output ("z-up map frame: input axis -y rotated to +z").
-std::string frameDescription(const mapper::FrameParams& frame);
-
-/// "x", "-x", ..., "-z": an up axis as report.json writes it (parseUpAxis reads it back).
-std::string upAxisText(mapper::UpAxis up);
-
-/// One row of voxels.csv.
-struct VoxelRow {
-  Eigen::Vector3d center;       ///< map frame, map units
-  std::uint32_t weight = 1;     ///< map points in the voxel
-  std::int32_t label = clustering::kNoise;
-  bool core = false;
-};
-
-/// Writes voxels.csv atomically: header `x,y,z,weight,label,core`, one voxel a line (9 significant
-/// digits). `clusters` holds one label and core flag per voxel. Throws hullmap::Error naming `path`.
-void writeVoxelsCsv(const std::filesystem::path& path, const std::vector<mapper::OccupiedVoxel>& voxels,
-                    const clustering::DbscanResult& clusters);
-
-/// Reads a voxels.csv written by writeVoxelsCsv; throws hullmap::Error "<path>:<line>: <what>".
-std::vector<VoxelRow> readVoxelsCsv(const std::filesystem::path& path);
 
 /// Reads and unions point files (any format the mapper reads); throws hullmap::Error naming them
 /// when none holds a point.

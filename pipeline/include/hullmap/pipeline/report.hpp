@@ -1,0 +1,31 @@
+#pragma once
+// report.json: what a build did and with which parameters, as JSON.
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "hullmap/mapper/frame.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
+
+namespace hullmap::pipeline {
+
+/// The report.json document of a result (parameters, inputs, point account, octree, clusters,
+/// obstacles, timings, peak memory).
+nlohmann::json reportJson(const BuildResult& result);
+
+/// The parameters object of report.json and obstacles.json.
+nlohmann::json parametersJson(const BuildParams& params);
+
+/// Reads a report.json written by write(); throws hullmap::Error naming `path` unless it is JSON
+/// with a "parameters" object whose "resolution" is a positive number.
+nlohmann::json readReport(const std::filesystem::path& path);
+
+/// The frame description written into every output ("z-up map frame: input axis -y rotated to +z").
+std::string frameDescription(const mapper::FrameParams& frame);
+
+/// "x", "-x", ..., "-z": an up axis as report.json writes it (parseUpAxis reads it back).
+std::string upAxisText(mapper::UpAxis up);
+
+}  // namespace hullmap::pipeline
