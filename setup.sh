@@ -35,6 +35,8 @@ if [ "$mode" = test ]; then
   # python3-sklearn: DBSCAN oracle on real maps; librsvg2-bin: PNG rendering test;
   # clang + libclang-rt-14-dev: the libFuzzer targets that .ci/run runs briefly.
   packages+=(python3 python3-sklearn python3-numpy librsvg2-bin xz-utils clang libclang-rt-14-dev)
+  # clang-format: .ci/check_format.sh (.clang-format); clang-tidy for .clang-tidy, run by hand.
+  packages+=(clang-format clang-tidy)
   # The Python module (python/) and its pytest suite: pybind11 and the headers to build it, pytest,
   # venv and pip for the offline pip install test, Open3D for Map.to_open3d.
   packages+=(pybind11-dev python3-dev python3-pytest python3-venv python3-pip python3-open3d)

@@ -178,11 +178,11 @@ void run(const BuiltScene& scene, double radius, std::size_t n, std::size_t m, s
 
   tbb::task_arena one(1), two(2);
   std::vector<SegmentCheck> hull_results;
-  const Timing hull_2t = timed([&] { two.execute([&] { hull_results = hulls.checkBatch(segments, radius); }); },
-                               repeats);
+  const Timing hull_2t =
+      timed([&] { two.execute([&] { hull_results = hulls.checkBatch(segments, radius); }); }, repeats);
   std::vector<SegmentCheck> hull_results_1t;
-  const Timing hull_1t = timed([&] { one.execute([&] { hull_results_1t = hulls.checkBatch(segments, radius); }); },
-                               repeats);
+  const Timing hull_1t =
+      timed([&] { one.execute([&] { hull_results_1t = hulls.checkBatch(segments, radius); }); }, repeats);
 
   auto octreeBatch = [&](const OctreeChecker& checker, std::vector<SegmentCheck>& out) {
     out.assign(octree_segments.size(), {});

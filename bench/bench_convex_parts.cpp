@@ -99,8 +99,8 @@ int main(int argc, char** argv) try {
     for (const auto& o : obstacles)
       for (std::size_t p = 0; p < o.parts.size(); ++p) {
         const auto& part = o.parts[p];
-        out << o.id << ' ' << p << ' ' << part.voxel_count << ' ' << part.volume << ' ' << part.concavity_bound
-            << ' ' << part.free_voxels_inside;
+        out << o.id << ' ' << p << ' ' << part.voxel_count << ' ' << part.volume << ' ' << part.concavity_bound << ' '
+            << part.free_voxels_inside;
         for (const auto& v : part.hull.vertices) out << ' ' << v.x() << ' ' << v.y() << ' ' << v.z();
         out << '\n';
       }

@@ -185,12 +185,13 @@ int main(int argc, char** argv) {
       writeRaw(stem + "hullmap_" + std::to_string(n) + ".u8", result.core.data(), n);
     }
     std::printf(
-        "{\"points\":%zu,\"seconds\":%.6f,\"cpu_seconds\":%.6f,\"points_per_second\":%.0f,\"peak_bytes\":%ld,\"bytes_per_point\":%.1f,"
+        "{\"points\":%zu,\"seconds\":%.6f,\"cpu_seconds\":%.6f,\"points_per_second\":%.0f,\"peak_bytes\":%ld,\"bytes_"
+        "per_point\":%.1f,"
         "\"clusters\":%zu,\"noise\":%zu,\"core\":%zu,\"threads\":%d,\"k_distance_seconds\":%.6f,"
         "\"k_distance_cpu_seconds\":%.6f,\"median_seconds\":%.6f,\"median_cpu_seconds\":%.6f,"
         "\"k_distance_median_seconds\":%.6f,\"k_distance_median_cpu_seconds\":%.6f}\n",
-        n, best, best_cpu, double(n) / best, grown, grown >= 0 ? double(grown) / double(n) : -1.0, result.cluster_sizes.size(),
-        result.noise, core, tbb::info::default_concurrency(), std::max(0.0, best_k - best),
+        n, best, best_cpu, double(n) / best, grown, grown >= 0 ? double(grown) / double(n) : -1.0,
+        result.cluster_sizes.size(), result.noise, core, tbb::info::default_concurrency(), std::max(0.0, best_k - best),
         std::max(0.0, best_k_cpu - best_cpu), median(plain), median(plain_cpu), median(extra), median(extra_cpu));
     std::fflush(stdout);
   }

@@ -43,7 +43,8 @@ using hullmap::io::Point;
 using hullmap::io::Points;
 
 // Median wall time of `run`; `setup` (not timed) runs before each repetition.
-double millis(const std::function<void()>& run, int repeats, const std::function<void()>& setup = [] {}) {
+double millis(
+    const std::function<void()>& run, int repeats, const std::function<void()>& setup = [] {}) {
   std::vector<double> times;
   for (int r = 0; r < repeats; ++r) {
     setup();
@@ -69,11 +70,11 @@ LidarScan lidarScan() {
   struct Box {
     Point lo, hi;
   };
-  const std::vector<Box> boxes = {
-      {{12, 8, 0}, {30, 22, 9}},       {{-35, 10, 0}, {-14, 28, 14}},  {{-40, -30, 0}, {-22, -12, 6}},
-      {{18, -32, 0}, {40, -16, 11}},   {{42, -5, 0}, {52, 12, 16}},    {{-55, -6, 0}, {-46, 6, 5}},
-      {{4, -9.5, 0}, {8.5, -7.7, 1.5}}, {{-12, 4.2, 0}, {-7.5, 6, 1.5}}, {{22, 3, 0}, {26.5, 4.8, 1.5}},
-      {{-20, -7.8, 0}, {-15.5, -6, 1.6}}};
+  const std::vector<Box> boxes = {{{12, 8, 0}, {30, 22, 9}},        {{-35, 10, 0}, {-14, 28, 14}},
+                                  {{-40, -30, 0}, {-22, -12, 6}},   {{18, -32, 0}, {40, -16, 11}},
+                                  {{42, -5, 0}, {52, 12, 16}},      {{-55, -6, 0}, {-46, 6, 5}},
+                                  {{4, -9.5, 0}, {8.5, -7.7, 1.5}}, {{-12, 4.2, 0}, {-7.5, 6, 1.5}},
+                                  {{22, 3, 0}, {26.5, 4.8, 1.5}},   {{-20, -7.8, 0}, {-15.5, -6, 1.6}}};
   const double pole_radius = 0.15, pole_height = 6.0;
   const double yard[2] = {60.0, 45.0};
   const Point origin(0.0, 0.0, 1.8);
@@ -119,7 +120,8 @@ LidarScan lidarScan() {
           if (hit > 0.0 && hit < t && origin.z() + hit * d.z() <= pole_height) t = hit;
         }
       }
-      const std::uint64_t h = hullmap::core::splitMix64(static_cast<std::uint64_t>(beam) << 32 | static_cast<std::uint64_t>(step));
+      const std::uint64_t h =
+          hullmap::core::splitMix64(static_cast<std::uint64_t>(beam) << 32 | static_cast<std::uint64_t>(step));
       const double noise = 0.02 * (2.0 * hullmap::core::unitInterval(h) - 1.0);
       scan.points.push_back(origin + (t + noise) * d);
     }
@@ -143,7 +145,8 @@ bool identical(const octomap::OcTree& a, const octomap::OcTree& b) {
   auto i = a.begin_leafs();
   auto j = b.begin_leafs();
   for (; i != a.end_leafs() && j != b.end_leafs(); ++i, ++j) {
-    if (i.getKey() != j.getKey() || i.getDepth() != j.getDepth() || std::abs(i->getLogOdds() - j->getLogOdds()) > 1e-5f) {
+    if (i.getKey() != j.getKey() || i.getDepth() != j.getDepth() ||
+        std::abs(i->getLogOdds() - j->getLogOdds()) > 1e-5f) {
       return false;
     }
   }
@@ -152,33 +155,36 @@ bool identical(const octomap::OcTree& a, const octomap::OcTree& b) {
 
 void run(const std::string& name, const Points& points, const Point& origin, double resolution, int repeats) {
   octomap::Pointcloud cloud;
-  for (const Point& p : points) cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
-  const octomap::point3d o(static_cast<float>(origin.x()), static_cast<float>(origin.y()), static_cast<float>(origin.z()));
+  for (const Point& p : points)
+    cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  const octomap::point3d o(static_cast<float>(origin.x()), static_cast<float>(origin.y()),
+                           static_cast<float>(origin.z()));
 
   octomap::OcTree reference(resolution);
-  const double octomap_ms = millis([&] { reference.insertPointCloud(cloud, o, -1.0); }, repeats,
-                                   [&] { clearTree(reference); });
+  const double octomap_ms =
+      millis([&] { reference.insertPointCloud(cloud, o, -1.0); }, repeats, [&] { clearTree(reference); });
 
   octomap::OcTree ours(resolution);
-  const double hullmap_ms = millis([&] { hullmap::mapper::insertScan(ours, points, origin, -1.0); }, repeats,
-                                   [&] { clearTree(ours); });
+  const double hullmap_ms =
+      millis([&] { hullmap::mapper::insertScan(ours, points, origin, -1.0); }, repeats, [&] { clearTree(ours); });
 
   std::size_t keys = 0;
-  const double ray_keys_ms = millis([&] {
-    octomap::KeyRay ray;
-    keys = 0;
-    for (const auto& p : cloud) {
-      if (reference.computeRayKeys(o, p, ray)) keys += ray.size();
-    }
-  }, repeats);
+  const double ray_keys_ms = millis(
+      [&] {
+        octomap::KeyRay ray;
+        keys = 0;
+        for (const auto& p : cloud) {
+          if (reference.computeRayKeys(o, p, ray)) keys += ray.size();
+        }
+      },
+      repeats);
 
   hullmap::mapper::detail::ScanUpdate update;
-  const double cast_ms = millis([&] {
-    update = hullmap::mapper::detail::computeScanUpdate(ours, points, origin, -1.0);
-  }, repeats);
+  const double cast_ms =
+      millis([&] { update = hullmap::mapper::detail::computeScanUpdate(ours, points, origin, -1.0); }, repeats);
   octomap::OcTree phases(resolution);
-  const double apply_ms = millis([&] { hullmap::mapper::detail::applyScanUpdate(phases, update); }, repeats,
-                                 [&] { clearTree(phases); });
+  const double apply_ms =
+      millis([&] { hullmap::mapper::detail::applyScanUpdate(phases, update); }, repeats, [&] { clearTree(phases); });
 
   std::printf(
       "{\"scan\": \"%s\", \"points\": %zu, \"resolution\": %.3f, \"octomap_ms\": %.2f, \"hullmap_ms\": %.2f, "

@@ -89,8 +89,8 @@ std::vector<Obstacle> randomScene(int n, int thin, unsigned seed, double& side) 
     const double t = M_PI * u(rng);
     const Eigen::Vector2d ex(std::cos(t), std::sin(t)), ey(-std::sin(t), std::cos(t));
     out.push_back(prism(static_cast<int>(out.size()),
-                        {c - 0.5 * a * ex - 0.5 * b * ey, c + 0.5 * a * ex - 0.5 * b * ey, c + 0.5 * a * ex + 0.5 * b * ey,
-                         c - 0.5 * a * ex + 0.5 * b * ey},
+                        {c - 0.5 * a * ex - 0.5 * b * ey, c + 0.5 * a * ex - 0.5 * b * ey,
+                         c + 0.5 * a * ex + 0.5 * b * ey, c - 0.5 * a * ex + 0.5 * b * ey},
                         0.0, 3.0));
   }
   return out;
@@ -143,7 +143,7 @@ struct Grid {
   }
   /// Length from the cell of a to the cell of b, plus the two end offsets; < 0 when not connected.
   double shortest(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const {
-    static const int moves[16][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {1, -1}, {-1, 1}, {-1, -1},
+    static const int moves[16][2] = {{1, 0}, {-1, 0}, {0, 1},  {0, -1},  {1, 1}, {1, -1}, {-1, 1}, {-1, -1},
                                      {2, 1}, {2, -1}, {-2, 1}, {-2, -1}, {1, 2}, {1, -2}, {-1, 2}, {-1, -2}};
     const int ai = static_cast<int>(a.x() / cell), aj = static_cast<int>(a.y() / cell);
     const int bi = static_cast<int>(b.x() / cell), bj = static_cast<int>(b.y() / cell);
@@ -198,8 +198,12 @@ void roadmapRows() {
       ms.push_back(1e3 * seconds(t0));
       edges = map.edges.size();
     }
-    std::cout << nlohmann::json{{"kind", "roadmap"}, {"obstacles", obstacles.size()}, {"median_ms", median(ms)},
-                                {"cpu_ms", median(cpu_ms)}, {"edges", edges}}.dump()
+    std::cout << nlohmann::json{{"kind", "roadmap"},
+                                {"obstacles", obstacles.size()},
+                                {"median_ms", median(ms)},
+                                {"cpu_ms", median(cpu_ms)},
+                                {"edges", edges}}
+                     .dump()
               << std::endl;
   }
 }
@@ -249,10 +253,14 @@ void planRows() {
     ++found;
     ratios.push_back(result.length / grid_lengths[q]);
   }
-  std::cout << nlohmann::json{{"kind", "plan"},        {"obstacles", obstacles.size()},
-                              {"side", side},          {"radius", radius},
-                              {"queries", queries.size()}, {"found", found},
-                              {"total_ms_median", median(total_ms)}, {"plan_ms_median", median(planner_ms)},
+  std::cout << nlohmann::json{{"kind", "plan"},
+                              {"obstacles", obstacles.size()},
+                              {"side", side},
+                              {"radius", radius},
+                              {"queries", queries.size()},
+                              {"found", found},
+                              {"total_ms_median", median(total_ms)},
+                              {"plan_ms_median", median(planner_ms)},
                               {"ratio_median", median(ratios)},
                               {"ratio_max", ratios.empty() ? 0.0 : *std::max_element(ratios.begin(), ratios.end())}}
                    .dump()
@@ -293,7 +301,8 @@ void omplRows(double time_limit, int count) {
         // How deep: the smallest clearance of the sphere centre along the path, densely sampled.
         for (std::size_t k = 1; k < result.planner_path.size(); ++k)
           for (int s = 0; s <= 200; ++s) {
-            const Eigen::Vector3d p = result.planner_path[k - 1] + (result.planner_path[k] - result.planner_path[k - 1]) * (s / 200.0);
+            const Eigen::Vector3d p =
+                result.planner_path[k - 1] + (result.planner_path[k] - result.planner_path[k - 1]) * (s / 200.0);
             const auto c = checker.check({p, p}, 0.0);
             worst_depth = std::max(worst_depth, radius - (c.collides ? 0.0 : c.clearance));
           }
@@ -329,15 +338,19 @@ void fleetRow(const std::string& room_obstacles) {
     points.push_back(tasks.back().goal);
   }
   const auto t0 = std::chrono::steady_clock::now();
-  const hp::PathPlanner planner(obstacles, hp::buildRoadmap(obstacles, hp::roadmapParamsFor(obstacles, points, radius)));
+  const hp::PathPlanner planner(obstacles,
+                                hp::buildRoadmap(obstacles, hp::roadmapParamsFor(obstacles, points, radius)));
   hp::FleetParams params;
   params.radius = radius;
   params.speed = 1.0;
   const hp::FleetResult result = hp::planFleet(planner, tasks, params);
   const double ms = 1e3 * seconds(t0);
-  std::cout << nlohmann::json{{"kind", "fleet"},          {"drones", tasks.size()},
-                              {"routed", tasks.size() - result.unrouted.size()}, {"ms", ms},
-                              {"min_separation", result.min_separation}, {"radius", radius},
+  std::cout << nlohmann::json{{"kind", "fleet"},
+                              {"drones", tasks.size()},
+                              {"routed", tasks.size() - result.unrouted.size()},
+                              {"ms", ms},
+                              {"min_separation", result.min_separation},
+                              {"radius", radius},
                               {"obstacles", obstacles.size()}}
                    .dump()
             << std::endl;
@@ -354,8 +367,10 @@ int main(int argc, char** argv) {
   int ompl_queries = 8;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
-    if (flag == "--ompl-time") ompl_time = std::atof(argv[i + 1]);
-    else if (flag == "--ompl-queries") ompl_queries = std::atoi(argv[i + 1]);
+    if (flag == "--ompl-time")
+      ompl_time = std::atof(argv[i + 1]);
+    else if (flag == "--ompl-queries")
+      ompl_queries = std::atoi(argv[i + 1]);
   }
   roadmapRows();
   planRows();

@@ -31,13 +31,13 @@ struct BuildOptions {
   std::optional<std::string> origin;  ///< "x,y,z"
   std::string up = "z";
   double scale = 1.0;
-  std::optional<std::string> crop;    ///< "x0,y0,z0,x1,y1,z1"
+  std::optional<std::string> crop;  ///< "x0,y0,z0,x1,y1,z1"
   std::optional<double> z_min;
   std::optional<double> z_max;
   std::string metric = "xyz";
-  std::optional<std::string> topic;  ///< the input is a ROS 1 or ROS 2 bag: its map topic
+  std::optional<std::string> topic;             ///< the input is a ROS 1 or ROS 2 bag: its map topic
   std::optional<std::string> trajectory_topic;  ///< and its keyframe poses' topic
-  std::optional<std::string> align;          ///< reference trajectory
+  std::optional<std::string> align;             ///< reference trajectory
   std::string align_format = "tum";
   double align_tolerance = mapper::AlignParams{}.stamp_tolerance;
   std::string floor = "auto";
@@ -46,7 +46,7 @@ struct BuildOptions {
   std::string eps = "auto";
   std::string min_pts = "auto";
   std::string concavity = "default";
-  std::string flat_gap = "auto";  ///< G of flat parts: auto (the eps used), 0 (off) or a length
+  std::string flat_gap = "auto";   ///< G of flat parts: auto (the eps used), 0 (off) or a length
   std::string extension = "auto";  ///< auto (on when --min-pts is auto), on or off
   pipeline::BuildParams params;
 };
@@ -71,7 +71,9 @@ pipeline::BuildParams toParams(const BuildOptions& o) {
     params.align = align;
   }
   params.floor = mapper::parsePlaneSetting("--floor", o.floor);
-  params.level = o.level == "on" ? pipeline::Level::kOn : o.level == "off" ? pipeline::Level::kOff : pipeline::Level::kAuto;
+  params.level = o.level == "on"    ? pipeline::Level::kOn
+                 : o.level == "off" ? pipeline::Level::kOff
+                                    : pipeline::Level::kAuto;
   params.ceiling = mapper::parsePlaneSetting("--ceiling", o.ceiling);
   if (o.eps != "auto") params.eps = number(o.eps);
   if (o.min_pts != "auto") params.min_pts = std::stoi(o.min_pts);
@@ -121,14 +123,16 @@ void refuseMisfits(const CLI::App& cmd, const BuildOptions& options) {
   if (options.align) {
     for (const char* name : {"--up", "--scale"})
       if (cmd.count(name) > 0)
-        throw Error(std::string(name) + ": cannot apply with --align (the reference trajectory sets the frame and scale); leave it out");
+        throw Error(std::string(name) +
+                    ": cannot apply with --align (the reference trajectory sets the frame and scale); leave it out");
   } else {
     for (const char* name : {"--align-format", "--align-tolerance"})
       if (cmd.count(name) > 0) throw Error(std::string(name) + ": applies only with --align REF");
   }
   if (options.concavity == "none" && cmd.count("--flat-gap") > 0)
-    throw Error("--flat-gap: applies only to convex parts, and --concavity none makes one hull per cluster; "
-                "leave it out");
+    throw Error(
+        "--flat-gap: applies only to convex parts, and --concavity none makes one hull per cluster; "
+        "leave it out");
   if (!readsOctree(options)) {
     // Points alone are occupied updates only: nothing for a ray bound or P(miss) to act on.
     if (options.trajectory || options.origin || options.trajectory_topic) return;
@@ -138,7 +142,8 @@ void refuseMisfits(const CLI::App& cmd, const BuildOptions& options) {
     if (given.empty()) return;
     throw Error(given + ": " + (given.find(',') == std::string::npos ? "applies" : "apply") +
                 " only to free space cast along rays (with --trajectory or --origin); a points-only build casts "
-                "none: leave " + (given.find(',') == std::string::npos ? "it" : "them") + " out");
+                "none: leave " +
+                (given.find(',') == std::string::npos ? "it" : "them") + " out");
   }
   std::string given;
   for (const char* name : {"--trajectory", "--origin", "--up", "--scale", "--crop", "--z-min", "--z-max",
@@ -171,7 +176,8 @@ void checkOutput(const BuildOptions& options, const pipeline::BuildParams& param
 /// reader, a ROS 1 bag by Debian's rosbag_storage.
 pipeline::BuildResult buildFromBag(const BuildOptions& options, const pipeline::BuildParams& params) {
   if (options.inputs.size() != 1) throw Error("--topic: give exactly one input, a ROS 1 or ROS 2 bag");
-  if (params.trajectory && options.trajectory_topic) throw Error("--trajectory and --trajectory-topic: give one or the other");
+  if (params.trajectory && options.trajectory_topic)
+    throw Error("--trajectory and --trajectory-topic: give one or the other");
   const std::string& path = options.inputs.front();
   live::BagTopics bag;
   if (live::isRos2Bag(path)) {
@@ -182,8 +188,9 @@ pipeline::BuildResult buildFromBag(const BuildOptions& options, const pipeline::
     if (options.trajectory_topic) bag.keyframes = ros1::readBagKeyframes(path, *options.trajectory_topic);
 #else
     (void)params;
-    throw Error("--topic: this hullmap was built without ROS1's rosbag_storage (install librosbag-storage-dev "
-                "and pluginlib-dev, then rebuild)");
+    throw Error(
+        "--topic: this hullmap was built without ROS1's rosbag_storage (install librosbag-storage-dev "
+        "and pluginlib-dev, then rebuild)");
 #endif
   }
   if (bag.map.skipped > 0) {
@@ -193,7 +200,8 @@ pipeline::BuildResult buildFromBag(const BuildOptions& options, const pipeline::
   if (bag.map.points.empty()) throw Error(path + ": topic " + *options.topic + " ends on an empty map");
   // ORB-SLAM's map markers are in its first camera's frame; a PointCloud2 is judged as a file is.
   pipeline::BuildParams bag_params = params;
-  if (!bag_params.camera_frame && (bag.map.type == "visualization_msgs/Marker" || bag.map.type == "visualization_msgs/msg/Marker"))
+  if (!bag_params.camera_frame &&
+      (bag.map.type == "visualization_msgs/Marker" || bag.map.type == "visualization_msgs/msg/Marker"))
     bag_params.camera_frame = true;
   return pipeline::buildFromPoints(std::move(bag.map.points), std::move(bag.keyframes), bag_params, path,
                                    path + ":" + options.trajectory_topic.value_or(""));
@@ -230,13 +238,14 @@ void printStages(const pipeline::BuildResult& result) {
     const auto& a = *report.alignment;
     const Eigen::Vector3d& t = a.transform.translation;
     std::cout << std::setprecision(6) << "align: scale " << a.transform.scale << ", rotation "
-              << Eigen::AngleAxisd(a.transform.rotation).angle() * 180.0 / M_PI << " deg, translation " << t.x()
-              << ' ' << t.y() << ' ' << t.z() << "; RMSE " << a.rmse << " (max " << a.max_error << "), "
-              << a.matched << " keyframes matched, " << a.unmatched << " unmatched\n";
+              << Eigen::AngleAxisd(a.transform.rotation).angle() * 180.0 / M_PI << " deg, translation " << t.x() << ' '
+              << t.y() << ' ' << t.z() << "; RMSE " << a.rmse << " (max " << a.max_error << "), " << a.matched
+              << " keyframes matched, " << a.unmatched << " unmatched\n";
   }
   if (pipeline::readsOctree(result.params)) return;
   const bool aligned = report.alignment.has_value();
-  std::cout << planeText(report.floor, "floor", aligned) << "\n" << planeText(report.ceiling, "ceiling", aligned) << "\n";
+  std::cout << planeText(report.floor, "floor", aligned) << "\n"
+            << planeText(report.ceiling, "ceiling", aligned) << "\n";
 }
 
 void printClustering(const pipeline::BuildResult& result) {
@@ -262,15 +271,15 @@ void printClustering(const pipeline::BuildResult& result) {
     // G <= T: no relaxation, no part passes as flat; an auto G (the eps) may land there too.
     const double asked = result.params.convex_parts->flat_gap.value_or(cp.used.eps);
     if (p.flat_gap > p.concavity) {
-      std::cout << ", flat gap " << p.flat_gap << ": " << p.flat_parts << " flat part" << (p.flat_parts == 1 ? "" : "s");
+      std::cout << ", flat gap " << p.flat_gap << ": " << p.flat_parts << " flat part"
+                << (p.flat_parts == 1 ? "" : "s");
     } else if (asked > 0.0) {
       std::cout << ", flat gap " << asked << " <= T: off";
     } else {
       std::cout << ", flat gap off";
     }
-    std::cout << "); observed-free voxels inside hulls: " << p.free_voxels_inside << " ("
-              << p.free_voxels_off_surface << " off the surface band), keyframes inside hulls: "
-              << report.keyframes_inside_hulls;
+    std::cout << "); observed-free voxels inside hulls: " << p.free_voxels_inside << " (" << p.free_voxels_off_surface
+              << " off the surface band), keyframes inside hulls: " << report.keyframes_inside_hulls;
   }
   std::cout << "\n";
 }
@@ -299,7 +308,8 @@ void addBuildCommand(CLI::App& app, int& status) {
   cmd->add_option("--up", options->up, "Input axis that points up: x, -x, y, -y, z, -z (ORB-SLAM: -y)")
       ->capture_default_str();
   cmd->add_option("--scale", options->scale, "Scale applied to input coordinates (monocular maps)")
-      ->check(numberAbove(0))->capture_default_str();
+      ->check(numberAbove(0))
+      ->capture_default_str();
   cmd->add_option("--crop", options->crop,
                   "x0,y0,z0,x1,y1,z1: keep points inside this box (output frame: after --up/--scale or --align and "
                   "levelling; the input frame when none moved the map)");
@@ -312,57 +322,72 @@ void addBuildCommand(CLI::App& app, int& status) {
       ->check(numberAbove(0))
       ->capture_default_str();
   cmd->add_option("--max-range", octree.max_range, "Bound on ray length for free space (< 0: none)")
-      ->check(finiteNumber())->capture_default_str();
-  cmd->add_option("--hit", octree.sensor.hit, "Sensor model: P(hit)")->check(numberIn(0.5, 1.0))
+      ->check(finiteNumber())
       ->capture_default_str();
-  cmd->add_option("--miss", octree.sensor.miss, "Sensor model: P(miss)")->check(numberIn(0.0, 0.5))
+  cmd->add_option("--hit", octree.sensor.hit, "Sensor model: P(hit)")->check(numberIn(0.5, 1.0))->capture_default_str();
+  cmd->add_option("--miss", octree.sensor.miss, "Sensor model: P(miss)")
+      ->check(numberIn(0.0, 0.5))
       ->capture_default_str();
   cmd->add_option("--clamp-min", octree.sensor.clamp_min, "Lower clamping probability")
-      ->check(numberIn(0.0, 1.0))->capture_default_str();
+      ->check(numberIn(0.0, 1.0))
+      ->capture_default_str();
   cmd->add_option("--clamp-max", octree.sensor.clamp_max, "Upper clamping probability")
-      ->check(numberIn(0.0, 1.0))->capture_default_str();
-  cmd->add_option("--occupancy-threshold", octree.sensor.occupancy_threshold,
-                  "Occupied when probability > this")
-      ->check(numberIn(0.0, 1.0))->capture_default_str();
-  cmd->add_option("--align", options->align,
-                  "Metric reference trajectory of the keyframes (needs --trajectory): outputs in its frame, metres, z up")
+      ->check(numberIn(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--occupancy-threshold", octree.sensor.occupancy_threshold, "Occupied when probability > this")
+      ->check(numberIn(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option(
+         "--align", options->align,
+         "Metric reference trajectory of the keyframes (needs --trajectory): outputs in its frame, metres, z up")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--align-format", options->align_format, "Format of --align: tum (t x y z [q]) or gps (t lat lon alt)")
-      ->check(CLI::IsMember({"tum", "gps"}))->capture_default_str();
+  cmd->add_option("--align-format", options->align_format,
+                  "Format of --align: tum (t x y z [q]) or gps (t lat lon alt)")
+      ->check(CLI::IsMember({"tum", "gps"}))
+      ->capture_default_str();
   cmd->add_option("--align-tolerance", options->align_tolerance,
                   "Seconds within which a keyframe matches a reference stamp")
-      ->check(numberAbove(0, true))->capture_default_str();
+      ->check(numberAbove(0, true))
+      ->capture_default_str();
   cmd->add_option("--floor", options->floor,
                   "auto: find the floor, none, or its height Z; floor voxels are not clustered, and the floor is an "
                   "obstacle for check and plan")
-      ->check(wordOr({"auto", "none"}, finiteNumber()))->capture_default_str();
+      ->check(wordOr({"auto", "none"}, finiteNumber()))
+      ->capture_default_str();
   cmd->add_option("--level", options->level,
                   "auto: level a found floor (rotate it level, move it to z = 0) only for a camera's frame (ORB-SLAM "
                   "maps, --up other than z); on: always; off: never (the map stays in its input frame)")
-      ->check(CLI::IsMember({"auto", "on", "off"}))->capture_default_str();
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
   cmd->add_option("--ceiling", options->ceiling, "auto, none, or its height Z: ceiling voxels are not clustered")
-      ->check(wordOr({"auto", "none"}, finiteNumber()))->capture_default_str();
-  cmd->add_option("--eps", options->eps,
-                  "DBSCAN radius, map units (>= --resolution), or auto: chosen from the map")
-      ->check(wordOr({"auto"}, numberAbove(0)))->capture_default_str();
+      ->check(wordOr({"auto", "none"}, finiteNumber()))
+      ->capture_default_str();
+  cmd->add_option("--eps", options->eps, "DBSCAN radius, map units (>= --resolution), or auto: chosen from the map")
+      ->check(wordOr({"auto"}, numberAbove(0)))
+      ->capture_default_str();
   cmd->add_option("--min-pts", options->min_pts,
                   "DBSCAN core threshold, counted in map points (voxels weigh the points in them), or auto")
-      ->check(wordOr({"auto"}, wholeNumberFrom(1)))->capture_default_str();
+      ->check(wordOr({"auto"}, wholeNumberFrom(1)))
+      ->capture_default_str();
   cmd->add_option("--concavity", options->concavity,
                   "Split clusters into convex parts no farther than T (map units) from their voxels; "
                   "default: 3 voxels; none: one hull per cluster")
-      ->check(wordOr({"default", "none"}, numberAbove(0)))->capture_default_str();
+      ->check(wordOr({"default", "none"}, numberAbove(0)))
+      ->capture_default_str();
   cmd->add_option("--flat-gap", options->flat_gap,
                   "Convex parts at most T thick (walls, table tops) may span gaps up to G (map units) instead "
                   "of T; auto: the eps used, raised on sparse clusters to the holes their sampling leaves by chance "
                   "(at most 2 eps); 0: off")
-      ->check(wordOr({"auto"}, numberAbove(0, true)))->capture_default_str();
+      ->check(wordOr({"auto"}, numberAbove(0, true)))
+      ->capture_default_str();
   cmd->add_option("--extension", options->extension,
                   "After DBSCAN, noise voxels dense at a lower level (min-pts x 0.3, at least 2) join the cluster "
                   "a chain of them reaches within 1.5 eps (sparse legs and edges); auto: on when --min-pts is auto")
-      ->check(CLI::IsMember({"auto", "on", "off"}))->capture_default_str();
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
   cmd->add_option("--metric", options->metric, "DBSCAN distance: xyz or xy (top view)")
-      ->check(CLI::IsMember({"xyz", "xy"}))->capture_default_str();
+      ->check(CLI::IsMember({"xyz", "xy"}))
+      ->capture_default_str();
   cmd->add_flag("--ot", options->params.write_ot, "Also write map.ot (full probabilities)");
   cmd->add_option("--topic", options->topic,
                   "The input is a ROS 1 bag (.bag) or a ROS 2 bag (its directory, .db3 or .mcap; read through the "
@@ -393,7 +418,8 @@ void addBuildCommand(CLI::App& app, int& status) {
       named.back().format = "tum";
     }
     auto& warnings = result.report.warnings;
-    if (auto hint = mapper::orbSlamUpHint(named, cmd->count("--up") > 0 || options->align.has_value())) warnings.insert(warnings.begin(), *hint);
+    if (auto hint = mapper::orbSlamUpHint(named, cmd->count("--up") > 0 || options->align.has_value()))
+      warnings.insert(warnings.begin(), *hint);
     for (const auto& warning : warnings) std::cerr << "hullmap: warning: " << warning << "\n";
     naming([&] { pipeline::write(result, options->output_dir, write_options); });
     const auto& a = result.report.points;
@@ -401,12 +427,11 @@ void addBuildCommand(CLI::App& app, int& status) {
     for (const auto& [reason, count] : a.dropped) std::cout << ", " << count << " dropped (" << reason << ")";
     std::cout << "\n";
     printStages(result);
-    std::cout << "octree: " << result.voxels.size() << " occupied voxels at "
-              << result.map.resolution() << "\nclusters: " << result.clusters.cluster_sizes.size()
-              << ", noise voxels: " << result.clusters.noise << "\n";
+    std::cout << "octree: " << result.voxels.size() << " occupied voxels at " << result.map.resolution()
+              << "\nclusters: " << result.clusters.cluster_sizes.size() << ", noise voxels: " << result.clusters.noise
+              << "\n";
     printClustering(result);
-    std::cout << "wrote " << options->output_dir
-              << "/{map.bt" << (options->params.write_ot ? ",map.ot" : "")
+    std::cout << "wrote " << options->output_dir << "/{map.bt" << (options->params.write_ot ? ",map.ot" : "")
               << ",voxels.csv,obstacles.json,obstacles.obj,report.json"
               << (result.keyframes.empty() ? "" : ",trajectory.txt") << "}\n";
     status = 0;

@@ -94,8 +94,9 @@ void runCheck(const CheckOptions& o, int& status) {
     if (std::filesystem::exists(obstacles_json)) {
       beside = pipeline::readMapObstacles(obstacles_json);
     } else {
-      warnings.push_back(map_bt + " has no obstacles.json beside it: its floor and ceiling are not known and not "
-                                  "checked, only its voxels");
+      warnings.push_back(map_bt +
+                         " has no obstacles.json beside it: its floor and ceiling are not known and not "
+                         "checked, only its voxels");
       if (frame == pipeline::QueryFrame::kInput)
         throw Error("--frame input: " + map_bt + " has no obstacles.json beside it recording the build's frame");
     }
@@ -155,10 +156,12 @@ void runCheck(const CheckOptions& o, int& status) {
 void addCheckCommand(CLI::App& app, int& status) {
   auto options = std::make_shared<CheckOptions>();
   auto* cmd = app.add_subcommand(
-      "check", "Check a path or segments, swept by a sphere of --radius, against a build's obstacles and its floor "
-               "and ceiling (exit 1 if anything collides). Coordinates in the build's map frame, or with --frame "
-               "input in the frame of the points it read.");
-  cmd->add_option("input", options->input, "a `hullmap build` directory, or an obstacles.json (or map.bt for --against octree)")
+      "check",
+      "Check a path or segments, swept by a sphere of --radius, against a build's obstacles and its floor "
+      "and ceiling (exit 1 if anything collides). Coordinates in the build's map frame, or with --frame "
+      "input in the frame of the points it read.");
+  cmd->add_option("input", options->input,
+                  "a `hullmap build` directory, or an obstacles.json (or map.bt for --against octree)")
       ->required();
   cmd->add_option("--radius,-r", options->radius, "drone radius, map units (metres once aligned), in either frame")
       ->required()

@@ -40,8 +40,9 @@ void refuseOctreeAsHulls(const std::string& path) {
   in.read(head.data(), head.size());
   head.resize(static_cast<std::size_t>(in.gcount()));
   if (ext == ".bt" || ext == ".ot" || head.rfind("# Octomap", 0) == 0) {
-    throw Error(path + ": an octree, not obstacles; check it with --against octree, or give a `hullmap build` "
-                       "directory or its obstacles.json");
+    throw Error(path +
+                ": an octree, not obstacles; check it with --against octree, or give a `hullmap build` "
+                "directory or its obstacles.json");
   }
 }
 

@@ -75,7 +75,7 @@ int runCli(int argc, char** argv, const std::vector<AddCommand>& commands) {
       known = known || sub->get_name() == argv[1];
     }
     if (!known) {
-    std::cerr << "hullmap: error: unknown subcommand '" << argv[1] << "' (expected one of " << names << ")\n";
+      std::cerr << "hullmap: error: unknown subcommand '" << argv[1] << "' (expected one of " << names << ")\n";
       return 2;
     }
   }

@@ -118,7 +118,8 @@ void runCluster(const ClusterOptions& o) {
   std::sort(sizes.rbegin(), sizes.rend());
   const std::size_t core = std::count(result.core.begin(), result.core.end(), std::uint8_t{1});
   std::fprintf(say, "points: %zu\n", points.size());
-  std::fprintf(say, "DBSCAN: eps %g, min-pts %d, metric %s\n", o.eps, o.min_pts, clustering::toString(params.metric).c_str());
+  std::fprintf(say, "DBSCAN: eps %g, min-pts %d, metric %s\n", o.eps, o.min_pts,
+               clustering::toString(params.metric).c_str());
   std::fprintf(say, "clusters: %zu\n", sizes.size());
   std::fprintf(say, "core points: %zu\n", core);
   std::fprintf(say, "noise points: %zu (%.1f%%)\n", result.noise, 100.0 * double(result.noise) / double(points.size()));
@@ -144,11 +145,13 @@ void runCluster(const ClusterOptions& o) {
   if (o.output == "-") {
     writeLabelsTo(std::cout, points, result);
     std::cout.flush();
-    std::fprintf(say, "wrote standard output: one row per input point, in input order, in the map frame (after --up, --scale)\n");
+    std::fprintf(
+        say,
+        "wrote standard output: one row per input point, in input order, in the map frame (after --up, --scale)\n");
   } else if (!o.output.empty()) {
     writeLabels(o.output, points, result);
     std::fprintf(say, "wrote %s: one row per input point, in input order, in the map frame (after --up, --scale)\n",
-                o.output.c_str());
+                 o.output.c_str());
   }
   std::fflush(say);
 }
@@ -157,22 +160,28 @@ void runCluster(const ClusterOptions& o) {
 
 void addClusterCommand(CLI::App& app, int& status) {
   auto options = std::make_shared<ClusterOptions>();
-  auto* cmd = app.add_subcommand("cluster", "Exact DBSCAN of map points: labels per point, cluster sizes, eps suggestion");
+  auto* cmd =
+      app.add_subcommand("cluster", "Exact DBSCAN of map points: labels per point, cluster sizes, eps suggestion");
   cmd->add_option("inputs", options->inputs, "Point files (ORB-SLAM dumps, text/xyz, PCD, PLY), unioned in order")
       ->required();
   cmd->add_option("--eps", options->eps, "Neighbourhood radius, map units (points at exactly eps are neighbours)")
-      ->check(numberAbove(0))->capture_default_str();
-  cmd->add_option("--min-pts", options->min_pts, "Core when the eps-neighbourhood, the point included, has this many points")
-      ->check(wholeNumberFrom(1))->capture_default_str();
+      ->check(numberAbove(0))
+      ->capture_default_str();
+  cmd->add_option("--min-pts", options->min_pts,
+                  "Core when the eps-neighbourhood, the point included, has this many points")
+      ->check(wholeNumberFrom(1))
+      ->capture_default_str();
   cmd->add_option("--metric", options->metric, "xyz (3D distance) or xy (distance in the ground plane)")
       ->capture_default_str();
   cmd->add_option("--up", options->up, "Input axis that points up: x, -x, y, -y, z, -z (ORB-SLAM: -y)")
       ->capture_default_str();
   cmd->add_option("--scale", options->scale, "Scale applied to the input before the frame change")
-      ->check(numberAbove(0))->capture_default_str();
+      ->check(numberAbove(0))
+      ->capture_default_str();
   cmd->add_option("--resolution", options->resolution,
                   "Octree resolution of the build you plan: the eps suggestion says when it is below it")
-      ->check(numberAbove(0))->capture_default_str();
+      ->check(numberAbove(0))
+      ->capture_default_str();
   cmd->add_option("-o,--output", options->output,
                   "labels.csv: x,y,z,label,core per input point in input order, in the map frame (after --up); "
                   "- for standard output");

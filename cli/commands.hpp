@@ -21,7 +21,7 @@ void addViewCommand(CLI::App& app, int& status);
 /// The names of all the subcommands above. `hullmap` (front.cpp) runs `cluster` itself unless
 /// another argument is one of these names (CLI11 would read it as a second subcommand), and
 /// hullmap-all (main.cpp) refuses to run when the subcommands it registers are not these.
-inline constexpr const char* kCommandNames[] = {"build", "info",  "generate", "cluster",  "sweep", "check",
-                                               "plot",  "roadmap", "plan",   "evaluate", "view"};
+inline constexpr const char* kCommandNames[] = {"build", "info",    "generate", "cluster",  "sweep", "check",
+                                                "plot",  "roadmap", "plan",     "evaluate", "view"};
 
 }  // namespace hullmap::cli

@@ -30,7 +30,8 @@ struct EvaluateOptions {
 
 /// The observed map points of a build: voxels.csv's voxel centres weighted by their map points
 /// (already in the map frame; a hull holds a voxel's points exactly when it holds the whole voxel).
-void readVoxelPoints(const std::string& path, std::vector<Eigen::Vector3d>& points, std::vector<std::uint32_t>& weights) {
+void readVoxelPoints(const std::string& path, std::vector<Eigen::Vector3d>& points,
+                     std::vector<std::uint32_t>& weights) {
   std::ifstream in(path);
   if (!in) throw Error(path + ": cannot open (is this a hullmap build directory? or give --points)");
   std::string line;
@@ -62,8 +63,7 @@ std::string percent(double part, double whole, bool small = false) {
 
 void runEvaluate(const EvaluateOptions& o) {
   namespace fs = std::filesystem;
-  const std::string obstacles_path =
-      fs::is_directory(o.dir) ? (fs::path(o.dir) / "obstacles.json").string() : o.dir;
+  const std::string obstacles_path = fs::is_directory(o.dir) ? (fs::path(o.dir) / "obstacles.json").string() : o.dir;
   pipeline::ObstaclesMeta meta;
   const auto obstacles = pipeline::readObstaclesJson(obstacles_path, &meta);  // meta.surfaces: the floor is checked too
   pipeline::EvaluateParams params = o.params;
@@ -93,8 +93,8 @@ void runEvaluate(const EvaluateOptions& o) {
   }
   std::cout << "truth: " << truth.shapes.size() << " obstacles; hulls: " << e.parts << "\n";
   for (const auto& t : e.truth)
-    std::cout << "  " << t.label << ": " << percent(t.points_inside, t.points_near) << " of its "
-              << t.points_near << " observed points inside hulls, " << t.parts.size() << " hulls representing it, "
+    std::cout << "  " << t.label << ": " << percent(t.points_inside, t.points_near) << " of its " << t.points_near
+              << " observed points inside hulls, " << t.parts.size() << " hulls representing it, "
               << t.parts_touching.size() << " touching"
               << (t.surface ? " (a bounding surface: left out of the obstacles)" : "") << "\n";
   std::cout << std::setprecision(4) << "volume: hulls " << e.hull_volume << ", union " << e.union_volume
@@ -116,10 +116,11 @@ void runEvaluate(const EvaluateOptions& o) {
       ++by_distance[f.distance <= 0.1 ? 0 : f.distance <= 0.2 ? 1 : f.distance <= 0.5 ? 2 : 3];
     }
     std::cout << ", " << single << " of them one voxel; " << e.false_volume << " in all ("
-              << percent(e.false_volume, e.hull_volume, true) << " of the hulls' volume), the largest " << largest->volume
-              << " (" << largest->voxels << (largest->voxels == 1 ? " voxel, " : " voxels, ") << largest->distance << " away); away from the truth: "
-              << by_distance[0] << " up to 0.1, " << by_distance[1] << " up to 0.2, " << by_distance[2]
-              << " up to 0.5, " << by_distance[3] << " farther (at most " << farthest << ")";
+              << percent(e.false_volume, e.hull_volume, true) << " of the hulls' volume), the largest "
+              << largest->volume << " (" << largest->voxels << (largest->voxels == 1 ? " voxel, " : " voxels, ")
+              << largest->distance << " away); away from the truth: " << by_distance[0] << " up to 0.1, "
+              << by_distance[1] << " up to 0.2, " << by_distance[2] << " up to 0.5, " << by_distance[3]
+              << " farther (at most " << farthest << ")";
   }
   std::cout << "\n";
   std::cout << "segments (r = " << o.params.radius << "): " << e.segments << "; deep collisions " << e.deep
@@ -131,9 +132,11 @@ void runEvaluate(const EvaluateOptions& o) {
 
 void addEvaluateCommand(CLI::App& app, int& status) {
   auto options = std::make_shared<EvaluateOptions>();
-  auto* cmd = app.add_subcommand("evaluate", "Score a build's obstacles against ground truth (boxes, cylinders, OBJ mesh)");
-  cmd->add_option("dir", options->dir, "Directory written by `hullmap build` (obstacles.json, voxels.csv), "
-                                       "or an obstacles.json with --points")
+  auto* cmd =
+      app.add_subcommand("evaluate", "Score a build's obstacles against ground truth (boxes, cylinders, OBJ mesh)");
+  cmd->add_option("dir", options->dir,
+                  "Directory written by `hullmap build` (obstacles.json, voxels.csv), "
+                  "or an obstacles.json with --points")
       ->required();
   cmd->add_option("--truth", options->truth, "Ground truth: JSON as maps/room/ground_truth.json, or an OBJ mesh")
       ->required();

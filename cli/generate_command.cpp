@@ -12,8 +12,8 @@ void addGenerateCommand(CLI::App& app, int& status) {
   auto params = std::make_shared<mapper::SceneParams>();
   auto dir = std::make_shared<std::string>();
   auto zup = std::make_shared<bool>(false);
-  auto* cmd = app.add_subcommand(
-      "generate", "Write a synthetic ORB-SLAM-like scene: map points, keyframes, ground truth");
+  auto* cmd =
+      app.add_subcommand("generate", "Write a synthetic ORB-SLAM-like scene: map points, keyframes, ground truth");
   cmd->add_option("-o,--output", *dir, "Directory to write into")->required();
   auto layout = std::make_shared<std::string>("obstacles");
   cmd->add_option("--layout", *layout,
@@ -28,7 +28,8 @@ void addGenerateCommand(CLI::App& app, int& status) {
   cmd->add_option("--room", params->room_size, "Room side, metres")->capture_default_str();
   cmd->add_option("--noise", params->noise_sigma, "Point noise sigma, metres")->capture_default_str();
   cmd->add_option("--outliers", params->outlier_fraction, "Fraction of uniform outliers")
-      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   cmd->add_option("--gross-outliers", params->gross_outliers, "Points far away")->capture_default_str();
   cmd->add_option("--keyframes", params->keyframes, "Keyframes on the trajectory")->capture_default_str();
   cmd->add_option("--density", params->density, "Room layout: map points per m^2 of visible surface")

@@ -40,9 +40,8 @@ void addInfoCommand(CLI::App& app, int& status) {
                           {"memory_bytes", info.memory_bytes}};
       std::cout << j.dump() << '\n';
     } else {
-      std::cout << *path << "\n  resolution:      " << info.resolution << "\n  bounds min:      "
-                << spaced(info.min) << "\n  bounds max:      " << spaced(info.max)
-                << "\n  occupied leaves: " << info.occupied_leaves
+      std::cout << *path << "\n  resolution:      " << info.resolution << "\n  bounds min:      " << spaced(info.min)
+                << "\n  bounds max:      " << spaced(info.max) << "\n  occupied leaves: " << info.occupied_leaves
                 << "\n  free leaves:     " << info.free_leaves << "\n  nodes:           " << info.nodes
                 << "\n  memory:          " << info.memory_bytes << " bytes\n";
     }

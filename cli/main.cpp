@@ -26,9 +26,9 @@ int main(int argc, char** argv) {
   kill_at = std::getenv("HULLMAP_TEST_KILL_AT");
   if (kill_at != nullptr) hullmap::pipeline::detail::stage_hook = killAtStage;
   using namespace hullmap::cli;
-  const std::vector<AddCommand> commands = {addBuildCommand,   addInfoCommand,  addGenerateCommand, addClusterCommand,
-                                            addSweepCommand,   addCheckCommand, addPlotCommand,     addRoadmapCommand,
-                                            addPlanCommand,    addEvaluateCommand, addViewCommand};
+  const std::vector<AddCommand> commands = {addBuildCommand, addInfoCommand,     addGenerateCommand, addClusterCommand,
+                                            addSweepCommand, addCheckCommand,    addPlotCommand,     addRoadmapCommand,
+                                            addPlanCommand,  addEvaluateCommand, addViewCommand};
   // front.cpp decides what it runs itself by kCommandNames: they must be the names registered here.
   CLI::App names;
   int unused = 0;

@@ -45,8 +45,7 @@ CLI::Validator numberAbove(double low, bool inclusive) {
         if (inclusive ? v >= low : v > low) return "";
         return std::string("must be ") + (inclusive ? ">= " : "> ") + shortest(low) + ", got " + text;
       },
-      low == 0.0 ? std::string(inclusive ? "NONNEGATIVE" : "POSITIVE")
-                 : (inclusive ? ">= " : "> ") + shortest(low));
+      low == 0.0 ? std::string(inclusive ? "NONNEGATIVE" : "POSITIVE") : (inclusive ? ">= " : "> ") + shortest(low));
 }
 
 CLI::Validator numberIn(double low, double high) {
@@ -104,8 +103,8 @@ CLI::Validator wordOr(const std::vector<std::string>& words, CLI::Validator inne
 }
 
 CLI::Validator existingFileOrStdin() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string { return text == "-" ? "" : CLI::ExistingFile(text); }, "FILE or -");
+  return CLI::Validator([](std::string& text) -> std::string { return text == "-" ? "" : CLI::ExistingFile(text); },
+                        "FILE or -");
 }
 
 std::string inputPath(const std::string& argument) { return argument == "-" ? "/dev/stdin" : argument; }

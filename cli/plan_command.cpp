@@ -112,8 +112,8 @@ void runSingle(const PlanOptions& o, const pipeline::MapObstacles& map, const Fr
       std::cout << shortestNumber(p.x()) << " " << shortestNumber(p.y()) << " " << shortestNumber(p.z()) << "\n";
   } else {
     writeWaypoints(o.output, *result.path);
-    std::cout << "path: " << result.path->size() << " waypoints, " << shortestNumber(result.length)
-              << " m, clear by " << shortestNumber(o.radius) << " (exact hull check) -> " << o.output << "\n";
+    std::cout << "path: " << result.path->size() << " waypoints, " << shortestNumber(result.length) << " m, clear by "
+              << shortestNumber(o.radius) << " (exact hull check) -> " << o.output << "\n";
   }
   status = 0;
 }
@@ -136,7 +136,8 @@ void runFleet(const PlanOptions& o, const pipeline::MapObstacles& map, const Fra
     points.push_back(t.goal);
   }
   const planning::PathPlanner planner(
-      obstacles, planning::buildRoadmap(obstacles, planning::roadmapParamsFor(obstacles, points, o.radius), map.surfaces),
+      obstacles,
+      planning::buildRoadmap(obstacles, planning::roadmapParamsFor(obstacles, points, o.radius), map.surfaces),
       map.surfaces);
   planning::FleetParams params;
   params.radius = o.radius;
@@ -173,10 +174,12 @@ void runFleet(const PlanOptions& o, const pipeline::MapObstacles& map, const Fra
 }
 
 void runPlan(const PlanOptions& o, int& status) {
-  if (!(o.radius >= 0) || !std::isfinite(o.radius)) throw Error("--radius: must be >= 0, got " + shortestNumber(o.radius));
+  if (!(o.radius >= 0) || !std::isfinite(o.radius))
+    throw Error("--radius: must be >= 0, got " + shortestNumber(o.radius));
   const bool single = !o.from.empty() || !o.to.empty();
   if (single == !o.robots.empty()) throw Error("give either --from and --to, or --robots");
-  if (single && (o.from.empty() || o.to.empty())) throw Error(o.from.empty() ? "--from is required with --to" : "--to is required with --from");
+  if (single && (o.from.empty() || o.to.empty()))
+    throw Error(o.from.empty() ? "--from is required with --to" : "--to is required with --from");
   if (o.method != "roadmap" && o.method != "ompl")
     throw Error("--method: unknown method \"" + o.method + "\" (roadmap or ompl)");
   if (o.time_limit && o.method != "ompl") throw Error("--time-limit: only with --method ompl");
@@ -187,8 +190,10 @@ void runPlan(const PlanOptions& o, int& status) {
   Frames frames;
   frames.to_map = pipeline::toMapFrame(map, pipeline::parseQueryFrame(o.frame));
   frames.from_map = mapper::inverse(frames.to_map);
-  if (single) runSingle(o, map, frames, status);
-  else runFleet(o, map, frames, status);
+  if (single)
+    runSingle(o, map, frames, status);
+  else
+    runFleet(o, map, frames, status);
 }
 
 }  // namespace
@@ -196,9 +201,10 @@ void runPlan(const PlanOptions& o, int& status) {
 void addPlanCommand(CLI::App& app, int& status) {
   auto options = std::make_shared<PlanOptions>();
   auto* cmd = app.add_subcommand(
-      "plan", "A path for a drone of --radius around a build's obstacles (exit 1 when there is none, naming where it "
-              "is blocked), or timed paths for several drones (--robots). The build's floor and ceiling are obstacles too. "
-              "Coordinates in the build's map frame, or with --frame input in the frame of the points it read.");
+      "plan",
+      "A path for a drone of --radius around a build's obstacles (exit 1 when there is none, naming where it "
+      "is blocked), or timed paths for several drones (--robots). The build's floor and ceiling are obstacles too. "
+      "Coordinates in the build's map frame, or with --frame input in the frame of the points it read.");
   cmd->add_option("input", options->input, "a `hullmap build` directory, or an obstacles.json")->required();
   cmd->add_option("--from", options->from, "start x,y,z");
   cmd->add_option("--to", options->to, "goal x,y,z");

@@ -119,8 +119,8 @@ void runPlot(const PlotOptions& o) {
   }
   for (const auto& path : plot.paths) {
     if (!path.check.first_colliding_segment) continue;
-    std::cout << (plot.paths.size() > 1 ? path.name + ": " : std::string()) << "path collides: first contact on segment "
-              << *path.check.first_colliding_segment << "\n";
+    std::cout << (plot.paths.size() > 1 ? path.name + ": " : std::string())
+              << "path collides: first contact on segment " << *path.check.first_colliding_segment << "\n";
   }
 }
 
@@ -130,8 +130,9 @@ void addPlotCommand(CLI::App& app, int& status) {
   auto options = std::make_shared<PlotOptions>();
   auto* cmd = app.add_subcommand(
       "plot", "Draw a build directory as SVG (or PNG): voxels by cluster, noise black, obstacles numbered");
-  cmd->add_option("dir", options->dir, "Directory written by `hullmap build` (voxels.csv, report.json, "
-                                       "obstacles.json)")
+  cmd->add_option("dir", options->dir,
+                  "Directory written by `hullmap build` (voxels.csv, report.json, "
+                  "obstacles.json)")
       ->required();
   cmd->add_option("-o,--output", options->output, "Picture to write: .svg, or .png (rendered by rsvg-convert)")
       ->required();
@@ -141,7 +142,8 @@ void addPlotCommand(CLI::App& app, int& status) {
                                "\"x y z\" or \"t x y z\" (plan --robots) per line, map frame, at least two");
   cmd->add_option("--roadmap", options->roadmap, "roadmap.json (hullmap roadmap) to draw under the paths, top view");
   cmd->add_option("--radius,-r", options->radius, "Drone radius for --path, map units")
-      ->check(numberAbove(0, true))->needs(path);
+      ->check(numberAbove(0, true))
+      ->needs(path);
   path->needs(cmd->get_option("--radius"));
   cmd->add_flag("--png", options->png, "Also write a PNG beside the SVG (needs rsvg-convert, librsvg2-bin)");
   cmd->callback([options, &status] {

@@ -22,7 +22,8 @@ struct RoadmapOptions {
 };
 
 void runRoadmap(const RoadmapOptions& o, int& status) {
-  if (!(o.radius >= 0) || !std::isfinite(o.radius)) throw Error("--radius: must be >= 0, got " + shortestNumber(o.radius));
+  if (!(o.radius >= 0) || !std::isfinite(o.radius))
+    throw Error("--radius: must be >= 0, got " + shortestNumber(o.radius));
   planning::RoadmapParams params;
   params.min_clearance = o.radius;
   params.tolerance = o.tolerance;
@@ -59,15 +60,17 @@ void runRoadmap(const RoadmapOptions& o, int& status) {
 void addRoadmapCommand(CLI::App& app, int& status) {
   auto options = std::make_shared<RoadmapOptions>();
   auto* cmd = app.add_subcommand(
-      "roadmap", "The exact Voronoi roadmap of a build's obstacle footprints (z-up map frame): the edges that keep "
-                 "--radius from every obstacle, as roadmap.json (docs/PLANNING.md).");
+      "roadmap",
+      "The exact Voronoi roadmap of a build's obstacle footprints (z-up map frame): the edges that keep "
+      "--radius from every obstacle, as roadmap.json (docs/PLANNING.md).");
   cmd->add_option("input", options->input, "a `hullmap build` directory, or an obstacles.json")->required();
   cmd->add_option("--radius,-r", options->radius, "drone radius, map units: narrower edges are dropped")->required();
   cmd->add_option("--band", options->band,
                   "z0,z1: only obstacles whose z range meets this band (default: all), cut to what lies between the "
                   "build's floor and ceiling");
   cmd->add_option("--bounds", options->bounds, "x0,y0,x1,y1 (default: the footprints' bounds grown by 1)");
-  cmd->add_option("--tolerance", options->tolerance, "parabolic arcs sampled within this distance")->capture_default_str();
+  cmd->add_option("--tolerance", options->tolerance, "parabolic arcs sampled within this distance")
+      ->capture_default_str();
   cmd->add_option("-o,--output", options->output, "roadmap file (default: roadmap.json beside the obstacles)");
   cmd->callback([options, &status] {
     status = 2;

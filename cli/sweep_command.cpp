@@ -41,10 +41,13 @@ void addSweepOptions(CLI::App& cmd, SweepOptions& o) {
   cmd.add_option("--metric", o.metric, "xyz (3D distance) or xy (distance in the ground plane)")->capture_default_str();
   cmd.add_option("--up", o.up, "Input axis that points up: x, -x, y, -y, z, -z (ORB-SLAM: -y)")->capture_default_str();
   cmd.add_option("--scale", o.scale, "Scale applied to the input before the frame change")
-      ->check(numberAbove(0))->capture_default_str();
-  cmd.add_option("-o,--output", o.output, "CSV: eps,min_pts,clusters,noise,largest, one row per pair; - for standard output");
-  cmd.add_option("--plot", o.plot, "Picture, one top view per pair (clusters in colours, noise black): .svg, "
-                                   "or .png rendered by rsvg-convert (librsvg2-bin)");
+      ->check(numberAbove(0))
+      ->capture_default_str();
+  cmd.add_option("-o,--output", o.output,
+                 "CSV: eps,min_pts,clusters,noise,largest, one row per pair; - for standard output");
+  cmd.add_option("--plot", o.plot,
+                 "Picture, one top view per pair (clusters in colours, noise black): .svg, "
+                 "or .png rendered by rsvg-convert (librsvg2-bin)");
 }
 
 /// The comma-separated items of `text` for `option`, each parsed whole by `parse`.
@@ -76,7 +79,8 @@ std::vector<T> parseList(const std::string& option, const std::string& text, Par
 }
 
 std::vector<double> parseEpsList(const std::string& text) {
-  auto values = parseList<double>("--eps", text, [](const std::string& s, std::size_t* used) { return std::stod(s, used); });
+  auto values =
+      parseList<double>("--eps", text, [](const std::string& s, std::size_t* used) { return std::stod(s, used); });
   for (double eps : values) {
     if (!(eps > 0.0) || !std::isfinite(eps)) {
       char text[32];
@@ -88,7 +92,8 @@ std::vector<double> parseEpsList(const std::string& text) {
 }
 
 std::vector<int> parseMinPtsList(const std::string& text) {
-  auto values = parseList<int>("--min-pts", text, [](const std::string& s, std::size_t* used) { return std::stoi(s, used); });
+  auto values =
+      parseList<int>("--min-pts", text, [](const std::string& s, std::size_t* used) { return std::stoi(s, used); });
   for (int min_pts : values) {
     if (min_pts < 1) throw Error("--min-pts: values must be >= 1, got " + std::to_string(min_pts));
   }
@@ -129,7 +134,8 @@ void runSweep(const SweepOptions& o) {
   std::fprintf(say, "%10s %8s %9s %9s %9s\n", "eps", "min_pts", "clusters", "noise", "largest");
   for (double eps : eps_values) {
     for (int min_pts : min_pts_values) {
-      const clustering::DbscanResult r = clustering::dbscan(set.points, {}, clustering::DbscanParams{eps, min_pts, metric});
+      const clustering::DbscanResult r =
+          clustering::dbscan(set.points, {}, clustering::DbscanParams{eps, min_pts, metric});
       SweepRow row{eps, min_pts, r.cluster_sizes.size(), r.noise, 0};
       if (!r.cluster_sizes.empty()) row.largest = *std::max_element(r.cluster_sizes.begin(), r.cluster_sizes.end());
       std::fprintf(say, "%10g %8d %9zu %9zu %9zu\n", row.eps, row.min_pts, row.clusters, row.noise, row.largest);
@@ -142,7 +148,8 @@ void runSweep(const SweepOptions& o) {
     for (const SweepRow& row : rows) {
       char eps[32];
       const auto end = std::to_chars(eps, eps + sizeof eps, row.eps).ptr;  // shortest exact text
-      out << std::string(eps, end) << ',' << row.min_pts << ',' << row.clusters << ',' << row.noise << ',' << row.largest << '\n';
+      out << std::string(eps, end) << ',' << row.min_pts << ',' << row.clusters << ',' << row.noise << ','
+          << row.largest << '\n';
     }
   };
   if (o.output == "-") {
@@ -154,9 +161,9 @@ void runSweep(const SweepOptions& o) {
     std::fprintf(say, "wrote %s\n", o.output.c_str());
   }
   if (!o.plot.empty()) {
-    const std::string svg = plot::renderSweepSvg(set.points, panels, 0.0,
-                                           "hullmap sweep: " + std::to_string(set.points.size()) + " points, metric " +
-                                               clustering::toString(metric));
+    const std::string svg = plot::renderSweepSvg(
+        set.points, panels, 0.0,
+        "hullmap sweep: " + std::to_string(set.points.size()) + " points, metric " + clustering::toString(metric));
     for (const auto& file : plot::writePicture(svg, plot::PictureOutput{o.plot, false, "--plot"}, converter)) {
       std::fprintf(say, "wrote %s\n", file.c_str());
     }
@@ -168,7 +175,8 @@ void runSweep(const SweepOptions& o) {
 
 void addSweepCommand(CLI::App& app, int& status) {
   auto options = std::make_shared<SweepOptions>();
-  auto* cmd = app.add_subcommand("sweep", "DBSCAN over a grid of eps x min-pts: clusters, noise, largest cluster per pair");
+  auto* cmd =
+      app.add_subcommand("sweep", "DBSCAN over a grid of eps x min-pts: clusters, noise, largest cluster per pair");
   addSweepOptions(*cmd, *options);
   cmd->callback([options, &status] {
     runSweep(*options);

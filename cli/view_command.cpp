@@ -120,25 +120,29 @@ void runView(const ViewOptions& o) {
 void addViewCommand(CLI::App& app, int& status) {
   auto options = std::make_shared<ViewOptions>();
   auto* cmd = app.add_subcommand(
-      "view", "Write a build directory as one self-contained HTML page that draws it in 3D (three.js from Debian's "
-              "libjs-three, inlined): voxels, convex parts, floor, keyframes, checked paths, roadmap, ground truth");
+      "view",
+      "Write a build directory as one self-contained HTML page that draws it in 3D (three.js from Debian's "
+      "libjs-three, inlined): voxels, convex parts, floor, keyframes, checked paths, roadmap, ground truth");
   cmd->add_option("dir", options->dir, "Directory written by `hullmap build`")->required();
   cmd->add_option("-o,--output", options->output, "Page to write, ending in .html (default: DIR.html, beside DIR)");
   auto* path = cmd->add_option("--path", options->path_files,
                                "Path to check against the hulls and draw (repeat for several drones): a waypoint "
                                "\"x y z\" or \"t x y z\" (plan --robots) per line, map frame, at least two");
   cmd->add_option("--radius,-r", options->radius, "Drone radius for --path, map units")
-      ->check(numberAbove(0, true))->needs(path);
+      ->check(numberAbove(0, true))
+      ->needs(path);
   path->needs(cmd->get_option("--radius"));
   cmd->add_option("--roadmap", options->roadmap, "roadmap.json (hullmap roadmap) to draw at its band's middle height");
-  cmd->add_option("--truth", options->truth, "Ground truth (JSON as maps/room/ground_truth.json, or OBJ) to draw as "
-                                             "wireframes");
+  cmd->add_option("--truth", options->truth,
+                  "Ground truth (JSON as maps/room/ground_truth.json, or OBJ) to draw as "
+                  "wireframes");
   cmd->add_option("--three-dir", options->three_dir,
                   "Where three.js r111 is (three.min.js, examples/js/controls/OrbitControls.js)")
       ->capture_default_str();
   cmd->add_option("--max-instances", options->max_instances,
                   "Most voxel cubes the page holds at its finest detail; more voxels are merged into coarser cells")
-      ->check(wholeNumberFrom(1))->capture_default_str();
+      ->check(wholeNumberFrom(1))
+      ->capture_default_str();
   cmd->callback([options, &status] {
     runView(*options);
     status = 0;

@@ -21,11 +21,11 @@
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
-using hullmap::test::writeText;
 using hullmap::test::freshDir;
 using hullmap::test::lineCount;
 using hullmap::test::runHullmap;
 using hullmap::test::slurp;
+using hullmap::test::writeText;
 
 namespace {
 
@@ -54,13 +54,13 @@ TEST(CliBuild, SampleSceneEndToEndAccountsForEveryPoint) {
   sampleScene(dir);
   const auto out = dir / "out";
   const auto r = runHullmap("build " + (dir / "map_points.txt").string() + " --trajectory " +
-                            (dir / "KeyFrameTrajectory.txt").string() + " --up -y --eps 0.1 --min-pts 10 --floor none --concavity none -o " + out.string());
+                            (dir / "KeyFrameTrajectory.txt").string() +
+                            " --up -y --eps 0.1 --min-pts 10 --floor none --concavity none -o " + out.string());
   ASSERT_EQ(r.status, 0) << r.err;
   // stderr is for errors and warnings (octomap's own progress lines are muted); the default eps and
   // min-pts leave most voxels of this scene as noise, which build says.
   std::istringstream err_lines(r.err);
-  for (std::string line; std::getline(err_lines, line);)
-    EXPECT_EQ(line.rfind("hullmap: warning: ", 0), 0u) << line;
+  for (std::string line; std::getline(err_lines, line);) EXPECT_EQ(line.rfind("hullmap: warning: ", 0), 0u) << line;
   EXPECT_NE(r.err.find("are noise and in no obstacle"), std::string::npos) << r.err;
   for (const char* name : {"map.bt", "voxels.csv", "obstacles.json", "obstacles.obj", "report.json"})
     EXPECT_TRUE(fs::exists(out / name)) << name;
@@ -75,8 +75,7 @@ TEST(CliBuild, SampleSceneEndToEndAccountsForEveryPoint) {
   EXPECT_EQ(report["parameters"]["eps"].get<double>(), 0.1);
   EXPECT_EQ(report["parameters"]["min_pts"].get<int>(), 10);
   EXPECT_NE(report["frame"].get<std::string>().find("-y"), std::string::npos);
-  for (const char* stage : {"read", "frame_and_filters", "octree", "dbscan", "obstacles"})
-  {
+  for (const char* stage : {"read", "frame_and_filters", "octree", "dbscan", "obstacles"}) {
     EXPECT_TRUE(report["timings_ms"].contains(stage)) << stage;
     EXPECT_GT(report["peak_rss_mb"].value(stage, 0.0), 1.0) << stage;
   }
@@ -126,8 +125,7 @@ TEST(CliBuild, SampleSceneEndToEndAccountsForEveryPoint) {
   }
   const auto again = runHullmap("build " + (out / "map.bt").string() + " -o " + (dir / "again").string());
   ASSERT_EQ(again.status, 0) << again.err;
-  EXPECT_EQ(readJson(dir / "again" / "report.json")["octree"]["occupied_voxels"],
-            report["octree"]["occupied_voxels"]);
+  EXPECT_EQ(readJson(dir / "again" / "report.json")["octree"]["occupied_voxels"], report["octree"]["occupied_voxels"]);
 }
 
 TEST(CliBuild, RealOctomapGeb079ReadsBack) {
@@ -141,8 +139,7 @@ TEST(CliBuild, RealOctomapGeb079ReadsBack) {
 TEST(CliBadInput, MalformedLineNamesFileAndLine) {
   const auto dir = freshDir("cli_bad_malformed");
   writeText(dir / "bad.txt", "0 0 0\n1 1 1\n2 2\n");
-  expectOneLineError(runHullmap("build " + (dir / "bad.txt").string() + " -o " + (dir / "out").string()),
-                     "bad.txt:3");
+  expectOneLineError(runHullmap("build " + (dir / "bad.txt").string() + " -o " + (dir / "out").string()), "bad.txt:3");
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
@@ -228,8 +225,7 @@ TEST(CliBadInput, CorruptOctomapFile) {
   const auto dir = freshDir("cli_bad_bt");
   writeText(dir / "bad.bt", "# Octomap OcTree binary file\nid OcTree\nsize 12\nres 0.1\ndata\nxx");
   expectOneLineError(runHullmap("info " + (dir / "bad.bt").string()), "bad.bt");
-  expectOneLineError(runHullmap("build " + (dir / "bad.bt").string() + " -o " + (dir / "out").string()),
-                     "bad.bt");
+  expectOneLineError(runHullmap("build " + (dir / "bad.bt").string() + " -o " + (dir / "out").string()), "bad.bt");
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
@@ -237,14 +233,14 @@ TEST(CliBadInput, DegenerateClustersStillMakeSolidObstacles) {
   // A single voxel, a single row of voxels and a flat wall: hulls of the voxels' corners are solids.
   const auto dir = freshDir("cli_degenerate");
   std::string text;
-  for (int i = 0; i < 3; ++i) text += "5.02 5.02 1.02\n";                       // one voxel
+  for (int i = 0; i < 3; ++i) text += "5.02 5.02 1.02\n";                                    // one voxel
   for (int i = 0; i < 20; ++i) text += std::to_string(0.025 + 0.05 * i) + " 0.025 1.025\n";  // a row
   for (int i = 0; i < 10; ++i)
     for (int k = 0; k < 10; ++k)
       text += "-3.025 " + std::to_string(0.025 + 0.05 * i) + " " + std::to_string(0.025 + 0.05 * k) + "\n";
   writeText(dir / "degenerate.txt", text);
-  const auto r = runHullmap("build " + (dir / "degenerate.txt").string() + " --min-pts 2 --eps 0.1 --floor none --concavity none -o " +
-                            (dir / "out").string());
+  const auto r = runHullmap("build " + (dir / "degenerate.txt").string() +
+                            " --min-pts 2 --eps 0.1 --floor none --concavity none -o " + (dir / "out").string());
   ASSERT_EQ(r.status, 0) << r.err;
   const auto obstacles = readJson(dir / "out" / "obstacles.json");
   ASSERT_EQ(obstacles["obstacles"].size(), 3u);
@@ -255,10 +251,15 @@ TEST(CliBuild, FailedRunLeavesPreviousOutputIntact) {
   const auto dir = freshDir("cli_atomic");
   writeText(dir / "good.txt", "0 0 0\n0.01 0 0\n");
   const auto out = dir / "out";
-  ASSERT_EQ(runHullmap("build " + (dir / "good.txt").string() + " --min-pts 1 --eps 0.1 --floor none --concavity none -o " + out.string()).status, 0);
+  ASSERT_EQ(runHullmap("build " + (dir / "good.txt").string() +
+                       " --min-pts 1 --eps 0.1 --floor none --concavity none -o " + out.string())
+                .status,
+            0);
   const std::string before = slurp(out / "report.json");
   writeText(dir / "bad.txt", "0 0 0\nx y z w\n");
-  expectOneLineError(runHullmap("build " + (dir / "bad.txt").string() + " --eps 0.1 --min-pts 10 --floor none --concavity none -o " + out.string()), "bad.txt:2");
+  expectOneLineError(runHullmap("build " + (dir / "bad.txt").string() +
+                                " --eps 0.1 --min-pts 10 --floor none --concavity none -o " + out.string()),
+                     "bad.txt:2");
   EXPECT_EQ(slurp(out / "report.json"), before);
   for (const auto& entry : fs::directory_iterator(dir))
     EXPECT_EQ(entry.path().filename().string().find(".out."), std::string::npos)
@@ -281,8 +282,8 @@ TEST(CliBuild, KilledRunsLeaveAWholeOutput) {
   for (const char* stage : {"read", "frame_and_filters", "octree", "dbscan", "obstacles", "write", "wrote_map",
                             "wrote_voxels", "wrote_obstacles", "move_into_place"}) {
     SCOPED_TRACE(std::string("killed at ") + stage);
-    const std::string command = std::string("HULLMAP_TEST_KILL_AT=") + stage + " '" + HULLMAP_BINARY + "' " + big +
-                                " >/dev/null 2>&1";
+    const std::string command =
+        std::string("HULLMAP_TEST_KILL_AT=") + stage + " '" + HULLMAP_BINARY + "' " + big + " >/dev/null 2>&1";
     const int raw = std::system(command.c_str());
     const bool killed = (WIFSIGNALED(raw) && WTERMSIG(raw) == SIGKILL) ||
                         (WIFEXITED(raw) && WEXITSTATUS(raw) == 128 + SIGKILL);  // via the shell
@@ -407,7 +408,8 @@ TEST(CliBuild, PointsOnlyStreamsTheOutputsOfReadingWhole) {
   const auto out = dir / "out";
   const auto r = runHullmap("build " + options.inputs[0].string() + " " + options.inputs[1].string() +
                             " --up -y --crop -4,-4,-1,4,4,2.5 --z-min 0.02 --eps 0.1 --min-pts 5 --floor none "
-                            "--concavity none -o " + out.string());
+                            "--concavity none -o " +
+                            out.string());
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(slurp(out / "map.bt"), slurp(dir / "whole" / "map.bt"));
   EXPECT_EQ(slurp(out / "voxels.csv"), slurp(dir / "whole" / "voxels.csv"));
@@ -466,13 +468,15 @@ TEST(CliBadInput, StreamedBuildFailsAsTheWholeFileBuild) {
     std::string args;
     std::string message;
   } cases[] = {
-      {(dir / "big_bad.txt").string(), (dir / "big_bad.txt").string() + ":100001: expected 3 numbers like the first data line, got 4"},
+      {(dir / "big_bad.txt").string(),
+       (dir / "big_bad.txt").string() + ":100001: expected 3 numbers like the first data line, got 4"},
       {(dir / "big_bad.txt").string() + bad_params + outside, (dir / "big_bad.txt").string() + ":100001: "},
       {(dir / "nan1.txt").string() + " " + (dir / "nan2.txt").string() + bad_params,
        (dir / "nan1.txt").string() + ", " + (dir / "nan2.txt").string() + ": no points"},
       {(dir / "good.txt").string() + outside + bad_params, "--crop/--z-min/--z-max: no points left inside the bounds"},
       {(dir / "good.txt").string() + " --z-min 3", "--crop/--z-min/--z-max: no points left inside the bounds"},
-      {(dir / "good.txt").string() + bad_params, "--clamp-min/--clamp-max: the lower clamp must be below the upper one"},
+      {(dir / "good.txt").string() + bad_params,
+       "--clamp-min/--clamp-max: the lower clamp must be below the upper one"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.args);

@@ -12,13 +12,13 @@
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
-using hullmap::test::writeText;
 using hullmap::test::CommandResult;
 using hullmap::test::freshDir;
 using hullmap::test::lineCount;
 using hullmap::test::runHullmap;
 using hullmap::test::runHullmapIn;
 using hullmap::test::slurp;
+using hullmap::test::writeText;
 
 namespace {
 
@@ -71,7 +71,8 @@ TEST(FirstHour, NoObstacleIsWarnedInBuildReportAndEveryCheck) {
   const auto dir = freshDir("no_obstacle");
   writeText(dir / "p.txt", scatteredPoints(12));
   const auto out = dir / "out";
-  const auto build = runHullmap("build " + q(dir / "p.txt") + " --eps 0.1 --min-pts 10 --floor none --concavity none -o " + q(out));
+  const auto build =
+      runHullmap("build " + q(dir / "p.txt") + " --eps 0.1 --min-pts 10 --floor none --concavity none -o " + q(out));
   ASSERT_EQ(build.status, 0) << build.err;
   const std::string warning =
       "no obstacle: all 12 occupied voxels are noise to DBSCAN (--eps 0.1, --min-pts 10), so every path checks "
@@ -113,7 +114,8 @@ TEST(FirstHour, MostlyNoiseIsWarned) {
   const auto dir = freshDir("mostly_noise");
   writeText(dir / "p.txt", patchAndSingles(20));
   const auto out = dir / "out";
-  const auto build = runHullmap("build " + q(dir / "p.txt") + " --resolution 0.1 --eps 0.15 --min-pts 10 --floor none --concavity none -o " + q(out));
+  const auto build = runHullmap("build " + q(dir / "p.txt") +
+                                " --resolution 0.1 --eps 0.15 --min-pts 10 --floor none --concavity none -o " + q(out));
   ASSERT_EQ(build.status, 0) << build.err;
   const std::string warning =
       "69% of the occupied voxels (20 of 29) are noise and in no obstacle; path checks against the hulls do not "
@@ -128,7 +130,9 @@ TEST(FirstHour, MostlyNoiseIsWarned) {
       << check.err;
   // Below the limit: silent.
   writeText(dir / "q.txt", patchAndSingles(8));
-  const auto quiet = runHullmap("build " + q(dir / "q.txt") + " --resolution 0.1 --eps 0.15 --min-pts 10 --floor none --concavity none -o " + q(dir / "quiet"));
+  const auto quiet =
+      runHullmap("build " + q(dir / "q.txt") +
+                 " --resolution 0.1 --eps 0.15 --min-pts 10 --floor none --concavity none -o " + q(dir / "quiet"));
   ASSERT_EQ(quiet.status, 0) << quiet.err;
   EXPECT_EQ(quiet.err, "");
   EXPECT_EQ(readJson(dir / "quiet" / "report.json")["warnings"], nlohmann::json::array());
@@ -140,7 +144,9 @@ TEST(FirstHour, MostlyNoiseIsWarned) {
 TEST(FirstHour, EpsBelowResolutionIsWarned) {
   const auto dir = freshDir("eps_below");
   writeText(dir / "p.txt", patchAndSingles(0));
-  const auto r = runHullmap("build " + q(dir / "p.txt") + " --resolution 0.1 --eps 0.05 --min-pts 5 --floor none --concavity none -o " + q(dir / "out"));
+  const auto r =
+      runHullmap("build " + q(dir / "p.txt") +
+                 " --resolution 0.1 --eps 0.05 --min-pts 5 --floor none --concavity none -o " + q(dir / "out"));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.err,
             "hullmap: warning: --eps 0.05 is below the octree resolution 0.1: no two voxels are neighbours, so every "
@@ -190,8 +196,9 @@ TEST(FirstHour, OptionsThatCannotApplyToAnOctreeAreRefused) {
   expectError(runHullmap("build " + q(dir / "p.txt") + " --max-range 3 -o " + q(dir / "again")),
               "--max-range: applies only to free space cast along rays (with --trajectory or --origin); a "
               "points-only build casts none: leave it out");
-  EXPECT_EQ(runHullmap("build " + q(dir / "p.txt") + " --origin 0,0,0 --max-range 3 --miss 0.3 -o " +
-                       q(dir / "again")).status, 0);
+  EXPECT_EQ(runHullmap("build " + q(dir / "p.txt") + " --origin 0,0,0 --max-range 3 --miss 0.3 -o " + q(dir / "again"))
+                .status,
+            0);
   fs::remove_all(dir / "again");
   // Without them: the outputs state what was done, the tree's resolution and its own frame.
   const auto ok = runHullmap("build " + bt + " -o " + q(dir / "again"));
@@ -246,8 +253,8 @@ TEST(FirstHour, ClusterAndSweepOutputsAreCheckedBeforeTheWork) {
   const auto dir = freshDir("cluster_output");
   writeText(dir / "p.txt", patchAndSingles(3));
   const std::string target = (dir / "missing" / "labels.csv").string();
-  const std::string why = "-o " + target + ": cannot write there: " + (dir / "missing").string() +
-                          ": No such file or directory";
+  const std::string why =
+      "-o " + target + ": cannot write there: " + (dir / "missing").string() + ": No such file or directory";
   auto r = runHullmap("cluster " + q(dir / "p.txt") + " -o " + target);
   expectError(r, why);
   EXPECT_EQ(r.out, "") << "refused before the clustering";
@@ -287,7 +294,10 @@ TEST(FirstHour, PathFilesReadLikePointFilesInCheckAndPlot) {
   const auto dir = freshDir("path_files");
   writeText(dir / "p.txt", patchAndSingles(0));
   const auto out = dir / "out";
-  ASSERT_EQ(runHullmap("build " + q(dir / "p.txt") + " --resolution 0.1 --min-pts 5 --eps 0.1 --floor none --concavity none -o " + q(out)).status, 0);
+  ASSERT_EQ(runHullmap("build " + q(dir / "p.txt") +
+                       " --resolution 0.1 --min-pts 5 --eps 0.1 --floor none --concavity none -o " + q(out))
+                .status,
+            0);
   writeText(dir / "spaces.txt", "-1 0.15 1.05\n1 0.15 1.05\n1 3 1.05\n");
   writeText(dir / "csv.txt", "x,y,z\n-1,0.15,1.05\n1, 0.15, 1.05  # comment\n\n1,3,1.05\n");
   const auto spaces = runHullmap("check " + q(out) + " -r 0.05 --path " + q(dir / "spaces.txt"));
@@ -309,7 +319,8 @@ TEST(FirstHour, PathFilesReadLikePointFilesInCheckAndPlot) {
 
   writeText(dir / "one.txt", "0 0 1\n");
   const std::string one = (dir / "one.txt").string();
-  const std::string refused = "--path " + one + ": a path needs at least two waypoints, got 1 (one position is the "
+  const std::string refused = "--path " + one +
+                              ": a path needs at least two waypoints, got 1 (one position is the "
                               "segment x,y,z,x,y,z)";
   expectError(runHullmap("check " + q(out) + " -r 0.1 --path " + one), refused);
   expectError(runHullmap("plot " + q(out) + " -r 0.1 --path " + one + " -o " + q(dir / "o.svg")), refused);
@@ -321,10 +332,12 @@ TEST(FirstHour, TiltedFloorAndOrbSlamFrameAreWarned) {
   const auto dir = freshDir("tilt");
   writeText(dir / "level.txt", floorPoints(0));
   writeText(dir / "tilted.txt", floorPoints(20));
-  const auto level = runHullmap("build " + q(dir / "level.txt") + " --eps 0.1 --min-pts 10 --floor none --concavity none -o " + q(dir / "level"));
+  const auto level = runHullmap("build " + q(dir / "level.txt") +
+                                " --eps 0.1 --min-pts 10 --floor none --concavity none -o " + q(dir / "level"));
   ASSERT_EQ(level.status, 0) << level.err;
   EXPECT_EQ(level.err, "");
-  const auto tilted = runHullmap("build " + q(dir / "tilted.txt") + " --eps 0.1 --min-pts 10 --floor none --concavity none -o " + q(dir / "tilted"));
+  const auto tilted = runHullmap("build " + q(dir / "tilted.txt") +
+                                 " --eps 0.1 --min-pts 10 --floor none --concavity none -o " + q(dir / "tilted"));
   ASSERT_EQ(tilted.status, 0) << tilted.err;
   const std::string prefix = "hullmap: warning: the map's main floor-like plane (";
   const auto at = tilted.err.find(prefix);
@@ -364,9 +377,11 @@ TEST(FirstHour, TiltedFloorAndOrbSlamFrameAreWarned) {
 TEST(FirstHour, RealV1_01IsWarnedAsTilted) {
   HULLMAP_REQUIRE_REAL_DATA(points, "orbslam2_euroc_V1_01_MapPoints.txt");
   const auto dir = freshDir("real_tilt");
-  const auto r = runHullmap("build " + points + " --up -y --eps 0.1 --min-pts 10 --floor none --concavity none -o " + q(dir / "out"));
+  const auto r = runHullmap("build " + points + " --up -y --eps 0.1 --min-pts 10 --floor none --concavity none -o " +
+                            q(dir / "out"));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("degrees from level after --up -y"), std::string::npos) << r.err;
-  const auto no_up = runHullmap("build " + points + " --eps 0.1 --min-pts 10 --floor none --concavity none -o " + q(dir / "out"));
+  const auto no_up =
+      runHullmap("build " + points + " --eps 0.1 --min-pts 10 --floor none --concavity none -o " + q(dir / "out"));
   EXPECT_NE(no_up.err.find("looks like ORB-SLAM output"), std::string::npos) << no_up.err;
 }

@@ -45,9 +45,9 @@ const fs::path& roomBuild() {
   static const fs::path out = [] {
     const fs::path dir = fs::path(HULLMAP_TEST_TMP) / "cli_frames_room";
     fs::remove_all(dir);
-    const auto r = runHullmap("build " + sample("room/map_points.txt") + " --trajectory " +
-                              sample("room/KeyFrameTrajectory.txt") + " --align " +
-                              sample("room/reference_trajectory.txt") + " -p -o " + dir.string());
+    const auto r =
+        runHullmap("build " + sample("room/map_points.txt") + " --trajectory " + sample("room/KeyFrameTrajectory.txt") +
+                   " --align " + sample("room/reference_trajectory.txt") + " -p -o " + dir.string());
     EXPECT_EQ(r.status, 0) << r.err;
     return dir;
   }();
@@ -112,8 +112,8 @@ TEST(CliFrames, CheckInTheInputFrameAnswersForTheSamePlaces) {
   writeText(dir / "map.txt", in_map.str());
   writeText(dir / "input.txt", in_input.str());
   const auto map_run = runHullmap("check " + out.string() + " -r 0.2 --json --segments " + (dir / "map.txt").string());
-  const auto input_run = runHullmap("check " + out.string() + " -r 0.2 --json --frame input --segments " +
-                                    (dir / "input.txt").string());
+  const auto input_run =
+      runHullmap("check " + out.string() + " -r 0.2 --json --frame input --segments " + (dir / "input.txt").string());
   ASSERT_EQ(map_run.status, input_run.status) << map_run.err << input_run.err;
   const auto a = jsonLines(map_run.out), b = jsonLines(input_run.out);
   ASSERT_EQ(a.size(), 200u);
@@ -159,7 +159,8 @@ TEST(CliFrames, CheckInTheInputFrameAnswersForTheSamePlaces) {
 TEST(CliFrames, PlanInTheInputFrameAndAroundTheFloor) {
   const auto dir = freshDir("plan");
   const fs::path out = dir / "out";
-  auto r = runHullmap("build " + sample("simple/map_points.txt") + " --up -y --eps 0.12 --min-pts 5 -o " + out.string());
+  auto r =
+      runHullmap("build " + sample("simple/map_points.txt") + " --up -y --eps 0.12 --min-pts 5 -o " + out.string());
   ASSERT_EQ(r.status, 0) << r.err;
   const hullmap::mapper::Similarity to_input = hullmap::mapper::inverse(inputToOutput(out));
   const auto text = [](const V3& p) {
@@ -169,16 +170,16 @@ TEST(CliFrames, PlanInTheInputFrameAndAroundTheFloor) {
     return s.str();
   };
   const V3 from(-3, -3, 1), to(3, 3, 1);
-  r = runHullmap("plan " + out.string() + " -r 0.2 --frame input --from=" + text(to_input(from)) + " --to=" +
-                 text(to_input(to)) + " -o " + (dir / "path.txt").string());
+  r = runHullmap("plan " + out.string() + " -r 0.2 --frame input --from=" + text(to_input(from)) +
+                 " --to=" + text(to_input(to)) + " -o " + (dir / "path.txt").string());
   ASSERT_EQ(r.status, 0) << r.out << r.err;
   // Written in the input frame: checked there, it is clear, and it ends where it was asked to.
   r = runHullmap("check " + out.string() + " -r 0.2 --frame input --path " + (dir / "path.txt").string());
   EXPECT_EQ(r.status, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("path: clear"), std::string::npos) << r.out;
   r = runHullmap("check " + out.string() + " -r 0.2 --path " + (dir / "path.txt").string());
-  EXPECT_NE(r.out.find("path: first collision"), std::string::npos) << "an input-frame path is not a map-frame one: "
-                                                                    << r.out;
+  EXPECT_NE(r.out.find("path: first collision"), std::string::npos)
+      << "an input-frame path is not a map-frame one: " << r.out;
   // A start within the radius of the floor (its voxels reach 0.05 up) is refused, naming it.
   r = runHullmap("plan " + out.string() + " -r 0.2 --from -3,-3,0.2 --to 3,3,1");
   EXPECT_EQ(r.status, 1) << r.out << r.err;
@@ -247,9 +248,9 @@ TEST(CliFrames, AGpsLogStartingWithoutAFixAligns) {
         << ' ' << 408 + z << '\n';
   }
   writeText(dir / "gps.txt", log.str());
-  const auto b = runHullmap("build " + sample("room/map_points.txt") + " --trajectory " +
-                            sample("room/KeyFrameTrajectory.txt") + " --align " + (dir / "gps.txt").string() +
-                            " --align-format gps -o " + (dir / "out").string());
+  const auto b =
+      runHullmap("build " + sample("room/map_points.txt") + " --trajectory " + sample("room/KeyFrameTrajectory.txt") +
+                 " --align " + (dir / "gps.txt").string() + " --align-format gps -o " + (dir / "out").string());
   ASSERT_EQ(b.status, 0) << b.err;
   const auto report = readJson(dir / "out" / "report.json");
   EXPECT_EQ(report["alignment"]["reference_dropped"]["no_fix"], 1);

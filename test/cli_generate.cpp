@@ -20,7 +20,7 @@ TEST(GenerateCommand, RoomLayoutWritesPointsTrajectoriesAndTruth) {
   EXPECT_NE(r.out.find("9 objects (floor, 4 walls, 4 pieces of furniture)"), std::string::npos) << r.out;
   const auto kf = hullmap::io::readTumTrajectory((dir / "KeyFrameTrajectory.txt").string());
   const auto ref = hullmap::io::readReferenceTrajectory((dir / "reference_trajectory.txt").string(),
-                                                            hullmap::io::ReferenceFormat::kTum);
+                                                        hullmap::io::ReferenceFormat::kTum);
   const auto a = hullmap::mapper::alignTrajectory(kf, ref);
   EXPECT_NEAR(a.transform.scale, 1.0 / 2.5, 1e-6);
   std::ifstream in(dir / "ground_truth.json");
@@ -32,11 +32,13 @@ TEST(GenerateCommand, RoomLayoutWritesPointsTrajectoriesAndTruth) {
 
 TEST(GenerateCommand, BadRoomOptionsExitTwoWithOneLine) {
   const auto dir = hullmap::test::freshDir("generate_bad");
-  const std::pair<const char*, const char*> cases[] = {
-      {"--layout rooom", "--layout"}, {"--layout room --density 0", "--density"},
-      {"--layout room --scale -1", "--scale"}, {"--layout room --pitch 95", "--pitch"},
-      {"--layout room --edge-fraction 1.5", "--edge-fraction"}, {"--layout room --keyframes 2", "--keyframes"},
-      {"--layout room --obstacles 100", "obstacles"}};
+  const std::pair<const char*, const char*> cases[] = {{"--layout rooom", "--layout"},
+                                                       {"--layout room --density 0", "--density"},
+                                                       {"--layout room --scale -1", "--scale"},
+                                                       {"--layout room --pitch 95", "--pitch"},
+                                                       {"--layout room --edge-fraction 1.5", "--edge-fraction"},
+                                                       {"--layout room --keyframes 2", "--keyframes"},
+                                                       {"--layout room --obstacles 100", "obstacles"}};
   for (const auto& [args, name] : cases) {
     const auto r = runHullmap(std::string("generate ") + args + " -o '" + (dir / "x").string() + "'");
     EXPECT_EQ(r.status, 2) << args;

@@ -11,13 +11,13 @@
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
-using hullmap::test::writeText;
 using hullmap::test::CommandResult;
 using hullmap::test::freshDir;
 using hullmap::test::lineCount;
 using hullmap::test::runHullmap;
 using hullmap::test::runHullmapIn;
 using hullmap::test::slurp;
+using hullmap::test::writeText;
 
 namespace {
 
@@ -81,8 +81,9 @@ TEST(CliOutputDir, ForeignDirectoryIsRefusedAndKeptByteIdentical) {
   writeText(target / "sub" / "deep.txt", "keep too\n");
   const auto before = snapshot(dir);
   expectRefused(runHullmap("build " + (dir / "p.txt").string() + " --min-pts 1 -o " + target.string()),
-                "-o " + target.string() + ": not empty and not a hullmap output (holds important.txt, sub; no "
-                ".hullmap-output marker); refusing to replace it: give a new or empty directory");
+                "-o " + target.string() +
+                    ": not empty and not a hullmap output (holds important.txt, sub; no "
+                    ".hullmap-output marker); refusing to replace it: give a new or empty directory");
   EXPECT_EQ(snapshot(dir), before);
   // A forged marker of another format is no marker.
   writeText(target / ".hullmap-output", "something else\nimportant.txt\nsub\n");

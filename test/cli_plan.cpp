@@ -50,7 +50,8 @@ std::vector<std::vector<double>> readRows(const fs::path& path) {
   return rows;
 }
 
-void expectOneLine(const hullmap::test::CommandResult& r, int status, const std::string& text, const std::string& needle) {
+void expectOneLine(const hullmap::test::CommandResult& r, int status, const std::string& text,
+                   const std::string& needle) {
   EXPECT_EQ(r.status, status) << r.out << r.err;
   EXPECT_EQ(lineCount(text), 1) << text;
   EXPECT_NE(text.find(needle), std::string::npos) << "expected '" << needle << "' in: " << text;
@@ -156,7 +157,8 @@ TEST(CliPlan, BlockedUnreachableAndInsideSayWhereInOneLine) {
   EXPECT_TRUE(blocked.err.empty()) << blocked.err;
   const auto inside = runHullmap("plan " + room + " --from 0,-1.1,1 --to 3,0,1 --radius 0.1");
   expectOneLine(inside, 1, inside.out, "start (0, -1.1, 1) is inside obstacle 0");
-  const auto goal_inside = runHullmap("plan " + room + " --from 3,0,1 --to 0,1.05,1 --radius 0.1 -o " + (dir / "p.txt").string());
+  const auto goal_inside =
+      runHullmap("plan " + room + " --from 3,0,1 --to 0,1.05,1 --radius 0.1 -o " + (dir / "p.txt").string());
   expectOneLine(goal_inside, 1, goal_inside.out, "goal (0, 1.05, 1) is inside obstacle 1");
   EXPECT_FALSE(fs::exists(dir / "p.txt"));
 }
@@ -164,7 +166,9 @@ TEST(CliPlan, BlockedUnreachableAndInsideSayWhereInOneLine) {
 TEST(CliPlan, BadInputsExitTwoWithOneLine) {
   const auto dir = freshDir("cli_plan_bad");
   const auto room = walledRoom(dir).string();
-  struct Case { std::string args, needle; };
+  struct Case {
+    std::string args, needle;
+  };
   std::ofstream(dir / "bad_robots.txt") << "0 0 1 3 0 1\n1 2 3\n";
   std::ofstream(dir / "word_robots.txt") << "0 0 1 3 0 x1\n";
   std::ofstream(dir / "not.json") << "{ nope";
@@ -177,9 +181,11 @@ TEST(CliPlan, BadInputsExitTwoWithOneLine) {
       {"plan " + room + " --from 0,a,1 --to 1,1,1 -r 0.1", "--from: not a number: \"a\""},
       {"plan " + room + " --from 0,0,1 -r 0.1", "--to is required with --from"},
       {"plan " + room + " --from 0,0,1 --to 1,1,1 -r -1", "--radius: must be >= 0"},
-      {"plan " + room + " --robots " + (dir / "bad_robots.txt").string() + " -r 0.1 --speed 1 -o " + (dir / "p").string(),
+      {"plan " + room + " --robots " + (dir / "bad_robots.txt").string() + " -r 0.1 --speed 1 -o " +
+           (dir / "p").string(),
        "bad_robots.txt:2: expected 6 numbers"},
-      {"plan " + room + " --robots " + (dir / "word_robots.txt").string() + " -r 0.1 --speed 1 -o " + (dir / "p").string(),
+      {"plan " + room + " --robots " + (dir / "word_robots.txt").string() + " -r 0.1 --speed 1 -o " +
+           (dir / "p").string(),
        "word_robots.txt:1: not a number: \"x1\""},
       {"plan " + room + " --robots " + (dir / "none.txt").string() + " -r 0.1 --speed 1 -o " + (dir / "p").string(),
        "none.txt: cannot open"},
@@ -198,7 +204,8 @@ TEST(CliPlan, BadInputsExitTwoWithOneLine) {
 TEST(CliPlan, FleetWritesTimedPathsApartAndNamesTheUnrouted) {
   const auto dir = freshDir("cli_plan_fleet");
   const auto scene = builtScene(dir);
-  std::ofstream(dir / "robots.txt") << "# sx sy sz gx gy gz\n-4 -4 1 4 4 1\n4 4 1 -4 -4 1\n-4 4 1 4 -4 1\n4 -4 1 -4 4 1\n";
+  std::ofstream(dir / "robots.txt")
+      << "# sx sy sz gx gy gz\n-4 -4 1 4 4 1\n4 4 1 -4 -4 1\n-4 4 1 4 -4 1\n4 -4 1 -4 4 1\n";
   const auto paths = dir / "paths";
   const auto r = runHullmap("plan " + (dir / "out").string() + " --robots " + (dir / "robots.txt").string() +
                             " --radius 0.3 --speed 1.5 -o " + paths.string());
@@ -224,7 +231,8 @@ TEST(CliPlan, FleetWritesTimedPathsApartAndNamesTheUnrouted) {
   for (double t = 0; t <= end; t += 0.002)
     for (std::size_t i = 0; i < timed.size(); ++i) {
       for (const auto& o : scene.obstacles) ASSERT_GE(hullmap::test::distanceToSolid(o, at(timed[i], t)), 0.3 - 1e-9);
-      for (std::size_t j = i + 1; j < timed.size(); ++j) ASSERT_GE((at(timed[i], t) - at(timed[j], t)).norm(), 0.6 - 1e-9);
+      for (std::size_t j = i + 1; j < timed.size(); ++j)
+        ASSERT_GE((at(timed[i], t) - at(timed[j], t)).norm(), 0.6 - 1e-9);
     }
 
   // A drone starting 0.3 m from another cannot be routed: exit 1, named; the others still are.
@@ -246,8 +254,8 @@ TEST(CliPlan, OmplMethodPlansRoundAThinPlateAndCheckAcceptsIt) {
   const auto json = (dir / "obstacles.json").string();
   hullmap::pipeline::writeObstaclesJson(json, plate, {});
   const auto path = dir / "path.txt";
-  const auto r = runHullmap("plan " + json + " --method ompl --time-limit 0.5 --from -2,0,1 --to 2,0,1 --radius 0.1 -o " +
-                            path.string());
+  const auto r = runHullmap(
+      "plan " + json + " --method ompl --time-limit 0.5 --from -2,0,1 --to 2,0,1 --radius 0.1 -o " + path.string());
   expectOneLine(r, 0, r.out, "clear by 0.1 (exact hull check) -> " + path.string());
   const auto rows = readRows(path);
   ASSERT_GE(rows.size(), 3u);
@@ -257,14 +265,17 @@ TEST(CliPlan, OmplMethodPlansRoundAThinPlateAndCheckAcceptsIt) {
   EXPECT_EQ(check.status, 0) << check.out << check.err;
   EXPECT_NE(check.out.find("path: clear"), std::string::npos) << check.out;
 
-  const auto inside = runHullmap("plan " + json + " --method ompl --time-limit 0.1 --from 0,0,1 --to 2,0,1 --radius 0.1");
+  const auto inside =
+      runHullmap("plan " + json + " --method ompl --time-limit 0.1 --from 0,0,1 --to 2,0,1 --radius 0.1");
   expectOneLine(inside, 1, inside.out, "start (0, 0, 1) is inside obstacle 0");
 }
 
 TEST(CliPlan, OmplOptionsAreChecked) {
   const auto dir = freshDir("cli_plan_ompl_bad");
   const auto room = walledRoom(dir).string();
-  struct Case { std::string args, needle; };
+  struct Case {
+    std::string args, needle;
+  };
   const std::string trip = "plan " + room + " --from 0,0,1 --to 3,0,1 -r 0.1 ";
   const std::vector<Case> cases{
       {trip + "--method ompl --time-limit 0", "--time-limit: must be > 0"},

@@ -216,15 +216,16 @@ std::map<std::pair<long, long>, int> expectedTopCells(const MapPlot& plot) {
   for (std::size_t i = 0; i < plot.centers.size(); ++i) {
     const auto& c = plot.centers[i];
     if (std::abs(c.x()) > 100 || std::abs(c.y()) > 100) continue;
-    const auto key = std::make_pair(std::lround(c.y() / plot.voxel_size - 0.5), std::lround(c.x() / plot.voxel_size - 0.5));
+    const auto key =
+        std::make_pair(std::lround(c.y() / plot.voxel_size - 0.5), std::lround(c.x() / plot.voxel_size - 0.5));
     const int label = plot.labels[i] < 0 ? -1 : plot.labels[i];
     auto it = best.find(key);
     if (it == best.end()) {
       best[key] = {label, c.z()};
       continue;
     }
-    const bool better = (label >= 0 && it->second.first < 0) ||
-                        ((label >= 0) == (it->second.first >= 0) && c.z() > it->second.second);
+    const bool better =
+        (label >= 0 && it->second.first < 0) || ((label >= 0) == (it->second.first >= 0) && c.z() > it->second.second);
     if (better) it->second = {label, c.z()};
   }
   std::map<std::pair<long, long>, int> out;
@@ -290,7 +291,8 @@ TEST(PlotPalette, NoiseIsBlackAndFiftyClustersStayApart) {
 // ---------------------------------------------------------------- map rendering
 
 TEST(PlotMap, TopViewIsValidXmlWithOneFootprintPerObstacleAndPaletteColours) {
-  if (!havePython()) GTEST_SKIP() << "no XML parser: " << HULLMAP_PYTHON3 << " not found and libxml2 is not a dependency";
+  if (!havePython())
+    GTEST_SKIP() << "no XML parser: " << HULLMAP_PYTHON3 << " not found and libxml2 is not a dependency";
   Scene s = makeScene(12, 0.05, 7);
   ASSERT_EQ(s.plot.obstacles.size(), 12u);
   const auto picture = hullmap::plot::renderMapSvg(s.plot);
@@ -385,11 +387,11 @@ TEST(PlotMap, HundredThousandVoxelsGiveASmallFile) {
   while (plot.centers.size() < 100000) {
     const int wall = static_cast<int>(plot.centers.size() % 5);
     const double a = u(rng);
-    Eigen::Vector3d p = wall == 0 ? Eigen::Vector3d(a, 0.0, h(rng))
-                      : wall == 1 ? Eigen::Vector3d(a, 20.0, h(rng))
-                      : wall == 2 ? Eigen::Vector3d(0.0, a, h(rng))
-                      : wall == 3 ? Eigen::Vector3d(20.0, a, h(rng))
-                                  : Eigen::Vector3d(std::fmod(a, 4.0) + 8.0, std::fmod(u(rng), 4.0) + 8.0, h(rng));
+    Eigen::Vector3d p = wall == 0   ? Eigen::Vector3d(a, 0.0, h(rng))
+                        : wall == 1 ? Eigen::Vector3d(a, 20.0, h(rng))
+                        : wall == 2 ? Eigen::Vector3d(0.0, a, h(rng))
+                        : wall == 3 ? Eigen::Vector3d(20.0, a, h(rng))
+                                    : Eigen::Vector3d(std::fmod(a, 4.0) + 8.0, std::fmod(u(rng), 4.0) + 8.0, h(rng));
     plot.centers.emplace_back(snap(p.x()), snap(p.y()), snap(p.z()));
     plot.labels.push_back(wall == 4 && p.x() > 9.0 ? -1 : wall);
   }
@@ -486,8 +488,7 @@ TEST(PlotOutput, PngIsRenderedAndNotBlank) {
   Scene s = makeScene(4, 0.05, 9);
   const auto dir = hullmap::test::freshDir("plot_png");
   const auto svg = hullmap::plot::renderMapSvg(s.plot).svg;
-  const auto written =
-      hullmap::plot::writePicture(svg, {(dir / "map.svg").string(), true, "-o"}, converter);
+  const auto written = hullmap::plot::writePicture(svg, {(dir / "map.svg").string(), true, "-o"}, converter);
   ASSERT_EQ(written.size(), 2u);
   EXPECT_TRUE(fs::exists(dir / "map.svg"));
   ASSERT_TRUE(fs::exists(dir / "map.png"));
@@ -531,7 +532,8 @@ TEST(PlotOutput, MissingConverterNamesThePackageAndWritesNothing) {
   fs::create_directories(bin);
   std::ofstream(bin / "rsvg-convert") << "#!/bin/sh\n";
   fs::permissions(bin / "rsvg-convert", fs::perms::owner_all);
-  EXPECT_EQ(hullmap::plot::findProgram("rsvg-convert", "/nonexistent::" + bin.string()), (bin / "rsvg-convert").string());
+  EXPECT_EQ(hullmap::plot::findProgram("rsvg-convert", "/nonexistent::" + bin.string()),
+            (bin / "rsvg-convert").string());
 }
 
 // ---------------------------------------------------------------- the subcommand
@@ -545,9 +547,8 @@ fs::path writeBuildDir(const Scene& s, const std::string& name) {
     const auto& c = s.plot.centers[i];
     csv << c.x() << ',' << c.y() << ',' << c.z() << ",1," << s.plot.labels[i] << ",1\n";
   }
-  std::ofstream(dir / "report.json")
-      << R"({"parameters": {"eps": 0.1, "min_pts": 10, "metric": "xyz", "resolution": )" << s.plot.voxel_size
-      << R"(}, "frame": "z-up map, up=-y of input"})";
+  std::ofstream(dir / "report.json") << R"({"parameters": {"eps": 0.1, "min_pts": 10, "metric": "xyz", "resolution": )"
+                                     << s.plot.voxel_size << R"(}, "frame": "z-up map, up=-y of input"})";
   hullmap::pipeline::writeObstaclesJson((dir / "obstacles.json").string(), s.plot.obstacles, {});
   return dir;
 }
@@ -563,12 +564,14 @@ TEST(PlotCommand, DrawsABuildDirectory) {
   EXPECT_NE(svg.find("eps = 0.1, minPts = 10, metric = xyz"), std::string::npos);
   EXPECT_NE(svg.find("frame: z-up map, up=-y of input"), std::string::npos);
   std::size_t footprints = 0;
-  for (std::size_t p = svg.find("class=\"footprint\""); p != std::string::npos; p = svg.find("class=\"footprint\"", p + 1)) {
+  for (std::size_t p = svg.find("class=\"footprint\""); p != std::string::npos;
+       p = svg.find("class=\"footprint\"", p + 1)) {
     ++footprints;
   }
   EXPECT_EQ(footprints, 5u);
 
-  const auto side = hullmap::test::runHullmap("plot '" + dir.string() + "' --side -o '" + (dir / "side.svg").string() + "'");
+  const auto side =
+      hullmap::test::runHullmap("plot '" + dir.string() + "' --side -o '" + (dir / "side.svg").string() + "'");
   ASSERT_EQ(side.status, 0) << side.err;
   EXPECT_NE(hullmap::test::slurp(dir / "side.svg").find("side view (x-z)"), std::string::npos);
 
@@ -669,9 +672,9 @@ TEST(PlotCommand, SweepPlotHasOnePanelPerPairMatchingTheTable) {
     for (int i = 0; i < 200; ++i) points << -1 + blob(rng) << ' ' << 1 + blob(rng) << ' ' << blob(rng) << '\n';
     for (int i = 0; i < 40; ++i) points << room(rng) << ' ' << room(rng) << ' ' << room(rng) << '\n';
   }
-  const auto r = hullmap::test::runHullmap("sweep '" + (dir / "points.txt").string() +
-                                           "' --eps 0.05,0.2,0.5 --min-pts 3,20 -o '" + (dir / "sweep.csv").string() +
-                                           "' --plot '" + (dir / "sweep.svg").string() + "'");
+  const auto r =
+      hullmap::test::runHullmap("sweep '" + (dir / "points.txt").string() + "' --eps 0.05,0.2,0.5 --min-pts 3,20 -o '" +
+                                (dir / "sweep.csv").string() + "' --plot '" + (dir / "sweep.svg").string() + "'");
   ASSERT_EQ(r.status, 0) << r.err;
   const std::string svg = hullmap::test::slurp(dir / "sweep.svg");
   // Every CSV row has its panel with the same cluster count.
@@ -746,8 +749,8 @@ TEST(PlotCommand, RoadmapAndSeveralPathsOneColourEach) {
   std::ofstream(dir / "a.txt") << "0 0 0.05\n0.6 0.9 0.05\n";
   std::ofstream(dir / "b.txt") << "# t x y z: a timed path of plan --robots\n0 1 1 0.05\n1 1.5 1.2 0.05\n2 2 0 0.05\n";
   r = hullmap::test::runHullmap("plot '" + dir.string() + "' --roadmap '" + roadmap.string() + "' --path '" +
-                                (dir / "a.txt").string() + "' --path '" + (dir / "b.txt").string() +
-                                "' -r 0.02 -o '" + (dir / "map.svg").string() + "'");
+                                (dir / "a.txt").string() + "' --path '" + (dir / "b.txt").string() + "' -r 0.02 -o '" +
+                                (dir / "map.svg").string() + "'");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("roadmap of " + std::to_string(edges) + " edges, 2 paths"), std::string::npos) << r.out;
   const std::string svg = hullmap::test::slurp(dir / "map.svg");

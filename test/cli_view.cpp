@@ -24,10 +24,10 @@ std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 
 bool haveThree() { return fs::exists(fs::path(hullmap::view::kThreeDir) / "three.min.js"); }
 
-#define HULLMAP_REQUIRE_THREE()                                                                                       \
-  if (!haveThree()) {                                                                                                 \
+#define HULLMAP_REQUIRE_THREE()                                                                                      \
+  if (!haveThree()) {                                                                                                \
     GTEST_SKIP() << hullmap::view::kThreeDir << "/three.min.js not found: install Debian's libjs-three (./setup.sh " \
-                 << "test does)";                                                                                     \
+                 << "test does)";                                                                                    \
   }
 
 // A build of a small generated scene, with its keyframes, by the CLI.
@@ -38,8 +38,8 @@ fs::path builtScene(const std::string& name) {
   params.obstacles = 4;
   params.seed = 3;
   hullmap::mapper::writeScene(hullmap::mapper::generateScene(params), params, dir.string());
-  const auto r = runHullmap("build " + q(dir / "map_points.txt") + " --trajectory " + q(dir / "KeyFrameTrajectory.txt") +
-                            " --up -y --eps 0.12 --min-pts 5 -o " + q(dir / "out"));
+  const auto r = runHullmap("build " + q(dir / "map_points.txt") + " --trajectory " +
+                            q(dir / "KeyFrameTrajectory.txt") + " --up -y --eps 0.12 --min-pts 5 -o " + q(dir / "out"));
   EXPECT_EQ(r.status, 0) << r.err;
   return dir;
 }
@@ -77,13 +77,12 @@ TEST(ViewCommand, WritesDirHtmlBesideTheBuildAndSaysWhatItDrew) {
   std::ostringstream first;
   first << "view: " << data["voxels"]["total"].get<std::size_t>() << " voxels, "
         << data["voxels"]["total"].get<std::size_t>() << " cubes at the finest level, " << data["obstacles"].size()
-        << " obstacles in "
-        << data["hulls"]["items"].size() << " hulls, 60 keyframes\n";
+        << " obstacles in " << data["hulls"]["items"].size() << " hulls, 60 keyframes\n";
   EXPECT_EQ(r.out.rfind(first.str(), 0), 0u) << r.out;
   EXPECT_NE(r.out.find("wrote " + (dir / "out").string() + ".html"), std::string::npos) << r.out;
   // The build directory may still be replaced by the next build: view wrote nothing into it.
-  const auto again = runHullmap("build " + q(dir / "map_points.txt") + " --up -y --eps 0.12 --min-pts 5 -o " +
-                                q(dir / "out"));
+  const auto again =
+      runHullmap("build " + q(dir / "map_points.txt") + " --up -y --eps 0.12 --min-pts 5 -o " + q(dir / "out"));
   EXPECT_EQ(again.status, 0) << again.err;
 }
 
@@ -94,8 +93,8 @@ TEST(ViewCommand, PathsAreCheckedAsHullmapCheckChecksThem) {
   // A timed path as `plan --robots` writes it: its positions are the path.
   hullmap::test::writeText(dir / "timed.txt", "# t x y z\n0 -4.5 -4.5 2.9\n3 4.5 -4.5 2.9\n6 4.5 4.5 2.9\n");
   hullmap::test::writeText(dir / "timed_xyz.txt", "-4.5 -4.5 2.9\n4.5 -4.5 2.9\n4.5 4.5 2.9\n");
-  const auto r = runHullmap("view " + q(dir / "out") + " -o " + q(dir / "page.html") + " --path " + q(dir / "cross.txt") +
-                            " --path " + q(dir / "timed.txt") + " -r 0.2");
+  const auto r = runHullmap("view " + q(dir / "out") + " -o " + q(dir / "page.html") + " --path " +
+                            q(dir / "cross.txt") + " --path " + q(dir / "timed.txt") + " -r 0.2");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("2 paths (1 colliding)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("cross.txt: path collides: first contact on segment "), std::string::npos) << r.out;
@@ -129,7 +128,8 @@ TEST(ViewCommand, MoreVoxelsThanMaxInstancesAreMergedAndSaid) {
   const fs::path dir = builtScene("view_merge");
   const auto r = runHullmap("view " + q(dir / "out") + " -o " + q(dir / "page.html") + " --max-instances 300");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("voxels a side: more than --max-instances 300) at the finest level"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("voxels a side: more than --max-instances 300) at the finest level"), std::string::npos)
+      << r.out;
   const json data = pageData(slurp(dir / "page.html"));
   EXPECT_GT(data["voxels"]["levels"][0]["factor"].get<int>(), 1);
   EXPECT_LE(data["voxels"]["levels"][0]["instances"].get<std::size_t>(), 300u);
@@ -145,7 +145,8 @@ TEST(ViewCommand, ErrorsNameTheFileOrOptionAndWriteNothing) {
   expectOneLineError(runHullmap("view " + out + " -o " + q(dir / "no/such/page.html")), "does not exist");
   expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " --three-dir " + q(dir / "nothing")),
                      "--three-dir: " + (dir / "nothing").string() + "/three.min.js not found");
-  expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " --three-dir " + q(dir / "nothing")), "libjs-three");
+  expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " --three-dir " + q(dir / "nothing")),
+                     "libjs-three");
   expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " --max-instances 0"), "--max-instances");
   writeCrossingPath(dir / "cross.txt");
   expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " --path " + q(dir / "cross.txt")), "--radius");
@@ -155,7 +156,8 @@ TEST(ViewCommand, ErrorsNameTheFileOrOptionAndWriteNothing) {
   hullmap::test::writeText(dir / "one.txt", "0 0 1\n");
   expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " -r 0.2 --path " + q(dir / "one.txt")),
                      "a path needs at least two waypoints");
-  expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " -r -1 --path " + q(dir / "cross.txt")), "--radius");
+  expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " -r -1 --path " + q(dir / "cross.txt")),
+                     "--radius");
   hullmap::test::writeText(dir / "roadmap.json", "{\"format\": \"hullmap-roadmap/1\"");
   expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " --roadmap " + q(dir / "roadmap.json")),
                      (dir / "roadmap.json").string());

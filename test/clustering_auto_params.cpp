@@ -158,8 +158,10 @@ TEST(ClusteringAutoParams, GeneratedScenesClusterWithLittleNoiseAndNoMerges) {
       for (std::size_t o = 0; o < scene.obstacles.size(); ++o) {
         if (surfaceDistance(scene.obstacles[o], v.centres[i]) <= 0.06) {
           ++on_obstacle;
-          if (r.labels[i] == kNoise) ++on_obstacle_noise;
-          else touched[r.labels[i]].insert(o);
+          if (r.labels[i] == kNoise)
+            ++on_obstacle_noise;
+          else
+            touched[r.labels[i]].insert(o);
         }
       }
     }
@@ -167,9 +169,8 @@ TEST(ClusteringAutoParams, GeneratedScenesClusterWithLittleNoiseAndNoMerges) {
     for (const auto& [label, obstacles] : touched) merged += obstacles.size() > 1;
     const double noise_share = static_cast<double>(on_obstacle_noise) / static_cast<double>(on_obstacle);
     std::cout << points << " points, " << v.centres.size() << " voxels: eps " << a.eps << " minPts " << a.min_pts
-              << " (k-NN " << a.knn << "): " << r.cluster_sizes.size() << " clusters, "
-              << touched.size() << " on obstacles, obstacle-voxel noise " << noise_share << ", merged " << merged
-              << "\n";
+              << " (k-NN " << a.knn << "): " << r.cluster_sizes.size() << " clusters, " << touched.size()
+              << " on obstacles, obstacle-voxel noise " << noise_share << ", merged " << merged << "\n";
     EXPECT_EQ(merged, 0u);
     EXPECT_LT(noise_share, 0.05);
     EXPECT_LE(touched.size(), 2 * scene.obstacles.size());
@@ -187,7 +188,8 @@ TEST(ClusteringAutoParams, RealisticRoomsClusterIntoWallsAndFurniture) {
     p.density = density;
     p.orbslam_frame = false;
     const auto scene = hullmap::mapper::generateScene(p);
-    const hullmap::mapper::PlaneFit floor = hullmap::mapper::findBoundingPlane(scene.points, hullmap::mapper::PlaneSide::kFloor);
+    const hullmap::mapper::PlaneFit floor =
+        hullmap::mapper::findBoundingPlane(scene.points, hullmap::mapper::PlaneSide::kFloor);
     ASSERT_TRUE(floor.found) << floor.reason;
     const Voxels all = voxelize(scene.points, 0.05);
     const auto classes = hullmap::mapper::classifySurfaces(all.centres, floor.plane, std::nullopt, 0.05);
@@ -212,8 +214,10 @@ TEST(ClusteringAutoParams, RealisticRoomsClusterIntoWallsAndFurniture) {
         for (const auto& part : scene.objects[o].parts) hit = hit || surfaceDistance(part, v.centres[i]) <= 0.06;
         if (!hit) continue;
         ++on_object;
-        if (r.labels[i] == kNoise) ++noise;
-        else touched[r.labels[i]].insert(o < 5 ? 1 : o);
+        if (r.labels[i] == kNoise)
+          ++noise;
+        else
+          touched[r.labels[i]].insert(o < 5 ? 1 : o);
       }
     }
     std::size_t merged = 0;
@@ -223,7 +227,8 @@ TEST(ClusteringAutoParams, RealisticRoomsClusterIntoWallsAndFurniture) {
       for (std::size_t o : objects) ++fragments[o];
     }
     for (const auto& [o, count] : fragments) {
-      if (count > 1) std::cout << "  object " << o << " (" << toString(scene.objects[o].kind) << ") in " << count << " clusters\n";
+      if (count > 1)
+        std::cout << "  object " << o << " (" << toString(scene.objects[o].kind) << ") in " << count << " clusters\n";
     }
     const double noise_share = static_cast<double>(noise) / static_cast<double>(on_object);
     std::cout << "room " << density << " points/m^2, " << v.centres.size() << " voxels: eps " << a.eps << " minPts "
@@ -270,7 +275,8 @@ TEST(ClusteringAutoParams, MapsRoomAlignedLevelledAndClustered) {
   const std::filesystem::path dir = std::filesystem::path(HULLMAP_SOURCE_DIR) / "maps" / "room";
   auto points = io::readPointFile((dir / "map_points.txt").string()).points;
   const auto keyframes = io::readTumTrajectory((dir / "KeyFrameTrajectory.txt").string());
-  const auto reference = io::readReferenceTrajectory((dir / "reference_trajectory.txt").string(), io::ReferenceFormat::kTum);
+  const auto reference =
+      io::readReferenceTrajectory((dir / "reference_trajectory.txt").string(), io::ReferenceFormat::kTum);
   const m::Alignment alignment = m::alignTrajectory(keyframes, reference);
   EXPECT_NEAR(alignment.transform.scale, 1.0 / 0.37, 1e-6);
   m::applySimilarity(alignment.transform, points);

@@ -3,8 +3,8 @@
 
 #include "hullmap/clustering/build_warnings.hpp"
 
-using hullmap::clustering::ClusteringOutcome;
 using hullmap::clustering::buildWarnings;
+using hullmap::clustering::ClusteringOutcome;
 using hullmap::clustering::hullCheckWarnings;
 
 TEST(BuildWarnings, NoiseShareNoObstacleAndEpsBelowResolution) {

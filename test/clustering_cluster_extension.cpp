@@ -67,9 +67,8 @@ DbscanResult oracleExtension(const Points& points, const Weights& weights, Dbsca
 /// that its inputs exercise joins and chains, not only the empty case).
 ClusterExtension expectSameAsOracle(const Points& points, const Weights& weights, const DbscanParams& dbscan_params,
                                     const ClusterExtensionParams& params) {
-  SCOPED_TRACE(::testing::Message() << points.size() << " points, eps " << params.eps << ", min_pts "
-                                    << params.min_pts << ", reach " << params.reach << ", "
-                                    << toString(params.metric));
+  SCOPED_TRACE(::testing::Message() << points.size() << " points, eps " << params.eps << ", min_pts " << params.min_pts
+                                    << ", reach " << params.reach << ", " << toString(params.metric));
   const DbscanResult first = dbscan(points, weights, dbscan_params);
   ClusterExtension expected_out;
   const DbscanResult expected = oracleExtension(points, weights, first, params, expected_out);
@@ -240,7 +239,8 @@ TEST(ClusterExtension, SameResultWithOneAndTwoThreadsAndGrossOutliers) {
     for (auto& p : part) p += Eigen::Vector3d(5.0 * (seed % 5), 5.0 * (seed / 5 % 4), 0.0);
     points.insert(points.end(), part.begin(), part.end());
   }
-  for (int k = 0; k < 5; ++k) points.emplace_back(1e6 * (k + 1), 0.0, -1e15 * k);  // beyond the clamped cells (2^50 x 0.15)
+  for (int k = 0; k < 5; ++k)
+    points.emplace_back(1e6 * (k + 1), 0.0, -1e15 * k);  // beyond the clamped cells (2^50 x 0.15)
   const DbscanResult first = dbscan(points, {}, DbscanParams{0.1, 12, Metric::kXyz});
   const ClusterExtensionParams params{0.1, 2, 0.15, Metric::kXyz};
   DbscanResult one = first, two = first;
@@ -305,9 +305,7 @@ TEST(ClusterExtension, RejectsBadInput) {
 
 TEST(ClusterExtension, PipelineRuleFromTheDbscanParameters) {
   const ClusterExtensionRule rule;
-  auto made = [&](double eps, int min_pts) {
-    return extensionParams(DbscanParams{eps, min_pts, Metric::kXy}, rule);
-  };
+  auto made = [&](double eps, int min_pts) { return extensionParams(DbscanParams{eps, min_pts, Metric::kXy}, rule); };
   EXPECT_EQ(made(0.4, 7).min_pts, 2);   // floor(2.1)
   EXPECT_EQ(made(0.4, 6).min_pts, 2);   // floor(1.8) = 1, raised to min_min_pts
   EXPECT_EQ(made(0.3, 16).min_pts, 4);  // floor(4.8)

@@ -130,8 +130,7 @@ struct Split {
 };
 
 /// One cluster of all `centers`, split.
-Split splitOne(const std::vector<V3>& centers, const ConvexPartsParams& params = {},
-               const KnownFreeSpace& known = {}) {
+Split splitOne(const std::vector<V3>& centers, const ConvexPartsParams& params = {}, const KnownFreeSpace& known = {}) {
   Split s;
   s.centers = centers;
   s.labels.assign(centers.size(), 0);
@@ -163,8 +162,8 @@ void expectWithinConcavity(const std::vector<V3>& centers, double t, const Conve
     // A flat part: its hull at most T thick (the oracle: its least width over its facet normals,
     // from its vertices), and bounded by the flat gap G instead of T.
     // With adapt_flat_gap, G is the cluster's adapted one (its oracle: AdaptedFlatGapMatchesItsDefinition).
-    const double g = params.adapt_flat_gap ? adaptedFlatGap(centers, kVoxel, params)
-                                           : std::max(t, params.flat_gap.value_or(t));
+    const double g =
+        params.adapt_flat_gap ? adaptedFlatGap(centers, kVoxel, params) : std::max(t, params.flat_gap.value_or(t));
     if (part.flat) {
       EXPECT_GT(g, t) << "flat part without a flat gap";
       EXPECT_LE(hullWidth(part.hull), t + 1e-9);
@@ -303,10 +302,11 @@ TEST(ConvexParts, FlatGapKeepsOutliersOffTheWall) {
 TEST(ConvexParts, SparseRingBecomesItsWallsWithAFlatGap) {
   // Four sparse 3 m walls around a square: the flat gap must not join them into a ring's hull.
   std::vector<V3> c;
-  for (const auto& w : {sparseWall(5, 0, 0, true), sparseWall(6, 0, 58, true), sparseWall(7, 0, 0, false),
-                        sparseWall(8, 58, 0, false)})
+  for (const auto& w :
+       {sparseWall(5, 0, 0, true), sparseWall(6, 0, 58, true), sparseWall(7, 0, 0, false), sparseWall(8, 58, 0, false)})
     c.insert(c.end(), w.begin(), w.end());
-  std::sort(c.begin(), c.end(), [](const V3& a, const V3& b) { return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z()); });
+  std::sort(c.begin(), c.end(),
+            [](const V3& a, const V3& b) { return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z()); });
   c.erase(std::unique(c.begin(), c.end()), c.end());
   ConvexPartsParams params;
   params.flat_gap = 0.4;
@@ -342,14 +342,13 @@ double adaptedFlatGapOracle(const std::vector<V3>& c, double t, double g) {
   std::vector<std::size_t> counts;
   for (std::size_t s = 0; s < c.size(); s += stride) {
     std::size_t n = 0;
-    for (std::size_t i = 0; i < c.size(); ++i)
-      n += i != s && (c[i] - c[s]).squaredNorm() <= g * g * (1 + 1e-9);
+    for (std::size_t i = 0; i < c.size(); ++i) n += i != s && (c[i] - c[s]).squaredNorm() <= g * g * (1 + 1e-9);
     counts.push_back(n);
   }
   std::sort(counts.begin(), counts.end());
   const double q = std::max(1.0, double(counts[counts.size() / 4]));
   const double lambda_pi = q / (g * g);  // per map unit^2
-  double lo = 1.0, hi = 1000.0;  // x - ln x is increasing for x >= 1
+  double lo = 1.0, hi = 1000.0;          // x - ln x is increasing for x >= 1
   const double target = std::log(double(c.size())) - std::log(0.01);
   for (int i = 0; i < 200; ++i) {
     const double mid = 0.5 * (lo + hi);
@@ -492,7 +491,8 @@ std::vector<std::size_t> wallParts(std::uint64_t seed, double density, const Con
   scene_params.obstacles = 0;
   scene_params.density = density;
   const mapper::Scene scene = mapper::generateScene(scene_params);
-  const auto dir = hullmap::test::freshDir("convex_parts_room_" + std::to_string(seed) + "_" + std::to_string(int(density)));
+  const auto dir =
+      hullmap::test::freshDir("convex_parts_room_" + std::to_string(seed) + "_" + std::to_string(int(density)));
   mapper::writeScene(scene, scene_params, dir.string());
   pipeline::BuildParams build;
   build.inputs = {dir / "map_points.txt"};
@@ -504,8 +504,9 @@ std::vector<std::size_t> wallParts(std::uint64_t seed, double density, const Con
   std::vector<V3> points;
   for (const auto& p : scene.points)
     points.push_back(scene.output_rotation.transpose() * (p - scene.output_translation) / scene.output_scale);
-  const pipeline::Evaluation e = pipeline::evaluate(r.obstacles, pipeline::readGroundTruth((dir / "ground_truth.json").string()),
-                                                    points, {}, pipeline::EvaluateParams{});
+  const pipeline::Evaluation e =
+      pipeline::evaluate(r.obstacles, pipeline::readGroundTruth((dir / "ground_truth.json").string()), points, {},
+                         pipeline::EvaluateParams{});
   std::vector<std::size_t> walls;
   for (const auto& t : e.truth)
     if (!t.surface) walls.push_back(t.parts.size());
@@ -583,7 +584,8 @@ std::vector<V3> shell(int i0, int i1, int j0, int j1, int k0, int k1, bool open_
   for (int i = i0; i < i1; ++i)
     for (int j = j0; j < j1; ++j)
       for (int k = k0; k < k1; ++k) {
-        const bool surface = i == i0 || i == i1 - 1 || j == j0 || j == j1 - 1 || k == k1 - 1 || (k == k0 && !open_bottom);
+        const bool surface =
+            i == i0 || i == i1 - 1 || j == j0 || j == j1 - 1 || k == k1 - 1 || (k == k0 && !open_bottom);
         if (surface && pick(rng) == 0) c.push_back(center(i, j, k));
       }
   return c;
@@ -648,7 +650,8 @@ TEST(ConvexParts, SparseShellWithStrayVoxelsIsOnePartAndTheStrays) {
     const auto& parts = s.obstacles[0].parts;
     EXPECT_LE(parts.size(), 3u);
     // The shell is one part.
-    EXPECT_TRUE(std::any_of(parts.begin(), parts.end(), [&](const ObstaclePart& p) { return p.voxel_count >= shell_cells; }));
+    EXPECT_TRUE(
+        std::any_of(parts.begin(), parts.end(), [&](const ObstaclePart& p) { return p.voxel_count >= shell_cells; }));
     // Every part is filled or a lone stray, and within the bound.
     for (const auto& p : parts) {
       EXPECT_TRUE(p.filled || p.voxel_count == 1);
@@ -677,7 +680,8 @@ TEST(ConvexParts, DenseShellWithPairsOfStraysIsOnePartAndTheStrays) {
     const Split s = splitOnTheFloor(c);
     const auto& parts = s.obstacles[0].parts;
     EXPECT_LE(parts.size(), 4u);
-    EXPECT_TRUE(std::any_of(parts.begin(), parts.end(), [&](const ObstaclePart& p) { return p.voxel_count >= shell_cells; }))
+    EXPECT_TRUE(
+        std::any_of(parts.begin(), parts.end(), [&](const ObstaclePart& p) { return p.voxel_count >= shell_cells; }))
         << parts.size() << " parts";
     for (const auto& p : parts) {
       EXPECT_TRUE(p.filled || p.voxel_count <= 2);
@@ -1025,8 +1029,8 @@ TEST(ConvexParts, RealMH01MapSplitsItsOneBigCluster) {
     clustered += o.voxel_count;
   }
   std::cout << "MH_01 eps 0.2 minPts 3: " << centers.size() << " voxels, " << clustered << " clustered in "
-            << r.obstacles.size() << " obstacles (largest " << largest << ") -> " << summary.parts << " parts in "
-            << ms << " ms; hull volume " << summary.hull_volume_before << " -> " << summary.hull_volume_after
+            << r.obstacles.size() << " obstacles (largest " << largest << ") -> " << summary.parts << " parts in " << ms
+            << " ms; hull volume " << summary.hull_volume_before << " -> " << summary.hull_volume_after
             << ", voxel volume " << summary.voxel_volume << "\n";
   for (const auto& o : r.obstacles)
     for (const auto& part : o.parts) EXPECT_LE(part.concavity_bound, summary.concavity + 1e-12);
@@ -1056,9 +1060,8 @@ TEST(ConvexParts, RealV101MapRespectsTheBound) {
   EXPECT_GT(summary.parts, r.obstacles.size());
   EXPECT_LT(summary.hull_volume_after, 0.5 * summary.hull_volume_before);
   // The oracle on the biggest obstacle's parts.
-  const auto biggest = std::max_element(r.obstacles.begin(), r.obstacles.end(), [](const auto& a, const auto& b) {
-    return a.voxel_count < b.voxel_count;
-  });
+  const auto biggest = std::max_element(r.obstacles.begin(), r.obstacles.end(),
+                                        [](const auto& a, const auto& b) { return a.voxel_count < b.voxel_count; });
   std::vector<V3> cluster;
   for (std::size_t i = 0; i < centers.size(); ++i)
     if (r.clusters.labels[i] == biggest->id) cluster.push_back(centers[i]);

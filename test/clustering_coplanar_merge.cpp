@@ -121,8 +121,8 @@ std::vector<std::int32_t> oracle(const Points& points, const std::vector<std::in
 
 /// Voxel centres of a sparse slab: cells (i, j, k) of [i0, i1) x [j0, j1) x [k0, k1), one in
 /// `one_in` kept (seeded).
-void addSparse(Points& p, std::vector<std::int32_t>& labels, std::int32_t label, int i0, int i1, int j0, int j1,
-               int k0, int k1, int one_in, std::mt19937& rng) {
+void addSparse(Points& p, std::vector<std::int32_t>& labels, std::int32_t label, int i0, int i1, int j0, int j1, int k0,
+               int k1, int one_in, std::mt19937& rng) {
   std::uniform_int_distribution<int> pick(0, one_in - 1);
   for (int i = i0; i < i1; ++i)
     for (int j = j0; j < j1; ++j)
@@ -260,8 +260,8 @@ TEST(CoplanarMerge, APatchOfFloorByADenseWallsFootStays) {
   std::mt19937 rng(8);
   Points p;
   std::vector<std::int32_t> labels;
-  addSparse(p, labels, 0, 0, 2, 0, 80, 0, 40, 1, rng);   // the wall in x = 0-0.1, every voxel
-  addSparse(p, labels, 1, 2, 6, 45, 60, 0, 1, 1, rng);   // the floor patch, z = 0-0.05
+  addSparse(p, labels, 0, 0, 2, 0, 80, 0, 40, 1, rng);  // the wall in x = 0-0.1, every voxel
+  addSparse(p, labels, 1, 2, 6, 45, 60, 0, 1, 1, rng);  // the floor patch, z = 0-0.05
   DbscanResult r = labelled(labels);
   EXPECT_EQ(mergeCoplanarClusters(p, r, CoplanarMergeParams{0.4, 0.15}).merged, 0u);
   EXPECT_EQ(r.labels, labels);

@@ -121,8 +121,8 @@ void expectDbscanAgrees(const Points& points, const DbscanParams& params, const 
     if (got.core[i] || got.labels[i] == kNoise) continue;
     bool reachable = false;
     for (std::size_t j = 0; j < n && !reachable; ++j) {
-      reachable = got.core[j] && got.labels[j] == got.labels[i] &&
-                  squaredDistance(points[i], points[j], params.metric) <= eps2;
+      reachable =
+          got.core[j] && got.labels[j] == got.labels[i] && squaredDistance(points[i], points[j], params.metric) <= eps2;
     }
     bad_border += !reachable;
   }
@@ -266,9 +266,9 @@ TEST(Dbscan, AllNoiseAndOneCluster) {
 
   const Points blob = blobs(41, 800, 1.0, 1, 0.02);
   Points dense(blob.begin(), blob.end());
-  dense.erase(std::remove_if(dense.begin(), dense.end(),
-                             [&](const Eigen::Vector3d& p) { return (p - blob[0]).norm() > 0.1; }),
-              dense.end());
+  dense.erase(
+      std::remove_if(dense.begin(), dense.end(), [&](const Eigen::Vector3d& p) { return (p - blob[0]).norm() > 0.1; }),
+      dense.end());
   const DbscanResult one = dbscan(dense, {}, DbscanParams{0.3, 5, Metric::kXyz});
   EXPECT_EQ(one.cluster_sizes, std::vector<std::size_t>{dense.size()});
   EXPECT_EQ(one.noise, 0u);
@@ -280,9 +280,9 @@ TEST(Dbscan, BorderPointReachableFromTwoClusters) {
   // has 3 neighbours (< minPts 4) and so is a border point. A and B are 1.0 apart: two clusters.
   const auto scene = [](double ax, double bx) {
     Points pts;
-    pts.emplace_back(bx, 0.0, 0.0);     // b: first in the input
-    pts.emplace_back(ax, 0.0, 0.0);     // a
-    pts.emplace_back(0.0, 0.0, 0.0);    // p
+    pts.emplace_back(bx, 0.0, 0.0);                                        // b: first in the input
+    pts.emplace_back(ax, 0.0, 0.0);                                        // a
+    pts.emplace_back(0.0, 0.0, 0.0);                                       // p
     for (double y : {-0.1, 0.0, 0.1}) pts.emplace_back(ax - 0.4, y, 0.0);  // a's other neighbours
     for (double y : {-0.1, 0.0, 0.1}) pts.emplace_back(bx + 0.4, y, 0.0);  // b's other neighbours
     return pts;
@@ -480,7 +480,7 @@ std::vector<double> oracleCoreDistances(const Points& points, const Weights& wei
 TEST(KDistance, DbscanGridCurveMatchesBruteForce) {
   Points points = blobs(83, 500, 3.0, 4, 0.06);
   for (std::size_t i = 0; i < 30; ++i) points.push_back(points[i * 11]);  // duplicates
-  points.emplace_back(5e4, -3e4, 1e3);                                     // gross outliers
+  points.emplace_back(5e4, -3e4, 1e3);                                    // gross outliers
   points.emplace_back(-7e5, 2e5, 9e4);
   points.emplace_back(40.0, 40.0, 40.0);
   Weights weights(points.size());
@@ -561,8 +561,8 @@ bool sklearnDbscan(const Points& points, const DbscanParams& params, std::vector
   }
   std::ostringstream command;
   command.precision(17);
-  command << "'" << python << "' '" << HULLMAP_SOURCE_DIR << "/test/clustering_sklearn_dbscan.py' '" << file
-          << "' " << params.eps << ' ' << params.min_pts << ' ' << toString(params.metric) << " 2>&1";
+  command << "'" << python << "' '" << HULLMAP_SOURCE_DIR << "/test/clustering_sklearn_dbscan.py' '" << file << "' "
+          << params.eps << ' ' << params.min_pts << ' ' << toString(params.metric) << " 2>&1";
   FILE* pipe = popen(command.str().c_str(), "r");
   if (!pipe) {
     why = "popen failed";
@@ -664,12 +664,14 @@ TEST(ClusterCommand, WritesLabelsOfEveryPointInInputOrder) {
     EXPECT_EQ(label, expected.labels[i]) << "row " << i + 1;
     EXPECT_EQ(core, int(expected.core[i])) << "row " << i + 1;
   }
-  EXPECT_NE(r.out.find("clusters: " + std::to_string(expected.cluster_sizes.size()) + "\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("clusters: " + std::to_string(expected.cluster_sizes.size()) + "\n"), std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("noise points: " + std::to_string(expected.noise) + " "), std::string::npos) << r.out;
   std::vector<std::size_t> sizes = expected.cluster_sizes;
   std::sort(sizes.rbegin(), sizes.rend());
   EXPECT_NE(r.out.find("largest clusters: " + std::to_string(sizes[0]) + ", " + std::to_string(sizes[1])),
-            std::string::npos) << r.out;
+            std::string::npos)
+      << r.out;
   std::ostringstream knee;
   knee << "eps suggestion: " << suggestEps(kDistanceCurve(map, 10, Metric::kXyz));
   EXPECT_NE(r.out.find(knee.str()), std::string::npos) << r.out;
@@ -707,7 +709,8 @@ TEST(SweepCommand, OneRowPerPair) {
   const Points points = blobs(93, 1500, 2.0, 5, 0.05);
   const std::string input = writeXyz(dir / "points.xyz", points);
   const std::string output = (dir / "sweep.csv").string();
-  const auto r = test::runHullmap("sweep '" + input + "' --eps 0.05,0.1 --min-pts 3,10,20 --metric xy -o '" + output + "'");
+  const auto r =
+      test::runHullmap("sweep '" + input + "' --eps 0.05,0.1 --min-pts 3,10,20 --metric xy -o '" + output + "'");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto rows = lines(test::slurp(output));
   ASSERT_EQ(rows.size(), 7u);

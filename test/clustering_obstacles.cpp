@@ -39,8 +39,7 @@ void add(Voxels& v, const V3& c, std::int32_t label, std::uint32_t weight = 1) {
 
 std::vector<V3> corners(const V3& c, double size) {
   std::vector<V3> out;
-  for (int m = 0; m < 8; ++m)
-    out.push_back(c + 0.5 * size * V3(m & 1 ? 1 : -1, m & 2 ? 1 : -1, m & 4 ? 1 : -1));
+  for (int m = 0; m < 8; ++m) out.push_back(c + 0.5 * size * V3(m & 1 ? 1 : -1, m & 2 ? 1 : -1, m & 4 ? 1 : -1));
   return out;
 }
 
@@ -126,11 +125,11 @@ TEST(Obstacles, SingleVoxelIsItsCube) {
 
 TEST(Obstacles, SingleRowAndFlatWallAreNotDegenerate) {
   Voxels v;
-  for (int i = 0; i < 20; ++i) add(v, center(i, 0, 0, 0.1), 0);           // a row along x
+  for (int i = 0; i < 20; ++i) add(v, center(i, 0, 0, 0.1), 0);  // a row along x
   for (int i = 0; i < 15; ++i)
     for (int k = 0; k < 10; ++k) add(v, center(40 + i, 40 + i, k, 0.1), 1);  // a staircase wall, 1 voxel thick
   for (int j = 0; j < 12; ++j)
-    for (int k = 0; k < 8; ++k) add(v, center(-30, j, k, 0.1), 2);          // a flat wall in the yz plane
+    for (int k = 0; k < 8; ++k) add(v, center(-30, j, k, 0.1), 2);  // a flat wall in the yz plane
   const auto obstacles = buildObstacles(v.centers, v.weights, v.labels, 0.1);
   ASSERT_EQ(obstacles.size(), 3u);
   for (const auto& o : obstacles) expectWraps(o, v, 0.1);
@@ -244,7 +243,8 @@ TEST(Obstacles, OffLatticeAndFarFromOriginStillContained) {
 void expectBuildWrapsEveryCluster(const pipeline::BuildParams& params) {
   const pipeline::BuildResult r = pipeline::build(params);
   Voxels v;
-  for (std::size_t i = 0; i < r.voxels.size(); ++i) add(v, r.voxels[i].center, r.clusters.labels[i], r.voxels[i].weight);
+  for (std::size_t i = 0; i < r.voxels.size(); ++i)
+    add(v, r.voxels[i].center, r.clusters.labels[i], r.voxels[i].weight);
   ASSERT_GT(r.obstacles.size(), 5u);
   std::size_t clustered = 0;
   for (const auto& o : r.obstacles) {
@@ -369,8 +369,8 @@ TEST(ConvexHull2d, MatchesBruteForce) {
             if (c == i) continue;
             const int o1 = orient(points[a], points[b], points[i]), o2 = orient(points[b], points[c], points[i]),
                       o3 = orient(points[c], points[a], points[i]);
-            covered = orient(points[a], points[b], points[c]) != 0 && ((o1 >= 0 && o2 >= 0 && o3 >= 0) ||
-                                                                       (o1 <= 0 && o2 <= 0 && o3 <= 0));
+            covered = orient(points[a], points[b], points[c]) != 0 &&
+                      ((o1 >= 0 && o2 >= 0 && o3 >= 0) || (o1 <= 0 && o2 <= 0 && o3 <= 0));
           }
         }
       if (!covered) expected.insert({points[i].x(), points[i].y()});

@@ -156,7 +156,8 @@ TEST(CheckCommand, SegmentsPathsStatusAndJson) {
   octomap::OcTree tree(0.1);
   for (const auto& c : voxels) tree.updateNode(octomap::point3d(float(c.x()), float(c.y()), float(c.z())), true);
   ASSERT_TRUE(tree.writeBinary((dir / "map.bt").string()));
-  auto octree = test::runHullmap("check " + out + " --radius 0.3 --segment 0,0.5,0.5,6,0.5,0.5 --against octree --json");
+  auto octree =
+      test::runHullmap("check " + out + " --radius 0.3 --segment 0,0.5,0.5,6,0.5,0.5 --against octree --json");
   EXPECT_EQ(octree.status, 1) << octree.err;
   const auto o = nlohmann::json::parse(octree.out);
   EXPECT_EQ(o["collides"], true);
@@ -169,7 +170,8 @@ TEST(CheckCommand, ErrorsExitTwoNamingTheFault) {
   writeText(dir / "path.txt", "0 0 0\n1 2\n");
   auto bad = test::runHullmap("check " + dir.string() + " --radius 0.3 --path " + (dir / "path.txt").string());
   EXPECT_EQ(bad.status, 2);
-  EXPECT_NE(bad.err.find((dir / "path.txt").string() + ":2: expected 3 numbers (x y z), got 2"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find((dir / "path.txt").string() + ":2: expected 3 numbers (x y z), got 2"), std::string::npos)
+      << bad.err;
   writeText(dir / "path.txt", "0 0 0\n1 2 x3\n");
   bad = test::runHullmap("check " + dir.string() + " --radius 0.3 --path " + (dir / "path.txt").string());
   EXPECT_EQ(bad.status, 2);

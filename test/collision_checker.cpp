@@ -169,7 +169,8 @@ TEST(OctreeChecker, ClusteredVoxelHitsAreHullHits) {
     const V3 c = V3(int(rng() % 60) - 30 + 0.5, int(rng() % 60) - 30 + 0.5, int(rng() % 30) + 0.5) * size;
     noise.push_back(c);
   }
-  for (const auto& c : scene.voxels.centers) tree.updateNode(octomap::point3d(float(c.x()), float(c.y()), float(c.z())), true);
+  for (const auto& c : scene.voxels.centers)
+    tree.updateNode(octomap::point3d(float(c.x()), float(c.y()), float(c.z())), true);
   for (const auto& c : noise) tree.updateNode(octomap::point3d(float(c.x()), float(c.y()), float(c.z())), true);
   const OctreeChecker octree(tree);
   const HullChecker hulls(scene.obstacles);

@@ -5,7 +5,6 @@
 
 #include <array>
 
-
 #include "collision_oracle.hpp"
 #include "hullmap/collision/convex_distance.hpp"
 #include "hullmap/core/error.hpp"

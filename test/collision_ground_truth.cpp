@@ -115,8 +115,7 @@ TEST(GroundTruth, NoPathThroughAnObservedObstacleIsReportedClear) {
     params.seed = seed;
     params.points = 60000;
     const Built b = build(params, "scene_" + std::to_string(seed), 0.1, 10);
-    EXPECT_EQ(expectNoPathThroughAnObstacleIsClear(b, {0.0, 0.1, 0.3}, std::uint32_t(seed)),
-              int(params.obstacles));
+    EXPECT_EQ(expectNoPathThroughAnObstacleIsClear(b, {0.0, 0.1, 0.3}, std::uint32_t(seed)), int(params.obstacles));
   }
   mapper::SceneParams params;
   params.seed = 4;

@@ -121,8 +121,7 @@ inline VoxelBlobs randomBlobs(std::mt19937& rng, int clusters, int max_voxels, d
   VoxelBlobs b;
   for (int label = 0; label < clusters; ++label) {
     std::set<std::array<int, 3>> cells;
-    std::array<int, 3> at{int(rng() % (2 * extent)) - extent, int(rng() % (2 * extent)) - extent,
-                          int(rng() % extent)};
+    std::array<int, 3> at{int(rng() % (2 * extent)) - extent, int(rng() % (2 * extent)) - extent, int(rng() % extent)};
     const int n = 1 + int(rng() % max_voxels);
     while (int(cells.size()) < n) {
       cells.insert(at);

@@ -109,8 +109,8 @@ std::string pcdHeader(const PcdCloud& c, const std::string& data) {
   for (const auto& f : c.fields) h << ' ' << f.type;
   h << "\nCOUNT";
   for (const auto& f : c.fields) h << ' ' << f.count;
-  h << "\nWIDTH " << c.width << "\nHEIGHT " << c.height << "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS "
-    << c.width * c.height << "\nDATA " << data << "\n";
+  h << "\nWIDTH " << c.width << "\nHEIGHT " << c.height << "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << c.width * c.height
+    << "\nDATA " << data << "\n";
   return h.str();
 }
 
@@ -200,7 +200,8 @@ TEST(IoReadersReal, OrbSlam2TextAndPcdHoldTheSame8704Points) {
   EXPECT_EQ(b.inputs[0].droppedTotal(), 0u);
   // The text has 7 decimals, the PCD float32 values: they agree to well under 1e-6.
   double worst = 0;
-  for (std::size_t i = 0; i < a.points.size(); ++i) worst = std::max(worst, (a.points[i] - b.points[i]).cwiseAbs().maxCoeff());
+  for (std::size_t i = 0; i < a.points.size(); ++i)
+    worst = std::max(worst, (a.points[i] - b.points[i]).cwiseAbs().maxCoeff());
   EXPECT_LT(worst, 1e-6);
   EXPECT_NEAR(a.points.front().x(), 0.2103370, 1e-12);
   EXPECT_NEAR(a.points.back().z(), 1.2398679, 1e-12);
@@ -216,7 +217,7 @@ TEST(IoReadersReal, OrbSlam3PointCloudsUnionTo12292) {
   EXPECT_EQ(set.inputs[0].path, plain);
   EXPECT_EQ(set.inputs[1].path, ref);
   ASSERT_EQ(set.points.size(), 12292u);
-  EXPECT_NEAR(set.points[0].x(), 2.651035, 1e-12);      // first line of pointcloud.txt
+  EXPECT_NEAR(set.points[0].x(), 2.651035, 1e-12);     // first line of pointcloud.txt
   EXPECT_NEAR(set.points[4492].z(), 0.288764, 1e-12);  // first data line of ref_pointcloud.txt
 }
 
@@ -341,8 +342,8 @@ std::string echoMarker(const std::string& ns, int id, int type, int action, cons
                        bool terminated = true) {
   std::string s =
       "header: \n  seq: 7\n  stamp: \n    secs: 12\n    nsecs: 500\n  frame_id: \"/ORB_SLAM/World\"\n"
-      "ns: \"" + ns + "\"\nid: " + std::to_string(id) + "\ntype: " + std::to_string(type) +
-      "\naction: " + std::to_string(action) +
+      "ns: \"" +
+      ns + "\"\nid: " + std::to_string(id) + "\ntype: " + std::to_string(type) + "\naction: " + std::to_string(action) +
       "\npose: \n  position: \n    x: 9.0\n    y: 9.0\n    z: 9.0\n  orientation: \n    x: 0.0\n    y: 0.0\n"
       "    z: 0.0\n    w: 1.0\nscale: \n  x: 0.01\n  y: 0.01\n  z: 0.0\ncolor: \n  r: 0.0\n  g: 0.0\n  b: 0.0\n"
       "  a: 1.0\nlifetime: \n  secs: 0\n  nsecs:         0\nframe_locked: False\n" +
@@ -441,12 +442,9 @@ TEST(IoReadersText, MalformedLinesNameFileAndLine) {
     std::string text;
     std::string expect;
   } cases[] = {
-      {"1 2 3\n# c\n1 2\n", "m.txt:3: expected 3 numbers"},
-      {"1 2 3\n4 5 abc\n", "m.txt:2: 'abc' is not a number"},
-      {"1.0.0 2 3\n", "m.txt:1: '1.0.0' is not a number"},
-      {"hello\n", "m.txt:1: 'hello' is not a number"},
-      {"1 2\n", "m.txt:1: expected 3 numbers (x y z), got 2"},
-      {"1,,3\n", "m.txt:1: empty field"},
+      {"1 2 3\n# c\n1 2\n", "m.txt:3: expected 3 numbers"},      {"1 2 3\n4 5 abc\n", "m.txt:2: 'abc' is not a number"},
+      {"1.0.0 2 3\n", "m.txt:1: '1.0.0' is not a number"},       {"hello\n", "m.txt:1: 'hello' is not a number"},
+      {"1 2\n", "m.txt:1: expected 3 numbers (x y z), got 2"},   {"1,,3\n", "m.txt:1: empty field"},
       {"x y z\n1 2 3\nx y z\n", "m.txt:3: 'x' is not a number"},
   };
   for (const auto& c : cases) {
@@ -502,9 +500,10 @@ TEST(IoReadersText, FormatComesFromContentNotExtension) {
   const std::string text_as_pcd = writeFile(dir, "points.pcd", "4 5 6\n");
   EXPECT_EQ(detectPointFormat(text_as_pcd), PointFormat::kText);
   expectPoints(readPointFile(text_as_pcd).points, {{4, 5, 6}});
-  const std::string ply_as_dat = writeFile(dir, "mesh.dat", "ply\nformat ascii 1.0\nelement vertex 1\n"
-                                                            "property float x\nproperty float y\nproperty float z\n"
-                                                            "end_header\n7 8 9\n");
+  const std::string ply_as_dat = writeFile(dir, "mesh.dat",
+                                           "ply\nformat ascii 1.0\nelement vertex 1\n"
+                                           "property float x\nproperty float y\nproperty float z\n"
+                                           "end_header\n7 8 9\n");
   EXPECT_EQ(detectPointFormat(ply_as_dat), PointFormat::kPly);
   expectPoints(readPointFile(ply_as_dat).points, {{7, 8, 9}});
   EXPECT_EQ(detectPointFormat(fixture("orbslam_echo_map.txt")), PointFormat::kOrbSlamEcho);
@@ -646,10 +645,15 @@ void put(std::string& out, T v, bool big) {
 /// vertex properties around x y z.
 std::string writePly(const std::string& format, bool dbl) {
   const std::string t = dbl ? "double" : "float";
-  std::string out = "ply\nformat " + format + " 1.0\ncomment made by hullmap's tests\n"
+  std::string out = "ply\nformat " + format +
+                    " 1.0\ncomment made by hullmap's tests\n"
                     "element camera 1\nproperty float view_px\nproperty list uchar int tags\n"
-                    "element vertex " + std::to_string(kPlyVertices.size()) + "\n"
-                    "property uchar red\nproperty " + t + " x\nproperty " + t + " y\nproperty " + t + " z\n"
+                    "element vertex " +
+                    std::to_string(kPlyVertices.size()) +
+                    "\n"
+                    "property uchar red\nproperty " +
+                    t + " x\nproperty " + t + " y\nproperty " + t +
+                    " z\n"
                     "property float nx\n"
                     "element face 2\nproperty list uchar int vertex_indices\nproperty uchar flags\nend_header\n";
   const bool big = format == "binary_big_endian";
@@ -724,26 +728,31 @@ TEST(IoReadersPly, TruncatedAndMalformedPlyNameTheFile) {
   EXPECT_NE(errorOf([&] { parsePoints(short_ascii, "s.ply"); }).find("s.ply: truncated PLY data: face"),
             std::string::npos);
   // Header errors.
-  EXPECT_NE(errorOf([] { parsePoints("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n1\n", "h.ply"); })
-                .find("h.ply:3: PLY vertex element has no scalar x y z"),
+  EXPECT_NE(errorOf([] {
+              parsePoints("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n1\n", "h.ply");
+            }).find("h.ply:3: PLY vertex element has no scalar x y z"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { parsePoints("ply\nformat ascii 1.0\nelement vertex 1\nproperty half x\n", "h.ply"); })
-                .find("h.ply:4: unknown PLY property type 'half'"),
+  EXPECT_NE(errorOf([] {
+              parsePoints("ply\nformat ascii 1.0\nelement vertex 1\nproperty half x\n", "h.ply");
+            }).find("h.ply:4: unknown PLY property type 'half'"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { parsePoints("ply\nformat ascii 1.0\nelement vertex 1\n", "h.ply"); })
-                .find("h.ply: PLY header has no end_header"),
+  EXPECT_NE(errorOf([] {
+              parsePoints("ply\nformat ascii 1.0\nelement vertex 1\n", "h.ply");
+            }).find("h.ply: PLY header has no end_header"),
             std::string::npos);
   // 10^12 vertices claimed in a few bytes: refused as truncated, without allocating for them.
   msg = errorOf([] {
-    parsePoints("ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\nproperty float x\n"
-                "property float y\nproperty float z\nend_header\n",
-                "huge.ply");
+    parsePoints(
+        "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\nproperty float x\n"
+        "property float y\nproperty float z\nend_header\n",
+        "huge.ply");
   });
   EXPECT_NE(msg.find("huge.ply: truncated binary PLY data: vertex 0"), std::string::npos) << msg;
   // 10^12 items of an element without properties take no bytes: skipped, not walked one by one.
   const PointSet empty_element = parsePoints(
       "ply\nformat binary_little_endian 1.0\nelement nothing 1000000000000\nelement vertex 1\n"
-      "property float x\nproperty float y\nproperty float z\nend_header\n" + std::string(12, '\0'),
+      "property float x\nproperty float y\nproperty float z\nend_header\n" +
+          std::string(12, '\0'),
       "e.ply");
   expectPoints(empty_element.points, {{0, 0, 0}});
 }
@@ -928,11 +937,32 @@ TEST(IoReadersStream, TextReadInParallelChunksIsTheFrontToBackRead) {
 TEST(IoReadersStream, PlainDecimalFastPathReadsAsFromChars) {
   std::mt19937_64 rng(17);
   const auto pick = [&rng](std::size_t n) { return std::size_t(rng() % n); };
-  const std::vector<std::string> edges = {
-      "-0", "0", "-0.000", "0.0", "9007199254740992", "9007199254740993", "-9007199254740993.5",
-      "900719925474099.3", "1234567890123456789", "12345678901234567890", "0.1234567890123456789",
-      "0.30000000000000004", "1.7976931348623157", "4.9406564584124654", "000123.4500", "+4", "+0.5",
-      "1e3", "-2E-3", "1.", ".5", "-.5", "nan", "-inf", "1e999", "7.0e-400"};
+  const std::vector<std::string> edges = {"-0",
+                                          "0",
+                                          "-0.000",
+                                          "0.0",
+                                          "9007199254740992",
+                                          "9007199254740993",
+                                          "-9007199254740993.5",
+                                          "900719925474099.3",
+                                          "1234567890123456789",
+                                          "12345678901234567890",
+                                          "0.1234567890123456789",
+                                          "0.30000000000000004",
+                                          "1.7976931348623157",
+                                          "4.9406564584124654",
+                                          "000123.4500",
+                                          "+4",
+                                          "+0.5",
+                                          "1e3",
+                                          "-2E-3",
+                                          "1.",
+                                          ".5",
+                                          "-.5",
+                                          "nan",
+                                          "-inf",
+                                          "1e999",
+                                          "7.0e-400"};
   const auto token = [&]() -> std::string {
     if (pick(8) == 0) return edges[pick(edges.size())];
     std::string t = pick(3) == 0 ? "-" : "";
@@ -955,9 +985,9 @@ TEST(IoReadersStream, PlainDecimalFastPathReadsAsFromChars) {
     good += line(3);
   }
   std::vector<std::pair<std::string, std::string>> cases = {{"good.txt", good}};
-  const std::vector<std::string> bad_lines = {"1 2 3,\n", "1,,2 3\n", "1 2\n", "1 2 3 4\n", "- 1 2\n",
-                                              "1 2 3x\n", "1..2 3 4\n", ",1 2 3\n", "1 2 0x10\n",
-                                              "1 2 3 ,\r\n", "1 2 --3\n", "1 2 3\f,\n", "1\x01 2 3\n", "1 2 3,# c\n"};
+  const std::vector<std::string> bad_lines = {"1 2 3,\n",  "1,,2 3\n",   "1 2\n",       "1 2 3 4\n",  "- 1 2\n",
+                                              "1 2 3x\n",  "1..2 3 4\n", ",1 2 3\n",    "1 2 0x10\n", "1 2 3 ,\r\n",
+                                              "1 2 --3\n", "1 2 3\f,\n", "1\x01 2 3\n", "1 2 3,# c\n"};
   for (std::size_t b = 0; b < bad_lines.size(); ++b) {
     std::string bytes = "1 2 3\n";
     for (int i = 0; i < 40; ++i) bytes += line(3);
@@ -1107,8 +1137,9 @@ TEST(IoReadersTum, SecondsNanosecondsCommentsAndNormalisation) {
 }
 
 TEST(IoReadersTum, BadLinesNameFileAndLine) {
-  EXPECT_NE(errorOf([] { parseTumTrajectory("0 1 2 3 0 0 0 1\n0 1 2 3 0 0 1\n", "t.txt"); })
-                .find("t.txt:2: expected 8 numbers"),
+  EXPECT_NE(errorOf([] {
+              parseTumTrajectory("0 1 2 3 0 0 0 1\n0 1 2 3 0 0 1\n", "t.txt");
+            }).find("t.txt:2: expected 8 numbers"),
             std::string::npos);
   EXPECT_NE(errorOf([] { parseTumTrajectory("0 1 2 3 0 0 0 0\n", "t.txt"); }).find("t.txt:1: zero quaternion"),
             std::string::npos);

@@ -53,7 +53,8 @@ io::Points read(const Cloud& c, std::size_t* non_finite = nullptr) {
 
 TEST(LiveCloudPoints, ReadsFloat32AndFloat64RowsWithPaddingAndCountsNonFinitePoints) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const std::vector<P> points{{1.5, 2, 3}, {nan, 0, 0}, {4, 5, 6}, {7, 8, std::numeric_limits<double>::infinity()},
+  const std::vector<P> points{{1.5, 2, 3},     {nan, 0, 0},
+                              {4, 5, 6},       {7, 8, std::numeric_limits<double>::infinity()},
                               {-1, -2, -3.25}, {0.1, 0.2, 0.3}};
   for (const std::uint8_t datatype : {kFloat32, kFloat64}) {
     std::size_t non_finite = 0;
@@ -138,7 +139,8 @@ TEST(LiveTopicMap, CloudsEndOnTheLastWellFormedCloudAndMarkersOnTheirMap) {
   const Cloud second = cloudOf({{2, 2, 2}, {3, 3, 3}}, 2, kFloat64);
   Cloud no_z = cloudOf({{4, 4, 4}}, 1, kFloat64);
   no_z.layout.fields.pop_back();
-  for (const Cloud* c : {&first, &second, static_cast<const Cloud*>(&no_z)}) clouds.addCloud("PointCloud2", c->layout, c->data.data(), c->data.size());
+  for (const Cloud* c : {&first, &second, static_cast<const Cloud*>(&no_z)})
+    clouds.addCloud("PointCloud2", c->layout, c->data.data(), c->data.size());
   const BagMap cloud_map = clouds.result();
   EXPECT_EQ(cloud_map.points, (io::Points{{2, 2, 2}, {3, 3, 3}}));
   EXPECT_EQ(cloud_map.messages, 3u);

@@ -86,10 +86,14 @@ TEST(LiveNodeParams, EachNumberLandsInItsField) {
       EXPECT_EQ(field(s), expected) << name;
     }
   }
-  const NodeSettings words = readSettings({{"floor", std::string("none")}, {"ceiling", std::string("auto")},
-                                           {"concavity", std::string("none")}, {"extension", std::string("off")},
-                                           {"metric", std::string("xy")}, {"up", std::string("-y")},
-                                           {"z_min", std::string("none")}, {"frame_id", std::string("world")},
+  const NodeSettings words = readSettings({{"floor", std::string("none")},
+                                           {"ceiling", std::string("auto")},
+                                           {"concavity", std::string("none")},
+                                           {"extension", std::string("off")},
+                                           {"metric", std::string("xy")},
+                                           {"up", std::string("-y")},
+                                           {"z_min", std::string("none")},
+                                           {"frame_id", std::string("world")},
                                            {"output_dir", std::string("saved")}},
                                           Checking::kStrict);
   EXPECT_EQ(words.build.floor.mode, mapper::PlaneSetting::Mode::kNone);
@@ -110,8 +114,8 @@ TEST(LiveNodeParams, TheTablesRangesAreWhatStrictReadingChecks) {
   // Every number parameter with a bound: the bound itself passes unless open, a step beyond fails,
   // both named by the parameter.
   for (const auto& spec : nodeParameters()) {
-    for (const auto& [bound, open, direction] : {std::tuple{spec.min, spec.min_open, -1.0},
-                                                 std::tuple{spec.max, spec.max_open, 1.0}}) {
+    for (const auto& [bound, open, direction] :
+         {std::tuple{spec.min, spec.min_open, -1.0}, std::tuple{spec.max, spec.max_open, 1.0}}) {
       if (!std::isfinite(bound)) continue;
       const double beyond = bound + direction * std::max(1e-6, std::abs(bound) * 1e-6);
       ParameterValues at{{spec.name, bound}}, past{{spec.name, beyond}};
@@ -128,7 +132,9 @@ TEST(LiveNodeParams, TheTablesRangesAreWhatStrictReadingChecks) {
   }
   EXPECT_EQ(errorOf({{"clamp_min", 0.9}, {"clamp_max", 0.8}}, Checking::kStrict).rfind("clamp_min: ", 0), 0u);
   EXPECT_EQ(errorOf({{"min_pts", 2.5}}, Checking::kStrict).rfind("min_pts: ", 0), 0u);
-  EXPECT_EQ(errorOf({{"resolution", std::numeric_limits<double>::quiet_NaN()}}, Checking::kStrict).rfind("resolution: ", 0), 0u);
+  EXPECT_EQ(
+      errorOf({{"resolution", std::numeric_limits<double>::quiet_NaN()}}, Checking::kStrict).rfind("resolution: ", 0),
+      0u);
   EXPECT_EQ(errorOf({{"occupancy_max_z", std::numeric_limits<double>::infinity()}}, Checking::kStrict), "");
 }
 
@@ -140,12 +146,18 @@ TEST(LiveNodeParams, ParseCheckingLeavesTheBuildsNumbersToTheBuildAsTheRos1NodeD
   EXPECT_EQ(errorOf({{"eps", 0.0}}, Checking::kStrict).rfind("eps: ", 0), 0u);
   EXPECT_EQ(errorOf({{"resolution", -1.0}}, Checking::kStrict).rfind("resolution: ", 0), 0u);
   const std::vector<ParameterValues> bad{
-      {{"min_interval", -1.0}},          {{"radius", 0.0}},
-      {{"eps", std::string("x")}},       {{"min_pts", std::int64_t{0}}},
-      {{"floor", std::string("up")}},    {{"concavity", std::string("x")}},
-      {{"flat_gap", -1.0}},              {{"flat_gap", 0.2}, {"concavity", std::string("none")}},
-      {{"extension", std::int64_t{1}}},  {{"extension", std::string("Auto")}},
-      {{"up", std::string("w")}},        {{"metric", std::string("zz")}},
+      {{"min_interval", -1.0}},
+      {{"radius", 0.0}},
+      {{"eps", std::string("x")}},
+      {{"min_pts", std::int64_t{0}}},
+      {{"floor", std::string("up")}},
+      {{"concavity", std::string("x")}},
+      {{"flat_gap", -1.0}},
+      {{"flat_gap", 0.2}, {"concavity", std::string("none")}},
+      {{"extension", std::int64_t{1}}},
+      {{"extension", std::string("Auto")}},
+      {{"up", std::string("w")}},
+      {{"metric", std::string("zz")}},
       {{"eps", true}},
   };
   for (const auto& values : bad) {

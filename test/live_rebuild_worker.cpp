@@ -24,7 +24,9 @@ class Recorder {
   RebuildWorker::Hooks hooks() {
     RebuildWorker::Hooks h;
     h.publish_map = [this](const MapPublication& p) { record([&] { publications_.push_back(p); }); };
-    h.publish_stats = [this](const std::string& json) { record([&] { stats_.push_back(nlohmann::json::parse(json)); }); };
+    h.publish_stats = [this](const std::string& json) {
+      record([&] { stats_.push_back(nlohmann::json::parse(json)); });
+    };
     h.rebuild_failed = [this](const std::string& why) { record([&] { failures_.push_back(why); }); };
     return h;
   }
@@ -59,7 +61,8 @@ io::Points boxes(const std::vector<Eigen::Vector3d>& centres, double spacing = 0
   for (const auto& c : centres)
     for (int i = 0; i <= n; ++i)
       for (int j = 0; j <= n; ++j)
-        for (int k = 0; k <= n; ++k) points.emplace_back(c + Eigen::Vector3d(-half + i * spacing, -half + j * spacing, -half + k * spacing));
+        for (int k = 0; k <= n; ++k)
+          points.emplace_back(c + Eigen::Vector3d(-half + i * spacing, -half + j * spacing, -half + k * spacing));
   return points;
 }
 
@@ -74,7 +77,9 @@ NodeSettings settings(double min_interval = 0.0) {
   return s;
 }
 
-MapUpdate update(io::Points points, std::int64_t stamp_ns = 1) { return {std::move(points), stamp_ns, Clock::now(), nullptr, std::nullopt}; }
+MapUpdate update(io::Points points, std::int64_t stamp_ns = 1) {
+  return {std::move(points), stamp_ns, Clock::now(), nullptr, std::nullopt};
+}
 
 /// id -> hull vertices, the comparison of two obstacle sets.
 std::map<int, std::vector<Eigen::Vector3d>> hulls(const std::vector<clustering::Obstacle>& obstacles) {
@@ -83,7 +88,9 @@ std::map<int, std::vector<Eigen::Vector3d>> hulls(const std::vector<clustering::
   return out;
 }
 
-std::size_t rebuilds(const Recorder& r) { return r.stats_.empty() ? 0 : r.stats_.back()["rebuilds"].get<std::size_t>(); }
+std::size_t rebuilds(const Recorder& r) {
+  return r.stats_.empty() ? 0 : r.stats_.back()["rebuilds"].get<std::size_t>();
+}
 
 TEST(LiveRebuildWorker, PublishesWhatBuildFromPointsGivesOnTheSamePoints) {
   const io::Points points = boxes({{0, 0, 1}, {2, 0, 1}, {0, 3, 0.5}});

@@ -105,7 +105,8 @@ TEST(LiveRos2Bag, TheReaderIsFoundInAmentPrefixPathAndItsErrorIsOneLine) {
   const std::string missing = readError("/nonexistent:/also/not/here");
   EXPECT_EQ(missing.rfind("run_bag: a ROS 2 bag: reading it needs the ROS 2 package hullmap_ros2", 0), 0u) << missing;
 
-  const auto failing = fakeReader("echo 'rosbag2 chatter' >&2; echo 'hullmap: error: run_bag: no message on topic /map (topics: /x)' >&2; exit 2");
+  const auto failing = fakeReader(
+      "echo 'rosbag2 chatter' >&2; echo 'hullmap: error: run_bag: no message on topic /map (topics: /x)' >&2; exit 2");
   EXPECT_EQ(readError("/nonexistent:" + failing.string()), "run_bag: no message on topic /map (topics: /x)");
 
   const auto crashing = fakeReader("echo 'Segmentation fault' >&2; exit 139");
@@ -118,7 +119,9 @@ TEST(LiveRos2Bag, TheReaderIsFoundInAmentPrefixPathAndItsErrorIsOneLine) {
   writeBagTopics(good, sample());
   const auto stream_file = test::freshDir("stream") / "stream.bin";
   std::ofstream(stream_file, std::ios::binary) << good.str();
-  const auto working = fakeReader("cat '" + stream_file.string() + "'; [ \"$1 $2 $3 $4 $5\" = 'run_bag --topic /map --trajectory-topic /keyframes' ] || exit 3");
+  const auto working =
+      fakeReader("cat '" + stream_file.string() +
+                 "'; [ \"$1 $2 $3 $4 $5\" = 'run_bag --topic /map --trajectory-topic /keyframes' ] || exit 3");
   BagTopics topics;
   EXPECT_EQ(readError(working.string(), &topics), "");
   EXPECT_EQ(topics.map.points.size(), 2u);

@@ -271,8 +271,8 @@ TEST(MapperAlign, GpsReferenceAlignsAMonocularTrajectoryToMetres) {
   for (int i = 0; i < 30; ++i) {
     const double a = 0.2 * i;
     geo.emplace_back(47.3769 + 2e-5 * std::sin(a), 8.5417 + 3e-5 * a, 408.0 + 0.5 * i);
-    text += std::to_string(10.0 + i) + " " + std::to_string(geo.back()[0]) + " " + std::to_string(geo.back()[1]) +
-            " " + std::to_string(geo.back()[2]) + "\n";
+    text += std::to_string(10.0 + i) + " " + std::to_string(geo.back()[0]) + " " + std::to_string(geo.back()[1]) + " " +
+            std::to_string(geo.back()[2]) + "\n";
   }
   const auto ref = parseReferenceTrajectory(text, "gps.txt", ReferenceFormat::kGps);
   Similarity truth;

@@ -34,8 +34,10 @@ Points room(std::size_t floor_points, double noise, std::size_t outliers, const 
   for (std::size_t i = 0; i < floor_points; ++i) pts.emplace_back(u(rng), u(rng), n(rng));
   for (int i = 0; i < 4000; ++i) {
     const double s = (i % 2) ? 3.0 : -3.0;
-    if (i % 4 < 2) pts.emplace_back(s + n(rng), u(rng), h(rng));
-    else pts.emplace_back(u(rng), s + n(rng), h(rng));
+    if (i % 4 < 2)
+      pts.emplace_back(s + n(rng), u(rng), h(rng));
+    else
+      pts.emplace_back(u(rng), s + n(rng), h(rng));
   }
   for (int i = 0; i < 2000; ++i) pts.emplace_back(0.5 * u(rng), 0.3 * u(rng), 0.75 + n(rng));
   for (std::size_t i = 0; i < outliers; ++i) pts.emplace_back(u(rng), u(rng), h(rng));
@@ -91,7 +93,8 @@ TEST(MapperFloor, FindsTheCeilingWhenThereIsOne) {
   EXPECT_TRUE(ceiling.plane.normal.isApprox(-Eigen::Vector3d::UnitZ(), 1e-3));
   EXPECT_NEAR(-ceiling.plane.offset, 2.5, 0.005);
   // Without ceiling points the top of the walls is not taken as a ceiling.
-  const PlaneFit none = findBoundingPlane(room(3000, 0.01, 500, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero()), PlaneSide::kCeiling);
+  const PlaneFit none = findBoundingPlane(room(3000, 0.01, 500, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero()),
+                                          PlaneSide::kCeiling);
   EXPECT_FALSE(none.found);
 }
 
@@ -190,10 +193,9 @@ TEST(MapperFloor, RealEurocV101FloorIsTiltedInOrbSlamsFrame) {
   PlaneSearchParams params;
   params.band = 0.05;
   const PlaneFit fit = findBoundingPlane(set.points, PlaneSide::kFloor, params);
-  std::cout << "V1_01 floor: found " << fit.found << " (" << fit.reason << ") tilt " << fit.tilt_deg
-            << " deg, normal " << fit.plane.normal.transpose() << ", offset " << fit.plane.offset << ", inliers "
-            << fit.inliers << " (" << fit.inlier_share << "), beyond " << fit.beyond_share << ", coverage "
-            << fit.coverage << "\n";
+  std::cout << "V1_01 floor: found " << fit.found << " (" << fit.reason << ") tilt " << fit.tilt_deg << " deg, normal "
+            << fit.plane.normal.transpose() << ", offset " << fit.plane.offset << ", inliers " << fit.inliers << " ("
+            << fit.inlier_share << "), beyond " << fit.beyond_share << ", coverage " << fit.coverage << "\n";
   ASSERT_TRUE(fit.found) << fit.reason;
   // ORB-SLAM's first camera was pitched down: --up -y leaves the floor far from level.
   EXPECT_GT(fit.tilt_deg, 10.0);
@@ -209,10 +211,9 @@ TEST(MapperFloor, RealEurocMh01FloorIsTiltedInOrbSlamsFrame) {
   PlaneSearchParams params;
   params.band = 0.05;  // map units (monocular: not metres)
   const PlaneFit fit = findBoundingPlane(set.points, PlaneSide::kFloor, params);
-  std::cout << "MH_01 floor: found " << fit.found << " (" << fit.reason << ") tilt " << fit.tilt_deg
-            << " deg, normal " << fit.plane.normal.transpose() << ", offset " << fit.plane.offset << ", inliers "
-            << fit.inliers << " (" << fit.inlier_share << "), beyond " << fit.beyond_share << ", coverage "
-            << fit.coverage << "\n";
+  std::cout << "MH_01 floor: found " << fit.found << " (" << fit.reason << ") tilt " << fit.tilt_deg << " deg, normal "
+            << fit.plane.normal.transpose() << ", offset " << fit.plane.offset << ", inliers " << fit.inliers << " ("
+            << fit.inlier_share << "), beyond " << fit.beyond_share << ", coverage " << fit.coverage << "\n";
   ASSERT_TRUE(fit.found) << fit.reason;
   EXPECT_GT(fit.tilt_deg, 5.0);
   EXPECT_LT(fit.tilt_deg, 30.0);

@@ -23,8 +23,8 @@ struct AxisCase {
 };
 
 const std::vector<AxisCase> kAxes = {
-    {"x", UpAxis::kPosX, {1, 0, 0}},  {"-x", UpAxis::kNegX, {-1, 0, 0}}, {"y", UpAxis::kPosY, {0, 1, 0}},
-    {"-y", UpAxis::kNegY, {0, -1, 0}}, {"z", UpAxis::kPosZ, {0, 0, 1}},  {"-z", UpAxis::kNegZ, {0, 0, -1}},
+    {"x", UpAxis::kPosX, {1, 0, 0}},   {"-x", UpAxis::kNegX, {-1, 0, 0}}, {"y", UpAxis::kPosY, {0, 1, 0}},
+    {"-y", UpAxis::kNegY, {0, -1, 0}}, {"z", UpAxis::kPosZ, {0, 0, 1}},   {"-z", UpAxis::kNegZ, {0, 0, -1}},
 };
 
 TEST(MapperFrame, EachUpAxisGoesToPlusZByAProperRotation) {
@@ -136,7 +136,7 @@ TEST(MapperFrame, FiltersCountEachDroppedPointOnceAndKeepOrder) {
   InputStats zs;
   applyFilters(z, zp, zs);
   std::size_t below = 0, above = 0;
-  for (const auto& p : input) below += p.z() < 0.5, above += p.z() > 1.5;
+  for (const auto& p : input) below += p.z()<0.5, above += p.z()> 1.5;
   EXPECT_EQ(zs.dropped.at("below_z_min"), below);
   EXPECT_EQ(zs.dropped.at("above_z_max"), above);
   EXPECT_EQ(zp.size(), input.size() - below - above);

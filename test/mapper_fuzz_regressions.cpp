@@ -29,7 +29,7 @@ using namespace hullmap::io;
 const fs::path kCorpus = fs::path(HULLMAP_SOURCE_DIR) / "test" / "fuzz" / "corpus";
 
 /// The points make_corpus.py writes (POINTS there).
-const std::vector<Point> kSeedPoints = {{0.0, 0.0, 1.0},   {0.1, -0.05, 1.01}, {0.2, -0.1, 1.02},
+const std::vector<Point> kSeedPoints = {{0.0, 0.0, 1.0},    {0.1, -0.05, 1.01}, {0.2, -0.1, 1.02},
                                         {-1.5, 2.25, 3e-3}, {12.0, -7.5, 0.5},  {0.0, 0.0, 0.0}};
 
 std::string seed(const std::string& target, const std::string& name) {
@@ -98,9 +98,11 @@ TEST(MapperFuzzRegressions, PropertylessPlyElementWithHugeCountIsSkipped) {
       for (float v : {1.0f, 2.0f, 3.0f}) b.append(reinterpret_cast<const char*>(&v), 4);
       return b;
     }();
-    const PointSet set = parsePoints("ply\nformat " + format + " 1.0\nelement junk 1000000000000\n"
-                                     "element vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
-                                     "element more_junk 1000000000000\nend_header\n" + body,
+    const PointSet set = parsePoints("ply\nformat " + format +
+                                         " 1.0\nelement junk 1000000000000\n"
+                                         "element vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+                                         "element more_junk 1000000000000\nend_header\n" +
+                                         body,
                                      "j.ply");
     expectPoints(set.points, {{1, 2, 3}});
   }
@@ -162,8 +164,8 @@ TEST(MapperFuzzCorpus, PcdSeedsHoldTheWrittenPoints) {
 }
 
 TEST(MapperFuzzCorpus, PlySeedsHoldTheWrittenPoints) {
-  for (const char* name : {"ascii_faces.ply", "binary_little_endian.ply", "binary_big_endian.ply",
-                           "binary_double_order.ply"}) {
+  for (const char* name :
+       {"ascii_faces.ply", "binary_little_endian.ply", "binary_big_endian.ply", "binary_double_order.ply"}) {
     SCOPED_TRACE(name);
     const bool dbl = std::string(name) == "binary_double_order.ply";
     expectPoints(parsePoints(seed("ply", name), name).points, dbl ? kSeedPoints : asFloat(kSeedPoints),
@@ -180,8 +182,7 @@ TEST(MapperFuzzCorpus, EchoSeedsHoldTheWrittenPoints) {
   expectPoints(parsePoints(seed("orbslam_echo", "cut_off.txt"), "c.txt").points, map);
   EXPECT_TRUE(parsePoints(seed("orbslam_echo", "delete_all.txt"), "d.txt").points.empty());
   EXPECT_TRUE(parsePoints(seed("orbslam_echo", "empty_points.txt"), "e.txt").points.empty());
-  expectPoints(parsePoints(seed("orbslam_echo", "inline_item.txt"), "i.txt").points,
-               {kSeedPoints[0], kSeedPoints[1]});
+  expectPoints(parsePoints(seed("orbslam_echo", "inline_item.txt"), "i.txt").points, {kSeedPoints[0], kSeedPoints[1]});
 }
 
 TEST(MapperFuzzCorpus, TumSeedsHoldTheWrittenPoses) {
@@ -289,8 +290,8 @@ TEST(MapperFuzzCorpus, EverySeedAndItsPrefixesStreamAsTheyParse) {
 // The messages docs/RELIABILITY.md quotes, exactly
 
 struct BadInput {
-  const char* what;     ///< the row of RELIABILITY.md
-  const char* name;     ///< the file name passed to the reader
+  const char* what;  ///< the row of RELIABILITY.md
+  const char* name;  ///< the file name passed to the reader
   std::string bytes;
   const char* message;  ///< hullmap::Error's whole message
 };
@@ -307,8 +308,9 @@ std::string compressedPcd(std::uint32_t compressed, std::uint32_t uncompressed, 
   return out + lzf;
 }
 
-const std::string kPlyHead = "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
-                             "property float y\nproperty float z\nend_header\n";
+const std::string kPlyHead =
+    "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
+    "property float y\nproperty float z\nend_header\n";
 
 std::vector<BadInput> pointInputs() {
   return {
@@ -316,7 +318,10 @@ std::vector<BadInput> pointInputs() {
       {"short line", "m.txt", "1 2 3\n4 5\n", "m.txt:2: expected 3 numbers like the first data line, got 2"},
       {"two numbers a line", "m.txt", "1 2\n3 4\n", "m.txt:1: expected 3 numbers (x y z), got 2"},
       {"empty field", "m.csv", "1,,3\n", "m.csv:1: empty field"},
-      {"binary garbage", "g.bin", std::string("\x7f" "ELF\x02\x01", 6),
+      {"binary garbage", "g.bin",
+       std::string("\x7f"
+                   "ELF\x02\x01",
+                   6),
        "g.bin: not a point file (binary byte 0x7f at offset 0); expected ORB-SLAM text or echo dump, PCD, "
        "PLY or x y z text"},
       {"truncated ascii PCD", "t.pcd", pcdHeader("ascii") + "1 2 3\n",
@@ -426,7 +431,8 @@ TEST(MapperFuzzRegressions, HeaderOctomapParsesOtherwiseIsRefusedNotRecursedInto
       "00000000202800";
   std::string nodes;
   for (std::size_t i = 0; i + 1 < hex.size(); i += 2) nodes += char(std::stoi(hex.substr(i, 2), nullptr, 16));
-  const std::string fuzzed = writeFile(dir / "fuzzed.ot", "# Octomap OcTree fileS)\nid OcTree\nsize 20\nres 0.1data\n\ndata\n" + nodes);
+  const std::string fuzzed =
+      writeFile(dir / "fuzzed.ot", "# Octomap OcTree fileS)\nid OcTree\nsize 20\nres 0.1data\n\ndata\n" + nodes);
   EXPECT_EQ(errorOf([&] { readMap(fuzzed); }), fuzzed + ": malformed OctoMap header line 'res 0.1data'");
   // The same for each header key, and for trailing words on the 'data' line, .bt and .ot alike.
   for (const std::string kind : {"binary file", "file"}) {
@@ -441,7 +447,8 @@ TEST(MapperFuzzRegressions, HeaderOctomapParsesOtherwiseIsRefusedNotRecursedInto
     }
   }
   // A well-formed empty tree still reads.
-  const std::string empty = writeFile(dir / "empty.bt", "# Octomap OcTree binary file\nid OcTree\nsize 0\nres 0.1\ndata\n");
+  const std::string empty =
+      writeFile(dir / "empty.bt", "# Octomap OcTree binary file\nid OcTree\nsize 0\nres 0.1\ndata\n");
   EXPECT_EQ(readMap(empty).tree().size(), 0u);
 }
 
@@ -465,8 +472,7 @@ TEST(MapperFuzzRegressions, CliPrintsReaderErrorsOnOneLineAndExits2) {
       {"build " + pcd + out, pcd + ": binary_compressed PCD: LZF data from byte offset 152 decompresses to 0 "
                                    "bytes, expected 24 (corrupt or truncated)"},
       {"build " + cut + out, cut + ": truncated OctoMap data (file ends inside node 8)"},
-      {"build " + good + " --frobnicate" + out,
-       "unknown option --frobnicate (see hullmap build --help)"},
+      {"build " + good + " --frobnicate" + out, "unknown option --frobnicate (see hullmap build --help)"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.args);

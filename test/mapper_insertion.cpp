@@ -19,16 +19,15 @@ using namespace hullmap::io;
 
 using test::sameTree;
 
-void expectSameAsOctomap(const Points& points, const Point& origin, double resolution, double max_range,
-                         int repeats) {
+void expectSameAsOctomap(const Points& points, const Point& origin, double resolution, double max_range, int repeats) {
   octomap::OcTree expected(resolution);
   octomap::OcTree actual(resolution);
   const octomap::Pointcloud cloud = test::toCloud(points);
   for (int r = 0; r < repeats; ++r) {
     expected.insertPointCloud(cloud, test::toPoint3d(origin), max_range);
     insertScan(actual, points, origin, max_range);
-    ASSERT_TRUE(sameTree(expected, actual)) << "resolution " << resolution << ", max_range " << max_range
-                                            << ", insertion " << r + 1;
+    ASSERT_TRUE(sameTree(expected, actual))
+        << "resolution " << resolution << ", max_range " << max_range << ", insertion " << r + 1;
   }
 }
 
@@ -61,8 +60,8 @@ TEST(MapperInsertion, GeneratedScansSameTreeAsInsertPointCloud) {
         const Point origin = scene.keyframes[k].position;
         expected.insertPointCloud(test::toCloud(scene.points), test::toPoint3d(origin), max_range);
         insertScan(actual, scene.points, origin, max_range);
-        ASSERT_TRUE(sameTree(expected, actual)) << "resolution " << resolution << " max_range " << max_range
-                                                << " keyframe " << k;
+        ASSERT_TRUE(sameTree(expected, actual))
+            << "resolution " << resolution << " max_range " << max_range << " keyframe " << k;
       }
     }
   }
@@ -139,8 +138,8 @@ TEST(MapperInsertion, RaysBeyondTheBrickGridAsOctomap) {
   // Few long rays spread over a box too large for a grid of bricks (more than 4 KiB of grid a
   // point, or 2^22 bricks): the walked keys go through the bricks' hash, which grows as it fills.
   const double golden = 3.14159265358979323846 * (3.0 - std::sqrt(5.0));
-  for (const auto& [count, radius, resolution] : {std::tuple<int, double, double>{32, 20.0, 0.01},
-                                                  std::tuple<int, double, double>{200, 40.0, 0.05}}) {
+  for (const auto& [count, radius, resolution] :
+       {std::tuple<int, double, double>{32, 20.0, 0.01}, std::tuple<int, double, double>{200, 40.0, 0.05}}) {
     Points points;
     for (int i = 0; i < count; ++i) {
       const double z = 1.0 - 2.0 * (i + 0.5) / count, r = std::sqrt(1.0 - z * z);

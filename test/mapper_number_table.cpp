@@ -24,8 +24,7 @@ std::string fileWith(const std::string& text) {
 TEST(MapperNumberTable, SpacesCommasCommentsAndAHeaderReadAlike) {
   const std::vector<std::vector<double>> want{{0, -4, 0.5}, {1, 2, 3}};
   EXPECT_EQ(hullmap::io::readNumberTable(fileWith("0 -4 0.5\n1 2 3\n"), 3, "x y z"), want);
-  EXPECT_EQ(hullmap::io::readNumberTable(fileWith("x,y,z\r\n0,-4,0.5\r\n\n# c\n1, 2,\t3 # end\n"), 3, "x y z"),
-            want);
+  EXPECT_EQ(hullmap::io::readNumberTable(fileWith("x,y,z\r\n0,-4,0.5\r\n\n# c\n1, 2,\t3 # end\n"), 3, "x y z"), want);
   EXPECT_EQ(hullmap::io::readNumberTable(fileWith("pos_x pos_y pos_z\n0 -4 +0.5\n1 2 3\n"), 3, "x y z"), want);
 }
 

@@ -41,7 +41,8 @@ Points denseCloud() {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   Points points;
   for (int i = 0; i < 3000; ++i) {
-    const Point base(std::floor(u(rng) * 20) * 0.1 + 0.05, std::floor(u(rng) * 20) * 0.1 + 0.05, std::floor(u(rng) * 5) * 0.1 + 0.05);
+    const Point base(std::floor(u(rng) * 20) * 0.1 + 0.05, std::floor(u(rng) * 20) * 0.1 + 0.05,
+                     std::floor(u(rng) * 5) * 0.1 + 0.05);
     const int copies = 1 + static_cast<int>(u(rng) * 30);
     for (int c = 0; c < copies; ++c) points.push_back(base + Point(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5) * 0.08);
   }
@@ -86,8 +87,7 @@ UpdateNodeOracle updateNodePerPoint(const Points& points, const OctreeParams& pa
     const auto it = oracle.counts.find({key[0], key[1], key[2]});
     if (it == oracle.counts.end() || it->second != n) {
       return ::testing::AssertionFailure() << "key " << key[0] << " " << key[1] << " " << key[2] << ": " << n
-                                           << " points, expected "
-                                           << (it == oracle.counts.end() ? 0 : it->second);
+                                           << " points, expected " << (it == oracle.counts.end() ? 0 : it->second);
     }
   }
   return ::testing::AssertionSuccess();
@@ -115,8 +115,8 @@ TEST(MapperOctree, PointsOnlyInBatchesIsUpdateNodePerPoint) {
   const Points points = denseCloud();
   const UpdateNodeOracle expected = updateNodePerPoint(points, params);
   const octomap::OcTree& keys = expected.tree;
-  for (const std::size_t batch : {std::size_t{1}, std::size_t{2}, std::size_t{7}, std::size_t{1000},
-                                  std::size_t{4096}, std::size_t{20000}, points.size()}) {
+  for (const std::size_t batch : {std::size_t{1}, std::size_t{2}, std::size_t{7}, std::size_t{1000}, std::size_t{4096},
+                                  std::size_t{20000}, points.size()}) {
     SCOPED_TRACE("batches of " + std::to_string(batch));
     std::size_t split_voxels = 0;  // a voxel's points on both sides of a batch boundary
     for (std::size_t i = batch; i < points.size(); i += batch) {
@@ -268,16 +268,17 @@ TEST(MapperOctree, OccupiedVoxelsExpandPrunedLeavesSortedWithCounts) {
   std::vector<std::tuple<int, int, int, float>> expected;
   for (auto it = expanded.begin_leafs(); it != expanded.end_leafs(); ++it) {
     ASSERT_EQ(it.getDepth(), 16u);
-    if (expanded.isNodeOccupied(*it)) expected.emplace_back(it.getKey()[0], it.getKey()[1], it.getKey()[2], it->getLogOdds());
+    if (expanded.isNodeOccupied(*it))
+      expected.emplace_back(it.getKey()[0], it.getKey()[1], it.getKey()[2], it->getLogOdds());
   }
   std::sort(expected.begin(), expected.end());
   const auto voxels = map.occupiedVoxels();
   ASSERT_EQ(voxels.size(), expected.size());
   for (std::size_t i = 0; i < voxels.size(); ++i) {
     const auto [k0, k1, k2, log_odds] = expected[i];
-    const octomap::OcTreeKey key = map.tree().coordToKey(octomap::point3d(
-        static_cast<float>(voxels[i].center.x()), static_cast<float>(voxels[i].center.y()),
-        static_cast<float>(voxels[i].center.z())));
+    const octomap::OcTreeKey key = map.tree().coordToKey(octomap::point3d(static_cast<float>(voxels[i].center.x()),
+                                                                          static_cast<float>(voxels[i].center.y()),
+                                                                          static_cast<float>(voxels[i].center.z())));
     ASSERT_EQ(std::make_tuple(int(key[0]), int(key[1]), int(key[2])), std::make_tuple(k0, k1, k2)) << i;
     EXPECT_FLOAT_EQ(voxels[i].log_odds, log_odds);
     EXPECT_EQ(voxels[i].weight, map.pointCounts().at(key));
@@ -292,7 +293,8 @@ std::size_t keyframeFor(const Point& p, const std::vector<Keyframe>& keyframes) 
     const Eigen::Vector3d d = p - keyframes[k].position;
     const double d2 = d.squaredNorm();
     if (d2 < nearest_d2) nearest_d2 = d2, nearest = k;
-    if ((keyframes[k].orientation * Eigen::Vector3d::UnitZ()).dot(d) > 0.0 && d2 < facing_d2) facing_d2 = d2, facing = k;
+    if ((keyframes[k].orientation * Eigen::Vector3d::UnitZ()).dot(d) > 0.0 && d2 < facing_d2)
+      facing_d2 = d2, facing = k;
   }
   return facing < keyframes.size() ? facing : nearest;
 }
@@ -422,7 +424,8 @@ TEST(MapperOctree, ReadsOctomapsOwnBinaryMap) {
   EXPECT_EQ(info.nodes, expected.size());
   EXPECT_EQ(info.memory_bytes, expected.memoryUsage());
   std::size_t occupied = 0, free = 0;
-  for (auto it = expected.begin_leafs(); it != expected.end_leafs(); ++it) (expected.isNodeOccupied(*it) ? occupied : free)++;
+  for (auto it = expected.begin_leafs(); it != expected.end_leafs(); ++it)
+    (expected.isNodeOccupied(*it) ? occupied : free)++;
   EXPECT_EQ(info.occupied_leaves, occupied);
   EXPECT_EQ(info.free_leaves, free);
   double x, y, z;

@@ -104,8 +104,10 @@ TEST(MapperRoomScene, FurnitureIsNotConvexAndKeepsItsGaps) {
         ++shelves;
         ASSERT_EQ(f.parts.size(), 2u);
         // Two arms that touch and do not overlap: an L, not a box.
-        const Eigen::Vector3d lo = (f.parts[0].center - 0.5 * f.parts[0].size).cwiseMax(f.parts[1].center - 0.5 * f.parts[1].size);
-        const Eigen::Vector3d hi = (f.parts[0].center + 0.5 * f.parts[0].size).cwiseMin(f.parts[1].center + 0.5 * f.parts[1].size);
+        const Eigen::Vector3d lo =
+            (f.parts[0].center - 0.5 * f.parts[0].size).cwiseMax(f.parts[1].center - 0.5 * f.parts[1].size);
+        const Eigen::Vector3d hi =
+            (f.parts[0].center + 0.5 * f.parts[0].size).cwiseMin(f.parts[1].center + 0.5 * f.parts[1].size);
         const Eigen::Vector3d overlap = hi - lo;
         EXPECT_NEAR(std::min(overlap.x(), overlap.y()), 0.0, 1e-9);
         EXPECT_GT(std::max(overlap.x(), overlap.y()), 0.25);
@@ -257,7 +259,8 @@ TEST(MapperRoomScene, MapsRoomIsTheDefaultRoom) {
   const Scene s = generateScene(p);
   const auto out = test::freshDir("maps_room");
   writeScene(s, p, out.string());
-  for (const char* name : {"map_points.txt", "KeyFrameTrajectory.txt", "reference_trajectory.txt", "ground_truth.json"}) {
+  for (const char* name :
+       {"map_points.txt", "KeyFrameTrajectory.txt", "reference_trajectory.txt", "ground_truth.json"}) {
     const std::string expected = fileBytes(dir / name);
     const std::string written = fileBytes(out / name);
     ASSERT_FALSE(expected.empty()) << (dir / name);
@@ -268,9 +271,7 @@ TEST(MapperRoomScene, MapsRoomIsTheDefaultRoom) {
 }
 
 // Distance from p to a primitive's solid (0 inside).
-double solidDistance(const SceneObstacle& o, const Eigen::Vector3d& p) {
-  return std::max(0.0, signedDistance(o, p));
-}
+double solidDistance(const SceneObstacle& o, const Eigen::Vector3d& p) { return std::max(0.0, signedDistance(o, p)); }
 
 // Each segment of maps/room/segments.txt says whether it hits (closer than 0.3 m to) a true
 // object, and which: checked against the truth by sampling every millimetre.

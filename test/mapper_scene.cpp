@@ -222,7 +222,8 @@ TEST(MapperScene, MapsSimpleIsTheDefaultScene) {
     ASSERT_FALSE(expected.empty()) << (dir / name);
     const auto first = std::mismatch(expected.begin(), expected.end(), written.begin(), written.end());
     EXPECT_TRUE(expected == written) << name << ": " << written.size() << " bytes written, " << expected.size()
-                                     << " in maps/simple; first difference at byte " << (first.first - expected.begin());
+                                     << " in maps/simple; first difference at byte "
+                                     << (first.first - expected.begin());
   }
   EXPECT_FALSE(std::filesystem::exists(out / "reference_trajectory.txt"));
 }

@@ -41,13 +41,13 @@ inline ::testing::AssertionResult sameTree(const octomap::OcTree& expected, cons
   }
   for (std::size_t i = 0; i < a.size(); ++i) {
     if (a[i].k0 != b[i].k0 || a[i].k1 != b[i].k1 || a[i].k2 != b[i].k2 || a[i].depth != b[i].depth) {
-      return ::testing::AssertionFailure() << "leaf " << i << " differs: expected key (" << a[i].k0 << "," << a[i].k1
-                                           << "," << a[i].k2 << ") depth " << a[i].depth << ", got (" << b[i].k0
-                                           << "," << b[i].k1 << "," << b[i].k2 << ") depth " << b[i].depth;
+      return ::testing::AssertionFailure()
+             << "leaf " << i << " differs: expected key (" << a[i].k0 << "," << a[i].k1 << "," << a[i].k2 << ") depth "
+             << a[i].depth << ", got (" << b[i].k0 << "," << b[i].k1 << "," << b[i].k2 << ") depth " << b[i].depth;
     }
     if (std::abs(a[i].log_odds - b[i].log_odds) > 1e-5f) {
-      return ::testing::AssertionFailure() << "leaf " << i << " log-odds differ: expected " << a[i].log_odds
-                                           << ", got " << b[i].log_odds;
+      return ::testing::AssertionFailure()
+             << "leaf " << i << " log-odds differ: expected " << a[i].log_odds << ", got " << b[i].log_odds;
     }
   }
   // Both ways: every leaf of `actual` is found in `expected` as a leaf at the same depth.

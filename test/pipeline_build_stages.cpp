@@ -135,9 +135,9 @@ TEST(PipelineStages, AlignedRoomAtTheDefaults) {
   // Scored against the truth at r = 0.3 on issue 13's five targets (docs/QUALITY.md): no deep
   // collision missed, false alarms at most 5 % of the clear segments, swallowed free space at most 5 %.
   const pipeline::Evaluation e = score(r, room, 1000);
-  std::cout << "room: " << e.parts << " parts for " << e.truth.size() << " true objects; deep " << e.deep
-            << " missed " << e.missed << "; clear " << e.clear << " false alarms " << e.false_alarms
-            << "; far volume " << e.far_volume << " of " << e.union_volume << "\n";
+  std::cout << "room: " << e.parts << " parts for " << e.truth.size() << " true objects; deep " << e.deep << " missed "
+            << e.missed << "; clear " << e.clear << " false alarms " << e.false_alarms << "; far volume "
+            << e.far_volume << " of " << e.union_volume << "\n";
   // The other two targets: at least 98 % of each true obstacle's observed points inside hulls, and at
   // most 1.5 hulls representing each convex true obstacle (walls, boxes, cylinders) on average.
   std::size_t convex = 0, convex_parts = 0;
@@ -283,8 +283,10 @@ TEST(PipelineStages, FlatGapOptionReachesTheReportAndZeroTurnsItOff) {
   EXPECT_GE(a["flat_gap_max"].get<double>(), a["flat_gap"].get<double>());
   EXPECT_LE(a["flat_gap_max"].get<double>(), 2.0 * a["flat_gap"].get<double>() + 1e-12);
   std::ostringstream line;
-  line << "flat gap " << std::setprecision(4) << a["flat_gap"].get<double>() << ": " << a["flat_parts"] << " flat parts";
-  EXPECT_NE(automatic.out.find(line.str()), std::string::npos) << "expected '" << line.str() << "' in: " << automatic.out;
+  line << "flat gap " << std::setprecision(4) << a["flat_gap"].get<double>() << ": " << a["flat_parts"]
+       << " flat parts";
+  EXPECT_NE(automatic.out.find(line.str()), std::string::npos)
+      << "expected '" << line.str() << "' in: " << automatic.out;
 
   const auto& o = off.report["parts"];
   EXPECT_EQ(off.report["parameters"]["flat_gap"], 0.0);
@@ -469,9 +471,12 @@ TEST(PipelineStages, BadInputsNameTheOptionInOneLine) {
   expect(runHullmap("build " + map + " --min-pts 2.5" + out), "--min-pts");
   expect(runHullmap("build " + map + " --concavity -0.1" + out), "--concavity");
   expect(runHullmap("build " + map + " --concavity some" + out), "--concavity");
-  for (const char* bad : {"x", "-1", "nan"}) expect(runHullmap("build " + map + " --flat-gap " + bad + out), "--flat-gap");
-  expect(runHullmap("build " + map + " --concavity none --flat-gap 0.1" + out), "--flat-gap: applies only to convex parts");
-  for (const char* bad : {"none", "0", "Auto"}) expect(runHullmap("build " + map + " --extension " + bad + out), "--extension");
+  for (const char* bad : {"x", "-1", "nan"})
+    expect(runHullmap("build " + map + " --flat-gap " + bad + out), "--flat-gap");
+  expect(runHullmap("build " + map + " --concavity none --flat-gap 0.1" + out),
+         "--flat-gap: applies only to convex parts");
+  for (const char* bad : {"none", "0", "Auto"})
+    expect(runHullmap("build " + map + " --extension " + bad + out), "--extension");
   // A garbage reference file is named with its line; fewer than 3 matched poses are refused.
   const auto garbage = room.dir / "garbage.txt";
   hullmap::test::writeText(garbage, "0 1 2 3\nnot a pose\n");

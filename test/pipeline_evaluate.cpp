@@ -44,7 +44,8 @@ std::vector<V3> surfaceSamples(const std::function<bool(const V3&)>& inside, con
       for (double z = lo.z(); z <= hi.z(); z += step) {
         const V3 p(x, y, z);
         if (!inside(p)) continue;
-        for (const V3& d : {V3(step, 0, 0), V3(-step, 0, 0), V3(0, step, 0), V3(0, -step, 0), V3(0, 0, step), V3(0, 0, -step)})
+        for (const V3& d :
+             {V3(step, 0, 0), V3(-step, 0, 0), V3(0, step, 0), V3(0, -step, 0), V3(0, 0, step), V3(0, 0, -step)})
           if (!inside(p + d)) {
             out.push_back(p);
             break;
@@ -70,11 +71,14 @@ void expectMatchesOracle(const TruthShape& shape, const std::function<bool(const
 TEST(TruthGeometry, BoxMatchesBruteForce) {
   const TruthShape b = box(V3(0.1, -0.2, 0.05), V3(1.0, 0.6, 0.8), 0.5);
   const double c = std::cos(0.5), s = std::sin(0.5);
-  expectMatchesOracle(b, [&](const V3& p) {
-    const V3 d = p - b.center;
-    const V3 local(c * d.x() + s * d.y(), -s * d.x() + c * d.y(), d.z());
-    return (local.cwiseAbs().array() <= 0.5 * b.size.array()).all();
-  }, 0.04);
+  expectMatchesOracle(
+      b,
+      [&](const V3& p) {
+        const V3 d = p - b.center;
+        const V3 local(c * d.x() + s * d.y(), -s * d.x() + c * d.y(), d.z());
+        return (local.cwiseAbs().array() <= 0.5 * b.size.array()).all();
+      },
+      0.04);
 }
 
 TEST(TruthGeometry, CylinderMatchesBruteForce) {
@@ -82,10 +86,13 @@ TEST(TruthGeometry, CylinderMatchesBruteForce) {
   cyl.kind = TruthShape::Kind::kCylinder;
   cyl.center = V3(0.1, 0.0, -0.1);
   cyl.size = V3(1.2, 1.2, 1.0);
-  expectMatchesOracle(cyl, [&](const V3& p) {
-    const V3 d = p - cyl.center;
-    return std::hypot(d.x(), d.y()) <= 0.6 && std::abs(d.z()) <= 0.5;
-  }, 0.04);
+  expectMatchesOracle(
+      cyl,
+      [&](const V3& p) {
+        const V3 d = p - cyl.center;
+        return std::hypot(d.x(), d.y()) <= 0.6 && std::abs(d.z()) <= 0.5;
+      },
+      0.04);
 }
 
 /// The 12 triangles of a box, outward.
@@ -93,7 +100,8 @@ std::string boxObj(const V3& lo, const V3& hi) {
   std::ostringstream out;
   out << "o crate\n";
   for (int m = 0; m < 8; ++m)
-    out << "v " << ((m & 1) ? hi.x() : lo.x()) << ' ' << ((m & 2) ? hi.y() : lo.y()) << ' ' << ((m & 4) ? hi.z() : lo.z()) << '\n';
+    out << "v " << ((m & 1) ? hi.x() : lo.x()) << ' ' << ((m & 2) ? hi.y() : lo.y()) << ' '
+        << ((m & 4) ? hi.z() : lo.z()) << '\n';
   // Quads, counter-clockwise from outside, 1-based.
   out << "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
   return out.str();
@@ -230,7 +238,7 @@ TEST(Evaluate, SwallowedVolumeMatchesTheAnalyticValue) {
   GroundTruth truth;
   truth.shapes.push_back(box(V3(0.5, 0.5, 0.5), V3(1, 1, 1)));
   const std::vector<clustering::Obstacle> obstacles{filled(V3(0, 0, 0), V3(2, 1, 1), 0),
-                                                     filled(V3(5, 0, 0), V3(5.5, 0.5, 0.5), 1)};
+                                                    filled(V3(5, 0, 0), V3(5.5, 0.5, 0.5), 1)};
   EvaluateParams params;
   params.segments = 500;
   params.volume_samples = 20000;
@@ -274,7 +282,8 @@ TEST(Evaluate, FalsePartsAtAToleranceWithTheirDistanceMatchBruteForce) {
     double nearest = std::numeric_limits<double>::infinity();
     for (double x = lo.x(); x <= hi.x() + 1e-9; x += 0.005)
       for (double y = lo.y(); y <= hi.y() + 1e-9; y += 0.005)
-        for (double w = lo.z(); w <= hi.z() + 1e-9; w += 0.005) nearest = std::min(nearest, truth.signedDistance(V3(x, y, w)));
+        for (double w = lo.z(); w <= hi.z() + 1e-9; w += 0.005)
+          nearest = std::min(nearest, truth.signedDistance(V3(x, y, w)));
     nearest = std::max(nearest, 0.0);
     if (std::abs(nearest - tolerance) < 0.01) continue;  // too close to the tolerance for the grid to say
     obstacles.push_back(filled(lo, hi, int(obstacles.size())));
@@ -393,8 +402,8 @@ TEST(Evaluate, APointBelongsToItsNearestShapeOnly) {
   const std::vector<clustering::Obstacle> obstacles{filled(V3(0, -1, 0), V3(0.3, 1, 1), 0)};
   std::vector<V3> points;
   for (double y = -0.95; y < 1; y += 0.1) {
-    points.emplace_back(-0.03, y, 0.0);   // floor, in front of the wall's foot
-    points.emplace_back(0.0, y, 0.03);    // wall face, just above the floor
+    points.emplace_back(-0.03, y, 0.0);  // floor, in front of the wall's foot
+    points.emplace_back(0.0, y, 0.03);   // wall face, just above the floor
   }
   const std::size_t pairs = points.size() / 2;
   points.emplace_back(-0.03125, 0.0, 0.03125);  // 0.03125 from both, exactly
@@ -440,7 +449,8 @@ TEST(Evaluate, AttributionAndRepresentationMatchBruteForce) {
     std::vector<std::uint32_t> weights;
     for (int i = 0; i < 3000; ++i) {
       const auto& [lo, hi] = boxes[std::size_t(i) % boxes.size()];
-      V3 p(lo.x() + (hi.x() - lo.x()) * u(rng), lo.y() + (hi.y() - lo.y()) * u(rng), lo.z() + (hi.z() - lo.z()) * u(rng));
+      V3 p(lo.x() + (hi.x() - lo.x()) * u(rng), lo.y() + (hi.y() - lo.y()) * u(rng),
+           lo.z() + (hi.z() - lo.z()) * u(rng));
       const int axis = int(rng() % 3);
       p[axis] = (rng() % 2) ? lo[axis] : hi[axis];
       p += 0.08 * V3(2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1);
@@ -514,9 +524,9 @@ TEST(Evaluate, EachHullRepresentsOneTrueObstacle) {
   // the corners (3 per wall, 4 for the south wall with the crate on it); representing counts one
   // hull per obstacle, and the empty hull represents nothing.
   GroundTruth truth;
-  const std::vector<std::pair<V3, V3>> walls{{V3(0, 0, 0), V3(4, 0.2, 1)},    // south
-                                             {V3(0, 3.8, 0), V3(4, 4, 1)},    // north
-                                             {V3(0, 0.2, 0), V3(0.2, 3.8, 1)},  // west
+  const std::vector<std::pair<V3, V3>> walls{{V3(0, 0, 0), V3(4, 0.2, 1)},       // south
+                                             {V3(0, 3.8, 0), V3(4, 4, 1)},       // north
+                                             {V3(0, 0.2, 0), V3(0.2, 3.8, 1)},   // west
                                              {V3(3.8, 0.2, 0), V3(4, 3.8, 1)}};  // east
   const std::pair<V3, V3> crate{V3(1, 0.2, 0), V3(1.6, 0.6, 0.5)};
   std::vector<clustering::Obstacle> obstacles;
@@ -563,10 +573,11 @@ void expectOneLineError(const test::CommandResult& r, const std::string& needle)
 TEST(EvaluateCli, ScoresABuildAndRefusesBadTruth) {
   const auto dir = test::freshDir("cli");
   const std::string truth = std::string(HULLMAP_SOURCE_DIR) + "/maps/simple/ground_truth.json";
-  const auto build = test::runHullmap("build " + std::string(HULLMAP_SOURCE_DIR) + "/maps/simple/map_points.txt --up -y -o " +
-                                      (dir / "out").string());
+  const auto build = test::runHullmap("build " + std::string(HULLMAP_SOURCE_DIR) +
+                                      "/maps/simple/map_points.txt --up -y -o " + (dir / "out").string());
   ASSERT_EQ(build.status, 0) << build.err;
-  const auto ok = test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + truth + " --segments 300 --json");
+  const auto ok =
+      test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + truth + " --segments 300 --json");
   ASSERT_EQ(ok.status, 0) << ok.err;
   const auto doc = nlohmann::json::parse(ok.out);
   EXPECT_EQ(doc["truth"].size(), 8u);
@@ -585,18 +596,21 @@ TEST(EvaluateCli, ScoresABuildAndRefusesBadTruth) {
   expectOneLineError(test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + (dir / "bad.json").string()),
                      "bad.json: obstacles[0].shape: expected \"box\" or \"cylinder\"");
   std::ofstream(dir / "broken.json") << "{\"obstacles\": [";
-  expectOneLineError(test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + (dir / "broken.json").string()),
-                     "broken.json: not valid JSON");
+  expectOneLineError(
+      test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + (dir / "broken.json").string()),
+      "broken.json: not valid JSON");
   std::ofstream(dir / "bad.obj") << "v 0 0 0\nv 1 0 0\nf 1 2 9\n";
   expectOneLineError(test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + (dir / "bad.obj").string()),
                      "bad.obj:3: face index 9 out of range");
-  expectOneLineError(test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + (dir / "none.json").string()),
-                     "none.json: cannot open");
+  expectOneLineError(
+      test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + (dir / "none.json").string()),
+      "none.json: cannot open");
   expectOneLineError(test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + truth + " --radius -1"),
                      "--radius");
   std::ofstream(dir / "union.json") << "{\"obstacles\": [{\"shape\": \"union\", \"parts\": [{\"shape\": \"cone\"}]}]}";
-  expectOneLineError(test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + (dir / "union.json").string()),
-                     "union.json: obstacles[0].parts[0].shape: expected \"box\" or \"cylinder\"");
+  expectOneLineError(
+      test::runHullmap("evaluate " + (dir / "out").string() + " --truth " + (dir / "union.json").string()),
+      "union.json: obstacles[0].parts[0].shape: expected \"box\" or \"cylinder\"");
 }
 
 }  // namespace

@@ -58,7 +58,8 @@ TEST(PipelineFrames, MetricScanAtTheDefaultsIsOctomapsTreeInItsOwnFrame) {
   EXPECT_GT(result.report.floor.voxels, 1000u);
   ASSERT_EQ(result.surfaces.size(), 1u);
   EXPECT_EQ(result.surfaces[0].name, "floor");
-  EXPECT_EQ(reportJson(result)["input_to_output"]["matrix"], nlohmann::json::parse("[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]"));
+  EXPECT_EQ(reportJson(result)["input_to_output"]["matrix"],
+            nlohmann::json::parse("[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]"));
 
   // Asked to, it levels: the tree then differs, and the transform says how.
   params.level = Level::kOn;
@@ -80,13 +81,13 @@ TEST(PipelineFrames, WhetherTheMapIsLevelled) {
     return std::vector<io::InputStats>{stats};
   };
   const auto xyz = input("scan.xyz", "text");
-  EXPECT_FALSE(levelsMap(params, xyz));                                 // metric, z up
+  EXPECT_FALSE(levelsMap(params, xyz));  // metric, z up
   EXPECT_FALSE(levelsMap(params, input("cloud.pcd", "pcd")));
-  EXPECT_TRUE(levelsMap(params, input("dump.txt", "orbslam_echo")));    // ORB-SLAM's camera frame
+  EXPECT_TRUE(levelsMap(params, input("dump.txt", "orbslam_echo")));  // ORB-SLAM's camera frame
   EXPECT_TRUE(levelsMap(params, input("MapPoints.txt", "text")));
   BuildParams up = params;
   up.frame.up = mapper::UpAxis::kNegY;
-  EXPECT_TRUE(levelsMap(up, xyz));                                      // up other than z
+  EXPECT_TRUE(levelsMap(up, xyz));  // up other than z
   BuildParams keyframes = params;
   keyframes.trajectory = "KeyFrameTrajectory.txt";
   EXPECT_TRUE(levelsMap(keyframes, xyz));

@@ -88,9 +88,9 @@ struct PartReach {
   int obstacle = 0;
   std::size_t part = 0;
   std::size_t voxels = 0;
-  std::size_t off_surface = 0;      ///< voxels that came from no surface (farther than the noise margin)
+  std::size_t off_surface = 0;       ///< voxels that came from no surface (farther than the noise margin)
   std::vector<std::size_t> sources;  ///< primitives the other voxels came from
-  double reach = 0.0;               ///< largest distance from them of a hull point outside the truth
+  double reach = 0.0;                ///< largest distance from them of a hull point outside the truth
   V3 where = V3::Zero();
   bool flat = false, faces = false, filled = false;
 };
@@ -113,7 +113,8 @@ std::vector<V3> hullSamples(const clustering::ConvexHull& hull, const V3& lo, co
     for (double y = lo.y(); y <= hi.y(); y += step)
       for (double z = lo.z(); z <= hi.z(); z += step) {
         const V3 p(x, y, z);
-        if (std::all_of(planes.begin(), planes.end(), [&](const auto& pl) { return pl.first.dot(p) <= pl.second + 1e-9; }))
+        if (std::all_of(planes.begin(), planes.end(),
+                        [&](const auto& pl) { return pl.first.dot(p) <= pl.second + 1e-9; }))
           out.push_back(p);
       }
   return out;
@@ -196,8 +197,8 @@ std::vector<PartReach> partReaches(const pipeline::BuildResult& r, const pipelin
 
 TEST(RoomParts, WallPartsStayWithinConcavityPlusAVoxelOfTheirSurfaces) {
   // Pitch, monocular scale, density (half to twice V1_01's 45 points per m^2) and furniture varied.
-  const std::vector<RoomCase> cases = {{31, 12, 0.37, 45, 12}, {32, 0, 0.3, 22, 16}, {33, 30, 3.0, 90, 9},
-                                       {34, 20, 1.0, 45, 14}};
+  const std::vector<RoomCase> cases = {
+      {31, 12, 0.37, 45, 12}, {32, 0, 0.3, 22, 16}, {33, 30, 3.0, 90, 9}, {34, 20, 1.0, 45, 14}};
   for (const RoomCase& c : cases) {
     SCOPED_TRACE(caseName(c));
     std::filesystem::path dir;
@@ -219,14 +220,14 @@ TEST(RoomParts, WallPartsStayWithinConcavityPlusAVoxelOfTheirSurfaces) {
       ++over;
       std::cout << caseName(c) << ": obstacle " << pr.obstacle << " part " << pr.part << " (" << pr.voxels
                 << " voxels, " << pr.off_surface << " off every surface" << (pr.flat ? ", flat" : "")
-                << (pr.faces ? ", faces" : "") << (pr.filled ? ", filled" : "") << ") reaches " << pr.reach
-                << " at " << pr.where.transpose() << " from";
+                << (pr.faces ? ", faces" : "") << (pr.filled ? ", filled" : "") << ") reaches " << pr.reach << " at "
+                << pr.where.transpose() << " from";
       for (const auto s : pr.sources) std::cout << " " << truth.shapes[prims[s].object].label;
       std::cout << "\n";
     }
-    std::cout << caseName(c) << ": " << reaches.size() << " parts, " << wall_parts << " of them wall parts; farthest reach "
-              << worst_wall << " (walls), " << worst_other << " (furniture); outlier voxels dropped "
-              << r.report.cluster_params.trim.dropped << "\n";
+    std::cout << caseName(c) << ": " << reaches.size() << " parts, " << wall_parts
+              << " of them wall parts; farthest reach " << worst_wall << " (walls), " << worst_other
+              << " (furniture); outlier voxels dropped " << r.report.cluster_params.trim.dropped << "\n";
     EXPECT_GT(wall_parts, 0u);
     EXPECT_EQ(over, 0u) << "wall parts reaching beyond T + a voxel (" << bound << ")";
   }
@@ -237,9 +238,8 @@ TEST(RoomParts, WallPartsStayWithinConcavityPlusAVoxelOfTheirSurfaces) {
 // segments at r = 0.3 with their ends anywhere in the room; no deep collision missed, and at most 3 %
 // of the segments keeping r + 0.15 from every true surface (the floor's too) called blocked.
 TEST(RoomParts, SweepRoomsMissNoDeepCollisionAndAtMost3PercentFalseAlarms) {
-  const std::vector<std::pair<RoomCase, double>> rooms = {{{202, 10, 1.0, 22, 9}, 0.0},
-                                                         {{205, 0, 1.0, 45, 12}, 0.0},
-                                                         {{221, 0, 3.0, 90, 16}, 0.5}};
+  const std::vector<std::pair<RoomCase, double>> rooms = {
+      {{202, 10, 1.0, 22, 9}, 0.0}, {{205, 0, 1.0, 45, 12}, 0.0}, {{221, 0, 3.0, 90, 16}, 0.5}};
   for (const auto& [c, walls] : rooms) {
     SCOPED_TRACE(caseName(c));
     std::filesystem::path dir;

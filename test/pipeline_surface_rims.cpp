@@ -25,8 +25,9 @@ V3 centre(int i, int j, int k) { return kRes * V3(i + 0.5, j + 0.5, k + 0.5); }
 /// The rule written out: for each surface voxel every clustered voxel is scanned (and, for rule 2,
 /// every clustered voxel again), straight from the header's description. `by_rule`, when given,
 /// counts the voxels joined by rules 1 and 2.
-std::vector<std::int32_t> bruteForce(const std::vector<std::array<int, 3>>& cells, const std::vector<std::int32_t>& labels,
-                                     double reach, std::array<std::size_t, 2>* by_rule = nullptr) {
+std::vector<std::int32_t> bruteForce(const std::vector<std::array<int, 3>>& cells,
+                                     const std::vector<std::int32_t>& labels, double reach,
+                                     std::array<std::size_t, 2>* by_rule = nullptr) {
   const int layers = int(std::floor(std::max(2.0, reach / kRes) + 1e-9));
   const double reach2 = (reach / kRes) * (reach / kRes) + 1e-9;  // cells^2
   const auto dist2 = [&](std::size_t a, std::size_t b) {
@@ -98,7 +99,9 @@ TEST(SurfaceRims, MatchesBruteForceOnRandomLattices) {
             const bool band = k <= 0 || k >= 24;
             if (rng() % 100 >= (band ? 50u : 5u)) continue;
             cells.push_back({i, j, k});
-            labels.push_back(band ? (k <= 0 ? kFloorLabel : kCeilingLabel) : rng() % 5 == 0 ? -1 : std::int32_t(rng() % 3));
+            labels.push_back(band             ? (k <= 0 ? kFloorLabel : kCeilingLabel)
+                             : rng() % 5 == 0 ? -1
+                                              : std::int32_t(rng() % 3));
           }
     }
     for (const auto& c : cells) centers.push_back(centre(c[0], c[1], c[2]));
@@ -111,8 +114,8 @@ TEST(SurfaceRims, MatchesBruteForceOnRandomLattices) {
     detail::attachSurfaceRims(centers, kRes, reach, labels);
     EXPECT_EQ(labels, expected) << "trial " << trial << ", reach " << reach;
   }
-  std::cout << joined << " surface voxels joined (" << by_rule[0] << ", " << by_rule[1] << " by rules 1, 2), "
-            << stayed << " stayed\n";
+  std::cout << joined << " surface voxels joined (" << by_rule[0] << ", " << by_rule[1] << " by rules 1, 2), " << stayed
+            << " stayed\n";
   EXPECT_GT(stayed, 300u);
   for (std::size_t r = 0; r < 2; ++r) EXPECT_GT(by_rule[r], 50u) << "rule " << r + 1;
 }
@@ -207,14 +210,13 @@ TEST(SurfaceRims, CeilingJoinsWhatHangsBelowItNearestFirst) {
   // A ceiling voxel at layer 60 with a lamp (cluster 2) 3 layers below it and a beam (cluster 1) 1
   // layer above it: only what lies below joins a ceiling voxel. A floor voxel with three clusters
   // above: the nearest wins, and of two at the same distance the lower label.
-  std::vector<V3> centers{centre(0, 0, 60), centre(0, 0, 57), centre(0, 0, 61),
-                          centre(5, 5, 0), centre(5, 5, 2), centre(6, 6, 1), centre(4, 4, 1),
-                          centre(9, 9, 60)};
+  std::vector<V3> centers{centre(0, 0, 60), centre(0, 0, 57), centre(0, 0, 61), centre(5, 5, 0),
+                          centre(5, 5, 2),  centre(6, 6, 1),  centre(4, 4, 1),  centre(9, 9, 60)};
   std::vector<std::int32_t> labels{kCeilingLabel, 2, 1, kFloorLabel, 3, 5, 4, kCeilingLabel};
   std::vector<std::int32_t> out = labels;
   detail::attachSurfaceRims(centers, kRes, 0.15, out);
   EXPECT_EQ(out[0], 2);
-  EXPECT_EQ(out[3], 4);             // distance^2 3 for labels 4 and 5, 4 for label 3
+  EXPECT_EQ(out[3], 4);              // distance^2 3 for labels 4 and 5, 4 for label 3
   EXPECT_EQ(out[7], kCeilingLabel);  // nothing near
   out = labels;
   detail::attachSurfaceRims(centers, kRes, 0.1, out);  // reach 2 layers: the lamp is out of it

@@ -41,7 +41,8 @@ void expectSafeFleet(const mapper::Scene& scene, const std::vector<planning::Fle
       const double dt = path[k].t - path[k - 1].t;
       ASSERT_GT(dt, 0);
       EXPECT_LE((path[k].position - path[k - 1].position).norm() / dt, params.speed * (1 + 1e-9)) << "drone " << i;
-      const int steps = std::max(1, static_cast<int>(std::ceil((path[k].position - path[k - 1].position).norm() / 0.01)));
+      const int steps =
+          std::max(1, static_cast<int>(std::ceil((path[k].position - path[k - 1].position).norm() / 0.01)));
       for (int s = 0; s <= steps; ++s) {
         const Vector3d p = path[k - 1].position + (path[k].position - path[k - 1].position) * (double(s) / steps);
         for (const auto& o : scene.obstacles)
@@ -75,7 +76,8 @@ TEST(Fleet, RoutesDronesInTheSampleSceneApartAndClearOfTheTruth) {
   std::vector<planning::FleetTask> tasks;
   for (int i = 0; i < 10; ++i) {
     const double a = 2 * M_PI * i / 10;
-    tasks.push_back({Vector3d(4.4 * std::cos(a), 4.4 * std::sin(a), 1.0), Vector3d(-4.4 * std::cos(a), -4.4 * std::sin(a), 1.0)});
+    tasks.push_back(
+        {Vector3d(4.4 * std::cos(a), 4.4 * std::sin(a), 1.0), Vector3d(-4.4 * std::cos(a), -4.4 * std::sin(a), 1.0)});
   }
   const auto result = planning::planFleet(planner, tasks, params);
   ASSERT_EQ(result.paths.size(), tasks.size());
@@ -98,7 +100,8 @@ TEST(Fleet, HeadOnSwapInACorridorWaitsOrDetoursAndNamesTheUnroutable) {
   planning::RoadmapParams rp;
   rp.bounds = planning::Bounds2d{-5, -2.5, 5, 2.5};
   const planning::PathPlanner planner(obstacles, planning::buildRoadmap(obstacles, rp));
-  std::vector<planning::FleetTask> tasks{{Vector3d(-4, 0, 1), Vector3d(4, 0, 1)}, {Vector3d(4, 0, 1), Vector3d(-4, 0, 1)}};
+  std::vector<planning::FleetTask> tasks{{Vector3d(-4, 0, 1), Vector3d(4, 0, 1)},
+                                         {Vector3d(4, 0, 1), Vector3d(-4, 0, 1)}};
   const auto result = planning::planFleet(planner, tasks, params);
   ASSERT_TRUE(result.paths[0] && result.paths[1]) << (result.reasons.empty() ? "" : result.reasons.front());
   expectSafeFleet(scene, tasks, result, params);

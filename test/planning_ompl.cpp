@@ -21,7 +21,8 @@ SceneObstacle box(const Eigen::Vector3d& center, const Eigen::Vector3d& size) {
 
 hullmap::clustering::Obstacle prismOf(int id, const SceneObstacle& b) {
   const Eigen::Vector2d c = b.center.head<2>(), h = 0.5 * b.size.head<2>();
-  return hullmap::test::prism(id, {c - h, c + Eigen::Vector2d(h.x(), -h.y()), c + h, c + Eigen::Vector2d(-h.x(), h.y())},
+  return hullmap::test::prism(id,
+                              {c - h, c + Eigen::Vector2d(h.x(), -h.y()), c + h, c + Eigen::Vector2d(-h.x(), h.y())},
                               b.center.z() - 0.5 * b.size.z(), b.center.z() + 0.5 * b.size.z());
 }
 
@@ -32,7 +33,8 @@ double minDistance(const std::vector<Eigen::Vector3d>& path, const std::vector<S
     const int n = std::max(1, static_cast<int>(std::ceil((path[k] - path[k - 1]).norm() / step)));
     for (int s = 0; s <= n; ++s)
       for (const auto& b : boxes)
-        best = std::min(best, hullmap::test::distanceToSolid(b, path[k - 1] + (path[k] - path[k - 1]) * (double(s) / n)));
+        best =
+            std::min(best, hullmap::test::distanceToSolid(b, path[k - 1] + (path[k] - path[k - 1]) * (double(s) / n)));
   }
   return best;
 }

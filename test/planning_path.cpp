@@ -99,12 +99,13 @@ TEST(PathPlanner, FindsWhatTheGridOracleConnectsAndKeepsTheRadiusFromTheTruth) {
       planning::RoadmapParams rp;
       rp.z0 = z - radius;
       rp.z1 = z + radius;
-      rp.bounds = planning::Bounds2d{-params.room_size / 2, -params.room_size / 2, params.room_size / 2,
-                                     params.room_size / 2};
+      rp.bounds =
+          planning::Bounds2d{-params.room_size / 2, -params.room_size / 2, params.room_size / 2, params.room_size / 2};
       const planning::PathPlanner planner(obstacles, planning::buildRoadmap(obstacles, rp));
       const GridOracle oracle(scene, params.room_size, z, radius + 0.1, 0.05);
       std::mt19937 rng(static_cast<unsigned>(seed * 10 + radius * 10));
-      std::uniform_real_distribution<double> u(-params.room_size / 2 + radius + 0.1, params.room_size / 2 - radius - 0.1);
+      std::uniform_real_distribution<double> u(-params.room_size / 2 + radius + 0.1,
+                                               params.room_size / 2 - radius - 0.1);
       for (int trial = 0; trial < 40; ++trial) {
         const Vector3d start(u(rng), u(rng), z), goal(u(rng), u(rng), z);
         if (!oracle.isFree(start) || !oracle.isFree(goal)) continue;
@@ -124,8 +125,8 @@ TEST(PathPlanner, FindsWhatTheGridOracleConnectsAndKeepsTheRadiusFromTheTruth) {
         }
         ++connected;
         if (!result.path) {
-          ADD_FAILURE() << "seed " << seed << " radius " << radius << ": grid connects " << start.transpose()
-                        << " to " << goal.transpose() << " but plan says: " << result.blocked;
+          ADD_FAILURE() << "seed " << seed << " radius " << radius << ": grid connects " << start.transpose() << " to "
+                        << goal.transpose() << " but plan says: " << result.blocked;
           continue;
         }
         ++found;

@@ -63,7 +63,9 @@ double nearestSite(const std::vector<clustering::Obstacle>& obstacles, const Roa
 }
 
 /// Axis-aligned rectangle [x0, x1] x [y0, y1], counter-clockwise.
-std::vector<Vector2d> rect(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
+std::vector<Vector2d> rect(double x0, double y0, double x1, double y1) {
+  return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+}
 
 /// The walls of a room [0, 6]^2, 0.2 thick, as ONE obstacle (id 1) whose four convex parts touch
 /// along their ends (its whole hull and footprint cover the room), and a box (id 2) in the middle.
@@ -134,7 +136,8 @@ TEST(Roadmap, MinClearanceDropsNarrowEdgesAndKeepsWideOnes) {
     for (std::size_t k = 1; k < e.polyline.size(); ++k) {
       const Vector2d& p = e.polyline[k - 1];
       const Vector2d& q = e.polyline[k];
-      if (std::abs(p.x() - 1.5) < 1e-9 && std::abs(q.x() - 1.5) < 1e-9 && (p.y() - 0.5) * (q.y() - 0.5) < 0) return true;
+      if (std::abs(p.x() - 1.5) < 1e-9 && std::abs(q.x() - 1.5) < 1e-9 && (p.y() - 0.5) * (q.y() - 0.5) < 0)
+        return true;
     }
     return false;
   };
@@ -204,7 +207,8 @@ TEST(Roadmap, TouchingAndOverlappingFootprintsKeepTheRoadmapConnected) {
       EXPECT_GE(nearestSite(obstacles, map, p), std::min(da, db) - 1e-6);
     }
   std::mt19937 rng(7);
-  for (int round = 0; round < 5; ++round) EXPECT_EQ(components(planning::buildRoadmap(randomPolygons(rng, 6, 1.5), {})), 1u);
+  for (int round = 0; round < 5; ++round)
+    EXPECT_EQ(components(planning::buildRoadmap(randomPolygons(rng, 6, 1.5), {})), 1u);
 }
 
 TEST(Roadmap, AVertexOfTwoParallelSegmentsAndAPointKeepsTheRoadmapConnected) {

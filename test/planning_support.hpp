@@ -55,7 +55,8 @@ inline std::vector<clustering::Obstacle> truthObstacles(const mapper::Scene& sce
               c + Eigen::Vector2d(-h.x(), h.y())};
     } else {
       const double r = 0.5 * s.size.x() / std::cos(M_PI / 32);
-      for (int k = 0; k < 32; ++k) poly.push_back(c + r * Eigen::Vector2d(std::cos(2 * M_PI * k / 32), std::sin(2 * M_PI * k / 32)));
+      for (int k = 0; k < 32; ++k)
+        poly.push_back(c + r * Eigen::Vector2d(std::cos(2 * M_PI * k / 32), std::sin(2 * M_PI * k / 32)));
     }
     out.push_back(prism(static_cast<int>(out.size()), poly, z0, z1));
   }

@@ -94,8 +94,9 @@ sensor_msgs::PointCloud2 floatCloud(const std::vector<Eigen::Vector3f>& points, 
 
 TEST(CloudPoints, ReadsEveryFiniteXyzAndCountsTheOthers) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  const std::vector<Eigen::Vector3f> points{{1.5f, 2, 3}, {nan, 0, 0}, {4, 5, 6},
-                                            {7, 8, std::numeric_limits<float>::infinity()}, {-1, -2, -3.25f}, {0, 0, 0}};
+  const std::vector<Eigen::Vector3f> points{{1.5f, 2, 3},     {nan, 0, 0},
+                                            {4, 5, 6},        {7, 8, std::numeric_limits<float>::infinity()},
+                                            {-1, -2, -3.25f}, {0, 0, 0}};
   std::size_t non_finite = 0;
   const io::Points got = cloudPoints(floatCloud(points, 3), &non_finite);
   EXPECT_EQ(non_finite, 2u);
@@ -160,7 +161,8 @@ TEST(ObstacleMarkers, HullTrianglesFootprintsLabelsAndDeletesForStaleIds) {
 
 // Exact oracle: a convex polygon and a closed square meet iff a vertex of one lies in the other or two
 // of their edges cross.
-bool segmentsMeet(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c, const Eigen::Vector2d& d) {
+bool segmentsMeet(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                  const Eigen::Vector2d& d) {
   const auto cross = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); };
   const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a), d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
   return ((d1 > 0) != (d2 > 0) || d1 == 0 || d2 == 0) && ((d3 > 0) != (d4 > 0) || d3 == 0 || d4 == 0) &&
@@ -210,7 +212,8 @@ TEST(ProjectedMap, MarksExactlyTheCellsTheFootprintsInTheBandTouch) {
   std::size_t occupied = 0;
   for (std::uint32_t r = 0; r < grid.info.height; ++r) {
     for (std::uint32_t c = 0; c < grid.info.width; ++c) {
-      const Eigen::Vector2d lo(grid.info.origin.position.x + c * resolution, grid.info.origin.position.y + r * resolution);
+      const Eigen::Vector2d lo(grid.info.origin.position.x + c * resolution,
+                               grid.info.origin.position.y + r * resolution);
       const Eigen::Vector2d hi = lo + Eigen::Vector2d::Constant(resolution);
       bool expected = false;
       for (const auto& o : obstacles) {

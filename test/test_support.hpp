@@ -32,11 +32,11 @@ inline std::filesystem::path freshDir(const std::string& name) {
 }
 
 /// Skips the current test, saying which real-data file is missing.
-#define HULLMAP_REQUIRE_REAL_DATA(var, name)                                            \
-  const std::string var = ::hullmap::test::realData(name);                               \
-  if (var.empty()) {                                                                     \
-    GTEST_SKIP() << "real data " << name << " not found in " << HULLMAP_REAL_DATA_DIR    \
-                 << " (shared/data/real beside the checkout)";                           \
+#define HULLMAP_REQUIRE_REAL_DATA(var, name)                                          \
+  const std::string var = ::hullmap::test::realData(name);                            \
+  if (var.empty()) {                                                                  \
+    GTEST_SKIP() << "real data " << name << " not found in " << HULLMAP_REAL_DATA_DIR \
+                 << " (shared/data/real beside the checkout)";                        \
   }
 
 }  // namespace hullmap::test
@@ -52,7 +52,7 @@ inline std::filesystem::path freshDir(const std::string& name) {
 namespace hullmap::test {
 
 struct CommandResult {
-  int status = -1;     ///< exit status, or -1 when killed by a signal
+  int status = -1;  ///< exit status, or -1 when killed by a signal
   std::string out;
   std::string err;
 };
@@ -73,8 +73,8 @@ inline CommandResult runHullmap(const std::string& args) {
   const auto dir = std::filesystem::path(HULLMAP_TEST_TMP) / "cmd";
   std::filesystem::create_directories(dir);
   const std::string stem = (dir / ("run" + std::to_string(::getpid()) + "_" + std::to_string(counter++))).string();
-  const std::string command = std::string("'") + HULLMAP_BINARY + "' " + args + " >" + stem + ".out 2>" +
-                              stem + ".err </dev/null";
+  const std::string command =
+      std::string("'") + HULLMAP_BINARY + "' " + args + " >" + stem + ".out 2>" + stem + ".err </dev/null";
   const int raw = std::system(command.c_str());
   CommandResult r;
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
@@ -178,8 +178,10 @@ ReadOutcome readOutcome(const std::string& name, Read&& read) {
     o.stats = read(consume);
   } catch (const Error& e) {
     o.error = e.what();
-    if (o.error.rfind(name, 0) == 0) o.error.erase(0, name.size());
-    else o.error = "(the message does not start with " + name + ") " + o.error;
+    if (o.error.rfind(name, 0) == 0)
+      o.error.erase(0, name.size());
+    else
+      o.error = "(the message does not start with " + name + ") " + o.error;
     o.points.clear();
   }
   return o;
@@ -195,16 +197,16 @@ inline ::testing::AssertionResult sameOutcome(const ReadOutcome& want, const Rea
   }
   for (std::size_t i = 0; i < want.points.size(); ++i) {
     if (want.points[i] != got.points[i]) {
-      return ::testing::AssertionFailure() << "point " << i << " is (" << got.points[i].transpose()
-                                           << "), expected (" << want.points[i].transpose() << ")";
+      return ::testing::AssertionFailure() << "point " << i << " is (" << got.points[i].transpose() << "), expected ("
+                                           << want.points[i].transpose() << ")";
     }
   }
   if (want.stats.read != got.stats.read || want.stats.dropped != got.stats.dropped ||
       want.stats.format != got.stats.format) {
-    return ::testing::AssertionFailure() << "stats differ: read " << got.stats.read << " (expected "
-                                         << want.stats.read << "), dropped " << got.stats.droppedTotal()
-                                         << " (expected " << want.stats.droppedTotal() << "), format "
-                                         << got.stats.format << " (expected " << want.stats.format << ")";
+    return ::testing::AssertionFailure() << "stats differ: read " << got.stats.read << " (expected " << want.stats.read
+                                         << "), dropped " << got.stats.droppedTotal() << " (expected "
+                                         << want.stats.droppedTotal() << "), format " << got.stats.format
+                                         << " (expected " << want.stats.format << ")";
   }
   return ::testing::AssertionSuccess();
 }
@@ -222,9 +224,8 @@ inline ReadOutcome parseOutcome(const std::string& bytes, const std::string& nam
 inline ReadOutcome streamOutcome(const std::string& bytes, const std::string& name, std::size_t batch_points) {
   io::PointStreamParams params;
   params.batch_points = batch_points;
-  return readOutcome(name, [&](const io::PointBatchConsumer& consume) {
-    return io::streamPoints(bytes, name, params, consume);
-  });
+  return readOutcome(
+      name, [&](const io::PointBatchConsumer& consume) { return io::streamPoints(bytes, name, params, consume); });
 }
 
 /// streamPointFile on `path` (a file holding the bytes, or a pipe carrying them).
@@ -232,9 +233,8 @@ inline ReadOutcome fileOutcome(const std::string& path, std::size_t batch_points
   io::PointStreamParams params;
   params.batch_points = batch_points;
   params.read_bytes = read_bytes;
-  return readOutcome(path, [&](const io::PointBatchConsumer& consume) {
-    return io::streamPointFile(path, params, consume);
-  });
+  return readOutcome(path,
+                     [&](const io::PointBatchConsumer& consume) { return io::streamPointFile(path, params, consume); });
 }
 
 }  // namespace hullmap::test

@@ -35,10 +35,10 @@ using nlohmann::json;
 
 bool haveThree() { return fs::exists(fs::path(view::kThreeDir) / "three.min.js"); }
 
-#define HULLMAP_REQUIRE_THREE()                                                                       \
-  if (!haveThree()) {                                                                                 \
-    GTEST_SKIP() << view::kThreeDir << "/three.min.js not found: install Debian's libjs-three "      \
-                 << "(./setup.sh test does)";                                                         \
+#define HULLMAP_REQUIRE_THREE()                                                                 \
+  if (!haveThree()) {                                                                           \
+    GTEST_SKIP() << view::kThreeDir << "/three.min.js not found: install Debian's libjs-three " \
+                 << "(./setup.sh test does)";                                                   \
   }
 
 // ---------------------------------------------------------------- decoding, as the page does
@@ -49,12 +49,18 @@ std::string decodeBase64(const std::string& text) {
   int count = 0;
   for (char c : text) {
     int v;
-    if (c >= 'A' && c <= 'Z') v = c - 'A';
-    else if (c >= 'a' && c <= 'z') v = c - 'a' + 26;
-    else if (c >= '0' && c <= '9') v = c - '0' + 52;
-    else if (c == '+') v = 62;
-    else if (c == '/') v = 63;
-    else break;  // '='
+    if (c >= 'A' && c <= 'Z')
+      v = c - 'A';
+    else if (c >= 'a' && c <= 'z')
+      v = c - 'a' + 26;
+    else if (c >= '0' && c <= '9')
+      v = c - '0' + 52;
+    else if (c == '+')
+      v = 62;
+    else if (c == '/')
+      v = 63;
+    else
+      break;  // '='
     bits = bits << 6 | static_cast<std::uint32_t>(v);
     count += 6;
     if (count >= 8) {
@@ -136,8 +142,8 @@ struct Voxel {
 int rankOf(std::int32_t l) { return l >= 0 ? 0 : -l; }
 
 // Per cell of factor f: label by the documented priority, voxel count.
-std::map<std::array<long, 3>, std::pair<std::int32_t, std::size_t>> oracleCells(const std::vector<Voxel>& voxels, long f,
-                                                                               const std::array<long, 3>& lo) {
+std::map<std::array<long, 3>, std::pair<std::int32_t, std::size_t>> oracleCells(const std::vector<Voxel>& voxels,
+                                                                                long f, const std::array<long, 3>& lo) {
   std::map<std::array<long, 3>, std::vector<std::int32_t>> members;
   for (const auto& v : voxels) {
     std::array<long, 3> m;
@@ -430,7 +436,8 @@ TEST(ViewPage, TruthShapesAreWireframes) {
   const Eigen::Vector3d shift(data["shift"][0], data["shift"][1], data["shift"][2]);
   // Every end of the box's edges is one of its 8 corners (yawed by 0.5 rad about z).
   for (std::size_t e = 0; e < 24; ++e) {
-    const Eigen::Vector3d p(segments[3 * e] + shift.x(), segments[3 * e + 1] + shift.y(), segments[3 * e + 2] + shift.z());
+    const Eigen::Vector3d p(segments[3 * e] + shift.x(), segments[3 * e + 1] + shift.y(),
+                            segments[3 * e + 2] + shift.z());
     const Eigen::Vector3d q = p - Eigen::Vector3d(1, 2, 0.5);
     const double c = std::cos(-0.5), s = std::sin(-0.5);
     const Eigen::Vector3d local(c * q.x() - s * q.y(), s * q.x() + c * q.y(), q.z());

@@ -31,7 +31,7 @@ class CellTable {
   }
   /// The index of `c`, inserting `next` for it when absent; second: whether it was inserted.
   std::pair<std::uint32_t, bool> insert(const Cell& c, std::uint32_t next) {
-    for (std::size_t i = CellHash{}(c) & mask_;; i = (i + 1) & mask_) {
+    for (std::size_t i = CellHash{}(c)&mask_;; i = (i + 1) & mask_) {
       Slot& s = slots_[i];
       if (s.index == kEmpty) {
         s = {c, next};
@@ -42,7 +42,7 @@ class CellTable {
   }
   /// The index of `c`, or kEmpty.
   std::uint32_t find(const Cell& c) const {
-    for (std::size_t i = CellHash{}(c) & mask_;; i = (i + 1) & mask_) {
+    for (std::size_t i = CellHash{}(c)&mask_;; i = (i + 1) & mask_) {
       const Slot& s = slots_[i];
       if (s.index == kEmpty || s.cell == c) return s.index;
     }
@@ -70,14 +70,15 @@ ClusterExtension extendClusters(const std::vector<Eigen::Vector3d>& points, cons
   if (!(std::isfinite(params.eps) && params.eps > 0.0)) throw Error::inParameter("eps", "must be finite and > 0");
   if (params.min_pts < 1) throw Error::inParameter("min_pts", "must be >= 1, got " + std::to_string(params.min_pts));
   if (!(std::isfinite(params.reach) && params.reach >= params.eps))
-    throw Error::inParameter("reach", "must be finite and >= eps (" + number(params.eps) + "), got " +
-                                          number(params.reach));
+    throw Error::inParameter("reach",
+                             "must be finite and >= eps (" + number(params.eps) + "), got " + number(params.reach));
   const std::size_t n = points.size();
   if (!weights.empty() && weights.size() != n)
-    throw Error::inParameter("weights", std::to_string(weights.size()) + " weights for " + std::to_string(n) + " points");
+    throw Error::inParameter("weights",
+                             std::to_string(weights.size()) + " weights for " + std::to_string(n) + " points");
   if (result.labels.size() != n)
-    throw Error::inParameter("labels", std::to_string(result.labels.size()) + " labels for " + std::to_string(n) +
-                                           " points");
+    throw Error::inParameter("labels",
+                             std::to_string(result.labels.size()) + " labels for " + std::to_string(n) + " points");
   const auto clusters = static_cast<std::int64_t>(result.cluster_sizes.size());
   for (std::size_t i = 0; i < n; ++i) {
     if (!points[i].allFinite()) throw Error::inParameter("points", "point " + std::to_string(i) + " is not finite");

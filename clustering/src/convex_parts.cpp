@@ -29,9 +29,9 @@ using detail::Cell;
 using detail::cross;
 using detail::dot;
 using detail::exactTransform;
-using detail::inside;
 using detail::FacetHull;
 using detail::facetHull;
+using detail::inside;
 using detail::Plane;
 using detail::sub;
 
@@ -63,14 +63,14 @@ using Members = std::vector<std::uint32_t>;  ///< sorted indices into the cluste
 /// The check of one part against T (see splitConvexParts).
 struct Check {
   bool ok = true;
-  bool too_big = false;            ///< box over max_check_cells: not checked
-  std::int64_t worst_d2 = 0;       ///< largest squared centre distance (cells^2) over the hull's cells
+  bool too_big = false;       ///< box over max_check_cells: not checked
+  std::int64_t worst_d2 = 0;  ///< largest squared centre distance (cells^2) over the hull's cells
   Eigen::Vector3d split_point = Eigen::Vector3d::Zero();  ///< where to cut, lattice coordinates
   FacetHull hull;
   std::size_t keyframes_in_voxels = 0;
-  bool flat = false;               ///< passed as a flat part (hull width <= T, distances within G)
-  bool filled = false;             ///< enclosed cells counted as the part's own
-  bool faces = false;              ///< passed by the face-hole rule (distances within G in a facet's slab)
+  bool flat = false;    ///< passed as a flat part (hull width <= T, distances within G)
+  bool filled = false;  ///< enclosed cells counted as the part's own
+  bool faces = false;   ///< passed by the face-hole rule (distances within G in a facet's slab)
 };
 
 /// One cluster on its lattice, and the work on it.
@@ -278,15 +278,15 @@ class ClusterSplitter {
         check.faces = true;
       } else {
         check.ok = false;
-        check.split_point = Eigen::Vector3d(double(worst_cell[0]) + 0.5, double(worst_cell[1]) + 0.5,
-                                            double(worst_cell[2]) + 0.5);
+        check.split_point =
+            Eigen::Vector3d(double(worst_cell[0]) + 0.5, double(worst_cell[1]) + 0.5, double(worst_cell[2]) + 0.5);
         return check;
       }
     }
     if (double(check.worst_d2) > (check.flat || check.faces ? g2_ : t2_)) {
       check.ok = false;
-      check.split_point = Eigen::Vector3d(double(worst_cell[0]) + 0.5, double(worst_cell[1]) + 0.5,
-                                          double(worst_cell[2]) + 0.5);
+      check.split_point =
+          Eigen::Vector3d(double(worst_cell[0]) + 0.5, double(worst_cell[1]) + 0.5, double(worst_cell[2]) + 0.5);
       return check;
     }
     for (const auto& x : keyframes_) {
@@ -354,7 +354,9 @@ class ClusterSplitter {
     const std::int64_t px = nx + 2 * m, py = ny + 2 * m, pz = nz + 2 * m;
     // 0: open, not reached; 1: blocked; 2: reached from outside.
     std::vector<char> state(std::size_t(px * py * pz), 0);
-    const auto padded = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return std::size_t((k * py + j) * px + i); };
+    const auto padded = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+      return std::size_t((k * py + j) * px + i);
+    };
     for (std::int64_t k = 0; k < nz; ++k)
       for (std::int64_t j = 0; j < ny; ++j)
         for (std::int64_t i = 0; i < nx; ++i)
@@ -417,8 +419,8 @@ class ClusterSplitter {
   std::optional<Slab> thinSlab(const FacetHull& hull, const std::vector<Cell>& cells) const {
     for (const auto& p : hull.planes) {
       const double norm = std::sqrt(double(dot(p.n, p.n)));
-      const std::int64_t corner = std::min<std::int64_t>(p.n[0], 0) + std::min<std::int64_t>(p.n[1], 0) +
-                                  std::min<std::int64_t>(p.n[2], 0);
+      const std::int64_t corner =
+          std::min<std::int64_t>(p.n[0], 0) + std::min<std::int64_t>(p.n[1], 0) + std::min<std::int64_t>(p.n[2], 0);
       std::int64_t lo = p.d;
       for (const auto& c : cells) lo = std::min(lo, dot(p.n, c) + corner);
       if (double(p.d - lo) <= t_ * norm * (1.0 + 1e-12)) return Slab{p.n, lo, p.d};
@@ -521,7 +523,8 @@ class ClusterSplitter {
       for (const auto x : c)
         if (x < -(std::int64_t(1) << 19) || x >= (std::int64_t(1) << 19)) return;
     const auto pack = [](const Cell& c) {
-      return (std::uint64_t(c[0] + (1 << 20)) << 42) | (std::uint64_t(c[1] + (1 << 20)) << 21) | std::uint64_t(c[2] + (1 << 20));
+      return (std::uint64_t(c[0] + (1 << 20)) << 42) | (std::uint64_t(c[1] + (1 << 20)) << 21) |
+             std::uint64_t(c[2] + (1 << 20));
     };
     std::vector<std::pair<std::uint64_t, std::uint32_t>> occupied;
     occupied.reserve(cells_.size());
@@ -599,8 +602,9 @@ class ClusterSplitter {
       std::optional<std::uint32_t> pick;
       for (const auto i : rest) {
         if (clump_[i] == kNoClump) continue;
-        const Eigen::Vector3d d = Eigen::Vector3d(double(cells_[i][0]) + 0.5, double(cells_[i][1]) + 0.5,
-                                                  double(cells_[i][2]) + 0.5) - now.split_point;
+        const Eigen::Vector3d d =
+            Eigen::Vector3d(double(cells_[i][0]) + 0.5, double(cells_[i][1]) + 0.5, double(cells_[i][2]) + 0.5) -
+            now.split_point;
         if (d.squaredNorm() <= best) {
           if (!pick || d.squaredNorm() < best) pick = i;
           best = d.squaredNorm();
@@ -677,8 +681,10 @@ class ClusterSplitter {
     slabs.reserve(hull.planes.size());
     for (const auto& p : hull.planes) {
       const double norm = std::sqrt(double(dot(p.n, p.n)));
-      slabs.push_back({p.n, std::min<std::int64_t>(p.n[0], 0) + std::min<std::int64_t>(p.n[1], 0) + std::min<std::int64_t>(p.n[2], 0),
-                       double(p.d) - t_ * norm * (1.0 + 1e-12), double(p.d) - kFaceLayers * norm * (1.0 + 1e-12)});
+      slabs.push_back(
+          {p.n,
+           std::min<std::int64_t>(p.n[0], 0) + std::min<std::int64_t>(p.n[1], 0) + std::min<std::int64_t>(p.n[2], 0),
+           double(p.d) - t_ * norm * (1.0 + 1e-12), double(p.d) - kFaceLayers * norm * (1.0 + 1e-12)});
     }
     const std::int64_t nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1;
     const auto at = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
@@ -709,7 +715,8 @@ class ClusterSplitter {
                 site[2] > hi[2] || d2[at(site[0], site[1], site[2])] != 0.0f)
               continue;
             for (std::size_t h = 0; h < holding.size(); ++h)
-              if (!found[h] && double(dot(slabs[holding[h]].n, site) + slabs[holding[h]].corner) >= slabs[holding[h]].on) {
+              if (!found[h] &&
+                  double(dot(slabs[holding[h]].n, site) + slabs[holding[h]].corner) >= slabs[holding[h]].on) {
                 found[h] = 1;
                 --missing;
               }
@@ -739,8 +746,8 @@ class ClusterSplitter {
       const double norm = std::sqrt(double(dot(p.n, p.n)));
       // Wider than T once some cube reaches below d - T |n|.
       const double limit = double(p.d) - t_ * norm * (1.0 + 1e-12);
-      const std::int64_t corner = std::min<std::int64_t>(p.n[0], 0) + std::min<std::int64_t>(p.n[1], 0) +
-                                  std::min<std::int64_t>(p.n[2], 0);
+      const std::int64_t corner =
+          std::min<std::int64_t>(p.n[0], 0) + std::min<std::int64_t>(p.n[1], 0) + std::min<std::int64_t>(p.n[2], 0);
       bool wide = false;
       for (const auto& c : cells)
         if (double(dot(p.n, c) + corner) < limit) {
@@ -782,7 +789,8 @@ class ClusterSplitter {
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> pca(cov);
       for (int a = 2; a >= 0; --a) planes.emplace_back(pca.eigenvectors().col(a), check.split_point);
       for (int a = 0; a < 3; ++a)
-        if (const auto cut = bestBoxCut(part, a)) planes.emplace_back(Eigen::Vector3d::Unit(a), Eigen::Vector3d::Constant(double(*cut)));
+        if (const auto cut = bestBoxCut(part, a))
+          planes.emplace_back(Eigen::Vector3d::Unit(a), Eigen::Vector3d::Constant(double(*cut)));
       // Distinct cuts (planes that cut the same way are scored once), scored in parallel; the
       // smallest summed hull volume wins, ties to the first candidate (thread-count independent).
       std::vector<std::pair<Members, Members>> cuts;
@@ -1011,18 +1019,18 @@ class ClusterSplitter {
 
   std::vector<Cell> cells_;
   bool fill_enclosed_;
-  bool face_holes_;  ///< merges also use the face-hole rule (ConvexPartsParams::face_holes)
+  bool face_holes_;                ///< merges also use the face-hole rule (ConvexPartsParams::face_holes)
   std::optional<double> floor_k_;  ///< the floor's height, lattice units (k of the corner lattice)
-  double rho2_;  ///< max(T, G)^2, cells^2: the closing radius when finding enclosed cells
+  double rho2_;                    ///< max(T, G)^2, cells^2: the closing radius when finding enclosed cells
   static constexpr std::uint32_t kNoClump = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::uint32_t> clump_;  ///< per cell: its stray clump's id, kNoClump when none (findStrays)
-  std::vector<char> enclosed_;     ///< over the cluster's box [enc_lo_, enc_hi_], x fastest
+  std::vector<char> enclosed_;        ///< over the cluster's box [enc_lo_, enc_hi_], x fastest
   std::size_t enclosed_count_ = 0;
   Cell enc_lo_{0, 0, 0}, enc_hi_{0, 0, 0};
-  double t_;    ///< T, cells
-  double t2_;   ///< T^2, cells^2 (with a relative 1e-12 for rounding)
-  double g2_;   ///< G^2 >= T^2: the bound of a flat part
-  std::int64_t reach_;  ///< floor(max(T, G))
+  double t_;                                  ///< T, cells
+  double t2_;                                 ///< T^2, cells^2 (with a relative 1e-12 for rounding)
+  double g2_;                                 ///< G^2 >= T^2: the bound of a flat part
+  std::int64_t reach_;                        ///< floor(max(T, G))
   std::vector<std::pair<Cell, float>> ball_;  ///< offsets within max(T, G) (squared length, cells^2), nearest first
   std::size_t max_check_cells_;
   std::vector<Eigen::Vector3d> keyframes_;  ///< lattice coordinates
@@ -1037,9 +1045,10 @@ struct ClusterLattice {
 ClusterLattice toLattice(const std::vector<Eigen::Vector3d>& centers, double voxel_size) {
   ClusterLattice lattice;
   // The same origin as buildObstacles: the lower corner of the lexicographically smallest centre.
-  const auto anchor = std::min_element(centers.begin(), centers.end(), [](const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
-    return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
-  });
+  const auto anchor =
+      std::min_element(centers.begin(), centers.end(), [](const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+        return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
+      });
   lattice.origin = *anchor - Eigen::Vector3d::Constant(0.5 * voxel_size);
   for (const auto& c : centers) lattice.cells.push_back(detail::latticeIndex(c, lattice.origin, voxel_size));
   return lattice;
@@ -1110,15 +1119,15 @@ double adaptedFlatGap(const std::vector<Eigen::Vector3d>& centers, double voxel_
   for (std::int64_t i = -reach; i <= reach; ++i)
     for (std::int64_t j = -reach; j <= reach; ++j)
       for (std::int64_t k = -reach; k <= reach; ++k)
-        if ((i != 0 || j != 0 || k != 0) && double(i * i + j * j + k * k) <= r2_cells)
-          ball.push_back({i, j, k});
+        if ((i != 0 || j != 0 || k != 0) && double(i * i + j * j + k * k) <= r2_cells) ball.push_back({i, j, k});
   // Neighbours within G of every stride-th cell (at most kAdaptSamples of them, deterministic).
   const std::size_t stride = (lattice.cells.size() + kAdaptSamples - 1) / kAdaptSamples;
   std::vector<std::size_t> counts;
   for (std::size_t s = 0; s < lattice.cells.size(); s += stride) {
     const Cell& c = lattice.cells[s];
     std::size_t count = 0;
-    for (const auto& o : ball) count += std::binary_search(keys.begin(), keys.end(), key(c[0] + o[0], c[1] + o[1], c[2] + o[2]));
+    for (const auto& o : ball)
+      count += std::binary_search(keys.begin(), keys.end(), key(c[0] + o[0], c[1] + o[1], c[2] + o[2]));
     counts.push_back(count);
   }
   // The lower quartile: the sparser stretches of the surface, not its dense edges.
@@ -1165,8 +1174,8 @@ SplitResult splitCluster(const std::vector<Eigen::Vector3d>& centers, double vox
 
 double defaultConcavity(double voxel_size) { return 3.0 * voxel_size; }
 
-std::vector<std::vector<std::size_t>> splitConvexParts(const std::vector<Eigen::Vector3d>& centers,
-                                                       double voxel_size, const ConvexPartsParams& params,
+std::vector<std::vector<std::size_t>> splitConvexParts(const std::vector<Eigen::Vector3d>& centers, double voxel_size,
+                                                       const ConvexPartsParams& params,
                                                        const std::vector<Eigen::Vector3d>& keyframes) {
   const double t = resolveConcavity(params, voxel_size);
   resolveFlatGap(params, t);  // throws on a bad flat_gap
@@ -1178,23 +1187,23 @@ std::vector<std::vector<std::size_t>> splitConvexParts(const std::vector<Eigen::
 }
 
 ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::vector<Eigen::Vector3d>& centers,
-                                  const std::vector<std::uint32_t>& weights,
-                                  const std::vector<std::int32_t>& labels, double voxel_size,
-                                  const ConvexPartsParams& params, const KnownFreeSpace& known) {
+                                  const std::vector<std::uint32_t>& weights, const std::vector<std::int32_t>& labels,
+                                  double voxel_size, const ConvexPartsParams& params, const KnownFreeSpace& known) {
   const double t = resolveConcavity(params, voxel_size);
   const double g = resolveFlatGap(params, t);
   checkFloor(params);
   if (labels.size() != centers.size())
-    throw Error("addConvexParts: " + std::to_string(labels.size()) + " labels for " +
-                std::to_string(centers.size()) + " voxels");
+    throw Error("addConvexParts: " + std::to_string(labels.size()) + " labels for " + std::to_string(centers.size()) +
+                " voxels");
   if (!weights.empty() && weights.size() != centers.size())
-    throw Error("addConvexParts: " + std::to_string(weights.size()) + " weights for " +
-                std::to_string(centers.size()) + " voxels");
+    throw Error("addConvexParts: " + std::to_string(weights.size()) + " weights for " + std::to_string(centers.size()) +
+                " voxels");
   std::map<std::int32_t, std::vector<std::size_t>> clusters;
   for (std::size_t i = 0; i < centers.size(); ++i)
     if (labels[i] >= 0) clusters[labels[i]].push_back(i);
   for (const auto& o : obstacles)
-    if (!clusters.count(o.id)) throw Error("addConvexParts: obstacle id " + std::to_string(o.id) + " is no label of the voxels");
+    if (!clusters.count(o.id))
+      throw Error("addConvexParts: obstacle id " + std::to_string(o.id) + " is no label of the voxels");
   // Free voxel centres sorted by x, for a range per part.
   std::vector<Eigen::Vector3d> free = known.free_voxels;
   std::sort(free.begin(), free.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {

@@ -132,9 +132,9 @@ CoplanarMerge mergeCoplanarClusters(const std::vector<Eigen::Vector3d>& points, 
       // A's points nearest to B, as many as B has (at least 3): the surface around B.
       std::vector<std::size_t>& around = near[a];
       const std::size_t m = std::min(around.size(), std::max<std::size_t>(3, members[b].size()));
-      std::partial_sort(around.begin(), around.begin() + std::ptrdiff_t(m), around.end(), [&](std::size_t x, std::size_t y) {
-        return gap2[x] < gap2[y] || (gap2[x] == gap2[y] && x < y);
-      });
+      std::partial_sort(
+          around.begin(), around.begin() + std::ptrdiff_t(m), around.end(),
+          [&](std::size_t x, std::size_t y) { return gap2[x] < gap2[y] || (gap2[x] == gap2[y] && x < y); });
       std::vector<std::size_t> both = members[b];
       both.insert(both.end(), around.begin(), around.begin() + std::ptrdiff_t(m));
       const Eigen::Matrix3d axes = principalAxes(points, both);

@@ -119,7 +119,8 @@ template <int D>
 inline double minSquaredDistance(const CellBox& a, const CellBox& b) {
   double s = 0.0;
   for (int k = 0; k < D; ++k) {
-    const double d = a.hi[k] < b.lo[k] ? double(b.lo[k]) - a.hi[k] : (b.hi[k] < a.lo[k] ? double(a.lo[k]) - b.hi[k] : 0.0);
+    const double d =
+        a.hi[k] < b.lo[k] ? double(b.lo[k]) - a.hi[k] : (b.hi[k] < a.lo[k] ? double(a.lo[k]) - b.hi[k] : 0.0);
     s += d * d;
   }
   return s;
@@ -174,9 +175,13 @@ struct BigAllocator {
   }
 
   template <typename U>
-  bool operator==(const BigAllocator<U>&) const { return true; }
+  bool operator==(const BigAllocator<U>&) const {
+    return true;
+  }
   template <typename U>
-  bool operator!=(const BigAllocator<U>&) const { return false; }
+  bool operator!=(const BigAllocator<U>&) const {
+    return false;
+  }
 };
 
 template <typename T>
@@ -302,7 +307,8 @@ inline void sortByKey(BigVector<KeyedPoint>& items) {
   BigVector<Item> sorted(n);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
     std::uint32_t* next = &offsets[c * kBuckets];
-    for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) sorted[next[bucketOf(items[i])]++] = items[i];
+    for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i)
+      sorted[next[bucketOf(items[i])]++] = items[i];
   });
   // Each bucket, still in index order (the scatter is stable), goes back into `items` sorted: a
   // counting sort on the low 12 key bits (the cell inside its block; stable), then, only when the
@@ -413,7 +419,8 @@ class GridDbscan {
         [&](const tbb::blocked_range<std::size_t>& r, bool mixed) {
           for (std::size_t c = r.begin(); c != r.end(); ++c) {
             coords_[c] = cellOf(pts_[run_start[c]]);
-            for (Index j = run_start[c] + 1; j < run_start[c + 1] && !mixed; ++j) mixed = !(cellOf(pts_[j]) == coords_[c]);
+            for (Index j = run_start[c] + 1; j < run_start[c + 1] && !mixed; ++j)
+              mixed = !(cellOf(pts_[j]) == coords_[c]);
           }
           return mixed;
         },
@@ -846,18 +853,18 @@ class GridDbscan {
   double side_ = 0.0;
   double inv_side_ = 0.0;
 
-  BigVector<Eigen::Vector3d> pts_;       // points sorted by cell
-  BigVector<Index> order_;               // sorted position -> input index
-  BigVector<Index> start_;               // cell -> first sorted position; size cells + 1
-  BigVector<CellCoord> coords_;          // cell -> grid coordinates
-  BigVector<CellBox> boxes_;             // cell -> bounding box of its points
-  BigVector<std::uint64_t> cell_weight_; // cell -> summed weight
+  BigVector<Eigen::Vector3d> pts_;        // points sorted by cell
+  BigVector<Index> order_;                // sorted position -> input index
+  BigVector<Index> start_;                // cell -> first sorted position; size cells + 1
+  BigVector<CellCoord> coords_;           // cell -> grid coordinates
+  BigVector<CellBox> boxes_;              // cell -> bounding box of its points
+  BigVector<std::uint64_t> cell_weight_;  // cell -> summed weight
   std::unique_ptr<CellTable> table_;
-  BigVector<std::uint8_t> core_;         // sorted position -> core
-  BigVector<std::uint8_t> cell_core_;    // cell -> kNoCore, kSomeCore, kAllCore
+  BigVector<std::uint8_t> core_;       // sorted position -> core
+  BigVector<std::uint8_t> cell_core_;  // cell -> kNoCore, kSomeCore, kAllCore
   std::unique_ptr<UnionFind> sets_;
-  std::vector<Index> group_start_;       // group -> first cell; size groups + 1 (k-distance only)
-  std::vector<CellBox> group_boxes_;     // group -> bounding box of its cells
+  std::vector<Index> group_start_;    // group -> first cell; size groups + 1 (k-distance only)
+  std::vector<CellBox> group_boxes_;  // group -> bounding box of its cells
 };
 
 }  // namespace

@@ -11,7 +11,8 @@ namespace hullmap::clustering::detail {
 namespace {
 
 /// Squared Euclidean distance transform along one line (Felzenszwalb and Huttenlocher 2012).
-void distanceTransform1d(std::vector<double>& f, std::vector<double>& out, std::vector<int>& v, std::vector<double>& z) {
+void distanceTransform1d(std::vector<double>& f, std::vector<double>& out, std::vector<int>& v,
+                         std::vector<double>& z) {
   const int n = int(f.size());
   v.resize(std::size_t(n));
   z.resize(std::size_t(n) + 1);

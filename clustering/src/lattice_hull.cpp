@@ -46,7 +46,8 @@ std::vector<std::array<std::uint32_t, 3>> integerHull(const std::vector<Cell>& p
   const std::array<std::uint32_t, 4> t{0, std::uint32_t(i1), std::uint32_t(i2), std::uint32_t(i3)};
   for (const auto& [a, b, c, opposite] : {std::array<int, 4>{0, 1, 2, 3}, {0, 1, 3, 2}, {0, 2, 3, 1}, {1, 2, 3, 0}}) {
     Face f = makeFace(t[std::size_t(a)], t[std::size_t(b)], t[std::size_t(c)]);
-    if (side(f, points[t[std::size_t(opposite)]]) > 0) f = makeFace(t[std::size_t(a)], t[std::size_t(c)], t[std::size_t(b)]);
+    if (side(f, points[t[std::size_t(opposite)]]) > 0)
+      f = makeFace(t[std::size_t(a)], t[std::size_t(c)], t[std::size_t(b)]);
     faces.push_back(f);
   }
   // Each point sees the faces it is strictly outside of; the edges of those faces whose reverse
@@ -61,7 +62,8 @@ std::vector<std::array<std::uint32_t, 3>> integerHull(const std::vector<Cell>& p
     for (std::size_t f = 0; f < faces.size(); ++f) {
       sees[f] = side(faces[f], points[i]) > 0;
       if (sees[f])
-        for (int e = 0; e < 3; ++e) seen_edges.emplace_back(faces[f].v[std::size_t(e)], faces[f].v[std::size_t((e + 1) % 3)]);
+        for (int e = 0; e < 3; ++e)
+          seen_edges.emplace_back(faces[f].v[std::size_t(e)], faces[f].v[std::size_t((e + 1) % 3)]);
     }
     if (seen_edges.empty()) continue;
     horizon.clear();
@@ -73,7 +75,8 @@ std::vector<std::array<std::uint32_t, 3>> integerHull(const std::vector<Cell>& p
       sorted_edges = seen_edges;
       std::sort(sorted_edges.begin(), sorted_edges.end());
       for (const auto& [u, v] : seen_edges)
-        if (!std::binary_search(sorted_edges.begin(), sorted_edges.end(), std::make_pair(v, u))) horizon.emplace_back(u, v);
+        if (!std::binary_search(sorted_edges.begin(), sorted_edges.end(), std::make_pair(v, u)))
+          horizon.emplace_back(u, v);
     }
     kept.clear();
     for (std::size_t f = 0; f < faces.size(); ++f)
@@ -112,9 +115,8 @@ FacetHull facetHull(const std::vector<Cell>& cells) {
     hull.planes.push_back({n, dot(n, p)});
   }
   std::sort(hull.planes.begin(), hull.planes.end());
-  hull.planes.erase(std::unique(hull.planes.begin(), hull.planes.end(), [](const Plane& a, const Plane& b) {
-                      return !(a < b) && !(b < a);
-                    }),
+  hull.planes.erase(std::unique(hull.planes.begin(), hull.planes.end(),
+                                [](const Plane& a, const Plane& b) { return !(a < b) && !(b < a); }),
                     hull.planes.end());
   return hull;
 }

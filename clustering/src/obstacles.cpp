@@ -259,7 +259,8 @@ LatticeHull canonical(const LatticeHull& hull, int id) {
   std::vector<int> used;
   for (const auto& loop : loops) used.insert(used.end(), loop.begin(), loop.end());
   std::sort(used.begin(), used.end(), [&](int a, int b) {
-    return hull.vertices[std::size_t(a)] < hull.vertices[std::size_t(b)] || (hull.vertices[std::size_t(a)] == hull.vertices[std::size_t(b)] && a < b);
+    return hull.vertices[std::size_t(a)] < hull.vertices[std::size_t(b)] ||
+           (hull.vertices[std::size_t(a)] == hull.vertices[std::size_t(b)] && a < b);
   });
   used.erase(std::unique(used.begin(), used.end()), used.end());
   LatticeHull out;
@@ -409,16 +410,16 @@ std::vector<Eigen::Vector2d> convexHull2d(std::vector<Eigen::Vector2d> points) {
 }
 
 std::vector<Obstacle> buildObstacles(const std::vector<Eigen::Vector3d>& centers,
-                                     const std::vector<std::uint32_t>& weights,
-                                     const std::vector<std::int32_t>& labels, double voxel_size) {
+                                     const std::vector<std::uint32_t>& weights, const std::vector<std::int32_t>& labels,
+                                     double voxel_size) {
   if (!(voxel_size > 0) || !std::isfinite(voxel_size))
     throw Error::inParameter("voxel_size", "must be positive, got " + std::to_string(voxel_size));
   if (labels.size() != centers.size())
-    throw Error("buildObstacles: " + std::to_string(labels.size()) + " labels for " +
-                std::to_string(centers.size()) + " voxels");
+    throw Error("buildObstacles: " + std::to_string(labels.size()) + " labels for " + std::to_string(centers.size()) +
+                " voxels");
   if (!weights.empty() && weights.size() != centers.size())
-    throw Error("buildObstacles: " + std::to_string(weights.size()) + " weights for " +
-                std::to_string(centers.size()) + " voxels");
+    throw Error("buildObstacles: " + std::to_string(weights.size()) + " weights for " + std::to_string(centers.size()) +
+                " voxels");
   std::map<std::int32_t, std::vector<std::size_t>> clusters;
   for (std::size_t i = 0; i < centers.size(); ++i) {
     if (labels[i] == kNoise) continue;

@@ -56,7 +56,8 @@ bool offAFlatPatch(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>&
 
 OutlierTrim trimOutliers(const std::vector<Eigen::Vector3d>& points, DbscanResult& result,
                          const std::vector<Eigen::Vector3d>& support, const OutlierTrimParams& params) {
-  if (!(std::isfinite(params.radius) && params.radius > 0.0)) throw Error::inParameter("radius", "must be finite and > 0");
+  if (!(std::isfinite(params.radius) && params.radius > 0.0))
+    throw Error::inParameter("radius", "must be finite and > 0");
   if (!(std::isfinite(params.reach) && params.reach >= params.radius))
     throw Error::inParameter("reach", "must be finite and >= radius");
   const std::size_t n = points.size();
@@ -80,8 +81,9 @@ OutlierTrim trimOutliers(const std::vector<Eigen::Vector3d>& points, DbscanResul
   const double side = params.reach * (1.0 + 1e-9);
   const auto at = [&](std::size_t k) -> const Eigen::Vector3d& { return k < n ? points[k] : support[k - n]; };
   const auto keyOf = [&](const Eigen::Vector3d& p) {
-    return Cell{static_cast<std::int64_t>(std::floor(p.x() / side)), static_cast<std::int64_t>(std::floor(p.y() / side)),
-                   static_cast<std::int64_t>(std::floor(p.z() / side))};
+    return Cell{static_cast<std::int64_t>(std::floor(p.x() / side)),
+                static_cast<std::int64_t>(std::floor(p.y() / side)),
+                static_cast<std::int64_t>(std::floor(p.z() / side))};
   };
   std::unordered_map<Cell, std::vector<std::size_t>, CellHash> grid;
   for (std::size_t k = 0; k < n + support.size(); ++k) grid[keyOf(at(k))].push_back(k);

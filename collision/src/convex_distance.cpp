@@ -142,10 +142,14 @@ V3 closestOnTetrahedron(Simplex& s) {
 
 V3 closestOnSimplex(Simplex& s) {
   switch (s.n) {
-    case 1: return s.p[0];
-    case 2: return closestOnSegment(s);
-    case 3: return closestOnTriangle(s);
-    default: return closestOnTetrahedron(s);
+    case 1:
+      return s.p[0];
+    case 2:
+      return closestOnSegment(s);
+    case 3:
+      return closestOnTriangle(s);
+    default:
+      return closestOnTetrahedron(s);
   }
 }
 
@@ -216,7 +220,8 @@ ConvexPolytope ConvexPolytope::fromHull(const clustering::ConvexHull& hull, cons
     for (const auto& v : p.vertices) {
       if (!std::isfinite(p.offsets[f])) continue;
       if (p.normals[f].dot(v) > p.offsets[f] + tolerance)
-        throw Error(what + ": hull is not convex (a vertex is " + std::to_string(p.normals[f].dot(v) - p.offsets[f]) + " outside face " + std::to_string(f) + ")");
+        throw Error(what + ": hull is not convex (a vertex is " + std::to_string(p.normals[f].dot(v) - p.offsets[f]) +
+                    " outside face " + std::to_string(f) + ")");
     }
   return p;
 }
@@ -282,8 +287,8 @@ double segmentPolytopeDistanceBruteForce(const V3& a, const V3& b, const ConvexP
     const double front = std::max(polytope.normals[f].dot(a), polytope.normals[f].dot(b)) - polytope.offsets[f];
     if (front < -1e-9 * polytope.scale) continue;
     const auto& t = polytope.triangles[f];
-    best = std::min(best, segmentTriangleDistance(a, b, polytope.vertices[t[0]], polytope.vertices[t[1]],
-                                                  polytope.vertices[t[2]]));
+    best = std::min(
+        best, segmentTriangleDistance(a, b, polytope.vertices[t[0]], polytope.vertices[t[1]], polytope.vertices[t[2]]));
   }
   return best;
 }

@@ -75,8 +75,7 @@ SegmentCheck sweepHalfSpace(const Segment& segment, double radius, const HalfSpa
 
 /// Folds the surfaces into a check against the other obstacles: the earliest contact wins (a
 /// hull or voxel on a tie), and a clear segment's clearance is the least of all.
-void addSurfaces(const Segment& segment, double radius, const std::vector<HalfSpace>& surfaces,
-                 SegmentCheck& result) {
+void addSurfaces(const Segment& segment, double radius, const std::vector<HalfSpace>& surfaces, SegmentCheck& result) {
   for (const HalfSpace& surface : surfaces) {
     SegmentCheck s = sweepHalfSpace(segment, radius, surface);
     if (s.collides) {
@@ -278,8 +277,14 @@ SegmentCheck HullChecker::Impl::checkHulls(const Segment& segment, const CheckRe
   const Eigen::Vector3d& a = segment.a;
   const SegmentRay ray(a, segment.b);
   thread_local SegmentBox query;
-  HullQuery q{&obstacles, &segment.a, &segment.b, &ray, radius, std::numeric_limits<double>::infinity(),
-              std::numeric_limits<double>::infinity(), {}};
+  HullQuery q{&obstacles,
+              &segment.a,
+              &segment.b,
+              &ray,
+              radius,
+              std::numeric_limits<double>::infinity(),
+              std::numeric_limits<double>::infinity(),
+              {}};
   obstacles.manager().distance(&query.place(a.cwiseMin(segment.b), a.cwiseMax(segment.b)), &q, visitHull);
   const double nearest = q.nearest;
   TouchingHulls& touching = q.touching;
@@ -325,7 +330,8 @@ std::vector<SegmentCheck> HullChecker::checkBatch(const std::vector<Segment>& se
   std::vector<SegmentCheck> results(segments.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) results[i] = check(segments[i], request);
+                      for (std::size_t i = range.begin(); i != range.end(); ++i)
+                        results[i] = check(segments[i], request);
                     });
   return results;
 }

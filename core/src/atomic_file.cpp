@@ -13,12 +13,10 @@
 
 namespace hullmap::core {
 
-void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write,
-                         bool binary) {
+void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write, bool binary) {
   namespace fs = std::filesystem;
   const fs::path target(path);
-  const fs::path tmp = target.parent_path() /
-                       ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
+  const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
   try {
     {
       std::ofstream out(tmp, binary ? std::ios::binary : std::ios::out);

@@ -11,7 +11,7 @@
 namespace hullmap::core {
 namespace {
 
-constexpr double kPow10[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,
+constexpr double kPow10[] = {1e0, 1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,
                              1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17};
 
 int digitCount(std::uint64_t m) {
@@ -117,6 +117,5 @@ bool parseDouble(std::string_view token, double& value) {
   }
   return ec == std::errc() && ptr == last;
 }
-
 
 }  // namespace hullmap::core

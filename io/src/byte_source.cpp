@@ -77,8 +77,7 @@ bool ByteSource::more() {
 }
 
 void ByteSource::loadAll() {
-  while (more()) {
-  }
+  while (more()) {}
 }
 
 std::size_t ByteSource::find(char c, std::size_t pos) {

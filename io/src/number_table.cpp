@@ -26,7 +26,8 @@ std::vector<std::vector<double>> readNumberTable(const std::string& path, std::s
       bool all_words = true;
       detail::forEachToken(line, [&](std::string_view t) {
         double v;
-        all_words = all_words && !t.empty() && (std::isalpha(static_cast<unsigned char>(t.front())) || t.front() == '_') &&
+        all_words = all_words && !t.empty() &&
+                    (std::isalpha(static_cast<unsigned char>(t.front())) || t.front() == '_') &&
                     !detail::parseDouble(t, v);
       });
       if (all_words) continue;  // a header of column names
@@ -35,13 +36,15 @@ std::vector<std::vector<double>> readNumberTable(const std::string& path, std::s
     detail::forEachToken(line, [&](std::string_view token) {
       double v;
       if (!detail::parseDouble(token, v)) {
-        detail::failAt(path, number, token.empty() ? std::string("empty field") : detail::quoted(token) + " is not a number");
+        detail::failAt(path, number,
+                       token.empty() ? std::string("empty field") : detail::quoted(token) + " is not a number");
       }
       row.push_back(v);
     });
     if (row.size() != columns) {
-      detail::failAt(path, number, "expected " + std::to_string(columns) + " numbers (" + names + "), got " +
-                                       std::to_string(row.size()));
+      detail::failAt(
+          path, number,
+          "expected " + std::to_string(columns) + " numbers (" + names + "), got " + std::to_string(row.size()));
     }
     for (double v : row)
       if (!std::isfinite(v)) detail::failAt(path, number, "non-finite coordinate");

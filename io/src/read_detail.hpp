@@ -20,9 +20,7 @@ namespace hullmap::io::detail {
 
 using core::parseDouble;
 
-inline bool isFinite(const Point& p) {
-  return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z());
-}
+inline bool isFinite(const Point& p) { return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()); }
 
 /// Walks a source line by line from `offset`; tracks the 1-based line number (counted from
 /// `offset`). Handles \n and \r\n. Each line stays valid until the next call: the bytes before it
@@ -106,9 +104,7 @@ inline std::string quoted(std::string_view token) {
   throw Error(name + ":" + std::to_string(line) + ": " + what);
 }
 
-[[noreturn]] inline void fail(const std::string& name, const std::string& what) {
-  throw Error(name + ": " + what);
-}
+[[noreturn]] inline void fail(const std::string& name, const std::string& what) { throw Error(name + ": " + what); }
 
 /// The numeric rows of a trajectory-like text (TUM, GPS): `#` comments and blank lines skipped,
 /// numbers separated as forEachToken separates them. Calls row(values, count, line_number) per
@@ -128,7 +124,8 @@ void forEachNumberRow(std::string_view bytes, const std::string& name, F&& row) 
     forEachToken(line, [&](std::string_view token) {
       double value = 0;
       if (!parseDouble(token, value)) {
-        failAt(name, cursor.lineNumber(), token.empty() ? std::string("empty field") : quoted(token) + " is not a number");
+        failAt(name, cursor.lineNumber(),
+               token.empty() ? std::string("empty field") : quoted(token) + " is not a number");
       }
       if (count < 8) v[count] = value;
       ++count;

@@ -41,8 +41,7 @@ int intValue(std::string_view line, std::string_view key, const std::string& nam
   int value = 0;
   const auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), value);
   if (ec != std::errc() || ptr != v.data() + v.size()) {
-    failAt(name, line_no, "'" + std::string(key.substr(0, key.size() - 1)) + "' is not an integer: " +
-                              quoted(v));
+    failAt(name, line_no, "'" + std::string(key.substr(0, key.size() - 1)) + "' is not an integer: " + quoted(v));
   }
   return value;
 }
@@ -52,8 +51,8 @@ bool startsWith(std::string_view s, std::string_view prefix) {
 }
 
 // Reads the `points:` list of one message into `sink`.
-void readMarkerPoints(std::string_view bytes, const Message& message, const std::string& name,
-                      PointSink& sink, InputStats& stats) {
+void readMarkerPoints(std::string_view bytes, const Message& message, const std::string& name, PointSink& sink,
+                      InputStats& stats) {
   ByteSource source(bytes.substr(message.begin, message.end - message.begin));
   LineCursor cursor(source);
   const auto lineNo = [&] { return message.first_line + cursor.lineNumber() - 1; };
@@ -140,12 +139,18 @@ void parseOrbSlamEcho(ByteSource& input, const std::string& name, PointSink& sin
       empty = true;
     } else if (!line.empty() && !isSpace(line.front())) {
       empty = false;
-      if (startsWith(line, "header:")) current.has_header = true;
-      else if (startsWith(line, "ns:")) current.ns = std::string(valueOf(line, "ns:"));
-      else if (startsWith(line, "id:")) current.id = intValue(line, "id:", name, line_no);
-      else if (startsWith(line, "type:")) current.type = intValue(line, "type:", name, line_no);
-      else if (startsWith(line, "action:")) current.action = intValue(line, "action:", name, line_no);
-      else if (startsWith(line, "mesh_use_embedded_materials:")) current.has_last_field = true;
+      if (startsWith(line, "header:"))
+        current.has_header = true;
+      else if (startsWith(line, "ns:"))
+        current.ns = std::string(valueOf(line, "ns:"));
+      else if (startsWith(line, "id:"))
+        current.id = intValue(line, "id:", name, line_no);
+      else if (startsWith(line, "type:"))
+        current.type = intValue(line, "type:", name, line_no);
+      else if (startsWith(line, "action:"))
+        current.action = intValue(line, "action:", name, line_no);
+      else if (startsWith(line, "mesh_use_embedded_materials:"))
+        current.has_last_field = true;
     } else if (!trim(line).empty()) {
       empty = false;
     }
@@ -162,8 +167,7 @@ void parseOrbSlamEcho(ByteSource& input, const std::string& name, PointSink& sin
   for (std::size_t i = 0; i < messages.size(); ++i) {
     const Message& m = messages[i];
     if (!m.has_header || !m.id || !m.type) {
-      failAt(name, m.first_line,
-             "not a visualization_msgs/Marker message (needs header, ns, id and type fields)");
+      failAt(name, m.first_line, "not a visualization_msgs/Marker message (needs header, ns, id and type fields)");
     }
     if (m.ns != "MapPoints") continue;
     if (m.action == kDeleteAllAction) {

@@ -41,8 +41,7 @@ struct Header {
 // A count above 2^40 (a trillion points) is a corrupt header; the bound keeps products in range.
 constexpr std::uint64_t kMaxCount = std::uint64_t(1) << 40;
 
-std::size_t parseCount(std::string_view token, const std::string& name, std::size_t line,
-                       std::string_view what) {
+std::size_t parseCount(std::string_view token, const std::string& name, std::size_t line, std::string_view what) {
   std::uint64_t v = 0;
   const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
   if (ec != std::errc() || ptr != token.data() + token.size() || v > kMaxCount) {
@@ -81,8 +80,9 @@ Header parseHeader(ByteSource& source, const std::string& name) {
     const auto needFields = [&] {
       if (h.fields.empty()) failAt(name, n, std::string(key) + " before FIELDS");
       if (args != h.fields.size()) {
-        failAt(name, n, std::string(key) + " has " + std::to_string(args) + " entries for " +
-                            std::to_string(h.fields.size()) + " FIELDS");
+        failAt(name, n,
+               std::string(key) + " has " + std::to_string(args) + " entries for " + std::to_string(h.fields.size()) +
+                   " FIELDS");
       }
     };
     if (key == "VERSION") {
@@ -97,7 +97,8 @@ Header parseHeader(ByteSource& source, const std::string& name) {
       for (std::size_t i = 0; i < args; ++i) {
         h.fields[i].size = parseCount(tok[i + 1], name, n, "SIZE");
         const std::size_t s = h.fields[i].size;
-        if (s != 1 && s != 2 && s != 4 && s != 8) failAt(name, n, "SIZE must be 1, 2, 4 or 8, got " + quoted(tok[i + 1]));
+        if (s != 1 && s != 2 && s != 4 && s != 8)
+          failAt(name, n, "SIZE must be 1, 2, 4 or 8, got " + quoted(tok[i + 1]));
       }
       have_size = true;
     } else if (key == "TYPE") {
@@ -113,7 +114,8 @@ Header parseHeader(ByteSource& source, const std::string& name) {
       needFields();
       for (std::size_t i = 0; i < args; ++i) {
         h.fields[i].count = parseCount(tok[i + 1], name, n, "COUNT");
-        if (h.fields[i].count == 0 || h.fields[i].count > 65536) failAt(name, n, "COUNT out of range: " + quoted(tok[i + 1]));
+        if (h.fields[i].count == 0 || h.fields[i].count > 65536)
+          failAt(name, n, "COUNT out of range: " + quoted(tok[i + 1]));
       }
     } else if (key == "WIDTH") {
       if (args != 1) failAt(name, n, "WIDTH needs one value");
@@ -148,8 +150,9 @@ Header parseHeader(ByteSource& source, const std::string& name) {
   if (h.height != 0 && h.width > kMaxCount / h.height) failAt(name, n, "WIDTH * HEIGHT is too large");
   if (!h.points) h.points = h.width * h.height;
   if (*h.points != h.width * h.height) {
-    failAt(name, n, "POINTS " + std::to_string(*h.points) + " differs from WIDTH * HEIGHT = " +
-                        std::to_string(h.width * h.height));
+    failAt(
+        name, n,
+        "POINTS " + std::to_string(*h.points) + " differs from WIDTH * HEIGHT = " + std::to_string(h.width * h.height));
   }
   for (std::size_t i = 0; i < h.fields.size(); ++i) {
     Field& f = h.fields[i];
@@ -162,7 +165,8 @@ Header parseHeader(ByteSource& source, const std::string& name) {
     h.columns += f.count;
     const int axis = f.name == "x" ? 0 : f.name == "y" ? 1 : f.name == "z" ? 2 : -1;
     if (axis >= 0) {
-      if (f.type != 'F' || f.count != 1) failAt(name, fields_line, "field " + f.name + " must be F4 or F8 with COUNT 1");
+      if (f.type != 'F' || f.count != 1)
+        failAt(name, fields_line, "field " + f.name + " must be F4 or F8 with COUNT 1");
       h.xyz[axis] = static_cast<int>(i);
     }
   }
@@ -185,13 +189,11 @@ double readFloat(const unsigned char* p, std::size_t size) {
   return v;
 }
 
-void readAscii(ByteSource& source, const Header& h, const std::string& name, PointSink& sink,
-               InputStats& stats) {
+void readAscii(ByteSource& source, const Header& h, const std::string& name, PointSink& sink, InputStats& stats) {
   LineCursor cursor(source, h.data_offset);
   const auto lineNo = [&] { return h.data_line + cursor.lineNumber(); };
   std::string_view line;
-  const std::size_t cols[3] = {h.fields[h.xyz[0]].column, h.fields[h.xyz[1]].column,
-                               h.fields[h.xyz[2]].column};
+  const std::size_t cols[3] = {h.fields[h.xyz[0]].column, h.fields[h.xyz[1]].column, h.fields[h.xyz[2]].column};
   // Each point takes at least two bytes per column: never reserve beyond what the data can hold.
   sink.expect(std::min(*h.points, remainingHint(source, h.data_offset) / (2 * h.columns) + 1));
   std::size_t done = 0;
@@ -221,8 +223,7 @@ void readAscii(ByteSource& source, const Header& h, const std::string& name, Poi
   }
 }
 
-void readBinary(ByteSource& source, const Header& h, const std::string& name, PointSink& sink,
-                InputStats& stats) {
+void readBinary(ByteSource& source, const Header& h, const std::string& name, PointSink& sink, InputStats& stats) {
   const std::size_t need = *h.points * h.point_size;
   // Points are checked as they come: a pipe's size is known only at its end. The whole data is
   // checked first when the size is known, so a truncated file fails before any point is delivered.
@@ -231,9 +232,9 @@ void readBinary(ByteSource& source, const Header& h, const std::string& name, Po
     const std::size_t available = source.end() - h.data_offset;
     const std::size_t complete = h.point_size ? available / h.point_size : 0;
     fail(name, "truncated binary PCD data: " + std::to_string(*h.points) + " points of " +
-                   std::to_string(h.point_size) + " bytes need " + std::to_string(need) +
-                   " bytes from byte offset " + std::to_string(h.data_offset) + ", only " +
-                   std::to_string(available) + " there (point " + std::to_string(complete) + " is incomplete)");
+                   std::to_string(h.point_size) + " bytes need " + std::to_string(need) + " bytes from byte offset " +
+                   std::to_string(h.data_offset) + ", only " + std::to_string(available) + " there (point " +
+                   std::to_string(complete) + " is incomplete)");
   };
   if (source.complete()) {
     if (!source.ensure(h.data_offset, need)) truncated();
@@ -252,8 +253,7 @@ void readBinary(ByteSource& source, const Header& h, const std::string& name, Po
   stats.read += *h.points;
 }
 
-void readCompressed(ByteSource& source, const Header& h, const std::string& name, PointSink& sink,
-                    InputStats& stats) {
+void readCompressed(ByteSource& source, const Header& h, const std::string& name, PointSink& sink, InputStats& stats) {
   if (!source.ensure(h.data_offset, 8)) {
     fail(name, "truncated binary_compressed PCD: no size words at byte offset " + std::to_string(h.data_offset));
   }
@@ -268,25 +268,25 @@ void readCompressed(ByteSource& source, const Header& h, const std::string& name
   }
   const std::size_t lzf_offset = h.data_offset + 8;
   if (!source.ensure(lzf_offset, compressed)) {
-    fail(name, "truncated binary_compressed PCD: " + std::to_string(compressed) + " compressed bytes from byte offset " +
-                   std::to_string(lzf_offset) + ", only " + std::to_string(source.end() - lzf_offset) + " there");
+    fail(name, "truncated binary_compressed PCD: " + std::to_string(compressed) +
+                   " compressed bytes from byte offset " + std::to_string(lzf_offset) + ", only " +
+                   std::to_string(source.end() - lzf_offset) + " there");
   }
   // An LZF back reference expands 3 bytes into at most 264: a larger claim is corrupt, and is
   // refused before allocating for it.
   if (uncompressed > std::size_t(compressed) * 90 + 64) {
-    fail(name, "binary_compressed PCD: uncompressed size " + std::to_string(uncompressed) +
-                   " is impossible for " + std::to_string(compressed) + " LZF bytes");
+    fail(name, "binary_compressed PCD: uncompressed size " + std::to_string(uncompressed) + " is impossible for " +
+                   std::to_string(compressed) + " LZF bytes");
   }
   if (need == 0) return;
   // One LZF block holding all x, then all y, ...: no point is whole before all of it is decompressed.
   std::vector<unsigned char> raw(need);
-  const unsigned int got = lzf_decompress(source.at(lzf_offset), compressed, raw.data(),
-                                          static_cast<unsigned int>(need));
+  const unsigned int got =
+      lzf_decompress(source.at(lzf_offset), compressed, raw.data(), static_cast<unsigned int>(need));
   source.release(lzf_offset + compressed);
   if (got != need) {
-    fail(name, "binary_compressed PCD: LZF data from byte offset " + std::to_string(lzf_offset) +
-                   " decompresses to " + std::to_string(got) + " bytes, expected " + std::to_string(need) +
-                   " (corrupt or truncated)");
+    fail(name, "binary_compressed PCD: LZF data from byte offset " + std::to_string(lzf_offset) + " decompresses to " +
+                   std::to_string(got) + " bytes, expected " + std::to_string(need) + " (corrupt or truncated)");
   }
   const std::size_t n = *h.points;
   const unsigned char* column[3];

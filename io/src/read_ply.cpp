@@ -18,11 +18,11 @@ bool scalarFromName(std::string_view s, Scalar& out) {
   static const struct {
     const char* name;
     Scalar type;
-  } kNames[] = {{"char", Scalar::kInt8},     {"int8", Scalar::kInt8},      {"uchar", Scalar::kUint8},
-                {"uint8", Scalar::kUint8},   {"short", Scalar::kInt16},    {"int16", Scalar::kInt16},
-                {"ushort", Scalar::kUint16}, {"uint16", Scalar::kUint16},  {"int", Scalar::kInt32},
-                {"int32", Scalar::kInt32},   {"uint", Scalar::kUint32},    {"uint32", Scalar::kUint32},
-                {"float", Scalar::kFloat32}, {"float32", Scalar::kFloat32}, {"double", Scalar::kFloat64},
+  } kNames[] = {{"char", Scalar::kInt8},      {"int8", Scalar::kInt8},       {"uchar", Scalar::kUint8},
+                {"uint8", Scalar::kUint8},    {"short", Scalar::kInt16},     {"int16", Scalar::kInt16},
+                {"ushort", Scalar::kUint16},  {"uint16", Scalar::kUint16},   {"int", Scalar::kInt32},
+                {"int32", Scalar::kInt32},    {"uint", Scalar::kUint32},     {"uint32", Scalar::kUint32},
+                {"float", Scalar::kFloat32},  {"float32", Scalar::kFloat32}, {"double", Scalar::kFloat64},
                 {"float64", Scalar::kFloat64}};
   for (const auto& n : kNames) {
     if (s == n.name) {
@@ -36,22 +36,26 @@ bool scalarFromName(std::string_view s, Scalar& out) {
 std::size_t sizeOf(Scalar t) {
   switch (t) {
     case Scalar::kInt8:
-    case Scalar::kUint8: return 1;
+    case Scalar::kUint8:
+      return 1;
     case Scalar::kInt16:
-    case Scalar::kUint16: return 2;
+    case Scalar::kUint16:
+      return 2;
     case Scalar::kInt32:
     case Scalar::kUint32:
-    case Scalar::kFloat32: return 4;
-    case Scalar::kFloat64: return 8;
+    case Scalar::kFloat32:
+      return 4;
+    case Scalar::kFloat64:
+      return 8;
   }
   return 0;
 }
 
 struct Property {
   std::string name;
-  Scalar type = Scalar::kFloat32;       // the item type for a list
+  Scalar type = Scalar::kFloat32;  // the item type for a list
   bool is_list = false;
-  Scalar count_type = Scalar::kUint8;   // lists only
+  Scalar count_type = Scalar::kUint8;  // lists only
 };
 
 struct Element {
@@ -97,10 +101,14 @@ Header parseHeader(ByteSource& source, const std::string& name) {
     }
     if (key == "format") {
       if (w.size() != 3) failAt(name, n, "expected 'format <encoding> 1.0'");
-      if (w[1] == "ascii") h.encoding = Encoding::kAscii;
-      else if (w[1] == "binary_little_endian") h.encoding = Encoding::kLittle;
-      else if (w[1] == "binary_big_endian") h.encoding = Encoding::kBig;
-      else failAt(name, n, "unknown PLY format " + quoted(w[1]));
+      if (w[1] == "ascii")
+        h.encoding = Encoding::kAscii;
+      else if (w[1] == "binary_little_endian")
+        h.encoding = Encoding::kLittle;
+      else if (w[1] == "binary_big_endian")
+        h.encoding = Encoding::kBig;
+      else
+        failAt(name, n, "unknown PLY format " + quoted(w[1]));
       have_format = true;
     } else if (key == "element") {
       if (w.size() != 3) failAt(name, n, "expected 'element <name> <count>'");
@@ -151,14 +159,22 @@ class BinaryReader {
     pos_ += size;
     if (swap_) std::reverse(b, b + size);
     switch (t) {
-      case Scalar::kInt8: return static_cast<std::int8_t>(b[0]);
-      case Scalar::kUint8: return b[0];
-      case Scalar::kInt16: return get<std::int16_t>(b);
-      case Scalar::kUint16: return get<std::uint16_t>(b);
-      case Scalar::kInt32: return get<std::int32_t>(b);
-      case Scalar::kUint32: return get<std::uint32_t>(b);
-      case Scalar::kFloat32: return get<float>(b);
-      case Scalar::kFloat64: return get<double>(b);
+      case Scalar::kInt8:
+        return static_cast<std::int8_t>(b[0]);
+      case Scalar::kUint8:
+        return b[0];
+      case Scalar::kInt16:
+        return get<std::int16_t>(b);
+      case Scalar::kUint16:
+        return get<std::uint16_t>(b);
+      case Scalar::kInt32:
+        return get<std::int32_t>(b);
+      case Scalar::kUint32:
+        return get<std::uint32_t>(b);
+      case Scalar::kFloat32:
+        return get<float>(b);
+      case Scalar::kFloat64:
+        return get<double>(b);
     }
     return 0;
   }
@@ -260,8 +276,7 @@ class TokenReader {
 };
 
 template <typename Reader>
-void readElements(const Header& h, Reader& reader, const std::string& name, PointSink& sink,
-                  InputStats& stats) {
+void readElements(const Header& h, Reader& reader, const std::string& name, PointSink& sink, InputStats& stats) {
   constexpr bool kAscii = std::is_same_v<Reader, TokenReader>;
   for (const Element& e : h.elements) {
     const bool is_vertex = e.name == "vertex";

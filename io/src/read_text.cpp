@@ -49,7 +49,7 @@ struct ChunkResult {
   Points points;
   std::size_t read = 0;
   std::size_t non_finite = 0;
-  std::size_t lines = 0;                                   ///< lines in the chunk, or up to the error
+  std::size_t lines = 0;                                     ///< lines in the chunk, or up to the error
   std::optional<std::pair<std::size_t, std::string>> error;  ///< line in the chunk (1-based), message
 };
 

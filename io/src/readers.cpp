@@ -76,10 +76,18 @@ InputStats streamSource(detail::ByteSource& source, const std::string& name, con
   if (!blank) {
     detail::PointSink sink(params.batch_points, consume);
     switch (format) {
-      case PointFormat::kOrbSlamEcho: detail::parseOrbSlamEcho(source, name, sink, stats); break;
-      case PointFormat::kText: detail::parseText(source, name, sink, stats); break;
-      case PointFormat::kPcd: detail::parsePcd(source, name, sink, stats); break;
-      case PointFormat::kPly: detail::parsePly(source, name, sink, stats); break;
+      case PointFormat::kOrbSlamEcho:
+        detail::parseOrbSlamEcho(source, name, sink, stats);
+        break;
+      case PointFormat::kText:
+        detail::parseText(source, name, sink, stats);
+        break;
+      case PointFormat::kPcd:
+        detail::parsePcd(source, name, sink, stats);
+        break;
+      case PointFormat::kPly:
+        detail::parsePly(source, name, sink, stats);
+        break;
     }
     sink.flush();
   }
@@ -107,10 +115,14 @@ PointBatchConsumer appendTo(Points& points) {
 
 std::string toString(PointFormat format) {
   switch (format) {
-    case PointFormat::kOrbSlamEcho: return "orbslam_echo";
-    case PointFormat::kText: return "text";
-    case PointFormat::kPcd: return "pcd";
-    case PointFormat::kPly: return "ply";
+    case PointFormat::kOrbSlamEcho:
+      return "orbslam_echo";
+    case PointFormat::kText:
+      return "text";
+    case PointFormat::kPcd:
+      return "pcd";
+    case PointFormat::kPly:
+      return "ply";
   }
   return "unknown";
 }

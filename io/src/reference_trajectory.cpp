@@ -12,8 +12,8 @@
 namespace hullmap::io {
 namespace {
 
-constexpr double kWgs84A = 6378137.0;                 // semi-major axis, metres
-constexpr double kWgs84F = 1.0 / 298.257223563;       // flattening
+constexpr double kWgs84A = 6378137.0;                   // semi-major axis, metres
+constexpr double kWgs84F = 1.0 / 298.257223563;         // flattening
 constexpr double kWgs84E2 = kWgs84F * (2.0 - kWgs84F);  // first eccentricity squared
 
 }  // namespace
@@ -43,9 +43,9 @@ Eigen::Vector3d geodeticToEnu(const Eigen::Vector3d& geodetic, const Eigen::Vect
   const double lat = origin[0] * kPi / 180.0;
   const double lon = origin[1] * kPi / 180.0;
   const double sl = std::sin(lat), cl = std::cos(lat), so = std::sin(lon), co = std::cos(lon);
-  return {-so * d.x() + co * d.y(),                              // east
-          -sl * co * d.x() - sl * so * d.y() + cl * d.z(),       // north
-          cl * co * d.x() + cl * so * d.y() + sl * d.z()};       // up
+  return {-so * d.x() + co * d.y(),                         // east
+          -sl * co * d.x() - sl * so * d.y() + cl * d.z(),  // north
+          cl * co * d.x() + cl * so * d.y() + sl * d.z()};  // up
 }
 
 namespace {
@@ -67,8 +67,7 @@ std::vector<ReferencePose> parseReferenceTrajectory(std::string_view bytes, cons
   Eigen::Vector3d origin;
   detail::forEachNumberRow(bytes, name, [&](const double* v, std::size_t count, std::size_t line) {
     if (format == ReferenceFormat::kTum && count != 4 && count != 8) {
-      detail::failAt(name, line,
-                     "expected 4 or 8 numbers (t x y z [qx qy qz qw]), got " + std::to_string(count));
+      detail::failAt(name, line, "expected 4 or 8 numbers (t x y z [qx qy qz qw]), got " + std::to_string(count));
     }
     if (format == ReferenceFormat::kGps && count != 4) {
       detail::failAt(name, line, "expected 4 numbers (t lat lon alt), got " + std::to_string(count));

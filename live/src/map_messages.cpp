@@ -43,8 +43,7 @@ double readField(const std::uint8_t* point, const Field& field) {
 
 }  // namespace
 
-io::Points cloudPoints(const CloudLayout& cloud, const std::uint8_t* data, std::size_t size,
-                           std::size_t* non_finite) {
+io::Points cloudPoints(const CloudLayout& cloud, const std::uint8_t* data, std::size_t size, std::size_t* non_finite) {
   if (cloud.is_bigendian) throw Error("PointCloud2: big-endian data is not read");
   const Field x = findField(cloud, "x");
   const Field y = findField(cloud, "y");

@@ -13,8 +13,8 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-ParameterSpec number(std::string name, double fallback, std::string description, std::string constraints,
-                     double min, double max, bool min_open = false, bool max_open = false) {
+ParameterSpec number(std::string name, double fallback, std::string description, std::string constraints, double min,
+                     double max, bool min_open = false, bool max_open = false) {
   ParameterSpec s;
   s.name = std::move(name);
   s.kind = ParameterKind::kNumber;
@@ -45,16 +45,15 @@ std::vector<ParameterSpec> makeParameters() {
   const auto& octree = d.build.octree;
   const std::string probability = "a probability in (0, 1)";
   std::vector<ParameterSpec> specs;
-  specs.push_back(number("resolution", octree.resolution, "octree leaf size, map units",
-                         "> 0", 0.0, kInf, true));
+  specs.push_back(number("resolution", octree.resolution, "octree leaf size, map units", "> 0", 0.0, kInf, true));
   auto eps = words("eps", ParameterKind::kWordOrNumber, "auto", {"auto"},
                    "DBSCAN radius, map units; auto: chosen from the map", "a number > 0, or auto");
   eps.min = 0.0;
   eps.min_open = true;
   specs.push_back(eps);
-  auto min_pts = words("min_pts", ParameterKind::kWordOrNumber, "auto", {"auto"},
-                       "DBSCAN core threshold in map points; auto: chosen from the map",
-                       "a whole number >= 1, or auto");
+  auto min_pts =
+      words("min_pts", ParameterKind::kWordOrNumber, "auto", {"auto"},
+            "DBSCAN core threshold in map points; auto: chosen from the map", "a whole number >= 1, or auto");
   min_pts.min = 1.0;
   min_pts.max = 1e9;
   min_pts.whole = true;
@@ -81,8 +80,7 @@ std::vector<ParameterSpec> makeParameters() {
   flat_gap.min = 0.0;
   specs.push_back(flat_gap);
   specs.push_back(words("extension", ParameterKind::kWord, "auto", {"auto", "on", "off"},
-                        "the cluster extension after DBSCAN; auto: on when min_pts is auto",
-                        "auto, on or off"));
+                        "the cluster extension after DBSCAN; auto: on when min_pts is auto", "auto, on or off"));
   specs.push_back(words("metric", ParameterKind::kText, clustering::toString(d.build.metric), {"xyz", "xy"},
                         "DBSCAN distance: xyz, or xy (top view)", "xyz or xy"));
   specs.push_back(words("up", ParameterKind::kText, pipeline::upAxisText(d.build.frame.up),
@@ -103,22 +101,22 @@ std::vector<ParameterSpec> makeParameters() {
                          probability + ", below clamp_max", 0.0, 1.0, true, true));
   specs.push_back(number("clamp_max", octree.sensor.clamp_max, "octomap's upper clamping probability",
                          probability + ", above clamp_min", 0.0, 1.0, true, true));
-  specs.push_back(number("occupancy_threshold", octree.sensor.occupancy_threshold,
-                         "octomap's occupancy threshold", probability, 0.0, 1.0, true, true));
+  specs.push_back(number("occupancy_threshold", octree.sensor.occupancy_threshold, "octomap's occupancy threshold",
+                         probability, 0.0, 1.0, true, true));
   specs.push_back(number("max_range", octree.max_range,
-                         "bound on the rays free space is cast along, map units; < 0: unbounded",
-                         "a finite number", -kInf, kInf, true, true));
+                         "bound on the rays free space is cast along, map units; < 0: unbounded", "a finite number",
+                         -kInf, kInf, true, true));
   auto frame_id = words("frame_id", ParameterKind::kText, d.node.frame_id, {},
                         "frame of everything published (hullmap's z-up map frame)", "a frame name");
   frame_id.live = false;  // markers already shown in the old frame would stay there
   specs.push_back(frame_id);
-  specs.push_back(number("min_interval", d.node.min_interval, "seconds between the starts of two rebuilds", ">= 0",
-                         0.0, kInf, false, true));
+  specs.push_back(number("min_interval", d.node.min_interval, "seconds between the starts of two rebuilds", ">= 0", 0.0,
+                         kInf, false, true));
   specs.push_back(words("output_dir", ParameterKind::kText, d.node.output_dir, {},
                         "where save writes the map (as hullmap build -o); relative to the node's working directory",
                         "a directory"));
-  specs.push_back(number("radius", d.node.radius, "drone radius for path checks, map units", "> 0", 0.0, kInf, true,
-                         true));
+  specs.push_back(
+      number("radius", d.node.radius, "drone radius for path checks, map units", "> 0", 0.0, kInf, true, true));
   specs.push_back(number("occupancy_min_z", d.node.occupancy_min_z,
                          "lower end of the projected map's height band, map frame", "a number (-inf: none)", -kInf,
                          kInf));
@@ -305,8 +303,7 @@ NodeSettings readSettings(const ParameterValues& values, Checking checking, cons
   // YAML reads on and off as true and false (ROS 1 never hands a bool here).
   const ParameterValue* extension_value = r.given("extension");
   const bool* extension_bool = extension_value ? std::get_if<bool>(extension_value) : nullptr;
-  const std::string extension =
-      extension_bool ? (*extension_bool ? "on" : "off") : r.wordOrNumber("extension", "auto");
+  const std::string extension = extension_bool ? (*extension_bool ? "on" : "off") : r.wordOrNumber("extension", "auto");
   if (extension == "on" || extension == "off") {
     p.extension = extension == "on";
   } else if (extension != "auto") {

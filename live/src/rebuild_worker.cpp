@@ -16,20 +16,13 @@ double msSince(Clock::time_point t) { return std::chrono::duration<double, std::
 }  // namespace
 
 std::string statsJson(const NodeStats& s) {
-  const nlohmann::json j = {{"messages", s.messages},
-                            {"skipped", s.skipped},
-                            {"folded", s.folded},
-                            {"rebuilds", s.rebuilds},
-                            {"failed", s.failed},
-                            {"max_waiting", s.max_waiting},
-                            {"pending", s.pending ? 1 : 0},
-                            {"busy", s.busy},
-                            {"points", s.points},
-                            {"keyframes", s.keyframes},
-                            {"voxels", s.voxels},
-                            {"obstacles", s.obstacles},
-                            {"rebuild_ms", s.rebuild_ms},
-                            {"latency_ms", s.latency_ms}};
+  const nlohmann::json j = {{"messages", s.messages},       {"skipped", s.skipped},
+                            {"folded", s.folded},           {"rebuilds", s.rebuilds},
+                            {"failed", s.failed},           {"max_waiting", s.max_waiting},
+                            {"pending", s.pending ? 1 : 0}, {"busy", s.busy},
+                            {"points", s.points},           {"keyframes", s.keyframes},
+                            {"voxels", s.voxels},           {"obstacles", s.obstacles},
+                            {"rebuild_ms", s.rebuild_ms},   {"latency_ms", s.latency_ms}};
   return j.dump();
 }
 
@@ -134,10 +127,9 @@ void RebuildWorker::rebuild(MapUpdate map, std::uint64_t generation) {
   const std::size_t points = map.points.size();
   if (!map.points.empty()) {
     try {
-      pipeline::BuildResult result =
-          map.keyframes ? pipeline::buildFromPoints(std::move(map.points), *map.keyframes, params, "map",
-                                                      keyframes_name_)
-                        : pipeline::buildFromPoints(std::move(map.points), params, "map");
+      pipeline::BuildResult result = map.keyframes ? pipeline::buildFromPoints(std::move(map.points), *map.keyframes,
+                                                                               params, "map", keyframes_name_)
+                                                   : pipeline::buildFromPoints(std::move(map.points), params, "map");
       // The floor and ceiling found are obstacles for path checks, as for `hullmap check`.
       collision::HullChecker checker(result.obstacles, result.surfaces);
       snapshot = std::make_shared<const Snapshot>(Snapshot{std::move(result), std::move(checker)});
@@ -163,7 +155,8 @@ void RebuildWorker::rebuild(MapUpdate map, std::uint64_t generation) {
     }
   }
   if (!failure.empty()) {
-    if (hooks_.rebuild_failed) hooks_.rebuild_failed("rebuild of " + std::to_string(points) + " points failed: " + failure);
+    if (hooks_.rebuild_failed)
+      hooks_.rebuild_failed("rebuild of " + std::to_string(points) + " points failed: " + failure);
     publishStats();
     return;
   }

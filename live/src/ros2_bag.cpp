@@ -106,8 +106,7 @@ int run(const std::vector<std::string>& argv, std::string& out, std::string& err
   for (auto& f : fds)
     if (f.fd >= 0) close(f.fd);
   int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
@@ -122,20 +121,14 @@ bool isRos2Bag(const std::filesystem::path& path) {
 
 void writeBagTopics(std::ostream& out, const BagTopics& topics) {
   const BagMap& map = topics.map;
-  out << kMagic << "\ntype " << map.type << "\nmessages " << map.messages << "\nskipped " << map.skipped
-      << "\npoints " << map.points.size() << "\n";
+  out << kMagic << "\ntype " << map.type << "\nmessages " << map.messages << "\nskipped " << map.skipped << "\npoints "
+      << map.points.size() << "\n";
   for (const auto& p : map.points) writeDoubles(out, p.data(), 3);
   if (topics.keyframes) {
     out << "keyframes " << topics.keyframes->size() << "\n";
     for (const auto& k : *topics.keyframes) {
-      const double values[8] = {k.stamp,
-                                k.position.x(),
-                                k.position.y(),
-                                k.position.z(),
-                                k.orientation.x(),
-                                k.orientation.y(),
-                                k.orientation.z(),
-                                k.orientation.w()};
+      const double values[8] = {k.stamp,           k.position.x(),    k.position.y(),    k.position.z(),
+                                k.orientation.x(), k.orientation.y(), k.orientation.z(), k.orientation.w()};
       writeDoubles(out, values, 8);
     }
   } else {
@@ -146,7 +139,8 @@ void writeBagTopics(std::ostream& out, const BagTopics& topics) {
 
 BagTopics readBagTopics(std::istream& in) {
   std::string first;
-  if (!std::getline(in, first) || first != kMagic) throw streamError("does not start with '" + std::string(kMagic) + "'");
+  if (!std::getline(in, first) || first != kMagic)
+    throw streamError("does not start with '" + std::string(kMagic) + "'");
   BagTopics topics;
   BagMap& map = topics.map;
   map.type = line(in, "type");
@@ -190,8 +184,9 @@ BagTopics readRos2Bag(const std::string& path, const std::string& topic,
                       const std::optional<std::string>& trajectory_topic) {
   const auto reader = findRos2BagReader();
   if (!reader) {
-    throw Error(path + ": a ROS 2 bag: reading it needs the ROS 2 package hullmap_ros2 (its hullmap_bag_reader, "
-                       "not found in AMENT_PREFIX_PATH): source ROS 2 and the workspace that holds it");
+    throw Error(path +
+                ": a ROS 2 bag: reading it needs the ROS 2 package hullmap_ros2 (its hullmap_bag_reader, "
+                "not found in AMENT_PREFIX_PATH): source ROS 2 and the workspace that holds it");
   }
   std::vector<std::string> argv = {reader->string(), path, "--topic", topic};
   if (trajectory_topic) {
@@ -206,7 +201,8 @@ BagTopics readRos2Bag(const std::string& path, const std::string& topic,
     const auto at = err.rfind(marker);
     if (at != std::string::npos) {
       const auto end = err.find('\n', at);
-      throw Error(err.substr(at + marker.size(), end == std::string::npos ? std::string::npos : end - at - marker.size()));
+      throw Error(
+          err.substr(at + marker.size(), end == std::string::npos ? std::string::npos : end - at - marker.size()));
     }
     std::string last = err.substr(0, err.find_last_not_of("\n") + 1);
     last = last.substr(last.find_last_of('\n') + 1);

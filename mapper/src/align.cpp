@@ -11,7 +11,6 @@
 namespace hullmap::mapper {
 namespace {
 
-
 // Singular values of the centred positions (3 x n), largest first: the square roots of the
 // eigenvalues of their 3 x 3 scatter matrix (an SVD of the 3 x n matrix itself instantiates
 // Eigen's dynamic-size QR preconditioners, most of this file's compile time, for the same values).

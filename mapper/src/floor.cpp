@@ -11,13 +11,12 @@
 #include "hullmap/core/error.hpp"
 #include "hullmap/core/number_text.hpp"
 
-
 namespace hullmap::mapper {
 namespace {
 
 constexpr std::size_t kEvaluationPoints = 200000;
 constexpr std::size_t kScreenPoints = 2000;  ///< RANSAC candidates are screened on this many sample points
-constexpr std::size_t kFinalists = 100;       ///< and the best this many counted on the whole sample
+constexpr std::size_t kFinalists = 100;      ///< and the best this many counted on the whole sample
 
 // Portable draws: the same bits on every standard library.
 class Draw {
@@ -40,8 +39,10 @@ Counts count(const io::Points& points, const Plane& plane, double band) {
   Counts c;
   for (const io::Point& p : points) {
     const double d = plane.signedDistance(p);
-    if (std::abs(d) <= band) ++c.inliers;
-    else if (d < -band) ++c.beyond;
+    if (std::abs(d) <= band)
+      ++c.inliers;
+    else if (d < -band)
+      ++c.beyond;
   }
   return c;
 }
@@ -228,8 +229,8 @@ PlaneFit findBoundingPlane(const io::Points& points, PlaneSide side, const Plane
   if (fit.inlier_share < params.min_inlier_share) {
     fit.reason = "inlier share " + std::to_string(fit.inlier_share) + " < " + std::to_string(params.min_inlier_share);
   } else if (fit.beyond_share > params.max_beyond_share) {
-    fit.reason = "share beyond the plane " + std::to_string(fit.beyond_share) + " > " +
-                 std::to_string(params.max_beyond_share);
+    fit.reason =
+        "share beyond the plane " + std::to_string(fit.beyond_share) + " > " + std::to_string(params.max_beyond_share);
   } else if (fit.coverage < params.min_coverage) {
     fit.reason = "coverage " + std::to_string(fit.coverage) + " < " + std::to_string(params.min_coverage);
   } else if (fit.tilt_deg > params.max_tilt_deg) {
@@ -273,7 +274,8 @@ PlaneSetting parsePlaneSetting(const std::string& option, const std::string& tex
 std::vector<SurfaceClass> classifySurfaces(const std::vector<Eigen::Vector3d>& centres,
                                            const std::optional<Plane>& floor, const std::optional<Plane>& ceiling,
                                            double band) {
-  if (!(band >= 0.0) || !std::isfinite(band)) throw Error::inParameter("floor", "the surface band must be finite and >= 0");
+  if (!(band >= 0.0) || !std::isfinite(band))
+    throw Error::inParameter("floor", "the surface band must be finite and >= 0");
   std::vector<SurfaceClass> classes(centres.size(), SurfaceClass::kObstacle);
   for (std::size_t i = 0; i < centres.size(); ++i) {
     if (floor && floor->signedDistance(centres[i]) <= band) {

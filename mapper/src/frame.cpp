@@ -23,7 +23,8 @@ std::string_view trimmed(std::string_view s) {
 UpAxis parseUpAxis(const std::string& text) {
   std::string t;
   for (char c : text) {
-    if (!std::isspace(static_cast<unsigned char>(c))) t += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (!std::isspace(static_cast<unsigned char>(c)))
+      t += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   }
   if (t == "x" || t == "+x") return UpAxis::kPosX;
   if (t == "-x") return UpAxis::kNegX;
@@ -36,12 +37,18 @@ UpAxis parseUpAxis(const std::string& text) {
 
 std::string toString(UpAxis up) {
   switch (up) {
-    case UpAxis::kPosX: return "+x";
-    case UpAxis::kNegX: return "-x";
-    case UpAxis::kPosY: return "+y";
-    case UpAxis::kNegY: return "-y";
-    case UpAxis::kPosZ: return "+z";
-    case UpAxis::kNegZ: return "-z";
+    case UpAxis::kPosX:
+      return "+x";
+    case UpAxis::kNegX:
+      return "-x";
+    case UpAxis::kPosY:
+      return "+y";
+    case UpAxis::kNegY:
+      return "-y";
+    case UpAxis::kPosZ:
+      return "+z";
+    case UpAxis::kNegZ:
+      return "-z";
   }
   return "?";
 }
@@ -145,8 +152,8 @@ std::vector<double> parseNumbers(const std::string& option, const std::string& t
     start = comma + 1;
   }
   if (bad || values.size() != expected) {
-    throw Error(option + ": expected " + form + " (" + std::to_string(expected) + " finite numbers), got '" +
-                text + "'");
+    throw Error(option + ": expected " + form + " (" + std::to_string(expected) + " finite numbers), got '" + text +
+                "'");
   }
   return values;
 }

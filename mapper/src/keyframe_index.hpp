@@ -28,8 +28,8 @@ class KeyframeIndex {
       forward_.push_back(k.orientation * Eigen::Vector3d::UnitZ());
     }
     const Eigen::Vector3d extent = (hi_ - lo_).cwiseMax(1e-9);
-    const double volume_per_cell = std::max(extent.prod(), std::pow(extent.maxCoeff(), 3) * 1e-6) /
-                                   static_cast<double>(keyframes.size());
+    const double volume_per_cell =
+        std::max(extent.prod(), std::pow(extent.maxCoeff(), 3) * 1e-6) / static_cast<double>(keyframes.size());
     cell_ = std::max({std::cbrt(volume_per_cell), extent.maxCoeff() / 64.0, 1e-9});
     for (int i = 0; i < 3; ++i) dims_[i] = static_cast<long>(std::floor(extent[i] / cell_)) + 1;
     cells_.assign(static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]), {});

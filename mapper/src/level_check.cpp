@@ -43,8 +43,9 @@ std::optional<std::string> orbSlamUpHint(const std::vector<io::InputStats>& inpu
   if (up_given) return std::nullopt;
   for (const auto& input : inputs) {
     if (looksLikeOrbSlam(input)) {
-      return input.path + " looks like ORB-SLAM output, whose frame is the first camera's (x right, y down, "
-                          "z forward): it likely needs --up -y (--up was left at z)";
+      return input.path +
+             " looks like ORB-SLAM output, whose frame is the first camera's (x right, y down, "
+             "z forward): it likely needs --up -y (--up was left at z)";
     }
   }
   return std::nullopt;

@@ -34,7 +34,8 @@ constexpr unsigned kTreeDepth = 16;
 // stderr is left alone. Reading calls readBinaryData / readData, which print nothing on a good
 // stream; .ot writing (AbstractOcTree::write -> writeData) prints nothing either.
 bool writeBinaryQuietly(const octomap::OcTree& tree, std::ostream& out) {
-  out << "# Octomap OcTree binary file\n# (feel free to add / change comments, but leave the first line as it is!)\n#\n";
+  out << "# Octomap OcTree binary file\n# (feel free to add / change comments, but leave the first line as it "
+         "is!)\n#\n";
   out << "id " << tree.getTreeType() << std::endl;
   out << "size " << tree.size() << std::endl;
   out << "res " << tree.getResolution() << std::endl;
@@ -42,7 +43,6 @@ bool writeBinaryQuietly(const octomap::OcTree& tree, std::ostream& out) {
   if (tree.getRoot() != nullptr) tree.writeBinaryNode(out, tree.getRoot());
   return out.good();
 }
-
 
 // occupiedVoxels() lists at most this many finest voxels (52 bytes each at the peak: ~1.7 GB).
 constexpr std::uint64_t kMaxOccupiedVoxels = std::uint64_t(1) << 25;
@@ -132,7 +132,6 @@ void addDropped(io::InputStats& stats, std::size_t dropped) {
   if (dropped > 0) stats.dropped["out_of_octree"] += dropped;
 }
 
-
 std::string extensionOf(const std::string& path) {
   const auto dot = path.find_last_of('.');
   if (dot == std::string::npos || path.find_first_of('/', dot) != std::string::npos) return "";
@@ -140,7 +139,6 @@ std::string extensionOf(const std::string& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   return ext;
 }
-
 
 }  // namespace
 
@@ -320,7 +318,7 @@ OccupancyMap buildWithTrajectory(const io::Points& points, const std::vector<io:
   for (std::size_t k = 0; k < keyframes.size(); ++k) {
     if (start[k] == start[k + 1]) continue;
     const io::Points scan(grouped.begin() + static_cast<std::ptrdiff_t>(start[k]),
-                      grouped.begin() + static_cast<std::ptrdiff_t>(start[k + 1]));
+                          grouped.begin() + static_cast<std::ptrdiff_t>(start[k + 1]));
     insertScan(map.tree(), scan, keyframes[k].position, params.max_range);
   }
   return map;
@@ -394,8 +392,10 @@ MapInfo describe(const octomap::OcTree& tree) {
     info.max = Eigen::Vector3d(x, y, z);
   }
   for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
-    if (tree.isNodeOccupied(*it)) ++info.occupied_leaves;
-    else ++info.free_leaves;
+    if (tree.isNodeOccupied(*it))
+      ++info.occupied_leaves;
+    else
+      ++info.free_leaves;
   }
   info.nodes = tree.size();
   info.memory_bytes = tree.memoryUsage();

@@ -37,25 +37,32 @@ OctreeFileHeader validateOctreeFile(const std::string& path, const std::string& 
       data = true;
       break;
     }
-    if (token == "id") words >> id;
-    else if (token == "size") words >> size;
-    else if (token == "res") words >> res;
-    else throw Error(path + ": unknown OctoMap header line '" + line + "'");
+    if (token == "id")
+      words >> id;
+    else if (token == "size")
+      words >> size;
+    else if (token == "res")
+      words >> res;
+    else
+      throw Error(path + ": unknown OctoMap header line '" + line + "'");
     std::string extra;
     if (!words || words >> extra) throw Error(path + ": malformed OctoMap header line '" + line + "'");
   }
   if (!data || pos == std::string::npos) throw Error(path + ": OctoMap header without a 'data' line");
-  if (size < 0 || !(res > 0.0) || !std::isfinite(res)) throw Error(path + ": OctoMap header lacks a valid size and res");
+  if (size < 0 || !(res > 0.0) || !std::isfinite(res))
+    throw Error(path + ": OctoMap header lacks a valid size and res");
   if (id != "OcTree") throw Error(path + ": octree type '" + id + "' is not an OcTree");
   std::size_t at = pos + 1;
   long long nodes = 0;
   auto need = [&](std::size_t n) {
-    if (at + n > bytes.size()) throw Error(path + ": truncated OctoMap data (file ends inside node " + std::to_string(nodes) + ")");
+    if (at + n > bytes.size())
+      throw Error(path + ": truncated OctoMap data (file ends inside node " + std::to_string(nodes) + ")");
   };
   // Depth-first; the depth check bounds the recursion at 16.
   std::function<void(unsigned)> walk = [&](unsigned depth) {
     ++nodes;
-    if (nodes > size) throw Error(path + ": OctoMap data holds more nodes than its header's size " + std::to_string(size));
+    if (nodes > size)
+      throw Error(path + ": OctoMap data holds more nodes than its header's size " + std::to_string(size));
     if (binary) {
       need(2);
       const unsigned char a = static_cast<unsigned char>(bytes[at]);
@@ -85,7 +92,8 @@ OctreeFileHeader validateOctreeFile(const std::string& path, const std::string& 
   };
   if (size > 0) walk(0);
   if (nodes != size) {
-    throw Error(path + ": OctoMap data holds " + std::to_string(nodes) + " nodes, its header says " + std::to_string(size));
+    throw Error(path + ": OctoMap data holds " + std::to_string(nodes) + " nodes, its header says " +
+                std::to_string(size));
   }
   return {res, static_cast<std::size_t>(size), pos + 1};
 }

@@ -92,8 +92,9 @@ std::optional<OutputDirRefusal> outputDirRefusal(const std::string& dir, const O
     if (input.empty() || !fs::exists(input, ec)) continue;
     if (within(resolved(normalised(input)), real)) {
       return refusal(Reason::kHoldsInput, dir,
-                     "holds the input " + input + "; a run replaces its output directory whole, so write "
-                     "the output elsewhere");
+                     "holds the input " + input +
+                         "; a run replaces its output directory whole, so write "
+                         "the output elsewhere");
     }
   }
 
@@ -125,8 +126,8 @@ std::optional<OutputDirRefusal> outputDirRefusal(const std::string& dir, const O
   const auto listed = markerFiles(out / kOutputMarker);
   if (!listed) {
     return refusal(Reason::kForeign, dir,
-                   "not empty and not a hullmap output (holds " + someNames(entries) + "; no " +
-                       kOutputMarker + " marker); refusing to replace it: give a new or empty directory");
+                   "not empty and not a hullmap output (holds " + someNames(entries) + "; no " + kOutputMarker +
+                       " marker); refusing to replace it: give a new or empty directory");
   }
   std::vector<std::string> foreign;
   for (const auto& name : entries) {
@@ -160,7 +161,8 @@ void checkOutputFile(const std::string& path) {
   if (::access(parent.c_str(), W_OK | X_OK) != 0) {
     throw Error(path + ": cannot write there: " + parent.string() + ": " + std::strerror(errno));
   }
-  if (!fs::is_directory(parent, ec)) throw Error(path + ": cannot write there: " + parent.string() + " is not a directory");
+  if (!fs::is_directory(parent, ec))
+    throw Error(path + ": cannot write there: " + parent.string() + " is not a directory");
 }
 
 void writeOutputMarker(const std::string& dir, const std::vector<std::string>& files) {

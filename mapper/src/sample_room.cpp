@@ -78,8 +78,10 @@ Eigen::Vector3d samplePatch(const Patch& p, bool on_edge, SceneRandom& rng) {
       if (on_edge) {
         // One of the four edges, by length.
         const double la = p.a.norm(), lb = p.b.norm();
-        if (rng.uniform() * (la + lb) < la) v = rng.uniform() < 0.5 ? -1.0 : 1.0;
-        else u = rng.uniform() < 0.5 ? -1.0 : 1.0;
+        if (rng.uniform() * (la + lb) < la)
+          v = rng.uniform() < 0.5 ? -1.0 : 1.0;
+        else
+          u = rng.uniform() < 0.5 ? -1.0 : 1.0;
       }
       return p.c + u * p.a + v * p.b;
     }
@@ -232,8 +234,9 @@ Scene generateRoomScene(const SceneParams& p) {
   // Furniture kSceneObstacleGap apart from each other and from the camera loop: inside the loop, or
   // (kAnywhere) anywhere in the room.
   const bool circle = loop_x == loop_y;
-  const std::vector<Eigen::Vector2d> loop =
-      circle && p.placement == FurniturePlacement::kInsideLoop ? std::vector<Eigen::Vector2d>{} : loopSamples(loop_x, loop_y);
+  const std::vector<Eigen::Vector2d> loop = circle && p.placement == FurniturePlacement::kInsideLoop
+                                                ? std::vector<Eigen::Vector2d>{}
+                                                : loopSamples(loop_x, loop_y);
   // The samples are at most 2 pi max(lx, ly) / 1440 apart: the gap to the curve is within half that.
   const double loop_slack = kPi * std::max(loop_x, loop_y) / 1440.0;
   std::vector<Footprint> placed;
@@ -256,7 +259,8 @@ Scene generateRoomScene(const SceneParams& p) {
         shift = centre - 0.5 * extent;
       } else {
         // Inside the ellipse: the footprint grown by the gap has its corners inside it.
-        const double rx = loop_x - kSceneObstacleGap - 0.5 * extent.x(), ry = loop_y - kSceneObstacleGap - 0.5 * extent.y();
+        const double rx = loop_x - kSceneObstacleGap - 0.5 * extent.x(),
+                     ry = loop_y - kSceneObstacleGap - 0.5 * extent.y();
         if (rx <= 0.0 || ry <= 0.0) continue;
         const Eigen::Vector2d centre(rng.uniform(-rx, rx), rng.uniform(-ry, ry));
         const Eigen::Vector2d h = 0.5 * extent + Eigen::Vector2d::Constant(kSceneObstacleGap);
@@ -282,8 +286,8 @@ Scene generateRoomScene(const SceneParams& p) {
     }
     if (!done) {
       throw Error("scene parameters: cannot place " + std::to_string(p.obstacles) + " pieces of furniture " +
-                  std::to_string(kSceneObstacleGap) + " m apart in a room of " + std::to_string(p.room_size) +
-                  " x " + std::to_string(2.0 * half_y) + " m (obstacles too many for room_size)");
+                  std::to_string(kSceneObstacleGap) + " m apart in a room of " + std::to_string(p.room_size) + " x " +
+                  std::to_string(2.0 * half_y) + " m (obstacles too many for room_size)");
     }
   }
   // Only furniture hides surfaces (a wall's foot on the floor is a visible edge, as is a box's).
@@ -354,8 +358,8 @@ Scene generateRoomScene(const SceneParams& p) {
       if (i < surface) {
         while (true) {
           const double x = local.uniform() * area;
-          const auto k = static_cast<std::size_t>(
-              std::upper_bound(cumulative.begin(), cumulative.end() - 1, x) - cumulative.begin());
+          const auto k = static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end() - 1, x) -
+                                                  cumulative.begin());
           const Patch& patch = patches[k];
           q = samplePatch(patch, local.uniform() < p.edge_fraction, local);
           bool hidden = false;

@@ -19,10 +19,10 @@
 namespace hullmap::mapper {
 namespace {
 
+using core::splitMix64;
 using detail::kCameraHeight;
 using detail::kChunk;
 using detail::SceneRandom;
-using core::splitMix64;
 
 // Samples the surface of one obstacle: half the points near edges, half on visible faces.
 class SurfaceSampler {
@@ -66,11 +66,16 @@ class SurfaceSampler {
       return c + Eigen::Vector3d(s1 * h.x(), s2 * h.y(), u * h.z());
     }
     switch (i) {
-      case 0: return c + Eigen::Vector3d(u * h.x(), v * h.y(), h.z());
-      case 1: return c + Eigen::Vector3d(u * h.x(), -h.y(), v * h.z());
-      case 2: return c + Eigen::Vector3d(u * h.x(), h.y(), v * h.z());
-      case 3: return c + Eigen::Vector3d(-h.x(), u * h.y(), v * h.z());
-      default: return c + Eigen::Vector3d(h.x(), u * h.y(), v * h.z());
+      case 0:
+        return c + Eigen::Vector3d(u * h.x(), v * h.y(), h.z());
+      case 1:
+        return c + Eigen::Vector3d(u * h.x(), -h.y(), v * h.z());
+      case 2:
+        return c + Eigen::Vector3d(u * h.x(), h.y(), v * h.z());
+      case 3:
+        return c + Eigen::Vector3d(-h.x(), u * h.y(), v * h.z());
+      default:
+        return c + Eigen::Vector3d(h.x(), u * h.y(), v * h.z());
     }
   }
 
@@ -151,15 +156,14 @@ std::vector<SceneObstacle> placeObstacles(const SceneParams& p, double loop_radi
       if (reach <= 0.0) continue;
       o.center = Eigen::Vector3d(rng.uniform(-reach, reach), rng.uniform(-reach, reach), 0.5 * height);
       if (o.center.head<2>().norm() > reach) continue;
-      placed = std::all_of(obstacles.begin(), obstacles.end(), [&o](const SceneObstacle& other) {
-        return footprintGap(o, other) >= kSceneObstacleGap;
-      });
+      placed = std::all_of(obstacles.begin(), obstacles.end(),
+                           [&o](const SceneObstacle& other) { return footprintGap(o, other) >= kSceneObstacleGap; });
       if (placed) obstacles.push_back(o);
     }
     if (!placed) {
-      throw Error("scene parameters: cannot place " + std::to_string(p.obstacles) +
-                  " obstacles " + std::to_string(kSceneObstacleGap) + " m apart in a room of " +
-                  std::to_string(p.room_size) + " m (obstacles too many for room_size)");
+      throw Error("scene parameters: cannot place " + std::to_string(p.obstacles) + " obstacles " +
+                  std::to_string(kSceneObstacleGap) + " m apart in a room of " + std::to_string(p.room_size) +
+                  " m (obstacles too many for room_size)");
     }
   }
   return obstacles;
@@ -171,8 +175,8 @@ std::vector<io::Keyframe> cameraLoop(const SceneParams& p, double loop_radius) {
     const double a = 2.0 * kPi * static_cast<double>(i) / static_cast<double>(p.keyframes);
     io::Keyframe& k = keyframes[i];
     k.stamp = 1.0 + 0.5 * static_cast<double>(i);
-    k.position = Eigen::Vector3d(loop_radius * std::cos(a), loop_radius * std::sin(a),
-                                 kCameraHeight + 0.05 * std::sin(3.0 * a));
+    k.position =
+        Eigen::Vector3d(loop_radius * std::cos(a), loop_radius * std::sin(a), kCameraHeight + 0.05 * std::sin(3.0 * a));
     // Camera axes in the map: z forward (toward the room's axis, slightly down), x right, y down.
     const Eigen::Vector3d forward = Eigen::Vector3d(-std::cos(a), -std::sin(a), -0.15).normalized();
     const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
@@ -201,20 +205,24 @@ void appendXyz(std::string& out, const Eigen::Vector3d& p) {
 
 Eigen::Matrix3d mapToOrbSlamRotation() {
   Eigen::Matrix3d m;
-  m << 1, 0, 0,
-       0, 0, -1,
-       0, 1, 0;
+  m << 1, 0, 0, 0, 0, -1, 0, 1, 0;
   return m;
 }
 
 std::string toString(SceneObject::Kind kind) {
   switch (kind) {
-    case SceneObject::Kind::kBox: return "box";
-    case SceneObject::Kind::kCylinder: return "cylinder";
-    case SceneObject::Kind::kLShelf: return "l_shelf";
-    case SceneObject::Kind::kTable: return "table";
-    case SceneObject::Kind::kWall: return "wall";
-    case SceneObject::Kind::kFloor: return "floor";
+    case SceneObject::Kind::kBox:
+      return "box";
+    case SceneObject::Kind::kCylinder:
+      return "cylinder";
+    case SceneObject::Kind::kLShelf:
+      return "l_shelf";
+    case SceneObject::Kind::kTable:
+      return "table";
+    case SceneObject::Kind::kWall:
+      return "wall";
+    case SceneObject::Kind::kFloor:
+      return "floor";
   }
   return "box";
 }
@@ -260,8 +268,7 @@ Scene generateScene(const SceneParams& p) {
         q = samplers[o].sample(local);
         q += p.noise_sigma * Eigen::Vector3d(local.normal(), local.normal(), local.normal());
       } else if (i < surface + outliers) {
-        q = Eigen::Vector3d(local.uniform(-half, half), local.uniform(-half, half),
-                            local.uniform(0.0, p.room_height));
+        q = Eigen::Vector3d(local.uniform(-half, half), local.uniform(-half, half), local.uniform(0.0, p.room_height));
       } else {
         q = local.uniform(1e5, 1e6) * local.unitVector();
       }
@@ -315,8 +322,8 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
     char line[512];
     for (const io::Keyframe& k : scene.keyframes) {
       const Eigen::Quaterniond& q = k.orientation;
-      std::snprintf(line, sizeof(line), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", k.stamp,
-                    k.position.x(), k.position.y(), k.position.z(), q.x(), q.y(), q.z(), q.w());
+      std::snprintf(line, sizeof(line), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", k.stamp, k.position.x(),
+                    k.position.y(), k.position.z(), q.x(), q.y(), q.z(), q.w());
       out << line;
     }
   });
@@ -365,10 +372,10 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
                               "monocular scale; align with reference_trajectory.txt"
                             : "z-up map";
     const Eigen::Matrix3d& r = scene.output_rotation;
-    j["output_from_map"] = {{"scale", scene.output_scale},
-                            {"rotation", {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}}},
-                            {"translation",
-                             {scene.output_translation.x(), scene.output_translation.y(), scene.output_translation.z()}}};
+    j["output_from_map"] = {
+        {"scale", scene.output_scale},
+        {"rotation", {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}}},
+        {"translation", {scene.output_translation.x(), scene.output_translation.y(), scene.output_translation.z()}}};
     j["params"] = {{"seed", params.seed},
                    {"layout", "room"},
                    {"points", scene.points.size()},

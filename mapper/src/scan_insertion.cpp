@@ -125,7 +125,8 @@ std::uint32_t BrickSet::find(std::uint64_t coord) {
   const unsigned x = static_cast<unsigned>(coord & 0x1FFF) - lo_[0];
   const unsigned y = static_cast<unsigned>((coord >> 13) & 0x1FFF) - lo_[1];
   const unsigned z = static_cast<unsigned>(coord >> 26) - lo_[2];
-  if (x < static_cast<unsigned>(dims_[0]) && y < static_cast<unsigned>(dims_[1]) && z < static_cast<unsigned>(dims_[2])) {
+  if (x < static_cast<unsigned>(dims_[0]) && y < static_cast<unsigned>(dims_[1]) &&
+      z < static_cast<unsigned>(dims_[2])) {
     return gridBrick((static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0] + x);
   }
   if (2 * (hashed_ + 1) > slots_.size()) {
@@ -188,7 +189,7 @@ void BrickSet::markFree(const std::uint64_t* keys, std::size_t count) {
 }
 
 bool KeyCaster::startRay(const octomap::point3d& origin, const int key_origin[3], const octomap::point3d& end,
-                        const int key_end[3], RayStart& start) const {
+                         const int key_end[3], RayStart& start) const {
   // OcTreeBaseImpl::computeRayKeys (octomap 1.9) up to its loop, statement for statement.
   if (key_origin[0] == key_end[0] && key_origin[1] == key_end[1] && key_origin[2] == key_end[2]) return false;
 
@@ -197,9 +198,12 @@ bool KeyCaster::startRay(const octomap::point3d& origin, const int key_origin[3]
   direction /= length;
 
   for (int i = 0; i < 3; ++i) {
-    if (direction(i) > 0.0) start.step[i] = 1;
-    else if (direction(i) < 0.0) start.step[i] = -1;
-    else start.step[i] = 0;
+    if (direction(i) > 0.0)
+      start.step[i] = 1;
+    else if (direction(i) < 0.0)
+      start.step[i] = -1;
+    else
+      start.step[i] = 0;
 
     if (start.step[i] != 0) {
       double voxel_border = (static_cast<double>(key_origin[i] - max_val_) + 0.5) * resolution_;
@@ -250,8 +254,7 @@ inline __m128d withLane(__m128d v, int lane, double x) {
 
 inline __m128i withLane(__m128i v, int lane, std::uint64_t x) {
   const __m128i s = _mm_cvtsi64_si128(static_cast<long long>(x));
-  return lane == 0 ? _mm_castpd_si128(_mm_move_sd(_mm_castsi128_pd(v), _mm_castsi128_pd(s)))
-                   : _mm_unpacklo_epi64(v, s);
+  return lane == 0 ? _mm_castpd_si128(_mm_move_sd(_mm_castsi128_pd(v), _mm_castsi128_pd(s))) : _mm_unpacklo_epi64(v, s);
 }
 
 inline void setLane(LaneGroup& g, int lane, const LaneRay& r) {
@@ -279,9 +282,9 @@ inline int stepLanes(LaneGroup& g, __m128i lo, std::uint64_t* keys) {
   g.t0 = _mm_add_pd(g.t0, _mm_and_pd(g.d0, x));
   g.t1 = _mm_add_pd(g.t1, _mm_and_pd(g.d1, y));
   g.t2 = _mm_add_pd(g.t2, _mm_and_pd(g.d2, z));
-  const __m128i steps = _mm_or_si128(_mm_or_si128(_mm_and_si128(g.step0, _mm_castpd_si128(x)),
-                                                  _mm_and_si128(g.step1, _mm_castpd_si128(y))),
-                                     _mm_and_si128(g.step2, _mm_castpd_si128(z)));
+  const __m128i steps = _mm_or_si128(
+      _mm_or_si128(_mm_and_si128(g.step0, _mm_castpd_si128(x)), _mm_and_si128(g.step1, _mm_castpd_si128(y))),
+      _mm_and_si128(g.step2, _mm_castpd_si128(z)));
   g.key = _mm_add_epi16(g.key, steps);
   const __m128i same = _mm_cmpeq_epi32(g.key, g.key_end);
   const __m128i at_end = _mm_and_si128(same, _mm_shuffle_epi32(same, _MM_SHUFFLE(2, 3, 0, 1)));
@@ -300,8 +303,8 @@ inline int stepLanes(LaneGroup& g, __m128i lo, std::uint64_t* keys) {
 //   stop if key == key_end, or if min(t) > length; else the key is free.
 // An axis that does not step adds +0.0, which leaves its t unchanged. The keys go to a buffer that
 // a scalar pass then marks.
-void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3], const Ray* rays,
-                         std::size_t count, BrickSet& out) const {
+void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3], const Ray* rays, std::size_t count,
+                         BrickSet& out) const {
   std::size_t next = 0;
   bool any_cast = false;
   int active = 0;
@@ -346,8 +349,8 @@ void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3]
   setLane(g1, 1, r11);
 
   const unsigned* grid_lo = out.gridLo();
-  const __m128i lo = _mm_set1_epi64x(static_cast<long long>(
-      grid_lo[0] | static_cast<std::uint64_t>(grid_lo[1]) << 16 | static_cast<std::uint64_t>(grid_lo[2]) << 32));
+  const __m128i lo = _mm_set1_epi64x(static_cast<long long>(grid_lo[0] | static_cast<std::uint64_t>(grid_lo[1]) << 16 |
+                                                            static_cast<std::uint64_t>(grid_lo[2]) << 32));
   alignas(16) std::uint64_t keys[kSteps * 4];
   while (active > 0) {
     int steps = kSteps;
@@ -374,8 +377,8 @@ void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3]
 #else
 
 // computeRayKeys' walk, one ray at a time.
-void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3], const Ray* rays,
-                         std::size_t count, BrickSet& out) const {
+void KeyCaster::castRays(const octomap::point3d& origin, const int key_origin[3], const Ray* rays, std::size_t count,
+                         BrickSet& out) const {
   const int lo[3] = {static_cast<int>(out.gridLo()[0]), static_cast<int>(out.gridLo()[1]),
                      static_cast<int>(out.gridLo()[2])};
   std::uint64_t keys[kSteps] = {};
@@ -447,7 +450,9 @@ void radixSortByCode(std::vector<Item>& items, unsigned passes) {
 // the side the update pushes towards.
 struct UpdatePolicy {
   explicit UpdatePolicy(const octomap::OcTree& tree)
-      : hit(tree.getProbHitLog()), miss(tree.getProbMissLog()), clamp_min(tree.getClampingThresMinLog()),
+      : hit(tree.getProbHitLog()),
+        miss(tree.getProbMissLog()),
+        clamp_min(tree.getClampingThresMinLog()),
         clamp_max(tree.getClampingThresMaxLog()) {}
   float logOdds(bool occupied) const { return occupied ? hit : miss; }
   bool aborts(bool occupied, float v) const {
@@ -462,8 +467,7 @@ class BatchUpdate {
   explicit BatchUpdate(octomap::OcTree& tree) : tree_(tree), policy_(tree) {}
 
   // Returns true when something below `node` changed (octomap then prunes or refreshes it).
-  bool descend(octomap::OcTreeNode* node, bool just_created, unsigned depth, VoxelUpdate* begin,
-               VoxelUpdate* end) {
+  bool descend(octomap::OcTreeNode* node, bool just_created, unsigned depth, VoxelUpdate* begin, VoxelUpdate* end) {
     if (!just_created && !tree_.nodeHasChildren(node)) {
       // search(key) would stop here: octomap's early abort for updates that cannot change it.
       const float v = node->getLogOdds();
@@ -500,9 +504,7 @@ class BatchUpdate {
   }
 
  private:
-  bool aborts(std::uint64_t code, float v) const {
-    return policy_.aborts((code & 1) != 0, v);
-  }
+  bool aborts(std::uint64_t code, float v) const { return policy_.aborts((code & 1) != 0, v); }
 
   static constexpr unsigned kTreeDepth = 16;
   octomap::OcTree& tree_;
@@ -581,21 +583,21 @@ ScanUpdate computeScanUpdate(const octomap::OcTree& tree, const io::Points& poin
   std::vector<KeyCaster::Ray> rays(points.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4096),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-    Box& box = boxes.local();
-    for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      bool endpoint;
-      KeyCaster::Ray& ray = rays[i];
-      ray.end = rayEnd(toPoint3d(points[i]), endpoint);
-      // When `endpoint`, the end is the point itself: its key is the occupied one.
-      if (!caster.coordToKeyChecked(ray.end, ray.key_end)) continue;
-      ray.casts = origin_ok;
-      ray.occupied = endpoint;
-      for (int a = 0; a < 3; ++a) {
-        box.lo[a] = std::min(box.lo[a], ray.key_end[a] >> 3);
-        box.hi[a] = std::max(box.hi[a], ray.key_end[a] >> 3);
-      }
-    }
-  });
+                      Box& box = boxes.local();
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        bool endpoint;
+                        KeyCaster::Ray& ray = rays[i];
+                        ray.end = rayEnd(toPoint3d(points[i]), endpoint);
+                        // When `endpoint`, the end is the point itself: its key is the occupied one.
+                        if (!caster.coordToKeyChecked(ray.end, ray.key_end)) continue;
+                        ray.casts = origin_ok;
+                        ray.occupied = endpoint;
+                        for (int a = 0; a < 3; ++a) {
+                          box.lo[a] = std::min(box.lo[a], ray.key_end[a] >> 3);
+                          box.hi[a] = std::max(box.hi[a], ray.key_end[a] >> 3);
+                        }
+                      }
+                    });
   int lo[3] = {0, 0, 0}, dims[3] = {0, 0, 0};
   if (origin_ok) {
     for (int a = 0; a < 3; ++a) {
@@ -618,12 +620,12 @@ ScanUpdate computeScanUpdate(const octomap::OcTree& tree, const io::Points& poin
   tbb::enumerable_thread_specific<BrickSet> local([&] { return BrickSet(lo, dims, allocate_grid); });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 1024),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-    BrickSet& set = local.local();
-    for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      if (rays[i].occupied) set.mark(rays[i].key_end, true);
-    }
-    caster.castRays(origin, origin_key, rays.data() + range.begin(), range.size(), set);
-  });
+                      BrickSet& set = local.local();
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        if (rays[i].occupied) set.mark(rays[i].key_end, true);
+                      }
+                      caster.castRays(origin, origin_key, rays.data() + range.begin(), range.size(), set);
+                    });
 
   std::vector<BrickSet> sets;
   for (BrickSet& set : local) sets.push_back(std::move(set));
@@ -661,8 +663,7 @@ namespace {
 // occupied (or free) update below it when such an update cannot change the leaf.
 class ScanApply {
  public:
-  ScanApply(octomap::OcTree& tree, const ScanUpdate& update)
-      : tree_(tree), update_(update), policy_(tree) {}
+  ScanApply(octomap::OcTree& tree, const ScanUpdate& update) : tree_(tree), update_(update), policy_(tree) {}
 
   /// Voxel `skip` (Morton code) is left out: the caller applied it already.
   void run(std::uint64_t skip) {
@@ -707,8 +708,7 @@ class ScanApply {
     }
   }
 
-  bool anyLeft(const ScanUpdate::Entry* begin, const ScanUpdate::Entry* end, bool drop_occupied,
-               bool drop_free) const {
+  bool anyLeft(const ScanUpdate::Entry* begin, const ScanUpdate::Entry* end, bool drop_occupied, bool drop_free) const {
     for (const ScanUpdate::Entry* it = begin; it != end;) {
       const ScanUpdate::Entry* run = brickEnd(it, end);
       std::uint64_t occupied[BrickSet::kWords], free[BrickSet::kWords];
@@ -874,9 +874,11 @@ void insertScan(octomap::OcTree& tree, const io::Points& points, const io::Point
     // Rare configurations: let octomap do it.
     octomap::Pointcloud cloud;
     cloud.reserve(points.size());
-    for (const io::Point& p : points) cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
-    tree.insertPointCloud(cloud, octomap::point3d(static_cast<float>(origin.x()), static_cast<float>(origin.y()),
-                                                  static_cast<float>(origin.z())),
+    for (const io::Point& p : points)
+      cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+    tree.insertPointCloud(cloud,
+                          octomap::point3d(static_cast<float>(origin.x()), static_cast<float>(origin.y()),
+                                           static_cast<float>(origin.z())),
                           max_range);
     return;
   }

@@ -36,7 +36,8 @@ class SceneRandom {
       return spare_;
     }
     double u = 0.0;
-    do u = uniform(); while (u <= 0.0);
+    do u = uniform();
+    while (u <= 0.0);
     const double r = std::sqrt(-2.0 * std::log(u));
     const double a = 2.0 * kPi * uniform();
     spare_ = r * std::sin(a);
@@ -45,7 +46,8 @@ class SceneRandom {
   }
   Eigen::Vector3d unitVector() {
     Eigen::Vector3d v;
-    do v = Eigen::Vector3d(normal(), normal(), normal()); while (v.norm() < 1e-9);
+    do v = Eigen::Vector3d(normal(), normal(), normal());
+    while (v.norm() < 1e-9);
     return v.normalized();
   }
 

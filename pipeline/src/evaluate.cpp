@@ -149,8 +149,10 @@ double convexDistance(const std::vector<V3>& vertices, const TruthShape& s) {
     for (int k = 0; k < 60; ++k) {
       const double a = lo + (hi - lo) / 3.0, b = hi - (hi - lo) / 3.0;
       const V3 pa = x + a * d, pb = x + b * d;
-      if ((pa - project(s, pa)).squaredNorm() <= (pb - project(s, pb)).squaredNorm()) hi = b;
-      else lo = a;
+      if ((pa - project(s, pa)).squaredNorm() <= (pb - project(s, pb)).squaredNorm())
+        hi = b;
+      else
+        lo = a;
     }
     const V3 next = x + 0.5 * (lo + hi) * d;
     const double fn = 0.5 * (next - project(s, next)).squaredNorm();
@@ -392,7 +394,8 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
   if (!(params.radius >= 0) || !std::isfinite(params.radius))
     throw Error("evaluate: --radius must be >= 0, got " + std::to_string(params.radius));
   if (!weights.empty() && weights.size() != points.size())
-    throw Error("evaluate: " + std::to_string(weights.size()) + " weights for " + std::to_string(points.size()) + " points");
+    throw Error("evaluate: " + std::to_string(weights.size()) + " weights for " + std::to_string(points.size()) +
+                " points");
   if (!(params.sample_step > 0) || !(params.segment_length > 0.2))
     throw Error("evaluate: sample_step must be > 0 and segment_length > 0.2");
   Evaluation e;
@@ -510,12 +513,14 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
   double above = -kInf, below = kInf;
   for (const auto& s : truth.shapes) {
     if (!s.surface) continue;
-    if (s.label.rfind("floor", 0) == 0) above = std::max(above, s.aabb_max.z() + free_distance);
-    else below = std::min(below, s.aabb_min.z() - free_distance);
+    if (s.label.rfind("floor", 0) == 0)
+      above = std::max(above, s.aabb_max.z() + free_distance);
+    else
+      below = std::min(below, s.aabb_min.z() - free_distance);
   }
   const auto onMapSide = [&](const V3& p) { return p.z() >= above && p.z() <= below; };
   std::vector<collision::Segment> segments;
-  std::vector<int> verdict;  // 1 deep, 2 clear, 0 neither
+  std::vector<int> verdict;                             // 1 deep, 2 clear, 0 neither
   std::vector<std::pair<std::size_t, double>> deepest;  // the shape nearest along it, radius - distance
   for (std::size_t tries = 0; segments.size() < params.segments && tries < 1000 * params.segments; ++tries) {
     const V3 a = lo + (hi - lo).cwiseProduct(V3(uniform(rng), uniform(rng), uniform(rng)));
@@ -542,8 +547,10 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
     }
     // The exact minimum lies in [nearest - spacing / 2, nearest].
     int v = 0;
-    if (nearest < params.radius - params.depth_margin) v = 1;
-    else if (nearest - 0.5 * spacing > params.radius + params.clear_margin) v = 2;
+    if (nearest < params.radius - params.depth_margin)
+      v = 1;
+    else if (nearest - 0.5 * spacing > params.radius + params.clear_margin)
+      v = 2;
     segments.push_back({a, b});
     verdict.push_back(v);
     deepest.emplace_back(nearest_shape, params.radius - nearest);
@@ -557,7 +564,8 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
       ++e.deep;
       if (!checks[k].collides) {
         ++e.missed;
-        e.missed_segments.push_back({segments[k].a, segments[k].b, truth.shapes[deepest[k].first].label, deepest[k].second});
+        e.missed_segments.push_back(
+            {segments[k].a, segments[k].b, truth.shapes[deepest[k].first].label, deepest[k].second});
       }
     } else if (verdict[k] == 2) {
       ++e.clear;
@@ -581,7 +589,8 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
     for (const auto& [o, part] : t.parts_touching) touching.push_back({{"obstacle", o}, {"part", part}});
     json representing = json::array();
     for (const auto& [o, part] : t.parts) representing.push_back({{"obstacle", o}, {"part", part}});
-    truth.push_back({{"label", t.label}, {"surface", t.surface},
+    truth.push_back({{"label", t.label},
+                     {"surface", t.surface},
                      {"points_near", t.points_near},
                      {"points_inside", t.points_inside},
                      {"share_inside", t.points_near > 0 ? json(t.points_inside / t.points_near) : json(nullptr)},
@@ -590,34 +599,54 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
   }
   json missed = json::array();
   for (const auto& m : e.missed_segments)
-    missed.push_back({{"from", {m.from.x(), m.from.y(), m.from.z()}}, {"to", {m.to.x(), m.to.y(), m.to.z()}},
-                      {"truth", m.truth}, {"depth", m.depth}});
+    missed.push_back({{"from", {m.from.x(), m.from.y(), m.from.z()}},
+                      {"to", {m.to.x(), m.to.y(), m.to.z()}},
+                      {"truth", m.truth},
+                      {"depth", m.depth}});
   json false_alarm_hulls = json::array();
   for (const auto& h : e.false_alarm_hulls)
     false_alarm_hulls.push_back({{"obstacle", h.obstacle}, {"part", h.part}, {"segments", h.segments}});
   json false_parts = json::array();
   for (const auto& f : e.false_parts)
-    false_parts.push_back({{"obstacle", f.obstacle}, {"part", f.part}, {"voxels", f.voxels}, {"volume", f.volume},
+    false_parts.push_back({{"obstacle", f.obstacle},
+                           {"part", f.part},
+                           {"voxels", f.voxels},
+                           {"volume", f.volume},
                            {"distance", f.distance}});
   return {{"format", "hullmap-evaluation/1"},
           {"parameters",
-           {{"radius", p.radius}, {"surface_margin", p.surface_margin}, {"touch_margin", p.touch_margin},
-            {"far_margin", p.far_margin}, {"depth_margin", p.depth_margin}, {"clear_margin", p.clear_margin},
-            {"volume_samples", p.volume_samples}, {"segments", p.segments}, {"segment_length", p.segment_length},
+           {{"radius", p.radius},
+            {"surface_margin", p.surface_margin},
+            {"touch_margin", p.touch_margin},
+            {"far_margin", p.far_margin},
+            {"depth_margin", p.depth_margin},
+            {"clear_margin", p.clear_margin},
+            {"volume_samples", p.volume_samples},
+            {"segments", p.segments},
+            {"segment_length", p.segment_length},
             {"segment_ends", p.ends == SegmentEnds::kFree ? "free" : "in_truth_box"},
             {"false_tolerance", p.false_tolerance},
-            {"sample_step", p.sample_step}, {"seed", p.seed}}},
+            {"sample_step", p.sample_step},
+            {"seed", p.seed}}},
           {"truth", truth},
           {"parts", e.parts},
           {"false_parts", false_parts},
           {"false_volume", e.false_volume},
           {"volume",
-           {{"hulls", e.hull_volume}, {"union", e.union_volume}, {"union_se", e.union_volume_se},
-            {"outside_truth", e.outside_volume}, {"outside_truth_se", e.outside_volume_se},
-            {"far_from_truth", e.far_volume}, {"far_from_truth_se", e.far_volume_se}}},
+           {{"hulls", e.hull_volume},
+            {"union", e.union_volume},
+            {"union_se", e.union_volume_se},
+            {"outside_truth", e.outside_volume},
+            {"outside_truth_se", e.outside_volume_se},
+            {"far_from_truth", e.far_volume},
+            {"far_from_truth_se", e.far_volume_se}}},
           {"segments",
-           {{"count", e.segments}, {"deep", e.deep}, {"missed", e.missed}, {"clear", e.clear},
-            {"false_alarms", e.false_alarms}, {"false_alarm_hulls", false_alarm_hulls},
+           {{"count", e.segments},
+            {"deep", e.deep},
+            {"missed", e.missed},
+            {"clear", e.clear},
+            {"false_alarms", e.false_alarms},
+            {"false_alarm_hulls", false_alarm_hulls},
             {"missed_segments", missed}}}};
 }
 

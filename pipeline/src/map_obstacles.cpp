@@ -41,8 +41,9 @@ QueryFrame parseQueryFrame(const std::string& text) {
 mapper::Similarity toMapFrame(const MapObstacles& map, QueryFrame frame) {
   if (frame == QueryFrame::kMap) return {};
   if (!map.input_to_output)
-    throw Error::inParameter("frame", "this build does not record its input-to-output transform (written by an "
-                                      "older hullmap): rebuild it to query in the input frame");
+    throw Error::inParameter("frame",
+                             "this build does not record its input-to-output transform (written by an "
+                             "older hullmap): rebuild it to query in the input frame");
   return *map.input_to_output;
 }
 

@@ -200,15 +200,14 @@ json obstaclesToJson(const std::vector<clustering::Obstacle>& obstacles, const O
   return doc;
 }
 
-std::vector<clustering::Obstacle> obstaclesFromJson(const json& doc, const std::string& source,
-                                                    ObstaclesMeta* meta) {
+std::vector<clustering::Obstacle> obstaclesFromJson(const json& doc, const std::string& source, ObstaclesMeta* meta) {
   const Reader r{source};
   const json& format = r.field(doc, "format", "top level");
   const bool v1 = format.is_string() && format.get<std::string>() == kObstaclesFormatV1;
   const bool v2 = format.is_string() && format.get<std::string>() == kObstaclesFormatV2;
   if (!v1 && !v2)
-    r.fail("format", std::string("expected \"") + kObstaclesFormatV2 + "\" or \"" + kObstaclesFormatV1 +
-                         "\", got " + format.dump());
+    r.fail("format", std::string("expected \"") + kObstaclesFormatV2 + "\" or \"" + kObstaclesFormatV1 + "\", got " +
+                         format.dump());
   if (meta) {
     meta->format = format.get<std::string>();
     const json& frame = r.field(doc, "frame", "top level");
@@ -216,7 +215,8 @@ std::vector<clustering::Obstacle> obstaclesFromJson(const json& doc, const std::
     meta->frame = frame.get<std::string>();
     meta->parameters = r.field(doc, "parameters", "top level");
     // Written since surfaces became obstacles for path checks; absent in older files: none.
-    if (const auto surfaces = doc.find("surfaces"); surfaces != doc.end()) meta->surfaces = surfacesFromJson(r, *surfaces);
+    if (const auto surfaces = doc.find("surfaces"); surfaces != doc.end())
+      meta->surfaces = surfacesFromJson(r, *surfaces);
     if (const auto frame_change = doc.find("input_to_output"); frame_change != doc.end())
       meta->input_to_output = similarityFromJson(*frame_change, source, "input_to_output");
   }

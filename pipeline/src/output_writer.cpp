@@ -132,7 +132,8 @@ void write(const BuildResult& result, const fs::path& dir, const WriteOptions& o
     mapper::writeOutputMarker(staging.string(), written);
 
     runStage("move_into_place");
-    checkOutputDir(dir, result.params, options);  // a file put there during the build is not removed with the old output
+    checkOutputDir(dir, result.params,
+                   options);  // a file put there during the build is not removed with the old output
     // One atomic step puts the finished directory in place: a rename when there is no previous
     // output, else an exchange of the two directories (Linux renameat2), after which the staging
     // name holds the previous output. At no instant is there no OUT/ or a half-written one.

@@ -2,6 +2,8 @@
 
 namespace hullmap::pipeline {
 
-collision::HullChecker pathChecker(const MapObstacles& map) { return collision::HullChecker(map.obstacles, map.surfaces); }
+collision::HullChecker pathChecker(const MapObstacles& map) {
+  return collision::HullChecker(map.obstacles, map.surfaces);
+}
 
 }  // namespace hullmap::pipeline

@@ -70,9 +70,7 @@ void addDropped(PointAccount& account, const io::InputStats& stats) {
   for (const auto& [reason, count] : stats.dropped) account.dropped[reason] += count;
 }
 
-Error noPointsInBounds() {
-  return Error::inParameter("crop/z_min/z_max", "no points left inside the bounds");
-}
+Error noPointsInBounds() { return Error::inParameter("crop/z_min/z_max", "no points left inside the bounds"); }
 
 void accountForInputs(BuildResult& result) {
   for (const auto& stats : result.report.inputs) {
@@ -203,13 +201,14 @@ void recordSurfaces(const Surfaces& surfaces, BuildResult& result) {
 mapper::Alignment alignKeyframes(const AlignSettings& align, const std::vector<io::Keyframe>& keyframes,
                                  BuildReport& report) {
   io::ReferenceStats stats;
-  const auto reference = align.poses ? *align.poses
-                                     : io::readReferenceTrajectory(align.reference.string(), align.format, &stats);
+  const auto reference =
+      align.poses ? *align.poses : io::readReferenceTrajectory(align.reference.string(), align.format, &stats);
   report.reference_dropped = stats.dropped;
   std::size_t dropped = 0;
   for (const auto& [reason, count] : stats.dropped) dropped += count;
   const std::string without_fix =
-      dropped == 0 ? "" : "; " + std::to_string(dropped) + " line" + (dropped == 1 ? "" : "s") + " without a fix dropped";
+      dropped == 0 ? ""
+                   : "; " + std::to_string(dropped) + " line" + (dropped == 1 ? "" : "s") + " without a fix dropped";
   if (reference.empty()) throw Error(align.reference.string() + ": no reference poses" + without_fix);
   try {
     return mapper::alignTrajectory(keyframes, reference, align.params);
@@ -217,8 +216,9 @@ mapper::Alignment alignKeyframes(const AlignSettings& align, const std::vector<i
     // Named as the parameter, so that the CLI says --align.
     const std::string text = e.what();
     if (!e.parameter().empty() || text.rfind("align: ", 0) != 0) throw;
-    throw Error::inParameter("align", text.substr(7) + (without_fix.empty() ? "" : " (" + align.reference.string() +
-                                                                                 without_fix.substr(1) + ")"));
+    throw Error::inParameter(
+        "align",
+        text.substr(7) + (without_fix.empty() ? "" : " (" + align.reference.string() + without_fix.substr(1) + ")"));
   }
 }
 
@@ -389,15 +389,13 @@ void buildStreamed(const BuildParams& params, BuildResult& result, StageTimer& t
 void checkParams(const BuildParams& params) {
   if (!(params.frame.scale > 0.0) || !std::isfinite(params.frame.scale))
     throw Error::inParameter("scale", "must be a positive finite number");
-  if (params.trajectory && params.origin)
-    throw Error::inParameter("trajectory/origin", "give one or the other");
+  if (params.trajectory && params.origin) throw Error::inParameter("trajectory/origin", "give one or the other");
   try {
     clustering::extensionParams(clustering::DbscanParams{}, params.extension_rule);
   } catch (const Error& e) {
     throw Error::inParameter("extension_rule", e.what());
   }
-  if (params.origin && !params.origin->allFinite())
-    throw Error::inParameter("origin", "must be finite");
+  if (params.origin && !params.origin->allFinite()) throw Error::inParameter("origin", "must be finite");
   if (params.align) {
     if (!params.trajectory)
       throw Error::inParameter("align", "needs the keyframe trajectory (trajectory) to fit to the reference");
@@ -411,8 +409,7 @@ void checkParams(const BuildParams& params) {
   if (params.eps && !(*params.eps > 0.0 && std::isfinite(*params.eps)))
     throw Error::inParameter("eps", "must be a positive finite number");
   if (params.min_pts && *params.min_pts < 1) throw Error::inParameter("min_pts", "must be at least 1");
-  if (params.convex_parts &&
-      !(params.convex_parts->concavity >= 0.0 && std::isfinite(params.convex_parts->concavity)))
+  if (params.convex_parts && !(params.convex_parts->concavity >= 0.0 && std::isfinite(params.convex_parts->concavity)))
     throw Error::inParameter("concavity", "must be a finite number >= 0 (0: the default)");
   if (params.convex_parts && params.convex_parts->flat_gap &&
       !(*params.convex_parts->flat_gap >= 0.0 && std::isfinite(*params.convex_parts->flat_gap)))
@@ -432,9 +429,9 @@ void finishAccount(const BuildParams& params, BuildResult& result) {
     // Keys are 16 bits a coordinate: 2^15 voxels either side of the origin.
     const double reach = params.octree.resolution * 32768;
     std::ostringstream message;
-    message << "no point the octree can address: " << account.read << " read, "
-            << account.dropped["out_of_octree"] << " out of its reach at resolution "
-            << params.octree.resolution << " (about +-" << reach << " map units around the origin; "
+    message << "no point the octree can address: " << account.read << " read, " << account.dropped["out_of_octree"]
+            << " out of its reach at resolution " << params.octree.resolution << " (about +-" << reach
+            << " map units around the origin; "
             << "a coarser resolution or a smaller scale reaches further)";
     throw Error::inParameter("resolution/scale", message.str());
   }
@@ -460,14 +457,10 @@ ClusteredVoxels clusterStages(const mapper::OccupancyMap& map, const clustering:
 
 }  // namespace
 
-
 namespace {
-
 
 /// A floor kept in the input frame tilted by more than this (degrees) is warned about.
 constexpr double kKeptFloorTiltDeg = 3.0;
-
-
 
 void clusterInto(BuildResult& result, StageTimer& timer) {
   const BuildParams& params = result.params;
@@ -515,8 +508,8 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
   chosen.eps_auto = !params.eps;
   chosen.min_pts_auto = !params.min_pts;
   if (chosen.eps_auto || chosen.min_pts_auto) {
-    chosen.chosen = clustering::chooseDbscanParams(obstacle_centers, obstacle_weights, resolution, params.metric,
-                                                   params.auto_rule);
+    chosen.chosen =
+        clustering::chooseDbscanParams(obstacle_centers, obstacle_weights, resolution, params.metric, params.auto_rule);
   }
   chosen.used.eps = params.eps ? *params.eps : chosen.chosen->eps;
   chosen.used.min_pts = params.min_pts ? *params.min_pts : chosen.chosen->min_pts;
@@ -555,8 +548,8 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
   }
   // The rims reach as far as the eps used, but no farther than the auto rule's upper clamp: a large
   // eps given by hand (1 m) would otherwise join most of the floor to the walls' feet.
-  detail::attachSurfaceRims(centers, resolution, std::min(chosen.used.eps, params.auto_rule.max_eps_voxels * resolution),
-                            labels);
+  detail::attachSurfaceRims(centers, resolution,
+                            std::min(chosen.used.eps, params.auto_rule.max_eps_voxels * resolution), labels);
   std::vector<std::int32_t> cluster_labels(labels);
   for (auto& l : cluster_labels) l = std::max(l, clustering::kNoise);
   result.obstacles = clustering::buildObstacles(centers, weights, cluster_labels, resolution);
@@ -581,9 +574,10 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
       parts_params.adapt_flat_gap = true;
     }
     // A level floor closes the shells standing on it from below (their bottom is never seen).
-    if (report.floor.plane && !parts_params.floor_z) parts_params.floor_z = levelFloorHeight(*report.floor.plane, centers, resolution);
-    report.parts = clustering::addConvexParts(result.obstacles, centers, weights, cluster_labels, resolution,
-                                              parts_params, known);
+    if (report.floor.plane && !parts_params.floor_z)
+      parts_params.floor_z = levelFloorHeight(*report.floor.plane, centers, resolution);
+    report.parts =
+        clustering::addConvexParts(result.obstacles, centers, weights, cluster_labels, resolution, parts_params, known);
     report.keyframes_inside_hulls = report.parts->keyframes_in_voxels;
     timer.stage("convex_parts");
   }
@@ -615,7 +609,6 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
 namespace detail {
 void (*stage_hook)(const char* stage) = nullptr;
 }  // namespace detail
-
 
 bool readsOctree(const BuildParams& params) {
   return params.inputs.size() == 1 && isOctomapFile(params.inputs.front());
@@ -702,8 +695,7 @@ BuildResult build(const BuildParams& params) {
     timer.stage("read");
   } else {
     for (const auto& input : params.inputs)
-      if (isOctomapFile(input))
-        throw Error(input.string() + ": an octomap file can only be the single input of build");
+      if (isOctomapFile(input)) throw Error(input.string() + ": an octomap file can only be the single input of build");
     // A floor found in the streamed points may need a second pass over the inputs to level the
     // map: inputs that cannot be read twice (a FIFO, standard input) are then read whole.
     const bool readable_twice = std::all_of(params.inputs.begin(), params.inputs.end(), [](const fs::path& p) {
@@ -754,8 +746,8 @@ BuildResult buildFromPoints(io::Points points, std::optional<std::vector<io::Key
   stats.format = "memory";
   stats.read = points.size();
   // Non-finite points are dropped as the file readers drop them.
-  const auto finite_end = std::stable_partition(points.begin(), points.end(),
-                                                [](const io::Point& p) { return p.allFinite(); });
+  const auto finite_end =
+      std::stable_partition(points.begin(), points.end(), [](const io::Point& p) { return p.allFinite(); });
   const std::size_t non_finite = static_cast<std::size_t>(points.end() - finite_end);
   points.erase(finite_end, points.end());
   if (non_finite > 0) stats.dropped["non_finite"] = non_finite;
@@ -770,8 +762,5 @@ BuildResult buildFromPoints(io::Points points, std::optional<std::vector<io::Key
 std::vector<clustering::Obstacle> readObstacles(const fs::path& obstacles_json) {
   return readObstaclesJson(obstacles_json.string());
 }
-
-
-
 
 }  // namespace hullmap::pipeline

@@ -41,9 +41,12 @@ namespace {
 
 nlohmann::json planeSettingJson(const mapper::PlaneSetting& setting) {
   switch (setting.mode) {
-    case mapper::PlaneSetting::Mode::kAuto: return "auto";
-    case mapper::PlaneSetting::Mode::kNone: return "none";
-    case mapper::PlaneSetting::Mode::kHeight: break;
+    case mapper::PlaneSetting::Mode::kAuto:
+      return "auto";
+    case mapper::PlaneSetting::Mode::kNone:
+      return "none";
+    case mapper::PlaneSetting::Mode::kHeight:
+      break;
   }
   return setting.height;
 }
@@ -129,17 +132,21 @@ nlohmann::json parametersJson(const BuildParams& params) {
       {"align_format", params.align ? json(io::toString(params.align->format)) : json(nullptr)},
       {"align_tolerance", params.align ? json(params.align->params.stamp_tolerance) : json(nullptr)},
       {"floor", planeSettingJson(params.floor)},
-      {"level", params.level == Level::kOn ? "on" : params.level == Level::kOff ? "off" : "auto"},
+      {"level", params.level == Level::kOn    ? "on"
+                : params.level == Level::kOff ? "off"
+                                              : "auto"},
       {"ceiling", planeSettingJson(params.ceiling)},
       {"eps", params.eps ? json(*params.eps) : json("auto")},
       {"min_pts", params.min_pts ? json(*params.min_pts) : json("auto")},
       {"metric", clustering::toString(params.metric)},
-      {"concavity", !params.convex_parts ? json("none")
+      {"concavity", !params.convex_parts                   ? json("none")
                     : params.convex_parts->concavity > 0.0 ? json(params.convex_parts->concavity)
                                                            : json("default")},
-      {"flat_gap", !params.convex_parts || !params.convex_parts->flat_gap ? json("auto")
-                                                                           : json(*params.convex_parts->flat_gap)},
-      {"extension", !params.extension ? "auto" : *params.extension ? "on" : "off"},
+      {"flat_gap",
+       !params.convex_parts || !params.convex_parts->flat_gap ? json("auto") : json(*params.convex_parts->flat_gap)},
+      {"extension", !params.extension   ? "auto"
+                    : *params.extension ? "on"
+                                        : "off"},
       {"ot", params.write_ot},
   };
 }
@@ -149,8 +156,8 @@ nlohmann::json reportJson(const BuildResult& result) {
   const BuildReport& report = result.report;
   json inputs = json::array();
   for (const auto& in : report.inputs) {
-    inputs.push_back({{"path", in.path}, {"format", in.format}, {"points_read", in.read},
-                      {"points_dropped", in.dropped}});
+    inputs.push_back(
+        {{"path", in.path}, {"format", in.format}, {"points_read", in.read}, {"points_dropped", in.dropped}});
   }
   json timings = json::object();
   double total = 0.0;
@@ -174,16 +181,17 @@ nlohmann::json reportJson(const BuildResult& result) {
   parameters["min_pts"] = cp.used.min_pts;
   parameters["eps_auto"] = cp.eps_auto;
   parameters["min_pts_auto"] = cp.min_pts_auto;
-  json clustering_params = {{"eps", cp.used.eps}, {"eps_auto", cp.eps_auto},
-                            {"min_pts", cp.used.min_pts}, {"min_pts_auto", cp.min_pts_auto}};
+  json clustering_params = {
+      {"eps", cp.used.eps}, {"eps_auto", cp.eps_auto}, {"min_pts", cp.used.min_pts}, {"min_pts_auto", cp.min_pts_auto}};
   if (cp.chosen) {
     const auto& c = *cp.chosen;
-    clustering_params["auto"] = {{"knn", std::isfinite(c.knn) ? json(c.knn) : json(nullptr)},
-                                 {"eps_unclamped", std::isfinite(c.eps_unclamped) ? json(c.eps_unclamped) : json(nullptr)},
-                                 {"sampled", c.sampled},
-                                 {"structured", c.structured},
-                                 {"eps", c.eps},
-                                 {"min_pts", c.min_pts}};
+    clustering_params["auto"] = {
+        {"knn", std::isfinite(c.knn) ? json(c.knn) : json(nullptr)},
+        {"eps_unclamped", std::isfinite(c.eps_unclamped) ? json(c.eps_unclamped) : json(nullptr)},
+        {"sampled", c.sampled},
+        {"structured", c.structured},
+        {"eps", c.eps},
+        {"min_pts", c.min_pts}};
   }
   clustering_params["extension"] = nullptr;
   if (cp.extension_params) {
@@ -245,29 +253,31 @@ nlohmann::json reportJson(const BuildResult& result) {
       {"parameters", parameters},
       {"warnings", report.warnings},
       {"inputs", inputs},
-      {"points", {{"read", report.points.read},
-                  {"dropped", report.points.dropped},
-                  {"used", report.points.used}}},
+      {"points", {{"read", report.points.read}, {"dropped", report.points.dropped}, {"used", report.points.used}}},
       {"keyframes", report.keyframes},
       {"alignment", report.alignment ? alignmentJson(*report.alignment, report.reference_dropped) : json(nullptr)},
       {"floor", readsOctree(result.params) ? json(nullptr) : planeReportJson(report.floor)},
       {"ceiling", readsOctree(result.params) ? json(nullptr) : planeReportJson(report.ceiling)},
-      {"levelling", {{"rotation", matrixRows(report.levelling.linear())},
-                     {"translation", {report.levelling.translation().x(), report.levelling.translation().y(),
-                                      report.levelling.translation().z()}}}},
+      {"levelling",
+       {{"rotation", matrixRows(report.levelling.linear())},
+        {"translation",
+         {report.levelling.translation().x(), report.levelling.translation().y(),
+          report.levelling.translation().z()}}}},
       {"input_to_output", similarityJson(report.input_to_output)},
-      {"octree", {{"resolution", info.resolution},
-                  {"bounds", {{"min", {info.min.x(), info.min.y(), info.min.z()}},
-                              {"max", {info.max.x(), info.max.y(), info.max.z()}}}},
-                  {"occupied_leaves", info.occupied_leaves},
-                  {"free_leaves", info.free_leaves},
-                  {"nodes", info.nodes},
-                  {"memory_bytes", info.memory_bytes},
-                  {"occupied_voxels", result.voxels.size()}}},
-      {"clusters", {{"count", result.clusters.cluster_sizes.size()},
-                    {"noise_voxels", result.clusters.noise},
-                    {"core_voxels", core},
-                    {"largest_voxel_counts", largest}}},
+      {"octree",
+       {{"resolution", info.resolution},
+        {"bounds",
+         {{"min", {info.min.x(), info.min.y(), info.min.z()}}, {"max", {info.max.x(), info.max.y(), info.max.z()}}}},
+        {"occupied_leaves", info.occupied_leaves},
+        {"free_leaves", info.free_leaves},
+        {"nodes", info.nodes},
+        {"memory_bytes", info.memory_bytes},
+        {"occupied_voxels", result.voxels.size()}}},
+      {"clusters",
+       {{"count", result.clusters.cluster_sizes.size()},
+        {"noise_voxels", result.clusters.noise},
+        {"core_voxels", core},
+        {"largest_voxel_counts", largest}}},
       {"clustering", clustering_params},
       {"obstacles", result.obstacles.size()},
       {"parts", parts},

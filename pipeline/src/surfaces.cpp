@@ -26,8 +26,7 @@ namespace detail {
 
 void attachSurfaceRims(const std::vector<Eigen::Vector3d>& centers, double resolution, double reach,
                        std::vector<std::int32_t>& labels) {
-  if (centers.size() != labels.size())
-    throw Error::inParameter("labels", "one label per voxel centre expected");
+  if (centers.size() != labels.size()) throw Error::inParameter("labels", "one label per voxel centre expected");
   // Lattice cells: centres lie at (k + 1/2) * resolution, so floor() gives k without ties.
   const auto cell = [&](double v) { return static_cast<std::int64_t>(std::floor(v / resolution)); };
   const auto columnKey = [](std::int64_t i, std::int64_t j) {
@@ -131,7 +130,8 @@ std::vector<Eigen::Vector3d> freeVoxelCentres(const mapper::OccupancyMap& map) {
 
 /// The floor and ceiling as solid half-spaces: up to the plane, or to the far face of the highest
 /// voxel set aside as that surface when it lies beyond (the voxels lie inside completely).
-std::vector<collision::HalfSpace> surfaceHalfSpaces(const BuildReport& report, const std::vector<Eigen::Vector3d>& centers,
+std::vector<collision::HalfSpace> surfaceHalfSpaces(const BuildReport& report,
+                                                    const std::vector<Eigen::Vector3d>& centers,
                                                     const std::vector<std::int32_t>& labels, double resolution) {
   std::vector<collision::HalfSpace> out;
   const auto add = [&](const PlaneReport& surface, std::int32_t label, const char* name) {

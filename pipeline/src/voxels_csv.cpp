@@ -29,8 +29,8 @@ void writeVoxelsCsv(const fs::path& path, const std::vector<mapper::OccupiedVoxe
     os << "x,y,z,weight,label,core\n" << std::setprecision(9);
     for (std::size_t i = 0; i < voxels.size(); ++i) {
       const auto& v = voxels[i];
-      os << v.center.x() << ',' << v.center.y() << ',' << v.center.z() << ',' << v.weight << ','
-         << clusters.labels[i] << ',' << int(clusters.core[i]) << '\n';
+      os << v.center.x() << ',' << v.center.y() << ',' << v.center.z() << ',' << v.weight << ',' << clusters.labels[i]
+         << ',' << int(clusters.core[i]) << '\n';
     }
   });
 }

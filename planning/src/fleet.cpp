@@ -43,7 +43,8 @@ struct Reservations {
     return h;
   }
   /// The motion a -> b over steps [t, t + k] keeps `separation` from every reserved drone.
-  bool moveIsFree(const Eigen::Vector3d& a, const Eigen::Vector3d& b, std::size_t t, std::size_t k, double separation) const {
+  bool moveIsFree(const Eigen::Vector3d& a, const Eigen::Vector3d& b, std::size_t t, std::size_t k,
+                  double separation) const {
     for (std::size_t s = 0; s < k; ++s) {
       const Eigen::Vector3d pa = a + (b - a) * (static_cast<double>(s) / k);
       const Eigen::Vector3d pb = a + (b - a) * (static_cast<double>(s + 1) / k);
@@ -144,7 +145,8 @@ FleetResult planFleet(const PathPlanner& planner, const std::vector<FleetTask>& 
     std::unordered_map<int, std::size_t> goal_links;
     if (!planner.checker().check({task.start, task.goal}, params.radius).collides)
       start_links.push_back({kGoal, stepsFor((task.goal - task.start).norm())});
-    for (const auto& [v, len] : planner.connections(task.start, z, params.radius)) start_links.push_back({v, stepsFor(len)});
+    for (const auto& [v, len] : planner.connections(task.start, z, params.radius))
+      start_links.push_back({v, stepsFor(len)});
     for (const auto& [v, len] : planner.connections(task.goal, z, params.radius)) goal_links[v] = stepsFor(len);
     auto links = [&](int v) {
       std::vector<Link> out;
@@ -246,8 +248,7 @@ FleetResult planFleet(const PathPlanner& planner, const std::vector<FleetTask>& 
     }
     TimedPath path;
     for (std::size_t s = 0; s < steps.size(); ++s) {
-      const bool keep = s == 0 || s + 1 == steps.size() ||
-                        (steps[s - 1] + steps[s + 1] - 2 * steps[s]).norm() > 1e-9;
+      const bool keep = s == 0 || s + 1 == steps.size() || (steps[s - 1] + steps[s + 1] - 2 * steps[s]).norm() > 1e-9;
       if (keep) path.push_back({static_cast<double>(s) * result.time_step, steps[s]});
     }
     reserved.steps.push_back(std::move(steps));

@@ -164,7 +164,8 @@ OmplPlanResult planPathOmpl(const std::vector<clustering::Obstacle>& obstacles, 
     throw Error("ompl box: must be finite with max > min on every axis");
 
   const collision::HullChecker checker(obstacles, surfaces);
-  for (const auto& [which, p] : {std::pair<const char*, Eigen::Vector3d>{"start", request.start}, {"goal", request.goal}}) {
+  for (const auto& [which, p] :
+       {std::pair<const char*, Eigen::Vector3d>{"start", request.start}, {"goal", request.goal}}) {
     std::ostringstream s;
     s.precision(6);
     if (!inside(box, p)) {

@@ -83,9 +83,8 @@ struct PathPlanner::Impl {
 
   /// A* from the start connections to the goal connections over links with clearance >= floor.
   std::optional<std::vector<int>> search(const std::vector<std::pair<int, double>>& from,
-                                         const std::vector<std::pair<int, double>>& to,
-                                         const Eigen::Vector2d& goal, double floor,
-                                         const std::vector<char>& penalized = {}) const {
+                                         const std::vector<std::pair<int, double>>& to, const Eigen::Vector2d& goal,
+                                         double floor, const std::vector<char>& penalized = {}) const {
     const std::size_t n = graph.position.size();
     const int target = static_cast<int>(n);  // the goal itself
     std::vector<double> exit(n, kInf);
@@ -126,7 +125,8 @@ struct PathPlanner::Impl {
 
   /// Where the widest roadmap way between the two connection sets is narrowest (bottleneck
   /// Dijkstra over all links), or "" when the roadmap does not join them at all.
-  std::string narrowest(const std::vector<std::pair<int, double>>& from, const std::vector<std::pair<int, double>>& to) const {
+  std::string narrowest(const std::vector<std::pair<int, double>>& from,
+                        const std::vector<std::pair<int, double>>& to) const {
     const std::size_t n = graph.position.size();
     std::vector<double> width(n, -kInf);
     std::vector<int> parent(n, -1);
@@ -232,7 +232,8 @@ PathPlanner& PathPlanner::operator=(PathPlanner&&) noexcept = default;
 const Roadmap& PathPlanner::roadmap() const { return impl_->roadmap; }
 const collision::HullChecker& PathPlanner::checker() const { return impl_->checker; }
 const PathPlanner::Graph& PathPlanner::graph() const { return impl_->graph; }
-std::vector<std::pair<int, double>> PathPlanner::connections(const Eigen::Vector3d& end, double z, double radius) const {
+std::vector<std::pair<int, double>> PathPlanner::connections(const Eigen::Vector3d& end, double z,
+                                                             double radius) const {
   return impl_->connect(end, z, radius, radius + impl_->roadmap.tolerance);
 }
 
@@ -272,8 +273,8 @@ PlanResult PathPlanner::plan(const PlanRequest& request) const {
     auto chain = impl_->search(from, to, request.goal.head<2>(), floor);
     if (!chain) {
       const std::string where = impl_->narrowest(from, to);
-      s << "no passage of clearance " << r << " m from start " << xyz(request.start) << " to goal "
-        << xyz(request.goal) << ": " << (where.empty() ? "the roadmap does not join them" : where);
+      s << "no passage of clearance " << r << " m from start " << xyz(request.start) << " to goal " << xyz(request.goal)
+        << ": " << (where.empty() ? "the roadmap does not join them" : where);
       result.blocked = s.str();
       return result;
     }
@@ -344,7 +345,8 @@ PlanResult planPath(const std::vector<clustering::Obstacle>& obstacles, const Pl
                     std::optional<RoadmapParams> roadmap_params, const std::vector<collision::HalfSpace>& surfaces) {
   const double z = request.flight_z.value_or(request.start.z());
   const RoadmapParams params = roadmap_params.value_or(roadmapParamsFor(
-      obstacles, {request.start, request.goal, Eigen::Vector3d(request.start.x(), request.start.y(), z)}, request.radius));
+      obstacles, {request.start, request.goal, Eigen::Vector3d(request.start.x(), request.start.y(), z)},
+      request.radius));
   const PathPlanner planner(obstacles, buildRoadmap(obstacles, params, surfaces), surfaces);
   return planner.plan(request);
 }

@@ -64,7 +64,8 @@ class BoxGrid {
   BoxGrid(const std::vector<Eigen::AlignedBox<double, 2>>& boxes, const Eigen::AlignedBox<double, 2>& bounds)
       : lo_(bounds.min()) {
     const Eigen::Vector2d size = bounds.sizes().cwiseMax(1e-12);
-    const double side = std::sqrt(std::max(size.x() * size.y() / double(std::max<std::size_t>(boxes.size(), 1)), 1e-24));
+    const double side =
+        std::sqrt(std::max(size.x() * size.y() / double(std::max<std::size_t>(boxes.size(), 1)), 1e-24));
     inv_ = 1.0 / side;
     nx_ = std::clamp(static_cast<int>(std::ceil(size.x() * inv_)), 1, 4096);
     ny_ = std::clamp(static_cast<int>(std::ceil(size.y() * inv_)), 1, 4096);
@@ -117,7 +118,8 @@ double segmentsDistance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, cons
     return (q - p).x() * (r - p).y() - (q - p).y() * (r - p).x();
   };
   if (side(a, b, c) * side(a, b, d) < 0 && side(c, d, a) * side(c, d, b) < 0) return 0.0;
-  return std::min({segmentDistance(a, b, c), segmentDistance(a, b, d), segmentDistance(c, d, a), segmentDistance(c, d, b)});
+  return std::min(
+      {segmentDistance(a, b, c), segmentDistance(a, b, d), segmentDistance(c, d, a), segmentDistance(c, d, b)});
 }
 
 /// `p` strictly inside the region bounded by `rings` (outer boundary and holes; even-odd rule).
@@ -163,7 +165,8 @@ struct Boundaries {
       if (on) out.push_back(static_cast<int>(i));
     }
     const Eigen::Vector2d lo = bounds.min(), hi = bounds.max();
-    if (std::min({std::abs(p.x() - lo.x()), std::abs(p.x() - hi.x()), std::abs(p.y() - lo.y()), std::abs(p.y() - hi.y())}) <= eps)
+    if (std::min({std::abs(p.x() - lo.x()), std::abs(p.x() - hi.x()), std::abs(p.y() - lo.y()),
+                  std::abs(p.y() - hi.y())}) <= eps)
       out.push_back(static_cast<int>(polygons.size()));
     return out;
   }
@@ -233,7 +236,6 @@ void traceBisector(RoadmapEdge& edge, const Eigen::Vector2d& a, const Eigen::Vec
   edge.polyline.push_back(b);
 }
 
-
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
   return (b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x());
 }
@@ -245,8 +247,10 @@ bool polygonsMeet(const std::vector<Eigen::Vector2d>& P, const std::vector<Eigen
       if (cross(poly[i], poly[(i + 1) % poly.size()], p) < 0) return false;
     return true;
   };
-  for (const auto& p : P) if (inside(Q, p)) return true;
-  for (const auto& q : Q) if (inside(P, q)) return true;
+  for (const auto& p : P)
+    if (inside(Q, p)) return true;
+  for (const auto& q : Q)
+    if (inside(P, q)) return true;
   for (std::size_t i = 0; i < P.size(); ++i) {
     const Eigen::Vector2d& a = P[i];
     const Eigen::Vector2d& b = P[(i + 1) % P.size()];
@@ -291,7 +295,8 @@ bool selfIntersecting(const std::vector<std::vector<Eigen::Vector2d>>& rings) {
 }
 
 /// Clips a convex polygon to the box (Sutherland-Hodgman); empty when nothing is left.
-std::vector<Eigen::Vector2d> clipToBox(std::vector<Eigen::Vector2d> poly, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
+std::vector<Eigen::Vector2d> clipToBox(std::vector<Eigen::Vector2d> poly, const Eigen::Vector2d& lo,
+                                       const Eigen::Vector2d& hi) {
   for (int side = 0; side < 4 && !poly.empty(); ++side) {
     const int axis = side % 2;
     const bool low = side < 2;
@@ -324,7 +329,8 @@ std::pair<double, double> bandBetweenSurfaces(double z0, double z1, const std::v
   std::string limiting;
   for (const auto& h : surfaces) {
     if (std::abs(h.normal.z()) < 1e-9) continue;  // a wall-like surface bounds no height
-    double extreme = h.normal.z() > 0 ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+    double extreme =
+        h.normal.z() > 0 ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
     for (const Eigen::Vector2d& c : {lo, Eigen::Vector2d(hi.x(), lo.y()), hi, Eigen::Vector2d(lo.x(), hi.y())}) {
       const double z = (h.offset - h.normal.x() * c.x() - h.normal.y() * c.y()) / h.normal.z();
       extreme = h.normal.z() > 0 ? std::max(extreme, z) : std::min(extreme, z);
@@ -340,8 +346,8 @@ std::pair<double, double> bandBetweenSurfaces(double z0, double z1, const std::v
   }
   if (!(z0 <= z1)) {
     std::ostringstream s;
-    s << "the flight band " << given0 << " .. " << given1 << " lies inside the " << limiting
-      << " (its solid reaches " << (z0 > given1 ? z0 : z1) << " over the bounds): raise or lower the band";
+    s << "the flight band " << given0 << " .. " << given1 << " lies inside the " << limiting << " (its solid reaches "
+      << (z0 > given1 ? z0 : z1) << " over the bounds): raise or lower the band";
     throw Error::inParameter("z0/z1", s.str());
   }
   return {z0, z1};
@@ -386,8 +392,10 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
     for (const auto& [footprint, id] : band)
       for (const auto& p : footprint->polygon) {
-        x0 = std::min(x0, p.x()); y0 = std::min(y0, p.y());
-        x1 = std::max(x1, p.x()); y1 = std::max(y1, p.y());
+        x0 = std::min(x0, p.x());
+        y0 = std::min(y0, p.y());
+        x1 = std::max(x1, p.x());
+        y1 = std::max(y1, p.y());
       }
     if (band.empty()) x0 = y0 = x1 = y1 = 0.0;
     map.bounds = {x0 - params.margin, y0 - params.margin, x1 + params.margin, y1 + params.margin};
@@ -398,9 +406,10 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   // The floor and ceiling bound the band: the roadmap lies above the one and below the other, and
   // only obstacles in what is left of the band count.
   std::tie(map.z0, map.z1) = bandBetweenSurfaces(params.z0, params.z1, surfaces, {bb.x0, bb.y0}, {bb.x1, bb.y1});
-  band.erase(std::remove_if(band.begin(), band.end(),
-                            [&](const auto& entry) { return entry.first->z_max < map.z0 || entry.first->z_min > map.z1; }),
-             band.end());
+  band.erase(
+      std::remove_if(band.begin(), band.end(),
+                     [&](const auto& entry) { return entry.first->z_max < map.z0 || entry.first->z_min > map.z1; }),
+      band.end());
 
   const double scale = std::max({std::abs(bb.x0), std::abs(bb.x1), std::abs(bb.y0), std::abs(bb.y1), 1.0});
 
@@ -434,11 +443,13 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     for (std::size_t k = 0; k < by_x.size(); ++k)
       for (std::size_t l = k + 1; l < by_x.size() && boxes[by_x[l]].min().x() <= boxes[by_x[k]].max().x() + hair; ++l) {
         const int i = by_x[k], j = by_x[l];
-        if (boxes[i].exteriorDistance(boxes[j]) <= hair && polygonsMeet(clipped[i], clipped[j], hair)) meeting.unite(i, j);
+        if (boxes[i].exteriorDistance(boxes[j]) <= hair && polygonsMeet(clipped[i], clipped[j], hair))
+          meeting.unite(i, j);
       }
   }
   std::map<int, std::vector<int>> groups;  // root -> members, in input order
-  for (std::size_t i = 0; i < clipped.size(); ++i) groups[meeting.find(static_cast<int>(i))].push_back(static_cast<int>(i));
+  for (std::size_t i = 0; i < clipped.size(); ++i)
+    groups[meeting.find(static_cast<int>(i))].push_back(static_cast<int>(i));
   auto toDouble = [hair](const ExactPolygon& poly) {
     // Vertices exactly between their neighbours are dropped (the same polygon): chains of collinear
     // sites make degenerate SDG faces whose Voronoi vertex cannot be constructed in double.
@@ -475,9 +486,10 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     return out;
   };
   auto ringLess = [](const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b) {
-    return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end(), [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
-      return std::make_pair(p.x(), p.y()) < std::make_pair(q.x(), q.y());
-    });
+    return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end(),
+                                        [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+                                          return std::make_pair(p.x(), p.y()) < std::make_pair(q.x(), q.y());
+                                        });
   };
   std::vector<std::vector<std::vector<Eigen::Vector2d>>> rings;  // per footprint: outer, then holes
   for (const auto& [root, members] : groups) {
@@ -565,8 +577,8 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     auto it = owner_cache.find(v);
     if (it != owner_cache.end()) return it->second;
     const Sdg::Site_2 s = v->site();
-    const Eigen::Vector2d p = s.is_point() ? toEigen(s.point())
-                                           : 0.5 * (toEigen(s.segment().source()) + toEigen(s.segment().target()));
+    const Eigen::Vector2d p =
+        s.is_point() ? toEigen(s.point()) : 0.5 * (toEigen(s.segment().source()) + toEigen(s.segment().target()));
     return owner_cache.emplace(v, boundaries.owners(p)).first->second;
   };
 
@@ -644,7 +656,8 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     return p.x() >= bb.x0 - same && p.x() <= bb.x1 + same && p.y() >= bb.y0 - same && p.y() <= bb.y1 + same;
   };
 
-  const BoxGrid footprint_grid(boxes, Eigen::AlignedBox<double, 2>(Eigen::Vector2d(bb.x0, bb.y0), Eigen::Vector2d(bb.x1, bb.y1)));
+  const BoxGrid footprint_grid(
+      boxes, Eigen::AlignedBox<double, 2>(Eigen::Vector2d(bb.x0, bb.y0), Eigen::Vector2d(bb.x1, bb.y1)));
   for (auto e = sdg.finite_edges_begin(); e != sdg.finite_edges_end(); ++e) {
     const auto f = e->first;
     const auto g = f->neighbor(e->second);
@@ -695,13 +708,14 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
       if (measured < edge.clearance - params.tolerance) edge.clearance = measured;
       if (edge.clearance < keep) continue;
     }
-    const Eigen::Vector2d mid = edge.polyline[edge.polyline.size() / 2] * 0.5 +
-                                edge.polyline[(edge.polyline.size() - 1) / 2] * 0.5;
+    const Eigen::Vector2d mid =
+        edge.polyline[edge.polyline.size() / 2] * 0.5 + edge.polyline[(edge.polyline.size() - 1) / 2] * 0.5;
     bool inside = false;
     for (std::size_t i = 0; i < map.footprints.size() && !inside; ++i)
       inside = boxes[i].contains(mid) && insideRings(rings[i], mid);
     if (inside) continue;
-    for (std::size_t k = 1; k < edge.polyline.size(); ++k) edge.length += (edge.polyline[k] - edge.polyline[k - 1]).norm();
+    for (std::size_t k = 1; k < edge.polyline.size(); ++k)
+      edge.length += (edge.polyline[k] - edge.polyline[k - 1]).norm();
     edge.from = nodeOf(fi);
     edge.to = nodeOf(gi);
     edge.polyline.front() = map.nodes[edge.from].position;
@@ -716,8 +730,10 @@ std::string roadmapJson(const Roadmap& roadmap) {
   auto xy = [](const Eigen::Vector2d& p) { return json::array({p.x(), p.y()}); };
   auto site = [&](const SiteRef& s) {
     json j{{"obstacle", s.obstacle >= 0 ? json(s.obstacle) : json(nullptr)}};
-    if (s.is_point) j["point"] = xy(s.a);
-    else j["segment"] = json::array({xy(s.a), xy(s.b)});
+    if (s.is_point)
+      j["point"] = xy(s.a);
+    else
+      j["segment"] = json::array({xy(s.a), xy(s.b)});
     return j;
   };
   json j;

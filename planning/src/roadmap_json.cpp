@@ -66,7 +66,8 @@ Roadmap readRoadmapJson(const std::string& path) {
       e.site_a = site(je.at("sites").at(0));
       e.site_b = site(je.at("sites").at(1));
       for (const auto& p : je.at("polyline")) e.polyline.push_back(xy(p));
-      if (e.polyline.size() < 2) throw Error("edge " + std::to_string(map.edges.size()) + " has a polyline of fewer than 2 points");
+      if (e.polyline.size() < 2)
+        throw Error("edge " + std::to_string(map.edges.size()) + " has a polyline of fewer than 2 points");
       map.edges.push_back(std::move(e));
     }
   } catch (const json::exception& e) {

@@ -11,9 +11,9 @@ namespace {
 
 // Kelly (1965), colours of maximum contrast in his order, without white, black, grey (#848482)
 // and the near-black olive (#2b3d26): a cluster must never look like noise.
-constexpr std::array<std::uint32_t, 18> kKellyColours = {
-    0xf3c300, 0x875692, 0xf38400, 0xa1caf1, 0xbe0032, 0xc2b280, 0x008856, 0xe68fac, 0x0067a5,
-    0xf99379, 0x604e97, 0xf6a600, 0xb3446c, 0xdcd300, 0x882d17, 0x8db600, 0x654522, 0xe25822};
+constexpr std::array<std::uint32_t, 18> kKellyColours = {0xf3c300, 0x875692, 0xf38400, 0xa1caf1, 0xbe0032, 0xc2b280,
+                                                         0x008856, 0xe68fac, 0x0067a5, 0xf99379, 0x604e97, 0xf6a600,
+                                                         0xb3446c, 0xdcd300, 0x882d17, 0x8db600, 0x654522, 0xe25822};
 
 constexpr double kGoldenAngleDeg = 137.50776405003785;
 

@@ -136,5 +136,4 @@ std::vector<std::string> writePicture(const std::string& svg, const PictureOutpu
   return written;
 }
 
-
 }  // namespace hullmap::plot

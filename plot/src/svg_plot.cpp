@@ -87,15 +87,15 @@ void writeAxes(std::ostream& svg, const Viewport& vp, const std::string& x_name,
                double font) {
   const Box2& w = vp.world;
   svg << "<g class=\"axes\" font-family=\"sans-serif\" font-size=\"" << num(font) << "\" fill=\"#333\">\n";
-  svg << "<rect x=\"" << num(vp.left) << "\" y=\"" << num(vp.top) << "\" width=\"" << num(vp.width())
-      << "\" height=\"" << num(vp.height()) << "\" fill=\"none\" stroke=\"#666\" stroke-width=\"1\"/>\n";
+  svg << "<rect x=\"" << num(vp.left) << "\" y=\"" << num(vp.top) << "\" width=\"" << num(vp.width()) << "\" height=\""
+      << num(vp.height()) << "\" fill=\"none\" stroke=\"#666\" stroke-width=\"1\"/>\n";
   const double step = niceStep(std::max(w.x1 - w.x0, w.y1 - w.y0), vp.width() > 400 ? 8.0 : 4.0);
   const int dec = decimalsFor(step);
   const double bottom = vp.top + vp.height();
   for (double t = std::ceil(w.x0 / step) * step; t <= w.x1 + 1e-9 * step; t += step) {
     const double x = vp.px(t);
-    svg << "<line x1=\"" << num(x) << "\" y1=\"" << num(bottom) << "\" x2=\"" << num(x) << "\" y2=\""
-        << num(bottom + 4) << "\" stroke=\"#666\"/><text x=\"" << num(x) << "\" y=\"" << num(bottom + 5 + font)
+    svg << "<line x1=\"" << num(x) << "\" y1=\"" << num(bottom) << "\" x2=\"" << num(x) << "\" y2=\"" << num(bottom + 4)
+        << "\" stroke=\"#666\"/><text x=\"" << num(x) << "\" y=\"" << num(bottom + 5 + font)
         << "\" text-anchor=\"middle\">" << num(t, dec) << "</text>\n";
   }
   // A flat view gets a finer step on its short axis, so it shows at least two ticks.
@@ -138,16 +138,20 @@ std::vector<Eigen::Vector2d> outline(const clustering::ConvexHull& hull, const c
                                      const Eigen::Vector3d& aabb_min, const Eigen::Vector3d& aabb_max, PlotView view) {
   if (view == PlotView::kTop) {
     if (footprint.polygon.size() >= 3) return footprint.polygon;
-    return {{aabb_min.x(), aabb_min.y()}, {aabb_max.x(), aabb_min.y()},
-            {aabb_max.x(), aabb_max.y()}, {aabb_min.x(), aabb_max.y()}};
+    return {{aabb_min.x(), aabb_min.y()},
+            {aabb_max.x(), aabb_min.y()},
+            {aabb_max.x(), aabb_max.y()},
+            {aabb_min.x(), aabb_max.y()}};
   }
   std::vector<Eigen::Vector2d> projected;
   projected.reserve(hull.vertices.size());
   for (const auto& v : hull.vertices) projected.push_back(project(v, view));
   auto outer = clustering::convexHull2d(std::move(projected));
   if (outer.size() >= 3) return outer;
-  return {{aabb_min.x(), aabb_min.z()}, {aabb_max.x(), aabb_min.z()},
-          {aabb_max.x(), aabb_max.z()}, {aabb_min.x(), aabb_max.z()}};
+  return {{aabb_min.x(), aabb_min.z()},
+          {aabb_max.x(), aabb_min.z()},
+          {aabb_max.x(), aabb_max.z()},
+          {aabb_min.x(), aabb_max.z()}};
 }
 
 /// One outline per convex part of the obstacle (its whole outline when it has no parts): the whole
@@ -155,7 +159,8 @@ std::vector<Eigen::Vector2d> outline(const clustering::ConvexHull& hull, const c
 std::vector<std::vector<Eigen::Vector2d>> outlines(const clustering::Obstacle& o, PlotView view) {
   if (o.parts.empty()) return {outline(o.hull, o.footprint, o.aabb_min, o.aabb_max, view)};
   std::vector<std::vector<Eigen::Vector2d>> out;
-  for (const auto& part : o.parts) out.push_back(outline(part.hull, part.footprint, part.aabb_min, part.aabb_max, view));
+  for (const auto& part : o.parts)
+    out.push_back(outline(part.hull, part.footprint, part.aabb_min, part.aabb_max, view));
   return out;
 }
 
@@ -197,8 +202,7 @@ void writeObstacles(std::ostream& svg, const std::vector<clustering::Obstacle>& 
     }
     svg << "<text class=\"obstacle-id\" x=\"" << num(vp.px(mean.x())) << "\" y=\"" << num(vp.py(mean.y()) + size / 3)
         << "\" font-size=\"" << num(size) << "\" text-anchor=\"middle\" fill=\"#111\" stroke=\"#fff\" stroke-width=\""
-        << num(size / 4) << "\" paint-order=\"stroke\">"
-        << o.id << "</text>\n";
+        << num(size / 4) << "\" paint-order=\"stroke\">" << o.id << "</text>\n";
   }
   svg << "</g>\n";
 }
@@ -283,8 +287,8 @@ std::string writePath(std::ostream& svg, const PlotPath& path, std::size_t index
       << "<polyline class=\"path-band\" points=\"" << points << "\" fill=\"none\" stroke=\"" << colour << "\" "
       << "stroke-opacity=\"0.22\" stroke-width=\"" << num(std::max(2.0 * path.radius * vp.scale, 1.0))
       << "\" stroke-linecap=\"round\" stroke-linejoin=\"round\"/>\n"
-      << "<polyline class=\"path-line\" points=\"" << points
-      << "\" fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"1.5\"/>\n";
+      << "<polyline class=\"path-line\" points=\"" << points << "\" fill=\"none\" stroke=\"" << colour
+      << "\" stroke-width=\"1.5\"/>\n";
   std::size_t colliding = 0;
   double clearance = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < path.check.segments.size(); ++i) {
@@ -294,8 +298,8 @@ std::string writePath(std::ostream& svg, const PlotPath& path, std::size_t index
     ++colliding;
     const Eigen::Vector2d a = project(wp[i], view);
     const Eigen::Vector2d b = project(wp[i + 1], view);
-    svg << "<line class=\"colliding-segment\" data-segment=\"" << i << "\" x1=\"" << num(vp.px(a.x()))
-        << "\" y1=\"" << num(vp.py(a.y())) << "\" x2=\"" << num(vp.px(b.x())) << "\" y2=\"" << num(vp.py(b.y()))
+    svg << "<line class=\"colliding-segment\" data-segment=\"" << i << "\" x1=\"" << num(vp.px(a.x())) << "\" y1=\""
+        << num(vp.py(a.y())) << "\" x2=\"" << num(vp.px(b.x())) << "\" y2=\"" << num(vp.py(b.y()))
         << "\" stroke=\"#e00000\" stroke-width=\"3\" stroke-linecap=\"round\"/>\n";
   }
   for (const auto& p : wp) {
@@ -303,8 +307,8 @@ std::string writePath(std::ostream& svg, const PlotPath& path, std::size_t index
     svg << "<circle class=\"waypoint\" cx=\"" << num(vp.px(q.x())) << "\" cy=\"" << num(vp.py(q.y()))
         << "\" r=\"2.5\" fill=\"" << colour << "\"/>\n";
   }
-  std::string caption = "path" + (path.name.empty() ? std::string() : " " + path.name) + " (" + colour + "): " +
-                        std::to_string(path.check.segments.size()) + " segments, radius " +
+  std::string caption = "path" + (path.name.empty() ? std::string() : " " + path.name) + " (" + colour +
+                        "): " + std::to_string(path.check.segments.size()) + " segments, radius " +
                         shortNum(path.radius) + ", ";
   if (path.check.first_contact) {
     const Eigen::Vector2d c = project(*path.check.first_contact, view);
@@ -316,8 +320,7 @@ std::string writePath(std::ostream& svg, const PlotPath& path, std::size_t index
         << "</g>\n<text x=\"" << num(x + 10) << "\" y=\"" << num(y - 10) << "\" font-family=\"sans-serif\" "
         << "font-size=\"12\" fill=\"#e00000\" stroke=\"#fff\" stroke-width=\"3\" paint-order=\"stroke\">"
         << "first contact</text>\n";
-    caption += std::to_string(colliding) + " colliding (red), first contact at " +
-               point3(*path.check.first_contact);
+    caption += std::to_string(colliding) + " colliding (red), first contact at " + point3(*path.check.first_contact);
     if (path.check.first_colliding_segment) {
       caption += " on segment " + std::to_string(*path.check.first_colliding_segment);
     }
@@ -339,8 +342,8 @@ double captionWidth(const std::vector<std::string>& lines, double font) {
 }
 
 std::string svgHeader(double width, double height) {
-  return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
-         num(width) + "\" height=\"" + num(height) + "\" viewBox=\"0 0 " + num(width) + ' ' + num(height) +
+  return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + num(width) +
+         "\" height=\"" + num(height) + "\" viewBox=\"0 0 " + num(width) + ' ' + num(height) +
          "\">\n<rect class=\"background\" width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n";
 }
 
@@ -357,8 +360,8 @@ SvgPicture renderMapSvg(const MapPlot& plot) {
     throw Error("plot: voxel size must be > 0, got " + shortNum(plot.voxel_size));
   }
   if (plot.labels.size() != plot.centers.size()) {
-    throw Error("plot: " + std::to_string(plot.labels.size()) + " labels for " +
-                std::to_string(plot.centers.size()) + " voxels");
+    throw Error("plot: " + std::to_string(plot.labels.size()) + " labels for " + std::to_string(plot.centers.size()) +
+                " voxels");
   }
   const PlotView view = plot.view;
   const double cell = plot.voxel_size;
@@ -415,7 +418,10 @@ SvgPicture renderMapSvg(const MapPlot& plot) {
       continue;
     }
     const bool floor = plot.floor_label && plot.labels[i] == *plot.floor_label;
-    offer(cells, p, cell, floor ? kFloorCell : plot.labels[i] < 0 ? -1 : plot.labels[i],
+    offer(cells, p, cell,
+          floor                ? kFloorCell
+          : plot.labels[i] < 0 ? -1
+                               : plot.labels[i],
           view == PlotView::kTop ? c.z() : -c.y());
   }
   picture.cells = cells.size();
@@ -517,7 +523,8 @@ std::string renderSweepSvg(const std::vector<Eigen::Vector3d>& points, const std
   const bool grid = combos.size() == panels.size() && eps_values.size() * min_pts_values.size() == panels.size();
   const std::size_t columns =
       grid ? eps_values.size()
-           : std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(panels.size())))));
+           : std::max<std::size_t>(1,
+                                   static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(panels.size())))));
   const std::size_t rows = panels.empty() ? 0 : (panels.size() + columns - 1) / columns;
 
   const double panel_max = 280.0;
@@ -563,7 +570,8 @@ std::string renderSweepSvg(const std::vector<Eigen::Vector3d>& points, const std
       // Depth by input order: the first point of a cell wins among equals.
       offer(cells, xy[i], cell_size, l, -static_cast<double>(i));
     }
-    const double noise_pct = points.empty() ? 0.0 : 100.0 * static_cast<double>(noise) / static_cast<double>(points.size());
+    const double noise_pct =
+        points.empty() ? 0.0 : 100.0 * static_cast<double>(noise) / static_cast<double>(points.size());
     body << "<g class=\"panel\" data-eps=\"" << shortNum(panel.eps) << "\" data-min-pts=\"" << panel.min_pts
          << "\" data-clusters=\"" << clusters.size() << "\">\n"
          << "<text class=\"panel-title\" x=\"" << num(vp.left) << "\" y=\"" << num(vp.top - 20)

@@ -10,8 +10,7 @@ namespace {
 
 std::string shapeText(const py::array& array) {
   std::string text = "(";
-  for (py::ssize_t i = 0; i < array.ndim(); ++i)
-    text += (i ? ", " : "") + std::to_string(array.shape(i));
+  for (py::ssize_t i = 0; i < array.ndim(); ++i) text += (i ? ", " : "") + std::to_string(array.shape(i));
   return text + (array.ndim() == 1 ? ",)" : ")");
 }
 
@@ -51,7 +50,8 @@ Eigen::Vector3d vector3(py::handle object, const std::string& name) {
   } catch (const py::error_already_set&) {
     throw Error::inParameter(name, "expected three numbers (x, y, z), got a " + typeName(object));
   }
-  if (p.size() != 3) throw Error::inParameter(name, "expected three numbers (x, y, z), got " + std::to_string(p.size()));
+  if (p.size() != 3)
+    throw Error::inParameter(name, "expected three numbers (x, y, z), got " + std::to_string(p.size()));
   const Eigen::Vector3d v(p.at(0), p.at(1), p.at(2));
   if (!v.allFinite()) throw Error::inParameter(name, "must be finite");
   return v;

@@ -101,10 +101,9 @@ std::optional<std::vector<std::filesystem::path>> paths(py::handle object) {
 /// or (K, 8) TUM rows; parsed as the lines of a file would be.
 std::vector<io::ReferencePose> referencePoses(py::handle align, io::ReferenceFormat format) {
   const bool eight = py::isinstance<py::array>(align) && py::reinterpret_borrow<py::array>(align).ndim() == 2 &&
-                     py::reinterpret_borrow<py::array>(align).shape(1) == 8 &&
-                     format == io::ReferenceFormat::kTum;
-  const auto rows = rowsArray(align, eight ? 8 : 4, "align",
-                              format == io::ReferenceFormat::kGps ? "t lat lon alt" : "t x y z");
+                     py::reinterpret_borrow<py::array>(align).shape(1) == 8 && format == io::ReferenceFormat::kTum;
+  const auto rows =
+      rowsArray(align, eight ? 8 : 4, "align", format == io::ReferenceFormat::kGps ? "t lat lon alt" : "t x y z");
   return io::parseReferenceTrajectory(rowsText(rows), "align", format);
 }
 
@@ -123,19 +122,21 @@ void refuseMisfits(const std::set<std::string>& named, const BuildRequest& reque
     if (!list.empty()) throw Error::inParameter(list, "applies only with align (a reference trajectory)");
   }
   if (!params.convex_parts && named.count("flat_gap"))
-    throw Error::inParameter("flat_gap", "applies only to convex parts, and concavity 'none' makes one hull per "
-                                         "cluster; leave it out");
+    throw Error::inParameter("flat_gap",
+                             "applies only to convex parts, and concavity 'none' makes one hull per "
+                             "cluster; leave it out");
   if (request.points || !pipeline::readsOctree(params)) {
     if (has_rays) return;
     const std::string list = given({"max_range", "miss"});
     if (!list.empty())
-      throw Error::inParameter(list, "applies only to free space cast along rays (with trajectory or origin); a "
-                                     "points-only build casts none: leave it out");
+      throw Error::inParameter(list,
+                               "applies only to free space cast along rays (with trajectory or origin); a "
+                               "points-only build casts none: leave it out");
     return;
   }
-  const std::string list = given({"trajectory", "origin", "up", "scale", "crop", "z_min", "z_max", "resolution",
-                                  "max_range", "hit", "miss", "clamp_min", "clamp_max", "occupancy_threshold",
-                                  "align", "floor", "level", "camera_frame", "ceiling"});
+  const std::string list =
+      given({"trajectory", "origin", "up", "scale", "crop", "z_min", "z_max", "resolution", "max_range", "hit", "miss",
+             "clamp_min", "clamp_max", "occupancy_threshold", "align", "floor", "level", "camera_frame", "ceiling"});
   if (!list.empty())
     throw Error::inParameter(list, "cannot apply to " + params.inputs.front().string() +
                                        ", a finished octree read as it is (its own frame, resolution and sensor "
@@ -144,9 +145,7 @@ void refuseMisfits(const std::set<std::string>& named, const BuildRequest& reque
 
 }  // namespace
 
-bool isPath(py::handle object) {
-  return py::isinstance<py::str>(object) || py::hasattr(object, "__fspath__");
-}
+bool isPath(py::handle object) { return py::isinstance<py::str>(object) || py::hasattr(object, "__fspath__"); }
 
 std::filesystem::path toPath(py::handle object) {
   return py::cast<std::string>(py::module_::import("os").attr("fspath")(object));
@@ -171,8 +170,7 @@ BuildRequest buildRequest(py::handle points, py::handle trajectory, py::handle a
       params.trajectory = toPath(trajectory);
     } else {
       request.keyframes =
-          io::parseTumTrajectory(rowsText(rowsArray(trajectory, 8, "trajectory", "t x y z qx qy qz qw")),
-                                     "trajectory");
+          io::parseTumTrajectory(rowsText(rowsArray(trajectory, 8, "trajectory", "t x y z qx qy qz qw")), "trajectory");
     }
   }
   if (!origin.is_none()) params.origin = vector3(origin, "origin");
@@ -280,8 +278,8 @@ BuildRequest buildRequest(py::handle points, py::handle trajectory, py::handle a
   k.refuseUnknown();
   std::set<std::string> named;
   for (const auto& [key, value] : keywords) named.insert(py::cast<std::string>(key));
-  for (auto [name, value] : {std::pair<const char*, py::handle>{"trajectory", trajectory}, {"align", align},
-                             {"origin", origin}}) {
+  for (auto [name, value] :
+       {std::pair<const char*, py::handle>{"trajectory", trajectory}, {"align", align}, {"origin", origin}}) {
     if (!value.is_none()) named.insert(name);
   }
   refuseMisfits(named, request, params.trajectory || request.keyframes || params.origin);

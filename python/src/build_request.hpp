@@ -13,11 +13,11 @@ namespace py = pybind11;
 
 /// What hullmap.build() was asked, as the library takes it.
 struct BuildRequest {
-  pipeline::BuildParams params;            ///< params.inputs: the point files, when points named files
-  std::optional<io::Points> points;    ///< points given as an array (input frame)
+  pipeline::BuildParams params;      ///< params.inputs: the point files, when points named files
+  std::optional<io::Points> points;  ///< points given as an array (input frame)
   /// A trajectory given as an array (input frame), parsed as a TUM file's lines would be.
   std::optional<std::vector<io::Keyframe>> keyframes;
-  bool up_given = false;                   ///< `up` or `align` was given (no ORB-SLAM frame hint then)
+  bool up_given = false;  ///< `up` or `align` was given (no ORB-SLAM frame hint then)
 };
 
 /// hullmap.build()'s arguments as BuildParams: `points` a path, a list of paths or an (N, 3) array;

@@ -118,8 +118,8 @@ std::vector<std::uint32_t> dbscanWeights(py::handle object, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) {
     const std::int64_t w = values.at(static_cast<py::ssize_t>(i));
     if (w < 0 || w > std::int64_t(UINT32_MAX))
-      throw Error::inParameter("weights", "weight of point " + std::to_string(i) + " is " + std::to_string(w) +
-                                              ", not in 1..4294967295");
+      throw Error::inParameter(
+          "weights", "weight of point " + std::to_string(i) + " is " + std::to_string(w) + ", not in 1..4294967295");
     out[i] = static_cast<std::uint32_t>(w);
   }
   return out;
@@ -328,42 +328,49 @@ std::string describe(const Map& map) {
   std::size_t parts = 0;
   for (const auto& o : map.obstacles()) parts += o.parts.empty() ? 1 : o.parts.size();
   std::string text = "<hullmap.Map: " + std::to_string(map.obstacles().size()) + " obstacles in " +
-                     std::to_string(parts) + " convex parts, " + std::to_string(map.centers().size()) +
-                     " voxels";
+                     std::to_string(parts) + " convex parts, " + std::to_string(map.centers().size()) + " voxels";
   if (!map.directory().empty()) text += ", read from " + map.directory().string();
   return text + ">";
 }
 
 template <typename T>
 void bindShape(py::class_<T>& c) {
-  c.def_property_readonly("voxel_count", [](const T& o) { return o.voxel_count; }, "occupied voxels")
-      .def_property_readonly("point_weight", [](const T& o) { return o.point_weight; }, "map points in its voxels")
-      .def_property_readonly("aabb_min", [](py::object self) { return view(self.cast<const T&>().aabb_min, self); },
-                             "(3,) lower corner of the axis-aligned box, map frame")
-      .def_property_readonly("aabb_max", [](py::object self) { return view(self.cast<const T&>().aabb_max, self); },
-                             "(3,) upper corner")
-      .def_property_readonly("centroid", [](py::object self) { return view(self.cast<const T&>().centroid, self); },
-                             "(3,) centroid of the hull's volume")
-      .def_property_readonly("volume", [](const T& o) { return o.volume; }, "of the hull, map units cubed")
-      .def_property_readonly("hull", [](const T& o) -> const clustering::ConvexHull& { return o.hull; },
-                             py::return_value_policy::reference_internal, "its convex hull (ConvexHull)")
-      .def_property_readonly("footprint", [](const T& o) -> const clustering::Footprint& { return o.footprint; },
-                             py::return_value_policy::reference_internal, "its footprint (Footprint)");
+  c.def_property_readonly(
+       "voxel_count", [](const T& o) { return o.voxel_count; }, "occupied voxels")
+      .def_property_readonly(
+          "point_weight", [](const T& o) { return o.point_weight; }, "map points in its voxels")
+      .def_property_readonly(
+          "aabb_min", [](py::object self) { return view(self.cast<const T&>().aabb_min, self); },
+          "(3,) lower corner of the axis-aligned box, map frame")
+      .def_property_readonly(
+          "aabb_max", [](py::object self) { return view(self.cast<const T&>().aabb_max, self); }, "(3,) upper corner")
+      .def_property_readonly(
+          "centroid", [](py::object self) { return view(self.cast<const T&>().centroid, self); },
+          "(3,) centroid of the hull's volume")
+      .def_property_readonly(
+          "volume", [](const T& o) { return o.volume; }, "of the hull, map units cubed")
+      .def_property_readonly(
+          "hull", [](const T& o) -> const clustering::ConvexHull& { return o.hull; },
+          py::return_value_policy::reference_internal, "its convex hull (ConvexHull)")
+      .def_property_readonly(
+          "footprint", [](const T& o) -> const clustering::Footprint& { return o.footprint; },
+          py::return_value_policy::reference_internal, "its footprint (Footprint)");
 }
 
 void bindObstacles(py::module_& m) {
   py::class_<clustering::ConvexHull>(m, "ConvexHull",
                                      "A convex polyhedron, map frame: vertices (V, 3) float64 and triangles (F, 3) "
                                      "int32, counter-clockwise seen from outside. Read-only views into the Map.")
-      .def_property_readonly("vertices", [](py::object self) {
-        return view(self.cast<const clustering::ConvexHull&>().vertices, self);
-      })
-      .def_property_readonly("triangles", [](py::object self) {
-        static_assert(sizeof(std::array<int, 3>) == 3 * sizeof(std::int32_t), "triangles are three packed ints");
-        const auto& t = self.cast<const clustering::ConvexHull&>().triangles;
-        static const std::int32_t none[3] = {0, 0, 0};
-        return view(t.empty() ? none : t.front().data(), {static_cast<py::ssize_t>(t.size()), 3}, self);
-      })
+      .def_property_readonly(
+          "vertices", [](py::object self) { return view(self.cast<const clustering::ConvexHull&>().vertices, self); })
+      .def_property_readonly(
+          "triangles",
+          [](py::object self) {
+            static_assert(sizeof(std::array<int, 3>) == 3 * sizeof(std::int32_t), "triangles are three packed ints");
+            const auto& t = self.cast<const clustering::ConvexHull&>().triangles;
+            static const std::int32_t none[3] = {0, 0, 0};
+            return view(t.empty() ? none : t.front().data(), {static_cast<py::ssize_t>(t.size()), 3}, self);
+          })
       .def("__repr__", [](const clustering::ConvexHull& h) {
         return "<hullmap.ConvexHull: " + std::to_string(h.vertices.size()) + " vertices, " +
                std::to_string(h.triangles.size()) + " triangles>";
@@ -371,8 +378,8 @@ void bindObstacles(py::module_& m) {
   py::class_<clustering::Footprint>(m, "Footprint",
                                     "The ground-plane footprint: a convex polygon (P, 2), counter-clockwise, and "
                                     "its z range.")
-      .def_property_readonly("polygon",
-                             [](py::object self) { return view(self.cast<const clustering::Footprint&>().polygon, self); })
+      .def_property_readonly(
+          "polygon", [](py::object self) { return view(self.cast<const clustering::Footprint&>().polygon, self); })
       .def_property_readonly("z_min", [](const clustering::Footprint& f) { return f.z_min; })
       .def_property_readonly("z_max", [](const clustering::Footprint& f) { return f.z_max; })
       .def("__repr__", [](const clustering::Footprint& f) {
@@ -386,9 +393,11 @@ void bindObstacles(py::module_& m) {
   part.def_property_readonly("concavity_bound", [](const clustering::ObstaclePart& p) { return p.concavity_bound; })
       .def_property_readonly("flat", [](const clustering::ObstaclePart& p) { return p.flat; })
       .def_property_readonly("filled", [](const clustering::ObstaclePart& p) { return p.filled; })
-      .def_property_readonly("faces", [](const clustering::ObstaclePart& p) { return p.faces; },
-                             "passed by the face-hole rule (CONVEX_PARTS.md)")
-      .def_property_readonly("free_voxels_inside", [](const clustering::ObstaclePart& p) { return p.free_voxels_inside; })
+      .def_property_readonly(
+          "faces", [](const clustering::ObstaclePart& p) { return p.faces; },
+          "passed by the face-hole rule (CONVEX_PARTS.md)")
+      .def_property_readonly("free_voxels_inside",
+                             [](const clustering::ObstaclePart& p) { return p.free_voxels_inside; })
       .def_property_readonly("free_voxels_off_surface",
                              [](const clustering::ObstaclePart& p) { return p.free_voxels_off_surface; })
       .def("__repr__", [](const clustering::ObstaclePart& p) {
@@ -399,17 +408,19 @@ void bindObstacles(py::module_& m) {
   py::class_<clustering::Obstacle> obstacle(m, "Obstacle",
                                             "One obstacle: a cluster of occupied voxels, its hull, footprint and "
                                             "convex parts (obstacles.json's obstacles[]).");
-  obstacle.def_property_readonly("id", [](const clustering::Obstacle& o) { return o.id; }, "cluster label");
+  obstacle.def_property_readonly(
+      "id", [](const clustering::Obstacle& o) { return o.id; }, "cluster label");
   bindShape(obstacle);
   obstacle
-      .def_property_readonly("parts",
-                             [](py::object self) {
-                               py::list list;
-                               for (const auto& p : self.cast<const clustering::Obstacle&>().parts)
-                                 list.append(py::cast(&p, py::return_value_policy::reference_internal, self));
-                               return list;
-                             },
-                             "its convex parts (ObstaclePart), empty when not split")
+      .def_property_readonly(
+          "parts",
+          [](py::object self) {
+            py::list list;
+            for (const auto& p : self.cast<const clustering::Obstacle&>().parts)
+              list.append(py::cast(&p, py::return_value_policy::reference_internal, self));
+            return list;
+          },
+          "its convex parts (ObstaclePart), empty when not split")
       .def("__repr__", [](const clustering::Obstacle& o) {
         return "<hullmap.Obstacle " + std::to_string(o.id) + ": " + std::to_string(o.voxel_count) + " voxels, " +
                std::to_string(o.parts.size()) + " parts>";
@@ -418,39 +429,42 @@ void bindObstacles(py::module_& m) {
 
 void bindMap(py::module_& m) {
   py::class_<Map>(m, "Map", "A build: its report, voxels and obstacles, and the path checks and plans on them.")
-      .def_property_readonly("report", [](const Map& map) { return toPython(map.report()); },
-                             "report.json as a dict")
+      .def_property_readonly(
+          "report", [](const Map& map) { return toPython(map.report()); }, "report.json as a dict")
       .def_property_readonly("resolution", &Map::resolution, "voxel size, map units")
-      .def_property_readonly("voxels",
-                             [](py::object self) {
-                               const Map& map = self.cast<const Map&>();
-                               const auto n = static_cast<py::ssize_t>(map.centers().size());
-                               return types->voxels(view(map.centers(), self), view(map.labels().data(), {n}, self),
-                                                    view(map.weights().data(), {n}, self),
-                                                    view(reinterpret_cast<const bool*>(map.core().data()), {n}, self));
-                             },
-                             "Voxels(centers (N, 3), labels (N,) int32, weights (N,) uint32, core (N,) bool): "
-                             "voxels.csv, read-only views")
-      .def_property_readonly("obstacles",
-                             [](py::object self) {
-                               py::list list;
-                               for (const auto& o : self.cast<const Map&>().obstacles())
-                                 list.append(py::cast(&o, py::return_value_policy::reference_internal, self));
-                               return list;
-                             },
-                             "the obstacles (Obstacle), as obstacles.json holds them")
-      .def_property_readonly("surfaces",
-                             [](py::object self) {
-                               py::list list;
-                               for (const auto& s : self.cast<const Map&>().map().surfaces)
-                                 list.append(types->surface(s.name, own(std::vector<Eigen::Vector3d>{s.normal})
-                                                                        .attr("reshape")(3), s.offset));
-                               return list;
-                             },
-                             "the floor and ceiling as solid half-spaces, obstacles for the checks and plans: "
-                             "Surface(name, normal (3,), offset), the solid where normal . x <= offset")
-      .def_property_readonly("frame", [](const Map& map) { return map.map().frame; },
-                             "the build's description of its frame")
+      .def_property_readonly(
+          "voxels",
+          [](py::object self) {
+            const Map& map = self.cast<const Map&>();
+            const auto n = static_cast<py::ssize_t>(map.centers().size());
+            return types->voxels(view(map.centers(), self), view(map.labels().data(), {n}, self),
+                                 view(map.weights().data(), {n}, self),
+                                 view(reinterpret_cast<const bool*>(map.core().data()), {n}, self));
+          },
+          "Voxels(centers (N, 3), labels (N,) int32, weights (N,) uint32, core (N,) bool): "
+          "voxels.csv, read-only views")
+      .def_property_readonly(
+          "obstacles",
+          [](py::object self) {
+            py::list list;
+            for (const auto& o : self.cast<const Map&>().obstacles())
+              list.append(py::cast(&o, py::return_value_policy::reference_internal, self));
+            return list;
+          },
+          "the obstacles (Obstacle), as obstacles.json holds them")
+      .def_property_readonly(
+          "surfaces",
+          [](py::object self) {
+            py::list list;
+            for (const auto& s : self.cast<const Map&>().map().surfaces)
+              list.append(
+                  types->surface(s.name, own(std::vector<Eigen::Vector3d>{s.normal}).attr("reshape")(3), s.offset));
+            return list;
+          },
+          "the floor and ceiling as solid half-spaces, obstacles for the checks and plans: "
+          "Surface(name, normal (3,), offset), the solid where normal . x <= offset")
+      .def_property_readonly(
+          "frame", [](const Map& map) { return map.map().frame; }, "the build's description of its frame")
       .def("check", &check, py::arg("segments"), py::arg("radius"), py::arg("against") = "hulls",
            py::arg("contact_tolerance") = collision::kContactTolerance, py::arg("frame") = "map",
            "Checks segments (N, 6) float64, rows x0 y0 z0 x1 y1 z1 (map frame), swept by a sphere of `radius`; "
@@ -462,14 +476,15 @@ void bindMap(py::module_& m) {
       .def("plan", &plan, py::arg("start"), py::arg("goal"), py::arg("radius"), py::arg("method") = "roadmap",
            py::arg("flight_z") = py::none(), py::arg("time_limit") = py::none(), py::arg("frame") = "map",
            "A path for a drone of `radius` from start to goal: Plan(path (K, 3) or None, length, blocked).")
-      .def("save",
-           [](const Map& map, py::handle dir, bool parents) {
-             const auto path = toPath(dir);
-             py::gil_scoped_release release;
-             map.save(path, parents);
-           },
-           py::arg("dir"), py::arg("parents") = false,
-           "Writes what `hullmap build -o DIR` writes (parents=True: as -p).")
+      .def(
+          "save",
+          [](const Map& map, py::handle dir, bool parents) {
+            const auto path = toPath(dir);
+            py::gil_scoped_release release;
+            map.save(path, parents);
+          },
+          py::arg("dir"), py::arg("parents") = false,
+          "Writes what `hullmap build -o DIR` writes (parents=True: as -p).")
       .def("__repr__", &describe);
 }
 
@@ -488,13 +503,15 @@ PYBIND11_MODULE(_hullmap, m) {
       "A hullmap error (a ValueError): its message names the file and line, or the parameter at fault; "
       "`parameter` is that parameter's name, or None.";
   types->build_warning = py::reinterpret_steal<py::object>(
-      PyErr_NewExceptionWithDoc("hullmap.BuildWarning", "What a build's outputs leave out or misstate (report.json's "
-                                "warnings).", PyExc_UserWarning, nullptr));
+      PyErr_NewExceptionWithDoc("hullmap.BuildWarning",
+                                "What a build's outputs leave out or misstate (report.json's "
+                                "warnings).",
+                                PyExc_UserWarning, nullptr));
   m.attr("BuildWarning") = types->build_warning;
   const py::object namedtuple = py::module_::import("collections").attr("namedtuple");
   types->voxels = namedtuple("Voxels", "centers labels weights core", py::arg("module") = "hullmap");
-  types->path_check = namedtuple("PathCheck", "segments first_colliding_segment first_contact",
-                                 py::arg("module") = "hullmap");
+  types->path_check =
+      namedtuple("PathCheck", "segments first_colliding_segment first_contact", py::arg("module") = "hullmap");
   types->plan = namedtuple("Plan", "path length blocked", py::arg("module") = "hullmap");
   types->surface = namedtuple("Surface", "name normal offset", py::arg("module") = "hullmap");
   m.attr("Surface") = types->surface;
@@ -526,12 +543,14 @@ PYBIND11_MODULE(_hullmap, m) {
         py::arg("origin") = py::none(),
         "What `hullmap build` does, from point files or an (N, 3) array: returns a Map. Keywords are the "
         "library's parameter names with the CLI's defaults (eps='auto', min_pts='auto', floor='auto', ...).");
-  m.def("load", [](py::handle dir) { return Map::load(toPath(dir)); }, py::arg("dir"),
-        "Reads a `hullmap build` output directory (or what Map.save wrote) as a Map.");
-  m.def("cluster_colour",
-        [](int label) {
-          const plot::Rgb c = plot::clusterColour(label);
-          return py::make_tuple(c.r, c.g, c.b);
-        },
-        py::arg("label"), "The colour hullmap's pictures give a cluster label: (r, g, b), 0-255.");
+  m.def(
+      "load", [](py::handle dir) { return Map::load(toPath(dir)); }, py::arg("dir"),
+      "Reads a `hullmap build` output directory (or what Map.save wrote) as a Map.");
+  m.def(
+      "cluster_colour",
+      [](int label) {
+        const plot::Rgb c = plot::clusterColour(label);
+        return py::make_tuple(c.r, c.g, c.b);
+      },
+      py::arg("label"), "The colour hullmap's pictures give a cluster label: (r, g, b), 0-255.");
 }

@@ -43,7 +43,6 @@ std::string unreadable(const std::string& path, const std::string& what) {
          (ec ? std::string(")") : "; the file holds " + std::to_string(size) + " bytes)");
 }
 
-
 /// Throws "<path>: no message on topic ..." unless the bag has `topic`.
 void requireTopic(const rosbag::Bag& bag, const std::string& path, const std::string& topic) {
   rosbag::View all(bag);
@@ -95,7 +94,6 @@ std::vector<io::Keyframe> readBagKeyframes(const std::string& path, const std::s
   if (keyframes.empty()) throw Error(path + ": topic " + topic + " holds no pose");
   return keyframes;
 }
-
 
 BagMap readBagMap(const std::string& path, const std::string& topic) {
   BagMap map;

@@ -61,7 +61,8 @@ class HullmapNode {
       skip(std::string("/ORB_SLAM/Map: ") + e.what());
       return;
     }
-    worker_->submit({orbslam_.points(), std::int64_t(msg->header.stamp.toNSec()), live::Clock::now(), keyframes_, true});
+    worker_->submit(
+        {orbslam_.points(), std::int64_t(msg->header.stamp.toNSec()), live::Clock::now(), keyframes_, true});
   }
 
   /// The whole keyframe trajectory (the last Path replaces the previous one); used from the next map on.
@@ -89,7 +90,8 @@ class HullmapNode {
       std::size_t non_finite = 0;
       io::Points points = cloudPoints(*msg, &non_finite);
       if (non_finite > 0) ROS_DEBUG("~cloud_in: %zu points with a non-finite coordinate skipped", non_finite);
-      worker_->submit({std::move(points), std::int64_t(msg->header.stamp.toNSec()), received, keyframes_, std::nullopt});
+      worker_->submit(
+          {std::move(points), std::int64_t(msg->header.stamp.toNSec()), received, keyframes_, std::nullopt});
     } catch (const Error& e) {
       skip(std::string("~cloud_in: ") + e.what());
     }
@@ -158,7 +160,7 @@ class HullmapNode {
   }
 
   const std::string frame_id_;
-  OrbSlamMapMarkers orbslam_;  // callback thread only
+  OrbSlamMapMarkers orbslam_;                                   // callback thread only
   std::shared_ptr<const std::vector<io::Keyframe>> keyframes_;  // callback thread only
 
   ::ros::Publisher obstacles_pub_, cells_pub_, grid_pub_, stats_pub_, path_check_pub_, path_markers_pub_;

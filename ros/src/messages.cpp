@@ -84,13 +84,12 @@ nav_msgs::OccupancyGrid toOccupancyGrid(const live::ProjectedGrid& g, const std_
 }
 
 visualization_msgs::MarkerArray obstacleMarkers(const std::vector<clustering::Obstacle>& obstacles,
-                                                const std::vector<int>& previous_ids,
-                                                const std_msgs::Header& header) {
+                                                const std::vector<int>& previous_ids, const std_msgs::Header& header) {
   return toMarkerArray(live::obstacleMarkers(obstacles, previous_ids), header);
 }
 
-visualization_msgs::MarkerArray occupiedCellMarkers(const std::vector<mapper::OccupiedVoxel>& voxels,
-                                                    double resolution, const std_msgs::Header& header) {
+visualization_msgs::MarkerArray occupiedCellMarkers(const std::vector<mapper::OccupiedVoxel>& voxels, double resolution,
+                                                    const std_msgs::Header& header) {
   return toMarkerArray(live::occupiedCellMarkers(voxels, resolution, header.frame_id), header);
 }
 

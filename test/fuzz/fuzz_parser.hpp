@@ -16,8 +16,7 @@
 
 namespace hullmap::fuzz {
 
-using Parser = void (*)(io::detail::ByteSource&, const std::string&, io::detail::PointSink&,
-                        io::InputStats&);
+using Parser = void (*)(io::detail::ByteSource&, const std::string&, io::detail::PointSink&, io::InputStats&);
 
 struct ParseRun {
   io::Points points;

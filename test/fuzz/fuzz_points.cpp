@@ -16,9 +16,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     io::Points streamed;
     io::PointStreamParams params;
     params.batch_points = 3;
-    const io::InputStats stats = io::streamPoints(
-        fuzz::bytesOf(data, size), fuzz::kInputName, params,
-        [&](io::Points& batch) { streamed.insert(streamed.end(), batch.begin(), batch.end()); });
+    const io::InputStats stats =
+        io::streamPoints(fuzz::bytesOf(data, size), fuzz::kInputName, params,
+                         [&](io::Points& batch) { streamed.insert(streamed.end(), batch.begin(), batch.end()); });
     if (streamed != set.points) fuzz::violated("streamPoints gave other points than parsePoints");
     if (stats.read != set.inputs.front().read || stats.dropped != set.inputs.front().dropped)
       fuzz::violated("streamPoints gave other counts than parsePoints");

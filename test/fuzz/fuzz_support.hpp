@@ -40,8 +40,8 @@ inline void checkStats(const io::Points& points, const io::InputStats& stats) {
     }
   }
   if (stats.read != points.size() + stats.droppedTotal()) {
-    violated("read != kept + dropped:", std::to_string(stats.read) + " != " + std::to_string(points.size()) +
-                                            " + " + std::to_string(stats.droppedTotal()));
+    violated("read != kept + dropped:", std::to_string(stats.read) + " != " + std::to_string(points.size()) + " + " +
+                                            std::to_string(stats.droppedTotal()));
   }
 }
 

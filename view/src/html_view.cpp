@@ -157,8 +157,7 @@ std::string readWhole(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     throw Error::inParameter("three_dir", path.string() + " not found: three.js r111 comes from Debian's " +
-                                              std::string(kThreePackage) + " (apt-get install " + kThreePackage +
-                                              ")");
+                                              std::string(kThreePackage) + " (apt-get install " + kThreePackage + ")");
   }
   std::ostringstream s;
   s << in.rdbuf();
@@ -167,7 +166,8 @@ std::string readWhole(const fs::path& path) {
 
 // An inline script must not hold "</script" (it would end the element early).
 std::string scriptSafe(std::string text) {
-  for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3)) text.insert(at + 1, "\\");
+  for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3))
+    text.insert(at + 1, "\\");
   return text;
 }
 
@@ -175,11 +175,20 @@ std::string htmlEscape(const std::string& text) {
   std::string out;
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -195,7 +204,8 @@ void truthSegments(const pipeline::TruthShape& s, std::vector<std::pair<Eigen::V
     const double c = std::cos(s.yaw), n = std::sin(s.yaw);
     const auto corner = [&](int i) {
       const Eigen::Vector3d q((i & 1 ? 1 : -1) * h.x(), (i & 2 ? 1 : -1) * h.y(), (i & 4 ? 1 : -1) * h.z());
-      return Eigen::Vector3d(s.center.x() + c * q.x() - n * q.y(), s.center.y() + n * q.x() + c * q.y(), s.center.z() + q.z());
+      return Eigen::Vector3d(s.center.x() + c * q.x() - n * q.y(), s.center.y() + n * q.x() + c * q.y(),
+                             s.center.z() + q.z());
     };
     for (int i = 0; i < 8; ++i)
       for (int bit : {1, 2, 4})
@@ -268,10 +278,14 @@ json pageData(const ViewScene& scene, const std::vector<VoxelCells>& levels, std
   // Voxels: counts of the build, then each level's cells as 16-bit indices from its first cell.
   std::size_t clustered = 0, noise = 0, floor = 0, ceiling = 0;
   for (const std::int32_t l : scene.labels) {
-    if (l >= 0) ++clustered;
-    else if (l == pipeline::kFloorLabel) ++floor;
-    else if (l == pipeline::kCeilingLabel) ++ceiling;
-    else ++noise;
+    if (l >= 0)
+      ++clustered;
+    else if (l == pipeline::kFloorLabel)
+      ++floor;
+    else if (l == pipeline::kCeilingLabel)
+      ++ceiling;
+    else
+      ++noise;
   }
   json level_data = json::array();
   for (const VoxelCells& cells : levels) {
@@ -312,8 +326,12 @@ json pageData(const ViewScene& scene, const std::vector<VoxelCells>& levels, std
   Bytes vertices, triangles;
   const auto addHull = [&](const clustering::ConvexHull& hull, int obstacle, int part, double volume,
                            std::size_t voxels, bool flat) {
-    items.push_back({{"obstacle", obstacle}, {"part", part}, {"volume", volume}, {"voxels", voxels},
-                     {"colour", labelColour(obstacle)}, {"flat", flat}});
+    items.push_back({{"obstacle", obstacle},
+                     {"part", part},
+                     {"volume", volume},
+                     {"voxels", voxels},
+                     {"colour", labelColour(obstacle)},
+                     {"flat", flat}});
     vertex_counts.push_back(hull.vertices.size());
     triangle_counts.push_back(hull.triangles.size());
     for (const auto& v : hull.vertices) putLocal(vertices, v, shift);
@@ -321,8 +339,11 @@ json pageData(const ViewScene& scene, const std::vector<VoxelCells>& levels, std
       for (int k : t) triangles.u32(static_cast<std::uint32_t>(k));
   };
   for (const auto& o : scene.obstacles) {
-    obstacles.push_back({{"id", o.id}, {"colour", labelColour(o.id)}, {"voxels", o.voxel_count},
-                         {"volume", o.volume}, {"parts", o.parts.size()}});
+    obstacles.push_back({{"id", o.id},
+                         {"colour", labelColour(o.id)},
+                         {"voxels", o.voxel_count},
+                         {"volume", o.volume},
+                         {"parts", o.parts.size()}});
     if (o.parts.empty()) {
       addHull(o.hull, o.id, -1, o.volume, o.voxel_count, false);
     } else {
@@ -351,7 +372,8 @@ json pageData(const ViewScene& scene, const std::vector<VoxelCells>& levels, std
       putLocal(ticks, k.position, shift);
       putLocal(ticks, k.position + tick * (k.orientation * Eigen::Vector3d::UnitZ()), shift);
     }
-    data["keyframes"] = {{"count", scene.keyframes.size()}, {"positions", positions.base64()}, {"ticks", ticks.base64()}};
+    data["keyframes"] = {
+        {"count", scene.keyframes.size()}, {"positions", positions.base64()}, {"ticks", ticks.base64()}};
   }
 
   // Paths: their checks as `hullmap check --json` prints them.
@@ -391,9 +413,12 @@ json pageData(const ViewScene& scene, const std::vector<VoxelCells>& levels, std
         putLocal(edges, Eigen::Vector3d(e[k + 1].x(), e[k + 1].y(), r.z), shift);
       }
     }
-    data["roadmap"] = {{"name", r.name},           {"z", r.z},
-                       {"nodes", r.nodes.size()},  {"edges", r.edges.size()},
-                       {"node_positions", nodes.base64()}, {"edge_segments", edges.base64()}};
+    data["roadmap"] = {{"name", r.name},
+                       {"z", r.z},
+                       {"nodes", r.nodes.size()},
+                       {"edges", r.edges.size()},
+                       {"node_positions", nodes.base64()},
+                       {"edge_segments", edges.base64()}};
   }
 
   data["truth"] = nullptr;
@@ -421,16 +446,18 @@ ViewScene readScene(const fs::path& build_dir, ViewInputs inputs) {
     throw Error::inParameter("radius", "must be a finite number >= 0");
   for (const auto& p : inputs.paths) {
     if (p.waypoints.size() < 2)
-      throw Error::inParameter("paths", p.name + ": a path needs at least two waypoints, got " +
-                                            std::to_string(p.waypoints.size()));
+      throw Error::inParameter(
+          "paths", p.name + ": a path needs at least two waypoints, got " + std::to_string(p.waypoints.size()));
   }
   std::error_code ec;
-  if (!fs::is_directory(build_dir, ec)) throw Error(build_dir.string() + ": not a directory (a `hullmap build` output)");
+  if (!fs::is_directory(build_dir, ec))
+    throw Error(build_dir.string() + ": not a directory (a `hullmap build` output)");
   ViewScene scene;
   fs::path name = build_dir.lexically_normal();
   if (name.filename().empty()) name = name.parent_path();
   scene.title = name.filename().string();
-  if (scene.title.empty() || scene.title == ".") scene.title = fs::absolute(build_dir).lexically_normal().filename().string();
+  if (scene.title.empty() || scene.title == ".")
+    scene.title = fs::absolute(build_dir).lexically_normal().filename().string();
   scene.report = pipeline::readReport(build_dir / "report.json");
   scene.resolution = scene.report["parameters"]["resolution"].get<double>();
   for (const auto& row : pipeline::readVoxelsCsv(build_dir / "voxels.csv")) {
@@ -461,7 +488,8 @@ ViewPage renderPage(const ViewScene& scene, const ViewParams& params) {
     throw Error::inParameter("resolution", "must be a positive finite number");
   const std::string three = readWhole(params.three_dir / "three.min.js");
   const std::string orbit = readWhole(params.three_dir / "examples" / "js" / "controls" / "OrbitControls.js");
-  const std::vector<VoxelCells> levels = voxelLevels(scene.centers, scene.labels, scene.resolution, params.max_instances);
+  const std::vector<VoxelCells> levels =
+      voxelLevels(scene.centers, scene.labels, scene.resolution, params.max_instances);
 
   ViewPage page;
   page.voxels = scene.centers.size();
@@ -479,15 +507,18 @@ ViewPage renderPage(const ViewScene& scene, const ViewParams& params) {
   html += "<style>\n" + std::string(detail::kViewerCss) + "</style>\n";
   // Errors are collected before anything else runs, so that the page can say it failed.
   html += "<script>\n" + std::string(detail::kErrorHook) + "</script>\n</head>\n<body>\n";
-  html += "<script>/* three.js r111 (MIT License), read from " + htmlEscape((params.three_dir / "three.min.js").string()) +
-          " (Debian's " + kThreePackage + ") when this page was written */\n" + scriptSafe(three) + "\n</script>\n";
-  html += "<script>/* OrbitControls from three.js r111's examples (MIT License), Debian's " + std::string(kThreePackage) +
-          " */\n" + scriptSafe(orbit) + "\n</script>\n";
+  html += "<script>/* three.js r111 (MIT License), read from " +
+          htmlEscape((params.three_dir / "three.min.js").string()) + " (Debian's " + kThreePackage +
+          ") when this page was written */\n" + scriptSafe(three) + "\n</script>\n";
+  html += "<script>/* OrbitControls from three.js r111's examples (MIT License), Debian's " +
+          std::string(kThreePackage) + " */\n" + scriptSafe(orbit) + "\n</script>\n";
   // "<" only occurs inside JSON strings, where \u003c reads back the same: nothing can end the element.
   std::string json_text;
   for (char c : data.dump()) {
-    if (c == '<') json_text += "\\u003c";
-    else json_text += c;
+    if (c == '<')
+      json_text += "\\u003c";
+    else
+      json_text += c;
   }
   html += "<script type=\"application/json\" id=\"hullmap-data\">" + json_text + "</script>\n";
   html += "<script>\n" + std::string(detail::kViewerScript) + "</script>\n</body>\n</html>\n";

@@ -120,7 +120,8 @@ VoxelCells cellsAt(const Lattice& l, const std::vector<std::int32_t>& labels, do
             [](const Cell& a, const Cell& b) { return a.label != b.label ? a.label < b.label : a.key < b.key; });
   const double f = static_cast<double>(factor);
   for (const Cell& c : cells) {
-    const std::int64_t m[3] = {static_cast<std::int64_t>(c.key & 0xffff), static_cast<std::int64_t>(c.key >> 16 & 0xffff),
+    const std::int64_t m[3] = {static_cast<std::int64_t>(c.key & 0xffff),
+                               static_cast<std::int64_t>(c.key >> 16 & 0xffff),
                                static_cast<std::int64_t>(c.key >> 32 & 0xffff)};
     Eigen::Vector3d centre;
     for (int a = 0; a < 3; ++a)
@@ -148,8 +149,9 @@ VoxelCells mergeVoxelCells(const std::vector<Eigen::Vector3d>& centers, const st
   return cellsAt(l, labels, resolution, l.index.empty() ? 1 : fittingFactor(l, max_cells));
 }
 
-std::vector<VoxelCells> voxelLevels(const std::vector<Eigen::Vector3d>& centers, const std::vector<std::int32_t>& labels,
-                                    double resolution, std::size_t max_cells, std::size_t coarsest_cells) {
+std::vector<VoxelCells> voxelLevels(const std::vector<Eigen::Vector3d>& centers,
+                                    const std::vector<std::int32_t>& labels, double resolution, std::size_t max_cells,
+                                    std::size_t coarsest_cells) {
   if (max_cells == 0) throw Error::inParameter("max_instances", "must be at least 1");
   const Lattice l = lattice(centers, labels, resolution);
   std::vector<VoxelCells> levels;

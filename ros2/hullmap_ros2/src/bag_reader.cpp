@@ -131,7 +131,8 @@ hullmap::live::BagTopics read(const std::string& path, const std::string& topic,
           one.poses.push_back(pose);
           for (const auto& k : hullmap::ros2::keyframes(one)) topics.keyframes->push_back(k);
         } else {
-          *topics.keyframes = hullmap::ros2::keyframes(deserialize<nav_msgs::msg::Path>(*message));  // the last holds all
+          *topics.keyframes =
+              hullmap::ros2::keyframes(deserialize<nav_msgs::msg::Path>(*message));  // the last holds all
         }
       }
     }
@@ -141,8 +142,8 @@ hullmap::live::BagTopics read(const std::string& path, const std::string& topic,
       if (!wanted) continue;
       const std::size_t expected = listed.count(*wanted) ? listed.at(*wanted) : 0;
       if (counted[*wanted] < expected) {
-        throw Error(unreadable(path, "read " + std::to_string(counted[*wanted]) + " of the " + std::to_string(expected) +
-                                         " messages its metadata lists on " + *wanted));
+        throw Error(unreadable(path, "read " + std::to_string(counted[*wanted]) + " of the " +
+                                         std::to_string(expected) + " messages its metadata lists on " + *wanted));
       }
     }
   } catch (const Error&) {

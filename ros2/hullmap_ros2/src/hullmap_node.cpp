@@ -36,8 +36,8 @@ rcl_interfaces::msg::ParameterDescriptor descriptor(const live::ParameterSpec& s
   // YAML reads extension's on and off as true and false: the node checks the value
   // (live::readSettings), rclcpp the range of a value of the range's type.
   d.dynamic_typing = spec.kind != live::ParameterKind::kText;
-  const bool bounded = spec.min > -std::numeric_limits<double>::infinity() ||
-                       spec.max < std::numeric_limits<double>::infinity();
+  const bool bounded =
+      spec.min > -std::numeric_limits<double>::infinity() || spec.max < std::numeric_limits<double>::infinity();
   if (bounded && spec.whole) {
     rcl_interfaces::msg::IntegerRange range;
     range.from_value = static_cast<std::int64_t>(spec.min);
@@ -146,7 +146,8 @@ void HullmapNode::declareParameters() {
   }
 }
 
-rcl_interfaces::msg::SetParametersResult HullmapNode::onSetParameters(const std::vector<rclcpp::Parameter>& parameters) {
+rcl_interfaces::msg::SetParametersResult HullmapNode::onSetParameters(
+    const std::vector<rclcpp::Parameter>& parameters) {
   rcl_interfaces::msg::SetParametersResult result;
   result.successful = true;
   live::ParameterValues values = values_;

@@ -30,9 +30,9 @@ namespace hullmap::clustering {
 /// 3. minPts = the `min_pts_quantile` quantile of the neighbourhood weight (DBSCAN's: the summed
 ///    weight within eps, the voxel included) over the sampled voxels that lie on a structure (at
 ///    least k other voxels within eps), each weighing its own map points as in 1, at least
-///    `min_min_pts`: the voxels holding about (1 - quantile) of the structure's points are core, so walls and furniture form clusters, while an isolated outlier
-///    voxel (alone within eps) is not core. Outliers are left out of the quantile: on a map with
-///    many of them they would pull it down to 1. No structured voxel: minPts = min_min_pts.
+///    `min_min_pts`: the voxels holding about (1 - quantile) of the structure's points are core, so walls and furniture
+///    form clusters, while an isolated outlier voxel (alone within eps) is not core. Outliers are left out of the
+///    quantile: on a map with many of them they would pull it down to 1. No structured voxel: minPts = min_min_pts.
 ///
 /// Cost: one pass over the voxels (gathering those near the sample into a hash grid of cells of
 /// max_eps_voxels * resolution), then two passes over the neighbourhoods of the `sample` voxels
@@ -52,12 +52,12 @@ struct AutoParamsRule {
 
 /// The chosen values and what they were chosen from.
 struct AutoParams {
-  double eps = 0.0;                ///< map units
+  double eps = 0.0;  ///< map units
   int min_pts = 1;
-  double knn = 0.0;                ///< the knn_quantile k-NN distance, map units; +inf when beyond reach
-  double eps_unclamped = 0.0;      ///< eps_factor * knn
-  std::size_t sampled = 0;         ///< voxels measured
-  std::size_t structured = 0;      ///< of those, voxels with k other voxels within eps
+  double knn = 0.0;            ///< the knn_quantile k-NN distance, map units; +inf when beyond reach
+  double eps_unclamped = 0.0;  ///< eps_factor * knn
+  std::size_t sampled = 0;     ///< voxels measured
+  std::size_t structured = 0;  ///< of those, voxels with k other voxels within eps
 };
 
 /// Chooses DBSCAN's eps and minPts for occupied voxel centres of side `resolution` (map units) and

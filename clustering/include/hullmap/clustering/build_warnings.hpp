@@ -16,7 +16,7 @@ struct ClusteringOutcome {
   double eps = 0.0;                 ///< DBSCAN radius used, map units
   int min_pts = 0;                  ///< DBSCAN core threshold used, in map points
   Metric metric = Metric::kXyz;
-  double resolution = 0.0;          ///< octree leaf size, map units
+  double resolution = 0.0;  ///< octree leaf size, map units
 };
 
 /// Share of occupied voxels left as noise above which a build is warned about (0.5: most of them).

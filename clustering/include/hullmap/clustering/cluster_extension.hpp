@@ -14,8 +14,8 @@ namespace hullmap::clustering {
 /// sparse structure attached to them (a table's thin legs, a shelf's edge, a wall's foot, seen with
 /// one or two map points per voxel) is kept, while noise that no cluster reaches stays noise.
 struct ClusterExtensionParams {
-  double eps = 0.1;   ///< density radius, map units (DBSCAN's test: squared distance <= eps^2), > 0
-  int min_pts = 5;    ///< a noise point may join when the weight within eps, itself included, is >= min_pts, >= 1
+  double eps = 0.1;     ///< density radius, map units (DBSCAN's test: squared distance <= eps^2), > 0
+  int min_pts = 5;      ///< a noise point may join when the weight within eps, itself included, is >= min_pts, >= 1
   double reach = 0.15;  ///< ... and a dense clustered point lies within reach (map units), >= eps
   Metric metric = Metric::kXyz;
 };

@@ -28,13 +28,12 @@ struct ConvexPartsParams {
   bool adapt_flat_gap = false;
   /// Count the space a cluster encloses as its parts' own voxels in the bound (a part's check uses
   /// the enclosed cells inside its box): computed once per cluster, the cells of the cluster's box
-  /// farther than rho = max(T, G) (G this cluster's, adapted or not) from all space reached from outside the box, where the outside
-  /// spreads (6-connected) only through cells farther than rho from the cluster's voxels, so holes
-  /// narrower than about 2 rho do not let it in. It is a closing of the shell: a concave corner is
-  /// filled only within about 0.3 rho of its apex. A box or a cylinder sampled only on its surface
-  /// (its inside is never observed) stays one part; a ring of walls, open at the top, does not
-  /// enclose the room. A cluster whose box (with a margin of rho) holds more than max_check_cells
-  /// cells gets no fill. Off: only the voxels count.
+  /// farther than rho = max(T, G) (G this cluster's, adapted or not) from all space reached from outside the box, where
+  /// the outside spreads (6-connected) only through cells farther than rho from the cluster's voxels, so holes narrower
+  /// than about 2 rho do not let it in. It is a closing of the shell: a concave corner is filled only within about 0.3
+  /// rho of its apex. A box or a cylinder sampled only on its surface (its inside is never observed) stays one part; a
+  /// ring of walls, open at the top, does not enclose the room. A cluster whose box (with a margin of rho) holds more
+  /// than max_check_cells cells gets no fill. Off: only the voxels count.
   bool fill_enclosed = true;
   /// Holes in the faces of a solid part (the face-hole rule), used when parts are merged: a cell of the
   /// union's hull farther than T from every site passes when its cube lies within T of the plane of
@@ -112,37 +111,36 @@ double adaptedFlatGap(const std::vector<Eigen::Vector3d>& centers, double voxel_
 /// Method: top-down, a part that violates T (or contains a keyframe) first sheds stray cells: while
 /// it fails, its lone cell (no other cell of the cluster within T) nearest the deepest uncovered cell
 /// (within 2 max(T, G) of it) is taken out; when the rest passes after at most 8 such cells (and at
-/// most 1/16 of the part), they become one-voxel parts, otherwise none is shed and the part is cut in two by a plane, and
-/// the halves recursively. The candidate planes: through its deepest uncovered cell (or the
-/// keyframe), the three axis planes and the three normal to the principal axes of its voxel
-/// centres; and per axis the cut whose halves have the smallest summed bounding boxes. The one whose
-/// halves have the smallest summed hull volume (exact, on the lattice) wins. Then bottom-up, adjacent parts (boxes within T) are merged while the union
-/// still passes the check, the pair adding the least hull volume first: a box stays one part, an L
-/// becomes its two arms, a ring of walls its walls. Last, a non-flat fragment (a part with at most
-/// 1/8 of a nearby flat part's voxels, such as a room's corner) hands its voxels lying in the flat
-/// part's slab to it, when both still pass the check; likewise a non-flat fragment hands its voxels
-/// lying in the bounding box of a non-flat part with at least 8 times its voxels to that part (a
-/// stray clump's slice of a box's face goes back to the box), and then the parts are merged again.
+/// most 1/16 of the part), they become one-voxel parts, otherwise none is shed and the part is cut in two by a plane,
+/// and the halves recursively. The candidate planes: through its deepest uncovered cell (or the keyframe), the three
+/// axis planes and the three normal to the principal axes of its voxel centres; and per axis the cut whose halves have
+/// the smallest summed bounding boxes. The one whose halves have the smallest summed hull volume (exact, on the
+/// lattice) wins. Then bottom-up, adjacent parts (boxes within T) are merged while the union still passes the check,
+/// the pair adding the least hull volume first: a box stays one part, an L becomes its two arms, a ring of walls its
+/// walls. Last, a non-flat fragment (a part with at most 1/8 of a nearby flat part's voxels, such as a room's corner)
+/// hands its voxels lying in the flat part's slab to it, when both still pass the check; likewise a non-flat fragment
+/// hands its voxels lying in the bounding box of a non-flat part with at least 8 times its voxels to that part (a stray
+/// clump's slice of a box's face goes back to the box), and then the parts are merged again.
 ///
 /// `centers`: voxel centres of one cluster on a lattice of edge `voxel_size` (map units). Throws
 /// hullmap::Error on voxel_size <= 0, a negative or non-finite concavity, or non-finite input.
-std::vector<std::vector<std::size_t>> splitConvexParts(const std::vector<Eigen::Vector3d>& centers,
-                                                       double voxel_size, const ConvexPartsParams& params,
+std::vector<std::vector<std::size_t>> splitConvexParts(const std::vector<Eigen::Vector3d>& centers, double voxel_size,
+                                                       const ConvexPartsParams& params,
                                                        const std::vector<Eigen::Vector3d>& keyframes = {});
 
 /// Totals of addConvexParts over all obstacles.
 struct ConvexPartsSummary {
   std::size_t parts = 0;
-  double concavity = 0.0;                 ///< the T used, map units
-  double flat_gap = 0.0;                  ///< the G asked for (>= T), map units
-  double flat_gap_max = 0.0;              ///< the largest G used for a cluster (adaptedFlatGap)
-  std::size_t flat_parts = 0;             ///< parts that passed as flat (bound G)
-  std::size_t face_parts = 0;             ///< parts that passed by the face-hole rule (bound G)
-  double hull_volume_before = 0.0;        ///< summed whole-cluster hull volume, map units^3
-  double hull_volume_after = 0.0;         ///< summed part hull volume
-  double voxel_volume = 0.0;              ///< clustered voxels times voxel_size^3
-  std::size_t keyframes_in_voxels = 0;    ///< keyframes in an occupied voxel of a part (kept inside)
-  std::size_t free_voxels_inside = 0;     ///< observed-free voxel centres inside some part's hull
+  double concavity = 0.0;                   ///< the T used, map units
+  double flat_gap = 0.0;                    ///< the G asked for (>= T), map units
+  double flat_gap_max = 0.0;                ///< the largest G used for a cluster (adaptedFlatGap)
+  std::size_t flat_parts = 0;               ///< parts that passed as flat (bound G)
+  std::size_t face_parts = 0;               ///< parts that passed by the face-hole rule (bound G)
+  double hull_volume_before = 0.0;          ///< summed whole-cluster hull volume, map units^3
+  double hull_volume_after = 0.0;           ///< summed part hull volume
+  double voxel_volume = 0.0;                ///< clustered voxels times voxel_size^3
+  std::size_t keyframes_in_voxels = 0;      ///< keyframes in an occupied voxel of a part (kept inside)
+  std::size_t free_voxels_inside = 0;       ///< observed-free voxel centres inside some part's hull
   std::size_t free_voxels_off_surface = 0;  ///< of those, none of the part's voxels among their 26 neighbours
 };
 
@@ -154,8 +152,7 @@ struct ConvexPartsSummary {
 /// Throws hullmap::Error as buildObstacles and splitConvexParts do, and when an obstacle's id is not a
 /// label of the voxels.
 ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::vector<Eigen::Vector3d>& centers,
-                                  const std::vector<std::uint32_t>& weights,
-                                  const std::vector<std::int32_t>& labels, double voxel_size,
-                                  const ConvexPartsParams& params, const KnownFreeSpace& known = {});
+                                  const std::vector<std::uint32_t>& weights, const std::vector<std::int32_t>& labels,
+                                  double voxel_size, const ConvexPartsParams& params, const KnownFreeSpace& known = {});
 
 }  // namespace hullmap::clustering

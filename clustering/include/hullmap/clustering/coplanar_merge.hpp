@@ -11,7 +11,7 @@ namespace hullmap::clustering {
 
 /// Settings of mergeCoplanarClusters().
 struct CoplanarMergeParams {
-  double reach = 0.4;       ///< a flat cluster may join a larger one with a point within this of its own (map units), > 0
+  double reach = 0.4;  ///< a flat cluster may join a larger one with a point within this of its own (map units), > 0
   double thickness = 0.15;  ///< a point set is flat when it is at most this thick (map units), > 0
 };
 

@@ -15,8 +15,8 @@ std::string toString(Metric metric);
 
 /// DBSCAN settings. Defaults are the seed report's reference case.
 struct DbscanParams {
-  double eps = 0.1;        ///< neighbourhood radius, map units; N_eps(p) = {q : d(p,q) <= eps}
-  int min_pts = 10;        ///< core when the weight of N_eps(p), p included, is >= min_pts
+  double eps = 0.1;  ///< neighbourhood radius, map units; N_eps(p) = {q : d(p,q) <= eps}
+  int min_pts = 10;  ///< core when the weight of N_eps(p), p included, is >= min_pts
   Metric metric = Metric::kXyz;
 };
 
@@ -24,10 +24,10 @@ struct DbscanParams {
 inline constexpr std::int32_t kNoise = -1;
 
 struct DbscanResult {
-  std::vector<std::int32_t> labels;       ///< per point: kNoise or 0..k-1, numbered by first point
-  std::vector<std::uint8_t> core;         ///< per point: 1 when core
-  std::vector<std::size_t> cluster_sizes; ///< points per cluster (not weights), index = label
-  std::size_t noise = 0;                  ///< points labelled kNoise
+  std::vector<std::int32_t> labels;        ///< per point: kNoise or 0..k-1, numbered by first point
+  std::vector<std::uint8_t> core;          ///< per point: 1 when core
+  std::vector<std::size_t> cluster_sizes;  ///< points per cluster (not weights), index = label
+  std::size_t noise = 0;                   ///< points labelled kNoise
   /// Core distances of the sampled points, sorted descending; filled only by the dbscan() overload
   /// taking a KDistanceRequest (see there).
   std::vector<double> k_distance_curve;

@@ -27,12 +27,12 @@ struct Footprint {
 /// conservatively like the whole. Map frame (z up), map units.
 struct ObstaclePart {
   std::size_t voxel_count = 0;
-  std::uint64_t point_weight = 0;      ///< map points in its voxels
+  std::uint64_t point_weight = 0;  ///< map points in its voxels
   Eigen::Vector3d aabb_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d aabb_max = Eigen::Vector3d::Zero();
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  ///< of the hull volume
-  double volume = 0.0;                 ///< of the hull
-  ConvexHull hull;                     ///< contains every voxel of the part completely
+  double volume = 0.0;                                 ///< of the hull
+  ConvexHull hull;                                     ///< contains every voxel of the part completely
   Footprint footprint;
   /// Certified upper bound on the distance from any point of the hull to the part's own voxel
   /// cubes (map units); at most the concavity T asked for, unless the part is a single voxel or
@@ -55,14 +55,14 @@ struct ObstaclePart {
 
 /// One obstacle: a DBSCAN cluster of occupied voxels wrapped conservatively.
 struct Obstacle {
-  int id = 0;                          ///< cluster label
+  int id = 0;  ///< cluster label
   std::size_t voxel_count = 0;
-  std::uint64_t point_weight = 0;      ///< map points in its voxels
+  std::uint64_t point_weight = 0;  ///< map points in its voxels
   Eigen::Vector3d aabb_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d aabb_max = Eigen::Vector3d::Zero();
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  ///< of the hull volume
   double volume = 0.0;
-  ConvexHull hull;                     ///< contains every voxel of the cluster completely
+  ConvexHull hull;  ///< contains every voxel of the cluster completely
   Footprint footprint;
   /// Convex parts of the cluster (convex_parts.hpp); empty when not split. The fields above always
   /// describe the whole cluster (the hull of all its voxels).
@@ -72,8 +72,8 @@ struct Obstacle {
 /// Wraps each cluster: hull of the voxels' corners (CGAL), footprint (Andrew's monotone chain).
 /// `centers`/`weights`/`labels` are per voxel; `voxel_size` the leaf edge length.
 std::vector<Obstacle> buildObstacles(const std::vector<Eigen::Vector3d>& centers,
-                                     const std::vector<std::uint32_t>& weights,
-                                     const std::vector<std::int32_t>& labels, double voxel_size);
+                                     const std::vector<std::uint32_t>& weights, const std::vector<std::int32_t>& labels,
+                                     double voxel_size);
 
 /// 2D convex hull by Andrew's monotone chain: counter-clockwise, no collinear points.
 std::vector<Eigen::Vector2d> convexHull2d(std::vector<Eigen::Vector2d> points);

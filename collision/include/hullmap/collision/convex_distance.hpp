@@ -48,12 +48,11 @@ double pointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
 
 /// Smallest t in [0, 1] such that the sphere of `radius` swept from a to a + t (b - a) touches the
 /// polytope, to within `t_tolerance` (the returned t is at or just after the true first contact,
-/// at most `t_tolerance` after it); std::nullopt when the whole sweep stays clear. The contact is bracketed from below (where the
-/// segment enters the face planes pushed out by `radius`, then certified Newton steps on the point's
+/// at most `t_tolerance` after it); std::nullopt when the whole sweep stays clear. The contact is bracketed from below
+/// (where the segment enters the face planes pushed out by `radius`, then certified Newton steps on the point's
 /// distance, which is convex in t) and confirmed by a distance within `radius` at most `t_tolerance`
 /// later; bisection on the prefix distance where the distance cannot decide.
-std::optional<double> firstContact(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                   const ConvexPolytope& polytope, double radius, double t_tolerance);
-
+std::optional<double> firstContact(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const ConvexPolytope& polytope,
+                                   double radius, double t_tolerance);
 
 }  // namespace hullmap::collision

@@ -9,7 +9,9 @@
 
 #include "hullmap/clustering/obstacles.hpp"
 
-namespace octomap { class OcTree; }
+namespace octomap {
+class OcTree;
+}
 
 namespace hullmap::collision {
 
@@ -24,7 +26,7 @@ struct Segment {
 /// map: up for a floor (the solid below it), down for a ceiling (the solid above it). Map frame,
 /// map units. The checkers validate it (unit, finite normal; finite offset).
 struct HalfSpace {
-  std::string name;                                    ///< what it is: "floor", "ceiling"
+  std::string name;  ///< what it is: "floor", "ceiling"
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   double offset = 0.0;
 
@@ -47,21 +49,21 @@ struct CheckRequest {
 /// Result for one segment swept by a sphere of radius r (a capsule).
 struct SegmentCheck {
   bool collides = false;
-  int obstacle = -1;        ///< HullChecker: id (Obstacle::id) of the obstacle hit first; -1 when clear
-                            ///< or in octree mode (voxels have no id)
-  int part = -1;            ///< HullChecker: index of that obstacle's convex part hit first; -1 when
-                            ///< clear, in octree mode, or for an obstacle without parts
-  std::string surface;      ///< the name of the surface (HalfSpace) hit first ("floor"); empty when
-                            ///< clear or when a hull or voxel is hit first (obstacle, part then -1)
-  double t = 1.0;           ///< first contact as a fraction of the segment (valid when collides)
-  double clearance = 0.0;   ///< min distance to any obstacle minus r, map units; 0 when colliding
+  int obstacle = -1;       ///< HullChecker: id (Obstacle::id) of the obstacle hit first; -1 when clear
+                           ///< or in octree mode (voxels have no id)
+  int part = -1;           ///< HullChecker: index of that obstacle's convex part hit first; -1 when
+                           ///< clear, in octree mode, or for an obstacle without parts
+  std::string surface;     ///< the name of the surface (HalfSpace) hit first ("floor"); empty when
+                           ///< clear or when a hull or voxel is hit first (obstacle, part then -1)
+  double t = 1.0;          ///< first contact as a fraction of the segment (valid when collides)
+  double clearance = 0.0;  ///< min distance to any obstacle minus r, map units; 0 when colliding
 };
 
 /// Result for a path of waypoints: one SegmentCheck per leg (one for a single waypoint).
 struct PathCheck {
   std::vector<SegmentCheck> segments;
   std::optional<std::size_t> first_colliding_segment;
-  std::optional<Eigen::Vector3d> first_contact;   ///< point on the path, map frame
+  std::optional<Eigen::Vector3d> first_contact;  ///< point on the path, map frame
 };
 
 /// A capsule (the segment swept by a sphere of `radius`) against one half-space, exactly: the
@@ -71,9 +73,9 @@ struct PathCheck {
 /// Throws hullmap::Error as the checkers do on a bad radius, segment or half-space.
 SegmentCheck checkHalfSpace(const Segment& segment, double radius, const HalfSpace& surface);
 
-/// Hull mode: the obstacles' convex hulls (one per convex part when an obstacle has parts) as FCL objects in FCL's broadphase manager (FclObstacles);
-/// every answer from certified segment-hull distances (convex_distance.hpp), the first contact
-/// bracketed as firstContact does.
+/// Hull mode: the obstacles' convex hulls (one per convex part when an obstacle has parts) as FCL objects in FCL's
+/// broadphase manager (FclObstacles); every answer from certified segment-hull distances (convex_distance.hpp), the
+/// first contact bracketed as firstContact does.
 ///
 /// Coordinates in the obstacles' frame (hullmap's z-up map frame), map units. The constructor
 /// copies the obstacles' hulls (as ConvexPolytope and FCL objects) and their ids; the vector given
@@ -88,8 +90,7 @@ SegmentCheck checkHalfSpace(const Segment& segment, double radius, const HalfSpa
 /// `surfaces` when one has a non-unit or non-finite normal or a non-finite offset.
 class HullChecker {
  public:
-  explicit HullChecker(const std::vector<clustering::Obstacle>& obstacles,
-                       std::vector<HalfSpace> surfaces = {});
+  explicit HullChecker(const std::vector<clustering::Obstacle>& obstacles, std::vector<HalfSpace> surfaces = {});
   ~HullChecker();
   HullChecker(HullChecker&&) noexcept;
   HullChecker& operator=(HullChecker&&) noexcept;

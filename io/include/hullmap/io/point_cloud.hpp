@@ -18,8 +18,8 @@ using Points = std::vector<Point>;
 /// in report.json.
 struct InputStats {
   std::string path;
-  std::string format;            ///< "orbslam_echo", "text", "pcd", "ply", "bt", ...
-  std::size_t read = 0;          ///< points found in the file, dropped ones included
+  std::string format;                          ///< "orbslam_echo", "text", "pcd", "ply", "bt", ...
+  std::size_t read = 0;                        ///< points found in the file, dropped ones included
   std::map<std::string, std::size_t> dropped;  ///< reason -> count
 
   std::size_t droppedTotal() const {

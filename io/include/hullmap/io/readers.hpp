@@ -47,8 +47,8 @@ using PointBatchConsumer = std::function<void(Points& batch)>;
 
 /// How the streaming readers deliver points and read their files.
 struct PointStreamParams {
-  std::size_t batch_points = 65536;    ///< points per batch, >= 1 (SIZE_MAX: one batch per file)
-  std::size_t read_bytes = 1u << 20;   ///< bytes asked of each read(2) on pipes and other non-regular files, >= 1
+  std::size_t batch_points = 65536;   ///< points per batch, >= 1 (SIZE_MAX: one batch per file)
+  std::size_t read_bytes = 1u << 20;  ///< bytes asked of each read(2) on pipes and other non-regular files, >= 1
 };
 
 /// Parses the bytes of one point file of any supported format (detected from the content).
@@ -82,8 +82,7 @@ PointSet readPointFiles(const std::vector<std::string>& paths);
 /// On an error the batches before it have already been delivered; the Error names the file and
 /// line (or byte offset) as readPointFile's. Throws hullmap::Error when batch_points or read_bytes
 /// is 0. Thread-safe (no shared state) when `consume` is.
-InputStats streamPointFile(const std::string& path, const PointStreamParams& params,
-                           const PointBatchConsumer& consume);
+InputStats streamPointFile(const std::string& path, const PointStreamParams& params, const PointBatchConsumer& consume);
 
 /// streamPointFile on each file in order, one consumer for all (a batch never holds points of two
 /// files); one InputStats per file.

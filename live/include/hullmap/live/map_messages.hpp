@@ -46,7 +46,7 @@ struct CloudLayout {
 /// hullmap::Error when a field is missing ("PointCloud2: no field z"), of another type, lies beyond
 /// point_step, or the data is shorter than its header says.
 io::Points cloudPoints(const CloudLayout& layout, const std::uint8_t* data, std::size_t size,
-                           std::size_t* non_finite = nullptr);
+                       std::size_t* non_finite = nullptr);
 
 /// visualization_msgs/Marker's types and actions (the same in ROS 1 and ROS 2).
 namespace marker {
@@ -117,10 +117,10 @@ bool OrbSlamMapMarkers::add(const MarkerKey& key, const PointRange& points) {
 
 /// The map a topic of a bag ends on, as a node would hold it after the topic was replayed into it.
 struct BagMap {
-  io::Points points;          ///< input frame (the topic's), in message order
-  std::string type;               ///< the topic's message type, as the bag names it
-  std::size_t messages = 0;       ///< messages read on the topic
-  std::size_t skipped = 0;        ///< malformed messages skipped (as the node skips them)
+  io::Points points;         ///< input frame (the topic's), in message order
+  std::string type;          ///< the topic's message type, as the bag names it
+  std::size_t messages = 0;  ///< messages read on the topic
+  std::size_t skipped = 0;   ///< malformed messages skipped (as the node skips them)
 };
 
 /// The node's map rule over a topic's messages in order, for the bag readers: for Markers the

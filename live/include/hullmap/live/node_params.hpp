@@ -47,18 +47,18 @@ using ParameterValues = std::map<std::string, ParameterValue>;
 
 /// One parameter of the node.
 struct ParameterSpec {
-  std::string name;                  ///< as the node names it: `hullmap build`'s option with '_' for '-'
+  std::string name;  ///< as the node names it: `hullmap build`'s option with '_' for '-'
   ParameterKind kind = ParameterKind::kNumber;
-  ParameterValue default_value;      ///< `hullmap build`'s default (NodeSettings{})
-  std::string description;           ///< one line: what it is, units, frame
-  std::string constraints;           ///< the values accepted, in words ("> 0, or auto")
-  std::vector<std::string> words;    ///< the words accepted (kWordOrNumber, kWord, kText)
+  ParameterValue default_value;                           ///< `hullmap build`'s default (NodeSettings{})
+  std::string description;                                ///< one line: what it is, units, frame
+  std::string constraints;                                ///< the values accepted, in words ("> 0, or auto")
+  std::vector<std::string> words;                         ///< the words accepted (kWordOrNumber, kWord, kText)
   double min = -std::numeric_limits<double>::infinity();  ///< a number's range (closed unless min_open)
   double max = std::numeric_limits<double>::infinity();
-  bool min_open = false;             ///< min itself is refused
+  bool min_open = false;  ///< min itself is refused
   bool max_open = false;
-  bool whole = false;                ///< only whole numbers
-  bool live = true;                  ///< a change applies at the next rebuild; false: only at start
+  bool whole = false;  ///< only whole numbers
+  bool live = true;    ///< a change applies at the next rebuild; false: only at start
 };
 
 /// Every parameter of the node, in the order docs/ROS.md lists them.

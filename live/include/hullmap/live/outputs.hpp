@@ -24,13 +24,13 @@ struct Rgba {
 struct MarkerSpec {
   std::string ns;
   int id = 0;
-  int type = 0;                  ///< marker::k* (0 for a deletion)
+  int type = 0;  ///< marker::k* (0 for a deletion)
   int action = marker::kAdd;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::Vector3d scale = Eigen::Vector3d::Zero();
   Rgba color;
   std::vector<Eigen::Vector3d> points;
-  std::vector<Rgba> colors;      ///< per point (path checks), else empty
+  std::vector<Rgba> colors;  ///< per point (path checks), else empty
   std::string text;
 };
 

@@ -25,9 +25,9 @@ using Clock = std::chrono::steady_clock;
 
 /// A whole map as a message brought it (every map message replaces the map).
 struct MapUpdate {
-  io::Points points;        ///< input frame
-  std::int64_t stamp_ns = 0;    ///< the message's header stamp, ns; 0: none (outputs then get the time of publishing)
-  Clock::time_point received;   ///< when the message arrived (latency_ms runs from here)
+  io::Points points;           ///< input frame
+  std::int64_t stamp_ns = 0;   ///< the message's header stamp, ns; 0: none (outputs then get the time of publishing)
+  Clock::time_point received;  ///< when the message arrived (latency_ms runs from here)
   std::shared_ptr<const std::vector<io::Keyframe>> keyframes;  ///< null: a points-only octree
   /// Whether the points are in a camera's frame (ORB-SLAM's /ORB_SLAM/Map markers: its first
   /// camera's), for level auto (pipeline::BuildParams::camera_frame); nullopt: judged as a file is.
@@ -47,8 +47,8 @@ struct NodeStats {
   bool pending = false;           ///< a map is waiting
   bool busy = false;              ///< a rebuild is running
   std::size_t points = 0, keyframes = 0, voxels = 0, obstacles = 0;  ///< of the last rebuild
-  double rebuild_ms = 0.0;        ///< wall time of the last rebuild (build + path checker)
-  double latency_ms = 0.0;        ///< map message's arrival to its outputs published
+  double rebuild_ms = 0.0;  ///< wall time of the last rebuild (build + path checker)
+  double latency_ms = 0.0;  ///< map message's arrival to its outputs published
 };
 
 /// The stats as the one-line JSON object ~stats holds (keys sorted).

@@ -16,7 +16,7 @@ namespace hullmap::live {
 
 /// What a bag's topics hold, as the bag readers give it.
 struct BagTopics {
-  BagMap map;                                              ///< the map topic's last map (TopicMap's rule)
+  BagMap map;                                          ///< the map topic's last map (TopicMap's rule)
   std::optional<std::vector<io::Keyframe>> keyframes;  ///< the trajectory topic's poses, when asked
 };
 

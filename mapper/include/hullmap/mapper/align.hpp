@@ -40,11 +40,11 @@ struct AlignParams {
 
 /// The fitted frame and how well it fits.
 struct Alignment {
-  Similarity transform;         ///< keyframe (map) frame -> reference frame
-  double rmse = 0.0;            ///< metres: RMS distance between transformed keyframes and their matches
-  double max_error = 0.0;       ///< metres: the largest of those distances
-  std::size_t matched = 0;      ///< keyframes with a reference pose within the tolerance
-  std::size_t unmatched = 0;    ///< keyframes without one
+  Similarity transform;       ///< keyframe (map) frame -> reference frame
+  double rmse = 0.0;          ///< metres: RMS distance between transformed keyframes and their matches
+  double max_error = 0.0;     ///< metres: the largest of those distances
+  std::size_t matched = 0;    ///< keyframes with a reference pose within the tolerance
+  std::size_t unmatched = 0;  ///< keyframes without one
 };
 
 /// Fits the similarity from keyframe positions (any frame, any scale: a monocular SLAM map) to a

@@ -34,9 +34,10 @@ enum class PlaneSide { kFloor, kCeiling };
 /// far side (more than `band` below a floor, above a ceiling): of those, the one with the most
 /// points within `band` wins (every candidate is screened on 2,000 of the sample points, and the 100
 /// best of them are counted on the whole sample). On a noisy floor several candidates refine to
-/// planes a few tenths of a degree apart (EuRoC V1_01: 20.8 to 21.1 degrees of tilt by candidate). So a table top (walls go on below it) or a wall loses to the floor,
-/// and the lowest large plane is preferred. The winner is refined by least squares on its inliers
-/// (the normal of the inliers' smallest principal axis, twice, re-selecting inliers each time).
+/// planes a few tenths of a degree apart (EuRoC V1_01: 20.8 to 21.1 degrees of tilt by candidate). So a table top
+/// (walls go on below it) or a wall loses to the floor, and the lowest large plane is preferred. The winner is refined
+/// by least squares on its inliers (the normal of the inliers' smallest principal axis, twice, re-selecting inliers
+/// each time).
 ///
 /// Acceptance (a map without floor is normal; the result then says why none was taken):
 /// - inlier share >= `min_inlier_share` of the points;
@@ -50,30 +51,30 @@ enum class PlaneSide { kFloor, kCeiling };
 /// - tilt <= `max_tilt_deg`.
 struct PlaneSearchParams {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  ///< up hint (the map frame's z after --up)
-  double band = 0.05;              ///< inlier distance, map units (about the voxel size)
-  bool fit_tilt = true;            ///< false: the normal is `up` exactly, only the height is found (--align)
-  double max_tilt_deg = 30.0;      ///< largest angle between the plane normal and up
+  double band = 0.05;                             ///< inlier distance, map units (about the voxel size)
+  bool fit_tilt = true;        ///< false: the normal is `up` exactly, only the height is found (--align)
+  double max_tilt_deg = 30.0;  ///< largest angle between the plane normal and up
   double min_inlier_share = 0.03;
   double max_beyond_share = 0.05;
   /// 0.3: measured floors cover 0.39 (a generated 1M-point scene of boxes) to 0.6 (EuRoC V1_01) and
   /// 0.99 (generated rooms); 0.2 let through a plane tilted 11 degrees across the bottoms of a row of
   /// boxes in a scene without floor points (coverage 0.26), which then levelled the map wrongly.
   double min_coverage = 0.3;
-  double coverage_cell = 0.0;      ///< map units; 0: 10 * band
-  int iterations = 1000;           ///< RANSAC draws
+  double coverage_cell = 0.0;  ///< map units; 0: 10 * band
+  int iterations = 1000;       ///< RANSAC draws
   std::size_t sample_points = 20000;
   std::uint64_t seed = 1;
 };
 
 /// What findBoundingPlane found.
 struct PlaneFit {
-  bool found = false;        ///< the best candidate met every acceptance rule
-  std::string reason;        ///< when not found: which rule failed (or "no candidate")
-  Plane plane;               ///< the best candidate (meaningful when found, informative otherwise)
-  double tilt_deg = 0.0;     ///< angle between plane normal and the up hint
-  std::size_t inliers = 0;   ///< points within band (all points, not the sample)
+  bool found = false;       ///< the best candidate met every acceptance rule
+  std::string reason;       ///< when not found: which rule failed (or "no candidate")
+  Plane plane;              ///< the best candidate (meaningful when found, informative otherwise)
+  double tilt_deg = 0.0;    ///< angle between plane normal and the up hint
+  std::size_t inliers = 0;  ///< points within band (all points, not the sample)
   double inlier_share = 0.0;
-  double beyond_share = 0.0; ///< points more than band on the far side
+  double beyond_share = 0.0;  ///< points more than band on the far side
   double coverage = 0.0;
 };
 

@@ -44,9 +44,9 @@ struct Box {
 
 /// Bounds applied after the frame change.
 struct FilterParams {
-  std::optional<Box> crop;        ///< keep points inside (inclusive)
-  std::optional<double> z_min;    ///< keep z >= z_min
-  std::optional<double> z_max;    ///< keep z <= z_max
+  std::optional<Box> crop;      ///< keep points inside (inclusive)
+  std::optional<double> z_min;  ///< keep z >= z_min
+  std::optional<double> z_max;  ///< keep z <= z_max
 };
 
 /// Applies the frame change in place: p -> R * (scale * p), R = upRotation(frame.up).

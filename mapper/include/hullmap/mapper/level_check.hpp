@@ -16,10 +16,10 @@ inline constexpr double kFloorMinShare = 0.1;
 inline constexpr double kFloorMaxTiltDeg = 10.0;
 
 /// One line when the map's floor (mapper::findBoundingPlane with band = `resolution`, tilt up to
-/// 45 degrees, holding at least kFloorMinShare of the points, at most 10% of them under it) is tilted more than kFloorMaxTiltDeg
-/// from level after the frame change ("the map's main floor-like plane ... is 21.3 degrees from
-/// level ..."), else nullopt. `points` are in the map frame (occupied voxel centres do),
-/// `resolution` sets the inlier band, `up` is the --up given.
+/// 45 degrees, holding at least kFloorMinShare of the points, at most 10% of them under it) is tilted more than
+/// kFloorMaxTiltDeg from level after the frame change ("the map's main floor-like plane ... is 21.3 degrees from level
+/// ..."), else nullopt. `points` are in the map frame (occupied voxel centres do), `resolution` sets the inlier band,
+/// `up` is the --up given.
 std::optional<std::string> levelWarning(const std::vector<Eigen::Vector3d>& points, double resolution,
                                         const std::string& up);
 

@@ -25,15 +25,15 @@ struct SensorModel {
 };
 
 struct OctreeParams {
-  double resolution = 0.05;   ///< leaf size, map units
+  double resolution = 0.05;  ///< leaf size, map units
   SensorModel sensor;
-  double max_range = -1.0;    ///< ray length bound for free space; < 0: unbounded
+  double max_range = -1.0;  ///< ray length bound for free space; < 0: unbounded
 };
 
 /// An occupied leaf voxel at the finest resolution, in the map frame.
 struct OccupiedVoxel {
   Eigen::Vector3d center;
-  std::uint32_t weight = 1;   ///< map points that fell in it (1 for voxels read from a .bt)
+  std::uint32_t weight = 1;  ///< map points that fell in it (1 for voxels read from a .bt)
   double log_odds = 0.0;
 };
 
@@ -48,10 +48,12 @@ class OccupancyMap {
   double resolution() const { return tree_->getResolution(); }
 
   /// Map points per leaf key (only keys where points fell).
-  const std::unordered_map<octomap::OcTreeKey, std::uint32_t, octomap::OcTreeKey::KeyHash>&
-  pointCounts() const { return point_counts_; }
-  std::unordered_map<octomap::OcTreeKey, std::uint32_t, octomap::OcTreeKey::KeyHash>&
-  pointCounts() { return point_counts_; }
+  const std::unordered_map<octomap::OcTreeKey, std::uint32_t, octomap::OcTreeKey::KeyHash>& pointCounts() const {
+    return point_counts_;
+  }
+  std::unordered_map<octomap::OcTreeKey, std::uint32_t, octomap::OcTreeKey::KeyHash>& pointCounts() {
+    return point_counts_;
+  }
 
   /// Occupied leaves at the finest depth (pruned inner leaves expanded), sorted by key so the
   /// order is deterministic. Weight from pointCounts(), or 1 where no count is known.
@@ -133,8 +135,7 @@ OccupancyMap buildFromScan(const io::Points& points, const io::Point& origin, co
 /// wins over free), then applied in one depth-first pass in octree order. Points and origin are
 /// converted to float as octomap's point3d. Unlike octomap, rays longer than 100000 voxels are
 /// safe. With a bounding box or change detection set on `tree`, octomap's own insertPointCloud runs.
-void insertScan(octomap::OcTree& tree, const io::Points& points, const io::Point& origin,
-                double max_range);
+void insertScan(octomap::OcTree& tree, const io::Points& points, const io::Point& origin, double max_range);
 
 /// Reads a .bt or .ot map (recognised by its header). The node stream is checked before octomap
 /// reads it, and octomap's result is checked: a missing, truncated, corrupt or non-OctoMap file is

@@ -25,14 +25,14 @@ struct OutputDirPolicy {
 /// Why an output directory may not be written.
 struct OutputDirRefusal {
   enum class Reason {
-    kEmptyName,        ///< "" given
-    kCurrentDirectory, ///< the working directory, or one of its ancestors (`-o .`, `-o ..`)
-    kNotADirectory,    ///< exists and is a file (or a path below a file)
-    kMissingParent,    ///< the parent directory does not exist and make_parents is false
-    kNotWritable,      ///< the nearest existing ancestor cannot be written
-    kHoldsInput,       ///< one of policy.inputs lies inside
-    kForeign,          ///< not empty and not a hullmap output (no marker)
-    kForeignFiles,     ///< a hullmap output, but also holding files hullmap did not write
+    kEmptyName,         ///< "" given
+    kCurrentDirectory,  ///< the working directory, or one of its ancestors (`-o .`, `-o ..`)
+    kNotADirectory,     ///< exists and is a file (or a path below a file)
+    kMissingParent,     ///< the parent directory does not exist and make_parents is false
+    kNotWritable,       ///< the nearest existing ancestor cannot be written
+    kHoldsInput,        ///< one of policy.inputs lies inside
+    kForeign,           ///< not empty and not a hullmap output (no marker)
+    kForeignFiles,      ///< a hullmap output, but also holding files hullmap did not write
   };
   Reason reason;
   /// One line naming the directory as given and saying why: "mydata: not empty and not a hullmap

@@ -14,7 +14,7 @@ namespace hullmap::mapper {
 struct SceneObstacle {
   enum class Shape { kBox, kCylinder } shape = Shape::kBox;
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< box centre; cylinder axis centre
-  Eigen::Vector3d size = Eigen::Vector3d::Ones();     ///< box extents; cylinder (2r, 2r, height)
+  Eigen::Vector3d size = Eigen::Vector3d::Ones();    ///< box extents; cylinder (2r, 2r, height)
 };
 
 /// What a generated scene holds.
@@ -57,15 +57,15 @@ std::string toString(SceneObject::Kind kind);
 /// each camera looking at the room's vertical axis.
 struct SceneParams {
   std::uint64_t seed = 42;
-  std::size_t points = 20000;         ///< map points, outliers included
-  std::size_t obstacles = 8;          ///< boxes and cylinders in the room
-  double room_size = 10.0;            ///< square room side (kRoom: its side along x), metres
+  std::size_t points = 20000;  ///< map points, outliers included
+  std::size_t obstacles = 8;   ///< boxes and cylinders in the room
+  double room_size = 10.0;     ///< square room side (kRoom: its side along x), metres
   double room_height = 3.0;
-  double noise_sigma = 0.01;          ///< centimetre noise
-  double outlier_fraction = 0.03;     ///< uniform outliers in the room
-  std::size_t gross_outliers = 5;     ///< points far away (1e5 to 1e6 m from the origin)
+  double noise_sigma = 0.01;       ///< centimetre noise
+  double outlier_fraction = 0.03;  ///< uniform outliers in the room
+  std::size_t gross_outliers = 5;  ///< points far away (1e5 to 1e6 m from the origin)
   std::size_t keyframes = 60;
-  bool orbslam_frame = true;          ///< write in ORB-SLAM's frame (y down): read back with --up -y
+  bool orbslam_frame = true;  ///< write in ORB-SLAM's frame (y down): read back with --up -y
 
   /// kRoom only (see SceneLayout). The room is room_size x room_width x room_height, floor at z = 0,
   /// walls' inner faces at x = +-room_size / 2, y = +-room_width / 2; `obstacles` pieces of furniture
@@ -76,10 +76,10 @@ struct SceneParams {
   /// z forward; that camera looks toward the room's axis, pitched down by camera_pitch_deg),
   /// scaled by monocular_scale (map units per metre); otherwise the z-up map frame in metres.
   SceneLayout layout = SceneLayout::kObstacles;
-  double density = 80.0;              ///< map points per m^2 of visible surface (> 0)
-  double edge_fraction = 0.3;         ///< share of surface points on face edges, [0, 1]
-  double monocular_scale = 0.37;      ///< map units per metre in the ORB-SLAM frame (> 0)
-  double camera_pitch_deg = 20.0;     ///< cameras look down by this, [0, 80]
+  double density = 80.0;           ///< map points per m^2 of visible surface (> 0)
+  double edge_fraction = 0.3;      ///< share of surface points on face edges, [0, 1]
+  double monocular_scale = 0.37;   ///< map units per metre in the ORB-SLAM frame (> 0)
+  double camera_pitch_deg = 20.0;  ///< cameras look down by this, [0, 80]
   /// kRoom: the room's side along y, metres (>= 4); 0: room_size (a square room). The walls' inner
   /// faces are then at x = +-room_size / 2 and y = +-room_width / 2.
   double room_width = 0.0;
@@ -96,11 +96,11 @@ struct SceneParams {
 inline constexpr double kSceneObstacleGap = 0.5;
 
 struct Scene {
-  io::Points points;                       ///< in the output frame (ORB-SLAM's if orbslam_frame)
-  std::vector<io::Keyframe> keyframes;     ///< camera-to-frame poses, in the output frame
+  io::Points points;                     ///< in the output frame (ORB-SLAM's if orbslam_frame)
+  std::vector<io::Keyframe> keyframes;   ///< camera-to-frame poses, in the output frame
   std::vector<SceneObstacle> obstacles;  ///< always z-up map frame; kRoom: every part of every object
-  std::vector<SceneObject> objects;    ///< kRoom: the true objects (walls and floor included); else empty
-  std::vector<io::Keyframe> reference;     ///< kRoom: the same keyframes in the z-up map frame, metres
+  std::vector<SceneObject> objects;      ///< kRoom: the true objects (walls and floor included); else empty
+  std::vector<io::Keyframe> reference;   ///< kRoom: the same keyframes in the z-up map frame, metres
   /// kRoom: output frame from the z-up map frame, p_out = scale * rotation * p + translation
   /// (identity when not orbslam_frame).
   double output_scale = 1.0;

@@ -17,15 +17,15 @@ namespace hullmap::pipeline {
 /// One true obstacle, z-up map frame, map units (metres for a metric map).
 struct TruthShape {
   enum class Kind { kBox, kCylinder, kMesh, kUnion } kind = Kind::kBox;
-  std::string label;                                   ///< "box 3", "table 6", or the OBJ object's name
+  std::string label;  ///< "box 3", "table 6", or the OBJ object's name
   /// A floor or ceiling ("kind": "floor" / "ceiling" in the JSON): the bound of the map, which the
   /// build leaves out of its obstacles. Random segments stay above every floor and below every
   /// ceiling; its observed points are reported but are not expected inside hulls.
   bool surface = false;
-  std::vector<TruthShape> parts;                       ///< kUnion: the primitives (boxes, cylinders)
-  Eigen::Vector3d center = Eigen::Vector3d::Zero();    ///< box centre; cylinder axis centre
-  Eigen::Vector3d size = Eigen::Vector3d::Ones();      ///< box extents; cylinder (2r, 2r, height)
-  double yaw = 0.0;                                    ///< box rotation about z, radians
+  std::vector<TruthShape> parts;                          ///< kUnion: the primitives (boxes, cylinders)
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();       ///< box centre; cylinder axis centre
+  Eigen::Vector3d size = Eigen::Vector3d::Ones();         ///< box extents; cylinder (2r, 2r, height)
+  double yaw = 0.0;                                       ///< box rotation about z, radians
   std::vector<std::array<Eigen::Vector3d, 3>> triangles;  ///< mesh: a closed surface
   Eigen::Vector3d aabb_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d aabb_max = Eigen::Vector3d::Zero();
@@ -62,33 +62,33 @@ enum class SegmentEnds { kFree, kInTruthBox };
 /// Settings of evaluate(); every random draw comes from std::mt19937_64(seed) with hullmap's own
 /// transforms, so the numbers are the same on every machine.
 struct EvaluateParams {
-  double radius = 0.3;             ///< drone radius R for the segment checks
+  double radius = 0.3;  ///< drone radius R for the segment checks
   /// A map point is an observed point of the one shape whose surface is nearest (smallest |signed
   /// distance|, ties to the lower index) when that distance is at most this.
   double surface_margin = 0.05;
-  double touch_margin = 0.1;       ///< a part touches a shape when part of its hull comes within this
-  double far_margin = 0.1;         ///< swallowed volume: hull volume farther than this from every shape
-  double depth_margin = 0.1;       ///< deep collision: the capsule penetrates a shape by more than this
-  double clear_margin = 0.1;       ///< clear segment: keeps radius + this from every shape
+  double touch_margin = 0.1;  ///< a part touches a shape when part of its hull comes within this
+  double far_margin = 0.1;    ///< swallowed volume: hull volume farther than this from every shape
+  double depth_margin = 0.1;  ///< deep collision: the capsule penetrates a shape by more than this
+  double clear_margin = 0.1;  ///< clear segment: keeps radius + this from every shape
   /// A part is *false* when its hull comes no closer than this to any true obstacle (map units; the
   /// CLI's default is one voxel of the build, the resolution in obstacles.json).
   double false_tolerance = 0.05;
-  std::size_t volume_samples = 4000;  ///< Monte Carlo points per part hull
-  std::size_t segments = 2000;        ///< random segments in the free volume
-  double segment_length = 2.0;        ///< segments are 0.2 .. this long
+  std::size_t volume_samples = 4000;      ///< Monte Carlo points per part hull
+  std::size_t segments = 2000;            ///< random segments in the free volume
+  double segment_length = 2.0;            ///< segments are 0.2 .. this long
   SegmentEnds ends = SegmentEnds::kFree;  ///< where the endpoints are drawn
-  double sample_step = 0.01;          ///< spacing of the truth's distance samples along a segment
+  double sample_step = 0.01;              ///< spacing of the truth's distance samples along a segment
   std::uint64_t seed = 1;
 };
 
 /// Per true obstacle.
 struct TruthScore {
   std::string label;
-  bool surface = false;            ///< a floor or ceiling (TruthShape::surface)
+  bool surface = false;  ///< a floor or ceiling (TruthShape::surface)
   /// Weight of its observed points: map points whose nearest shape surface is this one's, within
   /// surface_margin (each point counts for one shape only).
   double points_near = 0;
-  double points_inside = 0;        ///< of those, inside some hull
+  double points_inside = 0;  ///< of those, inside some hull
   /// The hulls that represent it: (obstacle id, part index; -1 whole hull) of each hull whose held
   /// observed points weigh most for this shape (ties to the lower shape index; a hull holding no
   /// observed point represents nothing). Every hull represents at most one shape, so a perfect
@@ -102,10 +102,10 @@ struct TruthScore {
 /// A hull farther than EvaluateParams::false_tolerance from every true obstacle: an obstacle where
 /// the world has none (outlier voxels the clustering kept, as a rule).
 struct FalsePart {
-  int obstacle = 0;          ///< obstacle id
-  int part = -1;             ///< its part; -1 a whole hull
-  std::size_t voxels = 0;    ///< its voxels
-  double volume = 0.0;       ///< its hull's volume, map units^3: the free space it brings
+  int obstacle = 0;        ///< obstacle id
+  int part = -1;           ///< its part; -1 a whole hull
+  std::size_t voxels = 0;  ///< its voxels
+  double volume = 0.0;     ///< its hull's volume, map units^3: the free space it brings
   /// Its hull's distance from the nearest true obstacle, map units: exact for boxes, cylinders and
   /// their unions (Frank-Wolfe over the hull, to a duality gap of 1e-12), for a mesh the least over
   /// the hull's vertices and its Monte Carlo points.
@@ -130,18 +130,18 @@ struct MissedSegment {
 /// What evaluate() measures. Volumes in map units^3, each with its Monte Carlo standard error.
 struct Evaluation {
   std::vector<TruthScore> truth;
-  std::size_t parts = 0;                       ///< hulls scored (parts, or whole obstacles without parts)
-  std::vector<FalsePart> false_parts;          ///< parts farther than false_tolerance from every shape
-  double false_volume = 0.0;                   ///< their summed hull volume
-  double hull_volume = 0.0;                    ///< summed part hull volume
+  std::size_t parts = 0;                                 ///< hulls scored (parts, or whole obstacles without parts)
+  std::vector<FalsePart> false_parts;                    ///< parts farther than false_tolerance from every shape
+  double false_volume = 0.0;                             ///< their summed hull volume
+  double hull_volume = 0.0;                              ///< summed part hull volume
   double union_volume = 0.0, union_volume_se = 0.0;      ///< volume of the union of the hulls
   double outside_volume = 0.0, outside_volume_se = 0.0;  ///< of the union, outside every shape
   double far_volume = 0.0, far_volume_se = 0.0;          ///< of the union, farther than far_margin
   std::size_t segments = 0;
-  std::size_t deep = 0;           ///< segments whose capsule penetrates the truth by > depth_margin
-  std::size_t missed = 0;         ///< of those, reported clear by the hull checker
-  std::size_t clear = 0;          ///< segments keeping radius + clear_margin from the truth
-  std::size_t false_alarms = 0;   ///< of those, reported colliding
+  std::size_t deep = 0;          ///< segments whose capsule penetrates the truth by > depth_margin
+  std::size_t missed = 0;        ///< of those, reported clear by the hull checker
+  std::size_t clear = 0;         ///< segments keeping radius + clear_margin from the truth
+  std::size_t false_alarms = 0;  ///< of those, reported colliding
   /// The hulls the false alarms hit first, most hit first (ties by obstacle id, then part).
   std::vector<FalseAlarmHull> false_alarm_hulls;
   std::vector<MissedSegment> missed_segments;  ///< every missed one, in the order drawn
@@ -154,8 +154,8 @@ struct Evaluation {
 /// points inside it (TruthScore::parts).
 /// Segments: endpoints drawn uniformly in the box of the truth grown by radius + clear_margin + 0.5
 /// until both keep radius + clear_margin from the truth (from their own random stream: the same
-/// segments whatever the obstacles, so two builds are scored on the same ones); the truth's smallest distance along a segment is taken
-/// at spacing <= sample_step, which brackets the exact value within sample_step / 2 (distance is
+/// segments whatever the obstacles, so two builds are scored on the same ones); the truth's smallest distance along a
+/// segment is taken at spacing <= sample_step, which brackets the exact value within sample_step / 2 (distance is
 /// 1-Lipschitz): a segment is deep or clear only when the bracket says so for certain, and neither
 /// otherwise. The hull side is collision::HullChecker with `surfaces` (the build's floor and ceiling,
 /// obstacles for checks as in `hullmap check`). Volumes: volume_samples uniform points in each

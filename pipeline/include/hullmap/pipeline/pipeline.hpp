@@ -48,9 +48,9 @@ enum class Level {
 
 /// `--align REF`: a metric reference trajectory of the keyframes (see mapper::alignTrajectory).
 struct AlignSettings {
-  std::filesystem::path reference;                                ///< TUM or GPS file
+  std::filesystem::path reference;  ///< TUM or GPS file
   io::ReferenceFormat format = io::ReferenceFormat::kTum;
-  mapper::AlignParams params;                                     ///< timestamp tolerance, seconds
+  mapper::AlignParams params;  ///< timestamp tolerance, seconds
   /// The reference poses already in memory, as io::parseReferenceTrajectory gives them (metres,
   /// z up; GPS fixes converted): used instead of reading `reference`, which then only names them
   /// (report.json's "align"). A front end that takes an array sets it.
@@ -71,7 +71,7 @@ struct BuildParams {
   /// Similarity from the keyframes to a metric reference trajectory (needs `trajectory`): points
   /// and keyframes are moved into the reference's frame (metres, z up), and `frame` does not apply.
   std::optional<AlignSettings> align;
-  mapper::FrameParams frame;         ///< input -> z-up map frame (up axis, scale); not with `align`
+  mapper::FrameParams frame;  ///< input -> z-up map frame (up axis, scale); not with `align`
   /// The floor: kAuto (default) searches it (mapper::findBoundingPlane on the points, band = the
   /// resolution; with `align` only its height, the reference defining up). Found, it is levelled to
   /// z = 0 (rotation and shift) when `level` says so; else the map keeps its frame and the plane is
@@ -90,7 +90,7 @@ struct BuildParams {
   /// Crop box and z bounds, in the output frame: after up/scale or align, and after levelling (the
   /// input frame itself when none of them moved the map).
   mapper::FilterParams filters;
-  mapper::OctreeParams octree;       ///< resolution 0.05, octomap's sensor model, unbounded rays
+  mapper::OctreeParams octree;  ///< resolution 0.05, octomap's sensor model, unbounded rays
   /// DBSCAN radius, map units; nullopt (default): chosen from the map (clustering::chooseDbscanParams
   /// with `auto_rule`). A given value wins.
   std::optional<double> eps;
@@ -105,7 +105,7 @@ struct BuildParams {
   /// keeps outliers out and the extension brings back the sparse structure it leaves out), off when
   /// `min_pts` is given (the clusters are then exactly DBSCAN's). true / false: always / never.
   std::optional<bool> extension;
-  clustering::ClusterExtensionRule extension_rule;       ///< the rule behind the extension
+  clustering::ClusterExtensionRule extension_rule;  ///< the rule behind the extension
   /// Convex parts of each cluster (clustering::addConvexParts) with concavity bound
   /// `convex_parts->concavity` (0: clustering::defaultConcavity, 3 voxels); nullopt: one hull per
   /// cluster. The keyframes (with `trajectory`) are kept out of every part's hull.
@@ -117,7 +117,7 @@ struct BuildParams {
   /// known before the octree is built; 256 MiB of text is about 8M points), larger ones stream twice
   /// (the first pass finds the floor). 0: always stream. The outputs are the same either way.
   std::uintmax_t stream_above_bytes = std::uintmax_t(256) << 20;
-  bool write_ot = false;             ///< write() also writes map.ot (full probabilities)
+  bool write_ot = false;  ///< write() also writes map.ot (full probabilities)
 };
 
 /// What the floor or ceiling stage found.
@@ -131,7 +131,7 @@ struct PlaneReport {
 
 /// The DBSCAN parameters a build used and where they came from.
 struct ClusterParamsReport {
-  clustering::DbscanParams used;                 ///< eps, min_pts, metric
+  clustering::DbscanParams used;  ///< eps, min_pts, metric
   bool eps_auto = false;
   bool min_pts_auto = false;
   std::optional<clustering::AutoParams> chosen;  ///< what the auto rule measured (when either is auto)
@@ -157,10 +157,10 @@ struct PointAccount {
 
 /// What a build did, as data; reportJson() makes report.json of it.
 struct BuildReport {
-  std::vector<io::InputStats> inputs;                    ///< per input file, in order
+  std::vector<io::InputStats> inputs;  ///< per input file, in order
   PointAccount points;
-  std::size_t keyframes = 0;                                 ///< keyframes read (0 without a trajectory)
-  std::optional<mapper::Alignment> alignment;                ///< with params.align
+  std::size_t keyframes = 0;                   ///< keyframes read (0 without a trajectory)
+  std::optional<mapper::Alignment> alignment;  ///< with params.align
   /// With params.align in GPS: reference lines dropped for having no fix, by reason ("no_fix":
   /// latitude = longitude = 0; "non_finite"; "out_of_range"): see io::ReferenceStats.
   std::map<std::string, std::size_t> reference_dropped;
@@ -173,10 +173,10 @@ struct BuildReport {
   PlaneReport floor;
   PlaneReport ceiling;
   ClusterParamsReport cluster_params;
-  std::optional<clustering::ConvexPartsSummary> parts;       ///< with params.convex_parts
-  std::size_t keyframes_inside_hulls = 0;                    ///< keyframes inside some part's hull
-  std::vector<std::pair<std::string, double>> timings_ms;    ///< stage -> wall time, ms, in order
-  std::vector<std::pair<std::string, double>> peak_rss_mb;   ///< stage -> process peak RSS at its end, MB
+  std::optional<clustering::ConvexPartsSummary> parts;      ///< with params.convex_parts
+  std::size_t keyframes_inside_hulls = 0;                   ///< keyframes inside some part's hull
+  std::vector<std::pair<std::string, double>> timings_ms;   ///< stage -> wall time, ms, in order
+  std::vector<std::pair<std::string, double>> peak_rss_mb;  ///< stage -> process peak RSS at its end, MB
   /// One line each about what the outputs leave out or misstate (most voxels noise, no obstacle,
   /// eps below the resolution, a tilted floor): report.json records them, `hullmap build` prints them.
   std::vector<std::string> warnings;
@@ -184,26 +184,26 @@ struct BuildReport {
 
 /// The occupied voxels of a map clustered and wrapped: the one voxel -> DBSCAN -> obstacles step.
 struct ClusteredVoxels {
-  std::vector<mapper::OccupiedVoxel> voxels;       ///< sorted by octree key (OccupancyMap::occupiedVoxels)
-  clustering::DbscanResult clusters;               ///< per voxel: label, core; cluster sizes in voxels
-  std::vector<clustering::Obstacle> obstacles;     ///< one per cluster, id = cluster label
+  std::vector<mapper::OccupiedVoxel> voxels;    ///< sorted by octree key (OccupancyMap::occupiedVoxels)
+  clustering::DbscanResult clusters;            ///< per voxel: label, core; cluster sizes in voxels
+  std::vector<clustering::Obstacle> obstacles;  ///< one per cluster, id = cluster label
 };
 
 /// The in-memory result of a build: what write() puts in the output directory.
 struct BuildResult {
-  BuildParams params;                              ///< as given (inputs included)
+  BuildParams params;  ///< as given (inputs included)
   mapper::OccupancyMap map{mapper::OctreeParams{}};
-  std::vector<mapper::OccupiedVoxel> voxels;       ///< see ClusteredVoxels
+  std::vector<mapper::OccupiedVoxel> voxels;  ///< see ClusteredVoxels
   /// Voxel labels: clusters.labels[i] is voxels[i]'s (kFloorLabel / kCeilingLabel for the floor's
   /// and ceiling's voxels, which are counted in neither noise nor clusters).
   clustering::DbscanResult clusters;
-  std::vector<clustering::Obstacle> obstacles;     ///< what collision::HullChecker takes (with parts)
+  std::vector<clustering::Obstacle> obstacles;  ///< what collision::HullChecker takes (with parts)
   /// The floor and ceiling found or given, as solid half-spaces for path checks (HullChecker's
   /// surfaces): the solid reaches up to the plane, or to the top of its highest voxel when that is
   /// higher (every voxel set aside as floor lies inside it completely, as a cluster's voxels lie
   /// inside its hull). Named "floor" and "ceiling".
   std::vector<collision::HalfSpace> surfaces;
-  std::vector<io::Keyframe> keyframes;         ///< output frame (with params.trajectory)
+  std::vector<io::Keyframe> keyframes;  ///< output frame (with params.trajectory)
   BuildReport report;
 };
 
@@ -234,8 +234,7 @@ BuildResult build(const BuildParams& params);
 /// go through params.frame, params.filters, the octree (with params.trajectory or params.origin as
 /// for files) and clustering; params.inputs is ignored and the report lists one input named
 /// `name` with format "memory". Throws hullmap::Error as build().
-BuildResult buildFromPoints(io::Points points, const BuildParams& params,
-                            const std::string& name = "points");
+BuildResult buildFromPoints(io::Points points, const BuildParams& params, const std::string& name = "points");
 
 /// The same with keyframe poses in memory (input frame, camera-to-map, as a bag or a live topic gives
 /// them) when `keyframes` holds a value: free space is ray-cast from them exactly as from a
@@ -288,8 +287,8 @@ namespace detail {
 /// Test-only: when set, build() and write() call it at the start of each stage with the stage's
 /// name: "read", "frame_and_filters", "octree", "dbscan", "obstacles", then write()'s "write" (staging
 /// directory made and locked), "wrote_map", "wrote_voxels", "wrote_obstacles" and "move_into_place"
-/// (every file written, the directory not yet in place); a test stops the run there (throw, or kill the process) to see what a run interrupted at
-/// that stage leaves behind. Not thread-safe; nullptr (the default) does nothing.
+/// (every file written, the directory not yet in place); a test stops the run there (throw, or kill the process) to see
+/// what a run interrupted at that stage leaves behind. Not thread-safe; nullptr (the default) does nothing.
 extern void (*stage_hook)(const char* stage);
 
 /// The build's rims step, exposed for its tests. After DBSCAN, each floor voxel (kFloorLabel) joins
@@ -305,10 +304,10 @@ extern void (*stage_hook)(const char* stage);
 /// The foot of a wall or box lies in the floor's band, and on a sparse map the voxels above a foot
 /// voxel are often empty for more than `reach`. (A third rule, joining floor voxels within 1.5 cells
 /// of the line between two low voxels of a cluster, was tried and left out: it laid a ledge of floor
-/// voxels along the walls' feet that came out as parts of their own.) `centers` are voxel centres on the lattice of `resolution` (map frame, z up); `reach` (map
-/// units): build passes the DBSCAN eps used, at most the auto rule's upper clamp (max_eps_voxels
-/// voxels: 0.4 m at 5 cm), so that a large eps given by hand does not join most of the floor. Voxels join clusters as
-/// they were on entry (no chains). Throws hullmap::Error when the sizes differ.
+/// voxels along the walls' feet that came out as parts of their own.) `centers` are voxel centres on the lattice of
+/// `resolution` (map frame, z up); `reach` (map units): build passes the DBSCAN eps used, at most the auto rule's upper
+/// clamp (max_eps_voxels voxels: 0.4 m at 5 cm), so that a large eps given by hand does not join most of the floor.
+/// Voxels join clusters as they were on entry (no chains). Throws hullmap::Error when the sizes differ.
 void attachSurfaceRims(const std::vector<Eigen::Vector3d>& centers, double resolution, double reach,
                        std::vector<std::int32_t>& labels);
 }  // namespace detail

@@ -14,8 +14,8 @@ namespace hullmap::pipeline {
 
 /// One row of voxels.csv.
 struct VoxelRow {
-  Eigen::Vector3d center;       ///< map frame, map units
-  std::uint32_t weight = 1;     ///< map points in the voxel
+  Eigen::Vector3d center;    ///< map frame, map units
+  std::uint32_t weight = 1;  ///< map points in the voxel
   std::int32_t label = clustering::kNoise;
   bool core = false;
 };

@@ -28,9 +28,9 @@ struct FleetTask {
 
 /// Settings of planFleet.
 struct FleetParams {
-  double radius = 0.0;     ///< every drone's radius, metres (> 0): 2 radius apart, radius from obstacles
-  double speed = 1.0;      ///< top speed, metres per second (> 0)
-  double time_step = 0.0;  ///< seconds per step of the space-time search; 0: radius / (2 speed)
+  double radius = 0.0;                   ///< every drone's radius, metres (> 0): 2 radius apart, radius from obstacles
+  double speed = 1.0;                    ///< top speed, metres per second (> 0)
+  double time_step = 0.0;                ///< seconds per step of the space-time search; 0: radius / (2 speed)
   std::size_t max_expansions = 2000000;  ///< space-time states expanded per drone before giving up
 };
 
@@ -38,8 +38,8 @@ struct FleetResult {
   std::vector<std::optional<TimedPath>> paths;  ///< per task, in task order; nullopt: not routed
   std::vector<std::size_t> unrouted;            ///< indices of the tasks without a path
   std::vector<std::string> reasons;             ///< one line per unrouted task, same order
-  double min_separation = 0.0;  ///< exact smallest distance between two routed drones (inf if < 2)
-  double time_step = 0.0;       ///< the step used, seconds
+  double min_separation = 0.0;                  ///< exact smallest distance between two routed drones (inf if < 2)
+  double time_step = 0.0;                       ///< the step used, seconds
 };
 
 /// Prioritized planning with reservations on the roadmap: drones in task order (earlier tasks

@@ -31,13 +31,13 @@ enum class OmplMotionCheck {
 
 /// Settings of planPathOmpl. Units: metres and seconds, z-up map frame.
 struct OmplParams {
-  double time_limit = 1.0;         ///< RRT* runs this long (it is anytime: it keeps improving), s, > 0
+  double time_limit = 1.0;  ///< RRT* runs this long (it is anytime: it keeps improving), s, > 0
   /// Clearance term of the objective: each metre of path costs 1 + weight * scale / (scale + c),
   /// c the state's clearance (distance to the nearest hull less the radius), integrated with the
   /// trapezoid rule per motion. 0: path length only. >= 0.
   double clearance_weight = 0.5;
-  double clearance_scale = 0.5;    ///< metres, > 0
-  std::optional<Box3d> box;        ///< sampling box; default omplBoxFor
+  double clearance_scale = 0.5;  ///< metres, > 0
+  std::optional<Box3d> box;      ///< sampling box; default omplBoxFor
   OmplMotionCheck motion_check = OmplMotionCheck::kExact;
 };
 
@@ -45,15 +45,15 @@ struct OmplParams {
 struct OmplPlanResult {
   /// The planner's path when the exact hull check found every segment clear by the radius.
   std::optional<std::vector<Eigen::Vector3d>> path;
-  double length = 0.0;             ///< of `path`, metres
-  std::string blocked;             ///< one line saying why there is no path
+  double length = 0.0;  ///< of `path`, metres
+  std::string blocked;  ///< one line saying why there is no path
   /// OMPL's exact solution as it returned it (empty when it found none in the time limit), and the
   /// exact hull check of it. With OmplMotionCheck::kDiscrete it may collide; with kExact it never
   /// should (the check is repeated anyway).
   std::vector<Eigen::Vector3d> planner_path;
   collision::PathCheck check;
-  double cost = 0.0;               ///< objective value of planner_path
-  Box3d box;                       ///< the sampling box used
+  double cost = 0.0;  ///< objective value of planner_path
+  Box3d box;          ///< the sampling box used
 };
 
 /// The default sampling box: the obstacles' bounding boxes, start and goal, grown in x and y by

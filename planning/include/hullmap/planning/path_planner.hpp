@@ -25,8 +25,8 @@ struct PlanRequest {
 /// the exact hull checker (collision::HullChecker) found clear of every obstacle by `radius`.
 struct PlanResult {
   std::optional<std::vector<Eigen::Vector3d>> path;
-  double length = 0.0;    ///< of the path, metres
-  std::string blocked;    ///< one line naming where it is blocked, when there is no path
+  double length = 0.0;  ///< of the path, metres
+  std::string blocked;  ///< one line naming where it is blocked, when there is no path
 };
 
 /// Plans on a roadmap: connects start and goal to the nearest roadmap points they see with
@@ -64,7 +64,11 @@ class PathPlanner {
   /// neighbours with the length and clearance of the piece between them. Roadmap nodes come first.
   struct Graph {
     std::vector<Eigen::Vector2d> position;
-    struct Link { int to; double length; double clearance; };
+    struct Link {
+      int to;
+      double length;
+      double clearance;
+    };
     std::vector<std::vector<Link>> links;
   };
   const Graph& graph() const;

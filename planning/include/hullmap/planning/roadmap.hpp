@@ -18,15 +18,15 @@ struct Bounds2d {
 
 /// Settings of buildRoadmap. Units: metres, z-up map frame.
 struct RoadmapParams {
-  double z0 = -1e300;            ///< flight band: obstacles whose [z_min, z_max] meets [z0, z1] count
+  double z0 = -1e300;  ///< flight band: obstacles whose [z_min, z_max] meets [z0, z1] count
   double z1 = 1e300;
   std::optional<Bounds2d> bounds;  ///< default: the obstacles' footprint bounds grown by `margin`
-  double margin = 1.0;           ///< growth of the default bounds on every side, metres (> 0)
+  double margin = 1.0;             ///< growth of the default bounds on every side, metres (> 0)
   /// Edges whose clearance is below this plus `tolerance` are dropped (this is the radius R): a kept
   /// edge's polyline, whose chords lie up to `tolerance` nearer than its arc, keeps R.
   double min_clearance = 0.0;
-  double tolerance = 1e-3;       ///< parabolic arcs: every polyline point lies on the arc, and every
-                                 ///< chord is within this distance of it (metres, > 0)
+  double tolerance = 1e-3;  ///< parabolic arcs: every polyline point lies on the arc, and every
+                            ///< chord is within this distance of it (metres, > 0)
 };
 
 /// A roadmap node: a Voronoi vertex, ground plane.
@@ -36,7 +36,7 @@ struct RoadmapNode {
 
 /// Where a Voronoi edge's defining site comes from.
 struct SiteRef {
-  int obstacle = -1;   ///< index into Roadmap::footprints; -1: the bounds
+  int obstacle = -1;  ///< index into Roadmap::footprints; -1: the bounds
   bool is_point = false;
   Eigen::Vector2d a = Eigen::Vector2d::Zero();  ///< the point, or the segment's first end
   Eigen::Vector2d b = Eigen::Vector2d::Zero();  ///< the segment's second end (== a for a point)
@@ -45,19 +45,19 @@ struct SiteRef {
 /// A roadmap edge: a piece of the generalized Voronoi diagram between two sites of different
 /// obstacles (or an obstacle and the bounds).
 struct RoadmapEdge {
-  int from = 0;                          ///< node indices; polyline.front() is node `from`
+  int from = 0;  ///< node indices; polyline.front() is node `from`
   int to = 0;
-  std::vector<Eigen::Vector2d> polyline; ///< points on the exact bisector; straight edges have 2
-  double length = 0.0;                   ///< of the polyline, metres
-  double clearance = 0.0;                ///< min distance to the nearest site along the exact arc
-  SiteRef site_a;                        ///< the two sites the edge is equidistant to
+  std::vector<Eigen::Vector2d> polyline;  ///< points on the exact bisector; straight edges have 2
+  double length = 0.0;                    ///< of the polyline, metres
+  double clearance = 0.0;                 ///< min distance to the nearest site along the exact arc
+  SiteRef site_a;                         ///< the two sites the edge is equidistant to
   SiteRef site_b;
 };
 
 /// The roadmap graph and how it was made.
 struct Roadmap {
   Bounds2d bounds;
-  double z0 = 0.0, z1 = 0.0;     ///< the band used: as given, less what the surfaces take
+  double z0 = 0.0, z1 = 0.0;  ///< the band used: as given, less what the surfaces take
   double min_clearance = 0.0;
   double tolerance = 0.0;
   /// The sites' polygons: the footprints of the obstacles' convex parts (an obstacle without

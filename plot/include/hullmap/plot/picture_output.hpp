@@ -21,7 +21,7 @@ std::optional<std::string> findPngConverter();
 struct PictureOutput {
   std::string path;
   bool also_png = false;
-  std::string option = "-o";   ///< the option that named `path`, for error messages
+  std::string option = "-o";  ///< the option that named `path`, for error messages
 };
 
 /// Throws the hullmap::Error writePicture would throw before writing anything: no file name, a

@@ -34,7 +34,7 @@ struct PlotPath {
 struct PlotRoadmap {
   std::vector<Eigen::Vector2d> nodes;
   std::vector<std::vector<Eigen::Vector2d>> edges;  ///< each edge's polyline
-  std::vector<double> clearance;                   ///< per edge, map units
+  std::vector<double> clearance;                    ///< per edge, map units
 };
 
 /// Colour of the i-th path (one per drone): blue, orange, green, purple, red, teal, pink, olive,
@@ -43,27 +43,27 @@ Rgb pathColour(std::size_t index);
 
 /// Everything `hullmap plot` draws.
 struct MapPlot {
-  std::vector<Eigen::Vector3d> centers;      ///< occupied voxel centres, map frame, map units
-  std::vector<std::int32_t> labels;          ///< per voxel: cluster label or clustering::kNoise
-  double voxel_size = 0.05;                  ///< leaf edge length, map units (> 0)
+  std::vector<Eigen::Vector3d> centers;  ///< occupied voxel centres, map frame, map units
+  std::vector<std::int32_t> labels;      ///< per voxel: cluster label or clustering::kNoise
+  double voxel_size = 0.05;              ///< leaf edge length, map units (> 0)
   std::vector<clustering::Obstacle> obstacles;
-  std::optional<PlotRoadmap> roadmap;       ///< drawn in the top view only (it is a ground-plane graph)
-  std::vector<PlotPath> paths;               ///< one colour each (pathColour), drawn over the roadmap
+  std::optional<PlotRoadmap> roadmap;  ///< drawn in the top view only (it is a ground-plane graph)
+  std::vector<PlotPath> paths;         ///< one colour each (pathColour), drawn over the roadmap
   /// Keyframe positions (map frame; a build's trajectory.txt), drawn as the camera's path; may be empty.
   std::vector<Eigen::Vector3d> keyframes;
   /// Voxels with this label are the floor's (pipeline::kFloorLabel): drawn light brown under noise
   /// and clusters (data-label -2), and the outline of their cells in the view plane is drawn.
   /// nullopt: they are drawn as noise.
   std::optional<std::int32_t> floor_label;
-  std::vector<std::string> caption;          ///< lines printed under the picture (parameters)
+  std::vector<std::string> caption;  ///< lines printed under the picture (parameters)
   PlotView view = PlotView::kTop;
 };
 
 /// What a rendering drew, for the command's summary and for tests.
 struct SvgPicture {
-  std::string svg;                  ///< the document
-  std::size_t cells = 0;            ///< projected cells drawn (voxels merged per cell)
-  std::size_t hidden_voxels = 0;    ///< voxels outside the view (far outliers), not drawn
+  std::string svg;                ///< the document
+  std::size_t cells = 0;          ///< projected cells drawn (voxels merged per cell)
+  std::size_t hidden_voxels = 0;  ///< voxels outside the view (far outliers), not drawn
 };
 
 /// Renders a map as one SVG document (no external resources).
@@ -94,19 +94,18 @@ SvgPicture renderMapSvg(const MapPlot& plot);
 struct SweepPanel {
   double eps = 0.0;
   int min_pts = 0;
-  std::vector<std::int32_t> labels;   ///< per point, same order as the points
+  std::vector<std::int32_t> labels;  ///< per point, same order as the points
 };
 
 /// Small multiples, one top view per panel (the seed report's figures 3 and 4 in one picture).
 /// When the panels form a full grid of distinct eps x distinct min_pts they are laid out with eps
 /// across and min_pts down; otherwise in the given order, ceil(sqrt(n)) per row. All panels share
-/// the same bounds and scale; far outliers are left out as in renderMapSvg and counted in the caption. Points are merged into square cells of `cell_size` map units (<= 0:
-/// 1/150 of the larger extent) as renderMapSvg merges voxels: clustered wins over noise, then the
-/// first point in input order. Each panel is a <g class="panel" data-eps=".." data-min-pts="..">
-/// titled with its parameters, cluster count and noise share.
-/// Throws hullmap::Error when a panel's labels do not match the points.
-std::string renderSweepSvg(const std::vector<Eigen::Vector3d>& points,
-                           const std::vector<SweepPanel>& panels, double cell_size,
-                           const std::string& title);
+/// the same bounds and scale; far outliers are left out as in renderMapSvg and counted in the caption. Points are
+/// merged into square cells of `cell_size` map units (<= 0: 1/150 of the larger extent) as renderMapSvg merges voxels:
+/// clustered wins over noise, then the first point in input order. Each panel is a <g class="panel" data-eps=".."
+/// data-min-pts=".."> titled with its parameters, cluster count and noise share. Throws hullmap::Error when a panel's
+/// labels do not match the points.
+std::string renderSweepSvg(const std::vector<Eigen::Vector3d>& points, const std::vector<SweepPanel>& panels,
+                           double cell_size, const std::string& title);
 
 }  // namespace hullmap::plot

@@ -58,14 +58,13 @@ io::Points cloudPoints(const sensor_msgs::PointCloud2& cloud, std::size_t* non_f
 /// `previous_ids` that are no longer obstacles get a DELETE in each namespace (stale markers go away
 /// when the obstacle set shrinks).
 visualization_msgs::MarkerArray obstacleMarkers(const std::vector<clustering::Obstacle>& obstacles,
-                                                const std::vector<int>& previous_ids,
-                                                const std_msgs::Header& header);
+                                                const std::vector<int>& previous_ids, const std_msgs::Header& header);
 
 /// Occupied voxels as octomap_server's ~occupied_cells_vis_array: one CUBE_LIST per tree depth
 /// 0..16 (ns = frame id, id = depth), the leaves (edge `resolution`, map units) in the depth-16
 /// marker and DELETE for the empty depths, so RViz configs made for octomap_server show them.
-visualization_msgs::MarkerArray occupiedCellMarkers(const std::vector<mapper::OccupiedVoxel>& voxels,
-                                                    double resolution, const std_msgs::Header& header);
+visualization_msgs::MarkerArray occupiedCellMarkers(const std::vector<mapper::OccupiedVoxel>& voxels, double resolution,
+                                                    const std_msgs::Header& header);
 
 /// The footprints (of the convex parts, for an obstacle in parts) whose z range meets [min_z, max_z]
 /// (map frame) rasterised into
@@ -85,7 +84,8 @@ visualization_msgs::MarkerArray pathCheckMarkers(const std::vector<Eigen::Vector
 visualization_msgs::Marker toMarker(const live::MarkerSpec& spec, const std_msgs::Header& header);
 
 /// Neutral markers as a MarkerArray with `header`.
-visualization_msgs::MarkerArray toMarkerArray(const std::vector<live::MarkerSpec>& specs, const std_msgs::Header& header);
+visualization_msgs::MarkerArray toMarkerArray(const std::vector<live::MarkerSpec>& specs,
+                                              const std_msgs::Header& header);
 
 /// A neutral grid as an OccupancyGrid with `header` (map_load_time: the header's stamp).
 nav_msgs::OccupancyGrid toOccupancyGrid(const live::ProjectedGrid& grid, const std_msgs::Header& header);

@@ -51,17 +51,17 @@ struct ViewRoadmap {
   std::string name;
   std::vector<Eigen::Vector2d> nodes;
   std::vector<std::vector<Eigen::Vector2d>> edges;  ///< each edge's polyline
-  std::vector<double> clearance;                   ///< per edge, map units
-  double z = 0.0;                                  ///< map frame
+  std::vector<double> clearance;                    ///< per edge, map units
+  double z = 0.0;                                   ///< map frame
 };
 
 /// What a page shows besides the build directory.
 struct ViewInputs {
-  std::vector<ViewPath> paths;     ///< checked against the build's hulls at `radius`
-  double radius = 0.0;             ///< drone radius for `paths`, map units (>= 0)
+  std::vector<ViewPath> paths;  ///< checked against the build's hulls at `radius`
+  double radius = 0.0;          ///< drone radius for `paths`, map units (>= 0)
   std::optional<ViewRoadmap> roadmap;
   std::optional<pipeline::GroundTruth> truth;  ///< drawn as wireframes
-  std::string truth_name;          ///< shown in the legend
+  std::string truth_name;                      ///< shown in the legend
 };
 
 /// A path with its check: pipeline::pathChecker(...).checkPath(waypoints, radius), the call
@@ -74,16 +74,16 @@ struct CheckedPath {
 /// Everything a page draws, in memory: what readScene() reads from a build directory, or a
 /// program's own.
 struct ViewScene {
-  std::string title;                            ///< the page's title (the build directory's name)
+  std::string title;  ///< the page's title (the build directory's name)
   /// The build's report.json (frame, parameters, counts, floor and ceiling): shown in the legend.
   nlohmann::json report = nlohmann::json::object();
   double resolution = 0.05;                     ///< voxel edge, map units (> 0)
   std::vector<Eigen::Vector3d> centers;         ///< occupied voxel centres (voxels.csv)
   std::vector<std::int32_t> labels;             ///< per voxel: obstacle id, -1 noise, -2 floor, -3 ceiling
   std::vector<clustering::Obstacle> obstacles;  ///< with their convex parts (obstacles.json)
-  std::vector<io::Keyframe> keyframes;      ///< trajectory.txt; empty when the build had none
+  std::vector<io::Keyframe> keyframes;          ///< trajectory.txt; empty when the build had none
   std::vector<CheckedPath> paths;
-  double radius = 0.0;                          ///< the paths' drone radius
+  double radius = 0.0;  ///< the paths' drone radius
   std::optional<ViewRoadmap> roadmap;
   std::optional<pipeline::GroundTruth> truth;
   std::string truth_name;
@@ -125,8 +125,9 @@ VoxelCells mergeVoxelCells(const std::vector<Eigen::Vector3d>& centers, const st
 /// The levels of detail a page holds: the first is mergeVoxelCells(centers, labels, resolution,
 /// max_cells); each next one merges cells of twice the factor (the same rule, from the voxels), until
 /// one holds at most `coarsest_cells` cells (or the factor reaches 65,536). Throws as mergeVoxelCells.
-std::vector<VoxelCells> voxelLevels(const std::vector<Eigen::Vector3d>& centers, const std::vector<std::int32_t>& labels,
-                                    double resolution, std::size_t max_cells, std::size_t coarsest_cells = kCoarsestCubes);
+std::vector<VoxelCells> voxelLevels(const std::vector<Eigen::Vector3d>& centers,
+                                    const std::vector<std::int32_t>& labels, double resolution, std::size_t max_cells,
+                                    std::size_t coarsest_cells = kCoarsestCubes);
 
 /// What a page holds, for the command's summary and for tests.
 struct ViewPage {

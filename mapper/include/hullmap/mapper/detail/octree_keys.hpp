@@ -74,16 +74,16 @@ class BrickSet {
   int lo_[3] = {0, 0, 0};
   int dims_[3] = {0, 0, 0};
   unsigned grid_lo_[3] = {0, 0, 0};
-  unsigned grid_extent_[3] = {0, 0, 0};     // in keys
-  std::vector<std::uint32_t> grid_;         // first word of each box brick, kNoBrick: none yet
-  bool grid_allocated_ = false;             // brick i is grid cell i
+  unsigned grid_extent_[3] = {0, 0, 0};      // in keys
+  std::vector<std::uint32_t> grid_;          // first word of each box brick, kNoBrick: none yet
+  bool grid_allocated_ = false;              // brick i is grid cell i
   std::vector<std::uint32_t> axis_code_[3];  // per axis and key - grid_lo: cell * 512 + interleaved bits
-  std::vector<std::uint64_t> slots_;        // coord + 1, 0 = empty
+  std::vector<std::uint64_t> slots_;         // coord + 1, 0 = empty
   std::size_t hashed_ = 0;
   std::vector<std::uint32_t> slot_index_;
-  std::vector<std::uint64_t> free_;         // kWords per brick
+  std::vector<std::uint64_t> free_;  // kWords per brick
   std::vector<std::uint64_t> occupied_;
-  std::vector<std::uint64_t> coords_;       // of each brick
+  std::vector<std::uint64_t> coords_;  // of each brick
   std::uint64_t last_coord_ = ~std::uint64_t{0};
   std::size_t last_word_ = 0;
   unsigned shift_ = 64;

@@ -44,10 +44,10 @@ class HullmapNode : public rclcpp::Node {
   void publishMap(const live::MapPublication& publication);
   std::vector<Eigen::Vector3d> waypoints(const nav_msgs::msg::Path& path);
 
-  live::ParameterValues values_;  // the parameters as set (parameter callbacks only)
-  std::string frame_id_;          // read-only
-  live::OrbSlamMapMarkers orbslam_;                                  // the node's callbacks only
-  std::shared_ptr<const std::vector<io::Keyframe>> keyframes_;   // the node's callbacks only
+  live::ParameterValues values_;                                // the parameters as set (parameter callbacks only)
+  std::string frame_id_;                                        // read-only
+  live::OrbSlamMapMarkers orbslam_;                             // the node's callbacks only
+  std::shared_ptr<const std::vector<io::Keyframe>> keyframes_;  // the node's callbacks only
 
   rclcpp::Publisher<visualization_msgs::msg::MarkerArray>::SharedPtr obstacles_pub_, cells_pub_, path_markers_pub_;
   rclcpp::Publisher<nav_msgs::msg::OccupancyGrid>::SharedPtr grid_pub_;
