@@ -198,7 +198,9 @@ FleetResult planFleet(const PathPlanner& planner, const std::vector<FleetTask>& 
     std::size_t expansions = 0;
     std::optional<std::pair<int, std::size_t>> reached;
     while (!open.empty() && expansions < params.max_expansions) {
-      const auto [t, v] = open.top().second;
+      // Named copies rather than a structured binding: C++17 lambdas (push, below) cannot capture one.
+      const std::size_t t = open.top().second.first;
+      const int v = open.top().second.second;
       open.pop();
       ++expansions;
       if (v == kGoal) {

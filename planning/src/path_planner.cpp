@@ -100,7 +100,9 @@ struct PathPlanner::Impl {
         open.emplace(len + h(v), v);
       }
     while (!open.empty()) {
-      const auto [f, v] = open.top();
+      // Named copies rather than a structured binding: C++17 lambdas (relax, below) cannot capture one.
+      const double f = open.top().first;
+      const int v = open.top().second;
       open.pop();
       if (f > cost[v] + h(v) + 1e-12) continue;
       if (v == target) break;
