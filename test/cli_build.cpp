@@ -23,6 +23,7 @@
 namespace fs = std::filesystem;
 using hullmap::test::freshDir;
 using hullmap::test::lineCount;
+using hullmap::test::readJson;
 using hullmap::test::runHullmap;
 using hullmap::test::slurp;
 using hullmap::test::writeText;
@@ -37,8 +38,6 @@ fs::path sampleScene(const fs::path& dir, std::size_t points = 6000) {
   hullmap::mapper::writeScene(hullmap::mapper::generateScene(params), params, dir.string());
   return dir;
 }
-
-nlohmann::json readJson(const fs::path& path) { return nlohmann::json::parse(slurp(path)); }
 
 void expectOneLineError(const hullmap::test::CommandResult& r, const std::string& needle) {
   EXPECT_EQ(r.status, 2) << r.err;

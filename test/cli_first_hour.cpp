@@ -15,14 +15,13 @@ namespace fs = std::filesystem;
 using hullmap::test::CommandResult;
 using hullmap::test::freshDir;
 using hullmap::test::lineCount;
+using hullmap::test::readJson;
 using hullmap::test::runHullmap;
 using hullmap::test::runHullmapIn;
 using hullmap::test::slurp;
 using hullmap::test::writeText;
 
 namespace {
-
-nlohmann::json readJson(const fs::path& path) { return nlohmann::json::parse(slurp(path)); }
 
 std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 

@@ -18,14 +18,13 @@ namespace {
 
 namespace fs = std::filesystem;
 using hullmap::test::freshDir;
+using hullmap::test::readJson;
 using hullmap::test::runHullmap;
 using hullmap::test::slurp;
 using hullmap::test::writeText;
 using V3 = Eigen::Vector3d;
 
 std::string sample(const std::string& name) { return std::string(HULLMAP_SOURCE_DIR) + "/maps/" + name; }
-
-nlohmann::json readJson(const fs::path& path) { return nlohmann::json::parse(slurp(path)); }
 
 hullmap::mapper::Similarity inputToOutput(const fs::path& out) {
   return hullmap::pipeline::similarityFromJson(readJson(out / "report.json")["input_to_output"], "report.json",

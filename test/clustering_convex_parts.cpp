@@ -23,7 +23,7 @@ namespace hullmap::clustering {
 namespace {
 
 using V3 = Eigen::Vector3d;
-constexpr double kVoxel = 0.05;
+using hullmap::test::kVoxel;
 
 V3 center(int i, int j, int k) { return V3(i + 0.5, j + 0.5, k + 0.5) * kVoxel; }
 
@@ -113,7 +113,7 @@ std::vector<V3> sampleHull(const ConvexHull& hull, std::size_t inside_count, std
     hi = hi.cwiseMax(v);
   }
   for (std::size_t tries = 0, got = 0; got < inside_count && tries < 50 * inside_count; ++tries) {
-    const V3 p = lo + (hi - lo).cwiseProduct(V3(u(rng), u(rng), u(rng)));
+    const V3 p = lo + (hi - lo).cwiseProduct(hullmap::test::drawPoint([&] { return u(rng); }));
     if (inHull(hull, p)) {
       out.push_back(p);
       ++got;

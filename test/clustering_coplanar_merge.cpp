@@ -17,12 +17,13 @@
 #include "hullmap/clustering/coplanar_merge.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/core/error.hpp"
+#include "test_support.hpp"
 
 namespace hullmap::clustering {
 namespace {
 
 using Points = std::vector<Eigen::Vector3d>;
-constexpr double kVoxel = 0.05;
+using hullmap::test::kVoxel;
 
 /// A DbscanResult holding `labels` (kNoise or 0..k-1), sizes counted, no core flags.
 DbscanResult labelled(const std::vector<std::int32_t>& labels) {

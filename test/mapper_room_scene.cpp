@@ -244,12 +244,6 @@ namespace {
 
 using namespace hullmap::io;
 
-// Every byte of a file (empty when it cannot be read).
-std::string fileBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 // maps/room is `hullmap generate --layout room -o maps/room` (seed 42, the room defaults): the files
 // the generator writes are, byte for byte, the ones in the repository.
 TEST(MapperRoomScene, MapsRoomIsTheDefaultRoom) {
@@ -261,8 +255,8 @@ TEST(MapperRoomScene, MapsRoomIsTheDefaultRoom) {
   writeScene(s, p, out.string());
   for (const char* name :
        {"map_points.txt", "KeyFrameTrajectory.txt", "reference_trajectory.txt", "ground_truth.json"}) {
-    const std::string expected = fileBytes(dir / name);
-    const std::string written = fileBytes(out / name);
+    const std::string expected = hullmap::test::slurp(dir / name);
+    const std::string written = hullmap::test::slurp(out / name);
     ASSERT_FALSE(expected.empty()) << (dir / name);
     const auto first = std::mismatch(expected.begin(), expected.end(), written.begin(), written.end());
     EXPECT_TRUE(expected == written) << name << ": " << written.size() << " bytes written, " << expected.size()

@@ -202,12 +202,6 @@ TEST(MapperScene, WritesTheThreeFilesItDescribes) {
   }
 }
 
-// Every byte of a file (empty when it cannot be read).
-std::string fileBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 // maps/simple is `hullmap generate -o maps/simple --seed 42` (the default scene): the files the
 // generator writes are, byte for byte, the ones in the repository.
 TEST(MapperScene, MapsSimpleIsTheDefaultScene) {
@@ -217,8 +211,8 @@ TEST(MapperScene, MapsSimpleIsTheDefaultScene) {
   const auto out = test::freshDir("maps_simple");
   writeScene(s, p, out.string());
   for (const char* name : {"map_points.txt", "KeyFrameTrajectory.txt", "ground_truth.json"}) {
-    const std::string expected = fileBytes(dir / name);
-    const std::string written = fileBytes(out / name);
+    const std::string expected = hullmap::test::slurp(dir / name);
+    const std::string written = hullmap::test::slurp(out / name);
     ASSERT_FALSE(expected.empty()) << (dir / name);
     const auto first = std::mismatch(expected.begin(), expected.end(), written.begin(), written.end());
     EXPECT_TRUE(expected == written) << name << ": " << written.size() << " bytes written, " << expected.size()

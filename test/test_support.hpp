@@ -12,6 +12,20 @@
 
 namespace hullmap::test {
 
+/// The voxel edge (m) of the generated test scenes that do not say otherwise.
+inline constexpr double kVoxel = 0.05;
+
+/// A point of three draws made one statement at a time, z first: the order gcc evaluates the
+/// arguments of V3(draw(), draw(), draw()) in, which the tests' data was made with. The arguments of
+/// one call are not sequenced (clang draws x first), so this gives the same data with any compiler.
+template <class Draw>
+Eigen::Vector3d drawPoint(Draw&& draw) {
+  const double z = draw();
+  const double y = draw();
+  const double x = draw();
+  return {x, y, z};
+}
+
 /// Path of a file in shared/data/real, or empty when the data is not there.
 inline std::string realData(const std::string& name) {
   const std::filesystem::path p = std::filesystem::path(HULLMAP_REAL_DATA_DIR) / name;
@@ -48,6 +62,7 @@ inline std::filesystem::path freshDir(const std::string& name) {
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 namespace hullmap::test {
 
@@ -60,12 +75,16 @@ struct CommandResult {
 /// Writes `text` into `path` (a test's input file).
 inline void writeText(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
 
+/// Every byte of a file (empty when it cannot be read).
 inline std::string slurp(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
 }
+
+/// A JSON file hullmap wrote (report.json, obstacles.json...).
+inline nlohmann::json readJson(const std::filesystem::path& path) { return nlohmann::json::parse(slurp(path)); }
 
 /// Runs the hullmap binary with `args` (already shell-quoted where needed), capturing both streams.
 inline CommandResult runHullmap(const std::string& args) {
