@@ -432,16 +432,17 @@ TEST(Evaluate, AttributionAndRepresentationMatchBruteForce) {
     GroundTruth truth;
     std::vector<std::pair<V3, V3>> boxes;
     for (int k = 0; k < 5; ++k) {
-      const V3 lo(2 * u(rng), 2 * u(rng), u(rng));
-      const V3 hi = lo + V3(0.1 + 0.7 * u(rng), 0.1 + 0.7 * u(rng), 0.1 + 0.7 * u(rng));
+      const V3 lo = hullmap::test::drawPoint([&] { return u(rng); }).cwiseProduct(V3(2, 2, 1));
+      const V3 hi = lo + (V3::Constant(0.1) + 0.7 * hullmap::test::drawPoint([&] { return u(rng); }));
       boxes.emplace_back(lo, hi);
       truth.shapes.push_back(aabb(lo, hi));
     }
     std::vector<clustering::Obstacle> obstacles;
     std::vector<std::pair<V3, V3>> hull_boxes;
     for (int h = 0; h < 7; ++h) {
-      const V3 lo(lattice(0, 2), lattice(0, 2), lattice(0, 1));
-      const V3 hi = lo + V3(lattice(0.1, 1.0), lattice(0.1, 1.0), lattice(0.1, 1.0)) + V3::Constant(0.1);
+      const double lo_z = lattice(0, 1), lo_y = lattice(0, 2), lo_x = lattice(0, 2);  // as drawPoint
+      const V3 lo(lo_x, lo_y, lo_z);
+      const V3 hi = lo + hullmap::test::drawPoint([&] { return lattice(0.1, 1.0); }) + V3::Constant(0.1);
       obstacles.push_back(filled(lo, hi, h));
       hull_boxes.emplace_back(lo, hi);
     }
@@ -449,11 +450,10 @@ TEST(Evaluate, AttributionAndRepresentationMatchBruteForce) {
     std::vector<std::uint32_t> weights;
     for (int i = 0; i < 3000; ++i) {
       const auto& [lo, hi] = boxes[std::size_t(i) % boxes.size()];
-      V3 p(lo.x() + (hi.x() - lo.x()) * u(rng), lo.y() + (hi.y() - lo.y()) * u(rng),
-           lo.z() + (hi.z() - lo.z()) * u(rng));
+      V3 p = lo + (hi - lo).cwiseProduct(hullmap::test::drawPoint([&] { return u(rng); }));
       const int axis = int(rng() % 3);
       p[axis] = (rng() % 2) ? lo[axis] : hi[axis];
-      p += 0.08 * V3(2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1);
+      p += 0.08 * (2.0 * hullmap::test::drawPoint([&] { return u(rng); }) - V3::Ones());
       points.push_back(p);
       weights.push_back(1 + std::uint32_t(rng() % 4));
     }

@@ -209,7 +209,11 @@ std::optional<Eigen::Vector2d> anywhereShift(const Eigen::Vector2d& extent, doub
     return shift;
   }
   if (extent.x() > 2.0 * (hx - g) || extent.y() > 2.0 * (hy - g)) return std::nullopt;
-  return Eigen::Vector2d(rng.uniform(-hx + g, hx - g - extent.x()), rng.uniform(-hy + g, hy - g - extent.y()));
+  // One draw a statement, y first (the order maps/ was made in): the arguments of one call are not
+  // sequenced, and gcc and clang draw them in opposite orders.
+  const double y = rng.uniform(-hy + g, hy - g - extent.y());
+  const double x = rng.uniform(-hx + g, hx - g - extent.x());
+  return Eigen::Vector2d(x, y);
 }
 
 }  // namespace
@@ -254,7 +258,8 @@ Scene generateRoomScene(const SceneParams& p) {
       } else if (circle) {
         const double reach = loop_x - kSceneObstacleGap - 0.5 * extent.norm();
         if (reach <= 0.0) continue;
-        const Eigen::Vector2d centre(rng.uniform(-reach, reach), rng.uniform(-reach, reach));
+        const double centre_y = rng.uniform(-reach, reach);  // y first, as in anywhereShift
+        const Eigen::Vector2d centre(rng.uniform(-reach, reach), centre_y);
         if (centre.norm() > reach) continue;
         shift = centre - 0.5 * extent;
       } else {
@@ -262,7 +267,8 @@ Scene generateRoomScene(const SceneParams& p) {
         const double rx = loop_x - kSceneObstacleGap - 0.5 * extent.x(),
                      ry = loop_y - kSceneObstacleGap - 0.5 * extent.y();
         if (rx <= 0.0 || ry <= 0.0) continue;
-        const Eigen::Vector2d centre(rng.uniform(-rx, rx), rng.uniform(-ry, ry));
+        const double centre_y = rng.uniform(-ry, ry);  // y first, as in anywhereShift
+        const Eigen::Vector2d centre(rng.uniform(-rx, rx), centre_y);
         const Eigen::Vector2d h = 0.5 * extent + Eigen::Vector2d::Constant(kSceneObstacleGap);
         bool inside = true;
         for (int c = 0; c < 4 && inside; ++c) {
@@ -368,11 +374,14 @@ Scene generateRoomScene(const SceneParams& p) {
           }
           if (!hidden) break;
         }
-        q += p.noise_sigma * Eigen::Vector3d(local.normal(), local.normal(), local.normal());
+        q += p.noise_sigma * local.normal3();
       } else if (i < surface + outliers) {
-        q = Eigen::Vector3d(local.uniform(-half, half), local.uniform(-half_y, half_y), local.uniform(0.0, zh));
+        const double z = local.uniform(0.0, zh);  // z, y, x: as normal3()
+        const double y = local.uniform(-half_y, half_y);
+        q = Eigen::Vector3d(local.uniform(-half, half), y, z);
       } else {
-        q = local.uniform(1e5, 1e6) * local.unitVector();
+        const Eigen::Vector3d direction = local.unitVector();  // then the distance: as normal3()
+        q = local.uniform(1e5, 1e6) * direction;
       }
     }
   });

@@ -147,14 +147,20 @@ std::vector<SceneObstacle> placeObstacles(const SceneParams& p, double loop_radi
       o.shape = rng.uniform() < 0.5 ? SceneObstacle::Shape::kBox : SceneObstacle::Shape::kCylinder;
       const double height = rng.uniform(0.6, max_height);
       if (o.shape == SceneObstacle::Shape::kBox) {
-        o.size = Eigen::Vector3d(rng.uniform(0.4, 1.4), rng.uniform(0.4, 1.4), height);
+        // One draw a statement, y first (the order maps/ was made in): the arguments of one call are
+        // not sequenced, and gcc and clang draw them in opposite orders.
+        const double size_y = rng.uniform(0.4, 1.4);
+        const double size_x = rng.uniform(0.4, 1.4);
+        o.size = Eigen::Vector3d(size_x, size_y, height);
       } else {
         const double d = rng.uniform(0.3, 1.0);
         o.size = Eigen::Vector3d(d, d, height);
       }
       const double reach = loop_radius - kSceneObstacleGap - 0.5 * o.size.head<2>().norm();
       if (reach <= 0.0) continue;
-      o.center = Eigen::Vector3d(rng.uniform(-reach, reach), rng.uniform(-reach, reach), 0.5 * height);
+      const double center_y = rng.uniform(-reach, reach);
+      const double center_x = rng.uniform(-reach, reach);
+      o.center = Eigen::Vector3d(center_x, center_y, 0.5 * height);
       if (o.center.head<2>().norm() > reach) continue;
       placed = std::all_of(obstacles.begin(), obstacles.end(),
                            [&o](const SceneObstacle& other) { return footprintGap(o, other) >= kSceneObstacleGap; });
@@ -266,11 +272,14 @@ Scene generateScene(const SceneParams& p) {
         const std::size_t o = static_cast<std::size_t>(
             std::upper_bound(cumulative_area.begin(), cumulative_area.end() - 1, x) - cumulative_area.begin());
         q = samplers[o].sample(local);
-        q += p.noise_sigma * Eigen::Vector3d(local.normal(), local.normal(), local.normal());
+        q += p.noise_sigma * local.normal3();
       } else if (i < surface + outliers) {
-        q = Eigen::Vector3d(local.uniform(-half, half), local.uniform(-half, half), local.uniform(0.0, p.room_height));
+        const double z = local.uniform(0.0, p.room_height);  // z, y, x: as normal3()
+        const double y = local.uniform(-half, half);
+        q = Eigen::Vector3d(local.uniform(-half, half), y, z);
       } else {
-        q = local.uniform(1e5, 1e6) * local.unitVector();
+        const Eigen::Vector3d direction = local.unitVector();  // then the distance: as normal3()
+        q = local.uniform(1e5, 1e6) * direction;
       }
     }
   });

@@ -44,9 +44,17 @@ class SceneRandom {
     has_spare_ = true;
     return r * std::cos(a);
   }
+  // Three normal values, drawn one statement at a time, z first (the order maps/ was made in): the
+  // arguments of one call are not sequenced, and gcc and clang draw them in opposite orders.
+  Eigen::Vector3d normal3() {
+    const double z = normal();
+    const double y = normal();
+    const double x = normal();
+    return {x, y, z};
+  }
   Eigen::Vector3d unitVector() {
     Eigen::Vector3d v;
-    do v = Eigen::Vector3d(normal(), normal(), normal());
+    do v = normal3();
     while (v.norm() < 1e-9);
     return v.normalized();
   }

@@ -24,6 +24,16 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Uniform in [0, 1) from 53 random bits (the same on every standard library).
 double uniform(std::mt19937_64& rng) { return core::unitInterval(rng()); }
 
+// A point uniform in [0, 1)^3. Its coordinates are drawn one statement at a time, z first (the order
+// the documented numbers were made in): the arguments of one call are not sequenced, and gcc and
+// clang draw them in opposite orders.
+V3 unitCubePoint(std::mt19937_64& rng) {
+  const double z = uniform(rng);
+  const double y = uniform(rng);
+  const double x = uniform(rng);
+  return {x, y, z};
+}
+
 /// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
 V3 closestOnTriangle(const V3& p, const V3& a, const V3& b, const V3& c) {
   const V3 ab = b - a, ac = c - a, ap = p - a;
@@ -450,7 +460,7 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
     std::vector<V3> inside_samples;  // for meshes' distances
     std::size_t got = 0, in_union = 0, outside = 0, far = 0;
     for (std::size_t tries = 0; got < params.volume_samples && tries < 200 * params.volume_samples; ++tries) {
-      const V3 p = hull.lo + (hull.hi - hull.lo).cwiseProduct(V3(uniform(rng), uniform(rng), uniform(rng)));
+      const V3 p = hull.lo + (hull.hi - hull.lo).cwiseProduct(unitCubePoint(rng));
       if (!hull.contains(p, 0.0)) continue;
       ++got;
       inside_samples.push_back(p);
@@ -523,7 +533,7 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
   std::vector<int> verdict;                             // 1 deep, 2 clear, 0 neither
   std::vector<std::pair<std::size_t, double>> deepest;  // the shape nearest along it, radius - distance
   for (std::size_t tries = 0; segments.size() < params.segments && tries < 1000 * params.segments; ++tries) {
-    const V3 a = lo + (hi - lo).cwiseProduct(V3(uniform(rng), uniform(rng), uniform(rng)));
+    const V3 a = lo + (hi - lo).cwiseProduct(unitCubePoint(rng));
     // A direction uniform on the sphere, and a length in [0.2, segment_length].
     const double z = 2 * uniform(rng) - 1, phi = 2 * kPi * uniform(rng), r = std::sqrt(1 - z * z);
     const double length = 0.2 + (params.segment_length - 0.2) * uniform(rng);
