@@ -1,48 +1,46 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets with clang (ASan + UBSan, coverage instrumentation) in build-fuzz
-# and runs each for SECONDS, starting from the seed corpus test/fuzz/corpus/<target>/.
+# Builds the libFuzzer targets (clang, ASan + UBSan, coverage instrumentation) in the sanitized tree
+# build-asan that test/sanitize.sh uses too (test/sanitized_build.sh), and runs each for SECONDS,
+# starting from the seed corpus test/fuzz/corpus/<target>/.
 #
 #   test/fuzz/run.sh SECONDS [target...]     e.g. test/fuzz/run.sh 20;  test/fuzz/run.sh 240 pcd ply
 #
 # Targets: text orbslam_echo pcd ply points tum bt (<target>.dict here is passed as -dict).
-# New inputs go to build-fuzz/corpus/<target>/ (the repository's corpus is only read); a crash,
-# hang (> 5 s), leak or out-of-memory (> 2 GB) is saved as build-fuzz/artifacts/<target>-crash-*
-# etc. and fails the script. The last line of each target's log (build-fuzz/logs/<target>.log)
+# New inputs go to build-asan/fuzz/corpus/<target>/ (the repository's corpus is only read); a crash,
+# hang (> 5 s), leak or out-of-memory (> 2 GB) is saved as build-asan/fuzz/artifacts/<target>-crash-*
+# etc. and fails the script. The last line of each target's log (build-asan/fuzz/logs/<target>.log)
 # gives executions and coverage (cov:, ft:).
-# Environment: BUILD_DIR (default <repo>/build-fuzz), JOBS (build parallelism, default 2).
+# Environment: BUILD_DIR (default <repo>/build-asan), JOBS (build parallelism, default 2),
+# EXTRA_CMAKE_ARGS (as test/sanitized_build.sh).
 set -euo pipefail
 
 seconds=${1:?usage: test/fuzz/run.sh SECONDS [target...]}
 shift
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
-build=${BUILD_DIR:-$root/build-fuzz}
+build=${BUILD_DIR:-$root/build-asan}
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(text orbslam_echo pcd ply points tum bt)
 
 declare -A max_len=([text]=4096 [orbslam_echo]=8192 [pcd]=4096 [ply]=4096 [points]=8192 [tum]=2048 [bt]=2048)
 
-CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Debug \
-  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link" -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" \
-  -DHULLMAP_SANITIZE=ON -DHULLMAP_BUILD_FUZZ=ON -DHULLMAP_BUILD_TESTS=OFF -DHULLMAP_BUILD_CLI=OFF \
-  -DCGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE=TRUE >"${TMPDIR:-/tmp}/hullmap-fuzz-configure.log" 2>&1 \
-  || { cat "${TMPDIR:-/tmp}/hullmap-fuzz-configure.log" >&2; exit 1; }
-cmake --build "$build" -j"${JOBS:-2}" --target "${targets[@]/#/fuzz_}"
+BUILD_DIR=$build "$root/test/sanitized_build.sh" "${targets[@]/#/fuzz_}"
 
-mkdir -p "$build/logs" "$build/artifacts"
+out=$build/fuzz  # corpus/, logs/, artifacts/
+mkdir -p "$out/logs" "$out/artifacts"
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 failed=()
 for t in "${targets[@]}"; do
   [ -n "${max_len[$t]:-}" ] || { echo "unknown target $t" >&2; exit 2; }
-  mkdir -p "$build/corpus/$t"
-  log=$build/logs/$t.log
+  mkdir -p "$out/corpus/$t"
+  log=$out/logs/$t.log
   status=0
   dict=()
   [ -f "$here/$t.dict" ] && dict=(-dict="$here/$t.dict")
   "$build/test/fuzz/fuzz_$t" "${dict[@]}" -max_total_time="$seconds" -timeout=5 -rss_limit_mb=2048 \
-    -max_len="${max_len[$t]}" -print_final_stats=1 -artifact_prefix="$build/artifacts/$t-" \
-    "$build/corpus/$t" "$here/corpus/$t" >"$log" 2>&1 || status=$?
+    -max_len="${max_len[$t]}" -print_final_stats=1 -artifact_prefix="$out/artifacts/$t-" \
+    "$out/corpus/$t" "$here/corpus/$t" >"$log" 2>&1 || status=$?
   summary=$(grep -a -E '^#[0-9]+' "$log" | tail -n 1 || true)
   printf '%-13s %s\n' "$t" "${summary:-no progress line}"
   if [ "$status" -ne 0 ]; then
@@ -51,7 +49,7 @@ for t in "${targets[@]}"; do
   fi
 done
 if [ ${#failed[@]} -gt 0 ]; then
-  echo "fuzz: failures in: ${failed[*]} (logs in $build/logs, inputs in $build/artifacts)" >&2
+  echo "fuzz: failures in: ${failed[*]} (logs in $out/logs, inputs in $out/artifacts)" >&2
   exit 1
 fi
 echo "fuzz: ${#targets[@]} targets ran ${seconds}s each without a finding"
