@@ -47,10 +47,13 @@ run_in_pristine_root() {
   echo "== pristine root for ./setup.sh $mode: $root"
   local start=$SECONDS
   # The command runs in a customize hook: mmdebstrap has mounted /proc, /sys and /dev for it. Its
-  # time is measured inside, from the first apt-get to the last test.
+  # time is measured inside, from the first apt-get to the last test. A root that mmdebstrap makes
+  # has no /etc/hosts (an installed machine has one): without it `localhost` does not resolve and
+  # chromedriver, which selenium reaches there, cannot be reached.
   mmdebstrap --variant=apt --mode=root --skip=cleanup/tmp \
     --customize-hook="tar -C \"\$1/root\" -xf $work/checkout.tar" \
     --customize-hook="cp /etc/resolv.conf \"\$1/etc/resolv.conf\"" \
+    --customize-hook="cp /etc/hosts \"\$1/etc/hosts\"" \
     --customize-hook="chroot \"\$1\" /bin/bash -c 'cd /root/hullmap && s=\$(date +%s) && ./setup.sh $mode && echo \"== ./setup.sh $mode took \$((\$(date +%s) - s)) s in the pristine root\"'" \
     bookworm "$root" "${sources[@]}"
   echo "== pristine root for ./setup.sh $mode: done in $((SECONDS - start)) s (root made, command run)"
