@@ -14,6 +14,7 @@ function(hullmap_library name)
     $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   hullmap_defaults(hullmap_${name})
+  set_target_properties(hullmap_${name} PROPERTIES UNITY_BUILD ${HULLMAP_UNITY_BUILD})
   install(TARGETS hullmap_${name} EXPORT hullmapTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
   install(DIRECTORY include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})

@@ -25,13 +25,13 @@
 namespace hullmap::clustering {
 namespace {
 
-using detail::Cell;
 using detail::cross;
 using detail::dot;
 using detail::exactTransform;
 using detail::FacetHull;
 using detail::facetHull;
 using detail::inside;
+using detail::LatticePoint;
 using detail::Plane;
 using detail::sub;
 
@@ -77,7 +77,7 @@ struct Check {
 class ClusterSplitter {
  public:
   /// `t_cells`: T; `g_cells`: G >= T, the distance allowed in a flat part (G = T: no relaxation).
-  ClusterSplitter(std::vector<Cell> cells, double t_cells, double g_cells, std::size_t max_check_cells,
+  ClusterSplitter(std::vector<LatticePoint> cells, double t_cells, double g_cells, std::size_t max_check_cells,
                   std::vector<Eigen::Vector3d> keyframes, bool fill_enclosed, std::optional<double> floor_k,
                   bool face_holes)
       : cells_(std::move(cells)),
@@ -145,14 +145,14 @@ class ClusterSplitter {
   }
 
  private:
-  std::vector<Cell> gather(const Members& part) const {
-    std::vector<Cell> out;
+  std::vector<LatticePoint> gather(const Members& part) const {
+    std::vector<LatticePoint> out;
     out.reserve(part.size());
     for (const auto i : part) out.push_back(cells_[i]);
     return out;
   }
 
-  void box(const Members& part, Cell& lo, Cell& hi) const {
+  void box(const Members& part, LatticePoint& lo, LatticePoint& hi) const {
     lo = cells_[part[0]];
     hi = lo;
     for (const auto i : part)
@@ -167,10 +167,10 @@ class ClusterSplitter {
   Check checkPart(const Members& part, bool need_split_point = true, const FacetHull* hull = nullptr,
                   bool faces = false) const {
     Check check;
-    const std::vector<Cell> cells = gather(part);
+    const std::vector<LatticePoint> cells = gather(part);
     check.hull = hull ? *hull : facetHull(cells);
     if (part.size() == 1) return check;
-    Cell lo, hi;
+    LatticePoint lo, hi;
     box(part, lo, hi);
     const std::int64_t nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1, nz = hi[2] - lo[2] + 1;
     if (double(nx) * double(ny) * double(nz) > double(max_check_cells_)) {
@@ -243,7 +243,7 @@ class ClusterSplitter {
     }
     constexpr std::int64_t kBeyond = std::numeric_limits<std::int64_t>::max();
     std::int64_t worst = -1;
-    Cell worst_cell{0, 0, 0};
+    LatticePoint worst_cell{0, 0, 0};
     const auto scan = [&] {
       worst = -1;
       for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
@@ -297,7 +297,7 @@ class ClusterSplitter {
         const std::int64_t i = std::int64_t(std::floor(x.x() + (m & 1 ? 1e-9 : -1e-9)));
         const std::int64_t j = std::int64_t(std::floor(x.y() + (m & 2 ? 1e-9 : -1e-9)));
         const std::int64_t k = std::int64_t(std::floor(x.z() + (m & 4 ? 1e-9 : -1e-9)));
-        in_voxel = std::find(cells.begin(), cells.end(), Cell{i, j, k}) != cells.end();
+        in_voxel = std::find(cells.begin(), cells.end(), LatticePoint{i, j, k}) != cells.end();
       }
       if (in_voxel) {
         ++check.keyframes_in_voxels;
@@ -313,7 +313,7 @@ class ClusterSplitter {
   /// The cells the whole cluster encloses (enclosedCells over its box, closed below when its
   /// lowest cell is within two voxels of the floor); none when its box is over max_check_cells.
   void findEnclosed(const Members& all) {
-    Cell lo, hi;
+    LatticePoint lo, hi;
     box(all, lo, hi);
     const std::int64_t m = reach_ + 1;
     const std::int64_t nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1, nz = hi[2] - lo[2] + 1;
@@ -329,7 +329,7 @@ class ClusterSplitter {
   }
 
   /// Whether the cluster encloses the cell (see findEnclosed).
-  bool isEnclosed(const Cell& c) const {
+  bool isEnclosed(const LatticePoint& c) const {
     if (enclosed_count_ == 0) return false;
     for (std::size_t a = 0; a < 3; ++a)
       if (c[a] < enc_lo_[a] || c[a] > enc_hi_[a]) return false;
@@ -413,10 +413,10 @@ class ClusterSplitter {
   /// wide, and the range [lo, hi] of n . x over the hull (hi the facet plane's value). The first such
   /// facet in the hull's plane order; none when the hull is wider than T along every facet normal.
   struct Slab {
-    Cell n;
+    LatticePoint n;
     std::int64_t lo, hi;
   };
-  std::optional<Slab> thinSlab(const FacetHull& hull, const std::vector<Cell>& cells) const {
+  std::optional<Slab> thinSlab(const FacetHull& hull, const std::vector<LatticePoint>& cells) const {
     for (const auto& p : hull.planes) {
       const double norm = std::sqrt(double(dot(p.n, p.n)));
       const std::int64_t corner =
@@ -478,7 +478,7 @@ class ClusterSplitter {
     for (const auto f : flats) others.push_back(f);
     bool changed = false;
     for (const auto q : others) {
-      Cell qlo, qhi;
+      LatticePoint qlo, qhi;
       box(parts[q].first, qlo, qhi);
       for (const auto f : flats) {
         if (parts[q].first.empty()) break;
@@ -486,7 +486,7 @@ class ClusterSplitter {
         // Fragments only: a part at least 1/kAbsorbRatio of the flat part's size stays as it is (a
         // slanted slab through a 3D cluster would otherwise gather its voxels into a wide thin hull).
         if (parts[q].first.size() * kAbsorbRatio > parts[f].first.size()) continue;
-        Cell flo, fhi;
+        LatticePoint flo, fhi;
         box(parts[f].first, flo, fhi);
         bool near = true;
         for (std::size_t k = 0; k < 3; ++k)
@@ -522,7 +522,7 @@ class ClusterSplitter {
     for (const auto& c : cells_)
       for (const auto x : c)
         if (x < -(std::int64_t(1) << 19) || x >= (std::int64_t(1) << 19)) return;
-    const auto pack = [](const Cell& c) {
+    const auto pack = [](const LatticePoint& c) {
       return (std::uint64_t(c[0] + (1 << 20)) << 42) | (std::uint64_t(c[1] + (1 << 20)) << 21) |
              std::uint64_t(c[2] + (1 << 20));
     };
@@ -533,7 +533,7 @@ class ClusterSplitter {
     // The cells within T of cell i, into `out`; false (out incomplete) once more than kStrayClump.
     const auto neighbours = [&](std::uint32_t i, std::vector<std::uint32_t>& out) {
       out.clear();
-      const Cell& c = cells_[i];
+      const LatticePoint& c = cells_[i];
       for (const auto& [o, o2] : ball_) {
         if (double(o2) > t2_) break;  // ball_ is sorted by distance
         if (o2 == 0.0f) continue;
@@ -648,11 +648,11 @@ class ClusterSplitter {
       for (const auto f : targets) {
         if (f == q || parts[q].first.empty()) continue;
         if (parts[q].first.size() * kAbsorbRatio > parts[f].first.size()) continue;
-        Cell flo, fhi;
+        LatticePoint flo, fhi;
         box(parts[f].first, flo, fhi);
         Members in, out;
         for (const auto i : parts[q].first) {
-          const Cell& c = cells_[i];
+          const LatticePoint& c = cells_[i];
           bool inside_box = true;
           for (std::size_t a = 0; a < 3; ++a) inside_box = inside_box && c[a] >= flo[a] && c[a] <= fhi[a];
           (inside_box ? in : out).push_back(i);
@@ -669,10 +669,11 @@ class ClusterSplitter {
   /// max(T, G); 0 at the sites): the squared distance of the farthest cell that is farther than T
   /// from every site and not within G of a site in the slab of a facet whose slab holds it, that
   /// cell in `worst`; -1 when there is none.
-  std::int64_t faceHoles(const FacetHull& hull, const Cell& lo, const Cell& hi, const std::vector<float>& d2,
-                         const std::vector<std::pair<std::int64_t, std::int64_t>>& columns, Cell& worst) const {
+  std::int64_t faceHoles(const FacetHull& hull, const LatticePoint& lo, const LatticePoint& hi,
+                         const std::vector<float>& d2,
+                         const std::vector<std::pair<std::int64_t, std::int64_t>>& columns, LatticePoint& worst) const {
     struct FacetSlab {
-      Cell n;
+      LatticePoint n;
       std::int64_t corner;  ///< the lowest n . x over a unit cube at the origin
       double limit;         ///< a cube lies in the slab when n . c + corner >= limit
       double on;            ///< a site's cube lies on the facet when n . c + corner >= on
@@ -696,13 +697,13 @@ class ClusterSplitter {
     // face's slab holds.
     std::vector<std::size_t> holding;
     std::vector<char> found, not_face(slabs.size(), 0);
-    std::vector<std::pair<Cell, std::vector<std::size_t>>> far;  // cells beyond T, with their slabs
+    std::vector<std::pair<LatticePoint, std::vector<std::size_t>>> far;  // cells beyond T, with their slabs
     for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
       for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
         const auto [k0, k1] = columns[std::size_t((j - lo[1]) * nx + (i - lo[0]))];
         for (std::int64_t k = k0; k <= k1; ++k) {
           if (double(d2[at(i, j, k)]) <= t2_) continue;
-          const Cell c{i, j, k};
+          const LatticePoint c{i, j, k};
           holding.clear();
           for (std::size_t s = 0; s < slabs.size(); ++s)
             if (double(dot(slabs[s].n, c) + slabs[s].corner) >= slabs[s].limit) holding.push_back(s);
@@ -710,7 +711,7 @@ class ClusterSplitter {
           std::size_t missing = holding.size();
           for (const auto& [o, o2] : ball_) {
             if (missing == 0) break;
-            const Cell site{i + o[0], j + o[1], k + o[2]};
+            const LatticePoint site{i + o[0], j + o[1], k + o[2]};
             if (site[0] < lo[0] || site[0] > hi[0] || site[1] < lo[1] || site[1] > hi[1] || site[2] < lo[2] ||
                 site[2] > hi[2] || d2[at(site[0], site[1], site[2])] != 0.0f)
               continue;
@@ -741,7 +742,7 @@ class ClusterSplitter {
   /// Whether the hull is at most T wide along one of its facet normals (so it is at most T thick:
   /// the width along a facet normal bounds the hull's least width from above). A facet's width is
   /// its plane's value minus the least value of n . x over the cells' cubes (exact integers).
-  bool flat(const FacetHull& hull, const std::vector<Cell>& cells) const {
+  bool flat(const FacetHull& hull, const std::vector<LatticePoint>& cells) const {
     for (const auto& p : hull.planes) {
       const double norm = std::sqrt(double(dot(p.n, p.n)));
       // Wider than T once some cube reaches below d - T |n|.
@@ -772,7 +773,7 @@ class ClusterSplitter {
     std::optional<FacetHull> left_hull, right_hull;
   };
   Halves split(const Members& part, const Check& check) const {
-    Cell lo, hi;
+    LatticePoint lo, hi;
     box(part, lo, hi);
     if (!check.too_big) {
       // Candidate planes (normal, point): the three axis planes and the three planes normal to the
@@ -837,9 +838,9 @@ class ClusterSplitter {
       return std::make_pair(cells_[x][a], x) < std::make_pair(cells_[y][a], y);
     });
     const std::size_t n = order.size();
-    std::vector<Cell> lo_prefix(n), hi_prefix(n), lo_suffix(n), hi_suffix(n);
+    std::vector<LatticePoint> lo_prefix(n), hi_prefix(n), lo_suffix(n), hi_suffix(n);
     for (std::size_t k = 0; k < n; ++k) {
-      const Cell& c = cells_[order[k]];
+      const LatticePoint& c = cells_[order[k]];
       lo_prefix[k] = hi_prefix[k] = c;
       if (k > 0)
         for (std::size_t d = 0; d < 3; ++d) {
@@ -848,7 +849,7 @@ class ClusterSplitter {
         }
     }
     for (std::size_t k = n; k-- > 0;) {
-      const Cell& c = cells_[order[k]];
+      const LatticePoint& c = cells_[order[k]];
       lo_suffix[k] = hi_suffix[k] = c;
       if (k + 1 < n)
         for (std::size_t d = 0; d < 3; ++d) {
@@ -856,7 +857,7 @@ class ClusterSplitter {
           hi_suffix[k][d] = std::max(hi_suffix[k + 1][d], c[d]);
         }
     }
-    const auto volume = [](const Cell& lo, const Cell& hi) {
+    const auto volume = [](const LatticePoint& lo, const LatticePoint& hi) {
       return (hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
     };
     std::optional<std::int64_t> best;
@@ -885,7 +886,7 @@ class ClusterSplitter {
     struct Node {
       Members members;
       Check check;
-      Cell lo, hi;
+      LatticePoint lo, hi;
       bool alive = true;
     };
     std::vector<Node> nodes;
@@ -913,7 +914,7 @@ class ClusterSplitter {
     // Which node owns each cell, on a grid over the cluster's box (none when the box is too big;
     // then no pair is ruled out early).
     constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-    Cell grid_lo{0, 0, 0}, grid_hi{0, 0, 0};
+    LatticePoint grid_lo{0, 0, 0}, grid_hi{0, 0, 0};
     std::vector<std::uint32_t> owner;
     {
       Members all(cells_.size());
@@ -923,7 +924,7 @@ class ClusterSplitter {
                                 double(grid_hi[2] - grid_lo[2] + 1);
       if (grid_cells <= double(max_check_cells_)) owner.assign(std::size_t(grid_cells), kNone);
     }
-    const auto ownerAt = [&](const Cell& c) -> std::uint32_t {
+    const auto ownerAt = [&](const LatticePoint& c) -> std::uint32_t {
       for (std::size_t k = 0; k < 3; ++k)
         if (c[k] < grid_lo[k] || c[k] > grid_hi[k]) return kNone;
       return owner[std::size_t(((c[2] - grid_lo[2]) * (grid_hi[1] - grid_lo[1] + 1) + (c[1] - grid_lo[1])) *
@@ -933,7 +934,7 @@ class ClusterSplitter {
     const auto own = [&](std::size_t node) {
       if (owner.empty()) return;
       for (const auto i : nodes[node].members) {
-        const Cell& c = cells_[i];
+        const LatticePoint& c = cells_[i];
         owner[std::size_t(((c[2] - grid_lo[2]) * (grid_hi[1] - grid_lo[1] + 1) + (c[1] - grid_lo[1])) *
                               (grid_hi[0] - grid_lo[0] + 1) +
                           (c[0] - grid_lo[0]))] = std::uint32_t(node);
@@ -951,11 +952,12 @@ class ClusterSplitter {
       const Members& mb = nodes[b].members;
       for (const std::size_t pa : {std::size_t(0), ma.size() / 2, ma.size() - 1})
         for (const std::size_t pb : {std::size_t(0), mb.size() / 2, mb.size() - 1}) {
-          const Cell& p = cells_[ma[pa]];
-          const Cell& q = cells_[mb[pb]];
-          const Cell m{floorDiv(p[0] + q[0] + 1, 2), floorDiv(p[1] + q[1] + 1, 2), floorDiv(p[2] + q[2] + 1, 2)};
+          const LatticePoint& p = cells_[ma[pa]];
+          const LatticePoint& q = cells_[mb[pb]];
+          const LatticePoint m{floorDiv(p[0] + q[0] + 1, 2), floorDiv(p[1] + q[1] + 1, 2),
+                               floorDiv(p[2] + q[2] + 1, 2)};
           const bool covered = std::any_of(ball_.begin(), ball_.end(), [&](const auto& offset) {
-            const Cell x{m[0] + offset.first[0], m[1] + offset.first[1], m[2] + offset.first[2]};
+            const LatticePoint x{m[0] + offset.first[0], m[1] + offset.first[1], m[2] + offset.first[2]};
             const std::uint32_t o = ownerAt(x);
             return o == a || o == b || isEnclosed(x);
           });
@@ -1017,7 +1019,7 @@ class ClusterSplitter {
     return out;
   }
 
-  std::vector<Cell> cells_;
+  std::vector<LatticePoint> cells_;
   bool fill_enclosed_;
   bool face_holes_;                ///< merges also use the face-hole rule (ConvexPartsParams::face_holes)
   std::optional<double> floor_k_;  ///< the floor's height, lattice units (k of the corner lattice)
@@ -1026,12 +1028,13 @@ class ClusterSplitter {
   std::vector<std::uint32_t> clump_;  ///< per cell: its stray clump's id, kNoClump when none (findStrays)
   std::vector<char> enclosed_;        ///< over the cluster's box [enc_lo_, enc_hi_], x fastest
   std::size_t enclosed_count_ = 0;
-  Cell enc_lo_{0, 0, 0}, enc_hi_{0, 0, 0};
-  double t_;                                  ///< T, cells
-  double t2_;                                 ///< T^2, cells^2 (with a relative 1e-12 for rounding)
-  double g2_;                                 ///< G^2 >= T^2: the bound of a flat part
-  std::int64_t reach_;                        ///< floor(max(T, G))
-  std::vector<std::pair<Cell, float>> ball_;  ///< offsets within max(T, G) (squared length, cells^2), nearest first
+  LatticePoint enc_lo_{0, 0, 0}, enc_hi_{0, 0, 0};
+  double t_;            ///< T, cells
+  double t2_;           ///< T^2, cells^2 (with a relative 1e-12 for rounding)
+  double g2_;           ///< G^2 >= T^2: the bound of a flat part
+  std::int64_t reach_;  ///< floor(max(T, G))
+  std::vector<std::pair<LatticePoint, float>>
+      ball_;  ///< offsets within max(T, G) (squared length, cells^2), nearest first
   std::size_t max_check_cells_;
   std::vector<Eigen::Vector3d> keyframes_;  ///< lattice coordinates
 };
@@ -1039,7 +1042,7 @@ class ClusterSplitter {
 /// A cluster on its lattice: cells sorted as the centres are given.
 struct ClusterLattice {
   Eigen::Vector3d origin;  ///< corner (0, 0, 0), map frame
-  std::vector<Cell> cells;
+  std::vector<LatticePoint> cells;
 };
 
 ClusterLattice toLattice(const std::vector<Eigen::Vector3d>& centers, double voxel_size) {
@@ -1115,7 +1118,7 @@ double adaptedFlatGap(const std::vector<Eigen::Vector3d>& centers, double voxel_
   keys.reserve(lattice.cells.size());
   for (const auto& c : lattice.cells) keys.push_back(key(c[0], c[1], c[2]));
   std::sort(keys.begin(), keys.end());
-  std::vector<Cell> ball;
+  std::vector<LatticePoint> ball;
   for (std::int64_t i = -reach; i <= reach; ++i)
     for (std::int64_t j = -reach; j <= reach; ++j)
       for (std::int64_t k = -reach; k <= reach; ++k)
@@ -1124,7 +1127,7 @@ double adaptedFlatGap(const std::vector<Eigen::Vector3d>& centers, double voxel_
   const std::size_t stride = (lattice.cells.size() + kAdaptSamples - 1) / kAdaptSamples;
   std::vector<std::size_t> counts;
   for (std::size_t s = 0; s < lattice.cells.size(); s += stride) {
-    const Cell& c = lattice.cells[s];
+    const LatticePoint& c = lattice.cells[s];
     std::size_t count = 0;
     for (const auto& o : ball)
       count += std::binary_search(keys.begin(), keys.end(), key(c[0] + o[0], c[1] + o[1], c[2] + o[2]));

@@ -19,13 +19,13 @@ namespace {
 /// `Wide` holds the orientation determinants: 128 bits in general, 64 when the points span less
 /// than 2^18 cells on every axis (|n . (p - a)| < 6 * 2^54).
 template <class Wide>
-std::vector<std::array<std::uint32_t, 3>> integerHull(const std::vector<Cell>& points) {
+std::vector<std::array<std::uint32_t, 3>> integerHull(const std::vector<LatticePoint>& points) {
   struct Face {
     std::array<std::uint32_t, 3> v;
-    Cell n;  // outward normal, (b - a) x (c - a)
+    LatticePoint n;  // outward normal, (b - a) x (c - a)
   };
-  const auto side = [&](const Face& f, const Cell& p) {  // > 0: p strictly outside the face's plane
-    const Cell& a = points[f.v[0]];
+  const auto side = [&](const Face& f, const LatticePoint& p) {  // > 0: p strictly outside the face's plane
+    const LatticePoint& a = points[f.v[0]];
     return Wide(f.n[0]) * (p[0] - a[0]) + Wide(f.n[1]) * (p[1] - a[1]) + Wide(f.n[2]) * (p[2] - a[2]);
   };
   std::vector<Face> faces;
@@ -37,7 +37,7 @@ std::vector<std::array<std::uint32_t, 3>> integerHull(const std::vector<Cell>& p
   std::size_t i1 = 1, i2 = 0, i3 = 0;
   while (i1 < n && points[i1] == points[0]) ++i1;
   for (i2 = i1 + 1; i2 < n; ++i2)
-    if (cross(sub(points[i1], points[0]), sub(points[i2], points[0])) != Cell{0, 0, 0}) break;
+    if (cross(sub(points[i1], points[0]), sub(points[i2], points[0])) != LatticePoint{0, 0, 0}) break;
   for (i3 = i2 + 1; i3 < n; ++i3) {
     const Face f = makeFace(0, std::uint32_t(i1), std::uint32_t(i2));
     if (side(f, points[i3]) != 0) break;
@@ -93,11 +93,11 @@ std::vector<std::array<std::uint32_t, 3>> integerHull(const std::vector<Cell>& p
 
 /// Hull of the cells' corners, exact on the lattice: its facet planes and volume do not depend on
 /// how it is triangulated, so everything decided from them is deterministic.
-FacetHull facetHull(const std::vector<Cell>& cells) {
-  const std::vector<Cell> corners = detail::candidateCorners(cells);
+FacetHull facetHull(const std::vector<LatticePoint>& cells) {
+  const std::vector<LatticePoint> corners = detail::candidateCorners(cells);
   FacetHull hull;
-  const Cell& ref = corners[0];
-  Cell lo = corners[0], hi = corners[0];
+  const LatticePoint& ref = corners[0];
+  LatticePoint lo = corners[0], hi = corners[0];
   for (const auto& c : corners)
     for (std::size_t a = 0; a < 3; ++a) {
       lo[a] = std::min(lo[a], c[a]);
@@ -105,11 +105,11 @@ FacetHull facetHull(const std::vector<Cell>& cells) {
     }
   const bool narrow = hi[0] - lo[0] < (1 << 18) && hi[1] - lo[1] < (1 << 18) && hi[2] - lo[2] < (1 << 18);
   for (const auto& t : narrow ? integerHull<std::int64_t>(corners) : integerHull<__int128>(corners)) {
-    const Cell& p = corners[t[0]];
-    const Cell& q = corners[t[1]];
-    const Cell& r = corners[t[2]];
+    const LatticePoint& p = corners[t[0]];
+    const LatticePoint& q = corners[t[1]];
+    const LatticePoint& r = corners[t[2]];
     hull.volume6 += dot(sub(p, ref), cross(sub(q, ref), sub(r, ref)));
-    Cell n = cross(sub(q, p), sub(r, p));
+    LatticePoint n = cross(sub(q, p), sub(r, p));
     const std::int64_t g = std::gcd(std::gcd(std::abs(n[0]), std::abs(n[1])), std::abs(n[2]));
     for (auto& x : n) x /= g;
     hull.planes.push_back({n, dot(n, p)});

@@ -24,12 +24,12 @@
 namespace hullmap::clustering::detail {
 
 /// A cell or corner of the lattice.
-using Cell = std::array<std::int64_t, 3>;
+using LatticePoint = std::array<std::int64_t, 3>;
 
 /// A facet plane of a lattice hull: n . x <= d inside, x in corner-lattice coordinates (cell (i, j, k)
 /// is the cube [i, i+1] x [j, j+1] x [k, k+1]); n primitive.
 struct Plane {
-  Cell n;
+  LatticePoint n;
   std::int64_t d;
   bool operator<(const Plane& o) const { return std::tie(n, d) < std::tie(o.n, o.d); }
 };
@@ -39,18 +39,22 @@ struct FacetHull {
   std::int64_t volume6 = 0;   ///< six times the volume, exact (cells^3)
 };
 
-inline Cell sub(const Cell& a, const Cell& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-inline Cell cross(const Cell& a, const Cell& b) {
+inline LatticePoint sub(const LatticePoint& a, const LatticePoint& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+inline LatticePoint cross(const LatticePoint& a, const LatticePoint& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
-inline std::int64_t dot(const Cell& a, const Cell& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline std::int64_t dot(const LatticePoint& a, const LatticePoint& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 /// Hull of the cells' corners, exact on the lattice: its facet planes and volume do not depend on
 /// how it is triangulated, so everything decided from them is deterministic. `cells` holds at least
 /// four corners not coplanar between them (any 3D cluster of cells does).
 /// Hull of the cells' corners, exact on the lattice: its facet planes and volume do not depend on
 /// how it is triangulated, so everything decided from them is deterministic.
-FacetHull facetHull(const std::vector<Cell>& cells);
+FacetHull facetHull(const std::vector<LatticePoint>& cells);
 
 /// Whether x (corner-lattice coordinates) lies in the hull, with a tolerance of 1e-9.
 inline bool inside(const FacetHull& hull, const Eigen::Vector3d& x) {

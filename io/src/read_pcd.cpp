@@ -25,7 +25,7 @@ struct Field {
   std::size_t column = 0;  // first token index inside one line (ascii)
 };
 
-struct Header {
+struct PcdHeader {
   std::vector<Field> fields;
   std::size_t width = 0;
   std::size_t height = 1;
@@ -62,8 +62,8 @@ std::vector<std::string_view> tokens(std::string_view line) {
   return out;
 }
 
-Header parseHeader(ByteSource& source, const std::string& name) {
-  Header h;
+PcdHeader parsePcdHeader(ByteSource& source, const std::string& name) {
+  PcdHeader h;
   LineCursor cursor(source);
   std::string_view line;
   bool have_width = false;
@@ -189,7 +189,7 @@ double readFloat(const unsigned char* p, std::size_t size) {
   return v;
 }
 
-void readAscii(ByteSource& source, const Header& h, const std::string& name, PointSink& sink, InputStats& stats) {
+void readAscii(ByteSource& source, const PcdHeader& h, const std::string& name, PointSink& sink, InputStats& stats) {
   LineCursor cursor(source, h.data_offset);
   const auto lineNo = [&] { return h.data_line + cursor.lineNumber(); };
   std::string_view line;
@@ -223,7 +223,7 @@ void readAscii(ByteSource& source, const Header& h, const std::string& name, Poi
   }
 }
 
-void readBinary(ByteSource& source, const Header& h, const std::string& name, PointSink& sink, InputStats& stats) {
+void readBinary(ByteSource& source, const PcdHeader& h, const std::string& name, PointSink& sink, InputStats& stats) {
   const std::size_t need = *h.points * h.point_size;
   // Points are checked as they come: a pipe's size is known only at its end. The whole data is
   // checked first when the size is known, so a truncated file fails before any point is delivered.
@@ -253,7 +253,8 @@ void readBinary(ByteSource& source, const Header& h, const std::string& name, Po
   stats.read += *h.points;
 }
 
-void readCompressed(ByteSource& source, const Header& h, const std::string& name, PointSink& sink, InputStats& stats) {
+void readCompressed(ByteSource& source, const PcdHeader& h, const std::string& name, PointSink& sink,
+                    InputStats& stats) {
   if (!source.ensure(h.data_offset, 8)) {
     fail(name, "truncated binary_compressed PCD: no size words at byte offset " + std::to_string(h.data_offset));
   }
@@ -308,7 +309,7 @@ void readCompressed(ByteSource& source, const Header& h, const std::string& name
 }  // namespace
 
 void parsePcd(ByteSource& source, const std::string& name, PointSink& sink, InputStats& stats) {
-  const Header h = parseHeader(source, name);
+  const PcdHeader h = parsePcdHeader(source, name);
   if (h.data == "ascii") {
     readAscii(source, h, name, sink, stats);
   } else if (h.data == "binary") {

@@ -67,7 +67,7 @@ struct Element {
 
 enum class Encoding { kAscii, kLittle, kBig };
 
-struct Header {
+struct PlyHeader {
   Encoding encoding = Encoding::kAscii;
   std::vector<Element> elements;
   std::size_t data_offset = 0;
@@ -80,8 +80,8 @@ std::vector<std::string_view> words(std::string_view line) {
   return out;
 }
 
-Header parseHeader(ByteSource& source, const std::string& name) {
-  Header h;
+PlyHeader parsePlyHeader(ByteSource& source, const std::string& name) {
+  PlyHeader h;
   LineCursor cursor(source);
   std::string_view line;
   if (!cursor.next(line) || trim(line) != "ply") fail(name, "not a PLY file (first line is not 'ply')");
@@ -276,7 +276,7 @@ class TokenReader {
 };
 
 template <typename Reader>
-void readElements(const Header& h, Reader& reader, const std::string& name, PointSink& sink, InputStats& stats) {
+void readElements(const PlyHeader& h, Reader& reader, const std::string& name, PointSink& sink, InputStats& stats) {
   constexpr bool kAscii = std::is_same_v<Reader, TokenReader>;
   for (const Element& e : h.elements) {
     const bool is_vertex = e.name == "vertex";
@@ -338,7 +338,7 @@ void readElements(const Header& h, Reader& reader, const std::string& name, Poin
 }  // namespace
 
 void parsePly(ByteSource& source, const std::string& name, PointSink& sink, InputStats& stats) {
-  const Header h = parseHeader(source, name);
+  const PlyHeader h = parsePlyHeader(source, name);
   if (h.encoding == Encoding::kAscii) {
     TokenReader reader(source, h.data_offset, h.end_line + 1, name);
     readElements(h, reader, name, sink, stats);

@@ -6,12 +6,11 @@
 #include <stdexcept>
 #include <utility>
 
+#include "hullmap/core/constants.hpp"
 #include "hullmap/core/error.hpp"
 
 namespace hullmap::live {
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 ParameterSpec number(std::string name, double fallback, std::string description, std::string constraints, double min,
                      double max, bool min_open = false, bool max_open = false) {

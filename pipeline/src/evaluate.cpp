@@ -19,7 +19,6 @@ namespace hullmap::pipeline {
 namespace {
 
 using V3 = Eigen::Vector3d;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Uniform in [0, 1) from 53 random bits (the same on every standard library).
 double uniform(std::mt19937_64& rng) { return core::unitInterval(rng()); }

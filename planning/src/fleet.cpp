@@ -7,12 +7,12 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "hullmap/core/constants.hpp"
 #include "hullmap/core/error.hpp"
+#include "point_text.hpp"
 
 namespace hullmap::planning {
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Smallest |p(s) - q(s)| for s in [0, 1], p and q moving linearly from pa to pb and qa to qb.
 double closestApproach(const Eigen::Vector3d& pa, const Eigen::Vector3d& pb, const Eigen::Vector3d& qa,
@@ -22,12 +22,6 @@ double closestApproach(const Eigen::Vector3d& pa, const Eigen::Vector3d& pb, con
   const double vv = dv.squaredNorm();
   const double s = vv > 0 ? std::clamp(-d0.dot(dv) / vv, 0.0, 1.0) : 0.0;
   return (d0 + s * dv).norm();
-}
-
-std::string xyz(const Eigen::Vector3d& p) {
-  std::ostringstream s;
-  s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return s.str();
 }
 
 /// Positions per time step of the drones planned so far; after its last step a drone stays put.
@@ -128,7 +122,7 @@ FleetResult planFleet(const PathPlanner& planner, const std::vector<FleetTask>& 
     for (const auto* end : {&task.start, &task.goal}) {
       const auto c = planner.checker().check({*end, *end}, params.radius);
       if (c.collides) {
-        unrouted((end == &task.start ? "start " : "goal ") + xyz(*end) + " is inside obstacle " +
+        unrouted((end == &task.start ? "start " : "goal ") + detail::pointText(*end) + " is inside obstacle " +
                  std::to_string(c.obstacle) + " or within the radius of it");
         break;
       }
@@ -182,7 +176,7 @@ FleetResult planFleet(const PathPlanner& planner, const std::vector<FleetTask>& 
       for (const auto& l : start_links) h[kStart] = std::min(h[kStart], l.steps + h[l.to]);
     }
     if (h[kStart] == kInf) {
-      unrouted(start_links.empty() ? "start " + xyz(task.start) + " sees no roadmap point with clearance"
+      unrouted(start_links.empty() ? "start " + detail::pointText(task.start) + " sees no roadmap point with clearance"
                                    : "no passage of the radius's clearance from start to goal on the roadmap");
       continue;
     }

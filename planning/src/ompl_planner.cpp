@@ -18,6 +18,7 @@
 #include <ompl/util/Console.h>
 
 #include "hullmap/core/error.hpp"
+#include "point_text.hpp"
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
@@ -110,13 +111,6 @@ class ClearanceLengthObjective : public ob::StateCostIntegralObjective {
   double scale_;
 };
 
-std::string xyz(const Eigen::Vector3d& p) {
-  std::ostringstream s;
-  s.precision(6);
-  s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return s.str();
-}
-
 bool inside(const Box3d& box, const Eigen::Vector3d& p) {
   return (p.array() >= box.min.array()).all() && (p.array() <= box.max.array()).all();
 }
@@ -169,13 +163,15 @@ OmplPlanResult planPathOmpl(const std::vector<clustering::Obstacle>& obstacles, 
     std::ostringstream s;
     s.precision(6);
     if (!inside(box, p)) {
-      s << which << " " << xyz(p) << " is outside the planning box " << xyz(box.min) << " - " << xyz(box.max);
+      s << which << " " << detail::pointText(p) << " is outside the planning box " << detail::pointText(box.min)
+        << " - " << detail::pointText(box.max);
       result.blocked = s.str();
       return result;
     }
     const collision::SegmentCheck c = checker.check({p, p}, r);
     if (c.collides) {
-      s << which << " " << xyz(p) << " is inside " << hitName(c) << " or within the radius " << r << " m of it";
+      s << which << " " << detail::pointText(p) << " is inside " << hitName(c) << " or within the radius " << r
+        << " m of it";
       result.blocked = s.str();
       return result;
     }
@@ -212,8 +208,9 @@ OmplPlanResult planPathOmpl(const std::vector<clustering::Obstacle>& obstacles, 
 
   if (!problem->hasExactSolution()) {
     std::ostringstream s;
-    s << "RRT* found no path for radius " << r << " m from " << xyz(request.start) << " to " << xyz(request.goal)
-      << " in " << params.time_limit << " s inside the box " << xyz(box.min) << " - " << xyz(box.max);
+    s << "RRT* found no path for radius " << r << " m from " << detail::pointText(request.start) << " to "
+      << detail::pointText(request.goal) << " in " << params.time_limit << " s inside the box "
+      << detail::pointText(box.min) << " - " << detail::pointText(box.max);
     result.blocked = s.str();
     return result;
   }

@@ -8,12 +8,13 @@
 #include <sstream>
 #include <utility>
 
+#include "hullmap/core/constants.hpp"
 #include "hullmap/core/error.hpp"
+#include "point_text.hpp"
 
 namespace hullmap::planning {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Roadmap points tried, nearest first, when connecting an end; connections kept per end.
 constexpr std::size_t kConnectTries = 400;
 constexpr std::size_t kConnections = 6;
@@ -21,13 +22,6 @@ constexpr std::size_t kConnections = 6;
 /// of the earlier routes this many times longer; the shortest after shortening wins.
 constexpr int kRoutes = 3;
 constexpr double kDetourPenalty = 3.0;
-
-std::string xyz(const Eigen::Vector3d& p) {
-  std::ostringstream s;
-  s.precision(6);
-  s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return s.str();
-}
 
 Eigen::Vector3d lift(const Eigen::Vector2d& p, double z) { return {p.x(), p.y(), z}; }
 
@@ -251,7 +245,8 @@ PlanResult PathPlanner::plan(const PlanRequest& request) const {
     const collision::SegmentCheck c = impl_->checker.check({p, p}, r);
     if (!c.collides) return false;
     std::ostringstream s;
-    s << which << " " << xyz(p) << " is inside " << hitName(c) << " or within the radius " << r << " m of it";
+    s << which << " " << detail::pointText(p) << " is inside " << hitName(c) << " or within the radius " << r
+      << " m of it";
     result.blocked = s.str();
     return true;
   };
@@ -267,7 +262,7 @@ PlanResult PathPlanner::plan(const PlanRequest& request) const {
     std::ostringstream s;
     s.precision(6);
     if (from.empty() || to.empty()) {
-      s << (from.empty() ? "start " + xyz(request.start) : "goal " + xyz(request.goal))
+      s << (from.empty() ? "start " + detail::pointText(request.start) : "goal " + detail::pointText(request.goal))
         << " sees no roadmap point with clearance " << r << " m at flight height " << z;
       result.blocked = s.str();
       return result;
@@ -275,8 +270,8 @@ PlanResult PathPlanner::plan(const PlanRequest& request) const {
     auto chain = impl_->search(from, to, request.goal.head<2>(), floor);
     if (!chain) {
       const std::string where = impl_->narrowest(from, to);
-      s << "no passage of clearance " << r << " m from start " << xyz(request.start) << " to goal " << xyz(request.goal)
-        << ": " << (where.empty() ? "the roadmap does not join them" : where);
+      s << "no passage of clearance " << r << " m from start " << detail::pointText(request.start) << " to goal "
+        << detail::pointText(request.goal) << ": " << (where.empty() ? "the roadmap does not join them" : where);
       result.blocked = s.str();
       return result;
     }
