@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # colcon builds hullmap's ROS 2 packages in a fresh workspace, both ways a user does (run by
 # test/ros2/run_test.sh, ROS 2 sourced):
-#   from source: this checkout in the workspace's src/ and a plain `colcon build`: colcon finds exactly
+#   from source: this checkout in the workspace's src/ and `colcon build`: colcon finds exactly
 #     hullmap_interfaces and hullmap_ros2 (colcon.pkg, COLCON_IGNORE), and hullmap_ros2 builds this
-#     source tree with it (its command line too);
-#   installed: the same workspace layout with an installed hullmap on CMAKE_PREFIX_PATH (ros2/build.sh's
-#     install in BUILD_DIR/ros2/hullmap), which hullmap_ros2 then uses.
+#     source tree with it (its command line too). Built as Debian builds packages
+#     (CMAKE_BUILD_TYPE=None: no optimisation), since what this checks is that the sources build and
+#     run in a workspace; the optimiser would add about 5 minutes of compiling all of hullmap again;
+#   installed: the same workspace layout and a plain `colcon build` (hullmap_ros2's default build type,
+#     Release) with an installed hullmap on CMAKE_PREFIX_PATH (ros2/build.sh's install in
+#     BUILD_DIR/ros2/hullmap), which hullmap_ros2 then uses.
 # Each install's node then starts (a bad parameter: exit 2, one line naming it), and the first's hullmap
 # command reads a bag through its hullmap_bag_reader.
 # usage: test/ros2/colcon_test.sh BUILD_DIR WORK_DIR
@@ -41,7 +44,7 @@ ws=$(workspace from_source)
 listed=$(cd "$ws" && colcon list --names-only 2>/dev/null | sort | tr '\n' ' ')
 [ "$listed" = "hullmap_interfaces hullmap_ros2 " ] || fail "colcon list in a workspace holding the checkout: '$listed'"
 start=$SECONDS
-(cd "$ws" && colcon build > "$work/from_source.log" 2>&1) || { tail -n 30 "$work/from_source.log" >&2; fail "colcon build from source"; }
+(cd "$ws" && colcon build --cmake-args -DCMAKE_BUILD_TYPE=None > "$work/from_source.log" 2>&1) || { tail -n 30 "$work/from_source.log" >&2; fail "colcon build from source"; }
 grep -q "hullmap_ros2: building hullmap from" "$ws/log/latest_build/hullmap_ros2/stdout.log" ||
   fail "from source: hullmap_ros2 did not build the source tree"
 echo "from source: colcon build in $((SECONDS - start)) s"
