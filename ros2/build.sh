@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds hullmap's ROS 2 packages (ros2/hullmap_interfaces, ros2/hullmap_ros2) with colcon against the
 # hullmap of BUILD_DIR, installed as a user installs it (cmake --install) into BUILD_DIR/ros2/hullmap:
-# the workspace is BUILD_DIR/ros2/{build,install,log}. `./setup.sh test` runs it; test/ros2/ uses it.
+# the workspace is BUILD_DIR/ros2/{src,build,install,log}, src/hullmap a link to this checkout. `./setup.sh test` runs it; test/ros2/ uses it.
 #
 # usage: ros2/build.sh BUILD_DIR [SKIP_STATUS]
 #
@@ -33,9 +33,19 @@ fi
 echo "== ROS 2 packages: hullmap installed into $out/hullmap, colcon workspace $out"
 cmake --install "$build" --prefix "$out/hullmap" >/dev/null
 export CMAKE_PREFIX_PATH="$out/hullmap${CMAKE_PREFIX_PATH:+:$CMAKE_PREFIX_PATH}"
-if ! colcon --log-base "$out/log" build --base-paths "$root/ros2" --build-base "$out/build" \
-       --install-base "$out/install" \
-       --cmake-args -DCMAKE_BUILD_TYPE=Release > "$out/colcon.log" 2>&1; then
+# The workspace as a user lays it out: this checkout in its src/ (colcon finds the two packages through
+# colcon.pkg), a plain `colcon build` (hullmap_ros2 builds Release by default).
+mkdir -p "$out/src"
+ln -sfn "$root" "$out/src/hullmap"
+# A package's build directory that CMake configured from another source path (an earlier layout, or
+# another checkout) would stop colcon: it starts again from nothing.
+for pkg in hullmap_interfaces hullmap_ros2; do
+  cache="$out/build/$pkg/CMakeCache.txt"
+  if [ -f "$cache" ] && ! grep -qx "CMAKE_HOME_DIRECTORY:INTERNAL=$out/src/hullmap/ros2/$pkg" "$cache"; then
+    rm -rf "${out:?}/build/$pkg"
+  fi
+done
+if ! (cd "$out" && colcon build --base-paths src > "$out/colcon.log" 2>&1); then
   tail -n 40 "$out/colcon.log" >&2
   echo "ROS 2 package build failed: see $out/colcon.log" > "$out/status"
   echo "== ROS 2 package build failed (log: $out/colcon.log)" >&2
