@@ -28,7 +28,7 @@ jobs=${JOBS:-$(nproc)}
 # Boost's filesystem, serialization and system libraries, which libompl-dev does not depend on.
 packages=(build-essential cmake pkg-config liboctomap-dev libfcl-dev libcgal-dev libeigen3-dev
           libtbb-dev liblzf-dev libcli11-dev nlohmann-json3-dev libnanoflann-dev libgtest-dev libbenchmark-dev
-          libompl-dev libboost-filesystem-dev libboost-serialization-dev libboost-system-dev ccache)
+          libompl-dev libboost-filesystem-dev libboost-serialization-dev libboost-system-dev ccache ninja-build)
 # three.js for `hullmap view`'s page (the demo writes one).
 packages+=(libjs-three)
 if [ "$mode" = test ]; then
@@ -117,7 +117,11 @@ if [ "$mode" = quality ]; then
 fi
 
 echo "== building in $build_dir"
-cmake -S . -B "$build_dir" "${cmake_args[@]}" >/dev/null
+# Ninja for a new build directory (one configured before keeps its generator): it compiles a target's
+# files while the libraries that the target links are still being built, so both cores stay busy.
+generator=()
+[ -f "$build_dir/CMakeCache.txt" ] || generator=(-G Ninja)
+cmake -S . -B "$build_dir" "${generator[@]}" "${cmake_args[@]}" >/dev/null
 cmake --build "$build_dir" -j"$jobs"
 if [ "$mode" = test ]; then
   # The ROS 2 package against this build's hullmap; without ROS 2, one line says it was skipped.
