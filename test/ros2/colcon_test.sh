@@ -84,7 +84,8 @@ ws=$build/ros2
 [ "$(readlink -f "$ws/src/hullmap")" = "$root" ] || fail "installed: $ws/src/hullmap is not a link to $root"
 listed=$(cd "$ws" && colcon list --base-paths src --names-only 2>/dev/null | sort | tr '\n' ' ')
 [ "$listed" = "hullmap_interfaces hullmap_ros2 " ] || fail "colcon list in $ws/src: '$listed'"
-grep -q "hullmap_ros2: hullmap 0.1.0 from $build/ros2/hullmap" "$ws/log/latest_build/hullmap_ros2/stdout.log" ||
+# (The configure log says so only when CMake last ran; the cache keeps what find_package found.)
+grep -qx "hullmap_DIR:PATH=$build/ros2/hullmap/lib/cmake/hullmap" "$ws/build/hullmap_ros2/CMakeCache.txt" ||
   fail "installed: hullmap_ros2 did not use the installed hullmap"
 node_refuses_a_bad_parameter "$ws/install"
 echo "both ways built; the nodes refuse a bad parameter; the workspace's hullmap reads a ROS 2 bag"
