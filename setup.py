@@ -1,8 +1,8 @@
 """Builds the package hullmap for pip: CMake configures this checkout in build-pip/ (or
 $HULLMAP_PIP_BUILD_DIR) and builds the target hullmap_python (the extension hullmap._hullmap) for the
 interpreter pip runs; setuptools packages it with python/hullmap/, its own files in that directory's
-setuptools/. A build directory beside build/ compiles the same commands, so ccache serves what
-build/ compiled. Use `pip install --no-build-isolation .` (docs/PYTHON.md): the build needs Debian's
+setuptools/. A build directory beside build/, with the same generator, compiles the same commands,
+so ccache serves what build/ compiled. Use `pip install --no-build-isolation .` (docs/PYTHON.md): the build needs Debian's
 setuptools, wheel, cmake, pybind11-dev, python3-dev, python3-numpy and hullmap's C++ dependencies
 (setup.sh's list), nothing from a package index."""
 import os
@@ -21,7 +21,12 @@ BUILD.mkdir(parents=True, exist_ok=True)
 
 class CMakeBuild(build_ext):
     def build_extension(self, ext):
-        subprocess.run(["cmake", "-S", str(ROOT), "-B", str(BUILD), "-DCMAKE_BUILD_TYPE=Release",
+        # Ninja for a new build directory, as setup.sh chooses for build/: the same generator runs the
+        # same compile commands, which ccache then serves.
+        generator = []
+        if not (BUILD / "CMakeCache.txt").exists() and shutil.which("ninja"):
+            generator = ["-G", "Ninja"]
+        subprocess.run(["cmake", "-S", str(ROOT), "-B", str(BUILD), *generator, "-DCMAKE_BUILD_TYPE=Release",
                         "-DHULLMAP_BUILD_TESTS=OFF", "-DHULLMAP_BUILD_CLI=OFF", "-DHULLMAP_BUILD_ROS=OFF",
                         f"-DPython3_EXECUTABLE={sys.executable}"], check=True)
         subprocess.run(["cmake", "--build", str(BUILD), "--target", "hullmap_python",
