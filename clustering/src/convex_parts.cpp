@@ -91,11 +91,41 @@ class ClusterSplitter {
         reach_(std::int64_t(std::floor(std::max(g_cells, t_cells)))),
         max_check_cells_(max_check_cells),
         keyframes_(std::move(keyframes)) {
+    // Offsets longer on an axis than the cluster's box is wide lead from any point of the box out of
+    // it, where no use of the ball finds anything (enclosedCells' margin takes its own ball): the
+    // ball is clipped to the box. With a large concavity (T of hundreds of cells) the whole ball
+    // would be tens of millions of offsets.
+    std::array<std::int64_t, 3> extent{0, 0, 0};
+    if (!cells_.empty()) {
+      Members all(cells_.size());
+      std::iota(all.begin(), all.end(), 0u);
+      LatticePoint lo, hi;
+      box(all, lo, hi);
+      for (std::size_t a = 0; a < 3; ++a) extent[a] = std::min(reach_, hi[a] - lo[a]);
+    }
+    ball_ = ballOffsets(g2_, extent);
+    // The number of offsets in the whole ball, which `checkPart` weighs against the box it fills.
     for (std::int64_t i = -reach_; i <= reach_; ++i)
-      for (std::int64_t j = -reach_; j <= reach_; ++j)
-        for (std::int64_t k = -reach_; k <= reach_; ++k)
-          if (double(i * i + j * j + k * k) <= g2_) ball_.push_back({{i, j, k}, float(i * i + j * j + k * k)});
-    std::stable_sort(ball_.begin(), ball_.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+      for (std::int64_t j = -reach_; j <= reach_; ++j) {
+        const double rest = g2_ - double(i * i + j * j);
+        if (rest < 0.0) continue;
+        auto k = std::int64_t(std::floor(std::sqrt(rest)));  // the largest k with k^2 <= rest, exactly
+        while (double((k + 1) * (k + 1)) <= rest) ++k;
+        while (k > 0 && double(k * k) > rest) --k;
+        whole_ball_size_ += 2 * std::size_t(k) + 1;
+      }
+  }
+
+  /// Lattice offsets within sqrt(r2) and within `extent` on each axis, with their squared lengths,
+  /// nearest first (ties in (i, j, k) order).
+  static std::vector<std::pair<LatticePoint, float>> ballOffsets(double r2, const std::array<std::int64_t, 3>& extent) {
+    std::vector<std::pair<LatticePoint, float>> ball;
+    for (std::int64_t i = -extent[0]; i <= extent[0]; ++i)
+      for (std::int64_t j = -extent[1]; j <= extent[1]; ++j)
+        for (std::int64_t k = -extent[2]; k <= extent[2]; ++k)
+          if (double(i * i + j * j + k * k) <= r2) ball.push_back({{i, j, k}, float(i * i + j * j + k * k)});
+    std::stable_sort(ball.begin(), ball.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+    return ball;
   }
 
   /// Final parts with their checks.
@@ -208,7 +238,7 @@ class ClusterSplitter {
     // Distances up to max(T, G) are all a passing check needs (and a failing one when no split point is
     // wanted): on a sparse part, the ball of radius T around each of its cells costs less than the
     // transform. Values within T are the same exact integers; beyond max(T, G) they stay kFar.
-    const bool bounded = !check.filled && part.size() * ball_.size() < 8 * box_cells;
+    const bool bounded = !check.filled && part.size() * whole_ball_size_ < 8 * box_cells;
     if (bounded) {
       for (const auto& c : cells)
         for (const auto& [o, o2] : ball_) {
@@ -361,15 +391,16 @@ class ClusterSplitter {
       for (std::int64_t j = 0; j < ny; ++j)
         for (std::int64_t i = 0; i < nx; ++i)
           if (double(d2[std::size_t((k * ny + j) * nx + i)]) <= rho2_) state[padded(i + m, j + m, k + m)] = 1;
-    // The margin within rho of the part is blocked too: the ball around each cell of the part.
+    // The margin within rho of the part is blocked too: the ball around each cell of the part (the
+    // whole ball: the margin lies outside the box, where ball_ is clipped).
+    const auto margin_ball = ballOffsets(rho2_, {reach_, reach_, reach_});
     for (std::int64_t k = 0; k < nz; ++k)
       for (std::int64_t j = 0; j < ny; ++j)
         for (std::int64_t i = 0; i < nx; ++i) {
           if (d2[std::size_t((k * ny + j) * nx + i)] != 0.0f) continue;
           const bool near_face = i < m || j < m || k < m || i >= nx - m || j >= ny - m || k >= nz - m;
           if (!near_face) continue;
-          for (const auto& [o, o2] : ball_)
-            if (double(o2) <= rho2_) state[padded(i + m + o[0], j + m + o[1], k + m + o[2])] = 1;
+          for (const auto& [o, o2] : margin_ball) state[padded(i + m + o[0], j + m + o[1], k + m + o[2])] = 1;
         }
     if (closed_below)  // the floor: everything below the box's lowest layer
       for (std::int64_t k = 0; k < m; ++k)
@@ -1034,7 +1065,8 @@ class ClusterSplitter {
   double g2_;           ///< G^2 >= T^2: the bound of a flat part
   std::int64_t reach_;  ///< floor(max(T, G))
   std::vector<std::pair<LatticePoint, float>>
-      ball_;  ///< offsets within max(T, G) (squared length, cells^2), nearest first
+      ball_;  ///< offsets within max(T, G) and the cluster's box (squared length, cells^2), nearest first
+  std::size_t whole_ball_size_ = 0;  ///< offsets within max(T, G), unclipped
   std::size_t max_check_cells_;
   std::vector<Eigen::Vector3d> keyframes_;  ///< lattice coordinates
 };
