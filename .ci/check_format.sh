@@ -4,7 +4,6 @@
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 command -v clang-format >/dev/null || { echo "check_format: clang-format is missing (setup.sh test installs it)" >&2; exit 2; }
-# Files in batches, two clang-formats at once.
 # One clang-format process per 40 files (--dry-run -Werror reports each misformatted place as
 # FILE:LINE:COL: error: ...), two at a time; a file with any such place is named once.
 out=$(git ls-files -z '*.cpp' '*.hpp' '*.h' '*.cc' |
