@@ -64,13 +64,28 @@ named=$(echo "$named" | grep -v '^$' | sort -u)
 closure=$(apt-cache depends --recurse --no-recommends --no-suggests --no-conflicts --no-breaks --no-replaces \
             --no-enhances "${packages[@]}" 2>/dev/null | grep -v '^ ' | sed 's/:.*//' | sort -u)
 
-# The packages that own `path` (comma-separated by dpkg -S), following a symlink nobody owns.
+# The packages that own each path (dpkg -S, once for all paths: one call reads dpkg's file lists
+# once), following a symlink nobody owns.
+declare -A owner_of=()
+record_owners() {  # dpkg -S's lines "pkg1, pkg2: /path" for the paths given
+  local line
+  while IFS= read -r line; do
+    case "$line" in diversion*) continue ;; *": /"*) ;; *) continue ;; esac
+    local path="/${line#*: /}"
+    [ -n "${owner_of[$path]:-}" ] || owner_of[$path]=${line%%: /*}
+  done < <(dpkg -S "$@" 2>/dev/null)
+}
+mapfile -t paths < <(echo "$named" | grep -v '^$')
+[ ${#paths[@]} -eq 0 ] || record_owners "${paths[@]}"
+unowned_links=()
+for path in "${paths[@]}"; do
+  [ -z "${owner_of[$path]:-}" ] && [ -L "$path" ] && unowned_links+=("$(readlink -f "$path")")
+done
+[ ${#unowned_links[@]} -eq 0 ] || record_owners "${unowned_links[@]}"
 owners() {
   local path=$1 out
-  out=$(dpkg -S "$path" 2>/dev/null | grep -v '^diversion' | sed 's/: \/.*//' | head -1) || true
-  if [ -z "$out" ] && [ -L "$path" ]; then
-    out=$(dpkg -S "$(readlink -f "$path")" 2>/dev/null | grep -v '^diversion' | sed 's/: \/.*//' | head -1) || true
-  fi
+  out=${owner_of[$path]:-}
+  if [ -z "$out" ] && [ -L "$path" ]; then out=${owner_of[$(readlink -f "$path")]:-}; fi
   echo "$out" | tr ',' '\n' | sed 's/^ *//; s/:.*//' | grep -v '^$' || true
 }
 
