@@ -6,15 +6,17 @@
 #   ./setup.sh bench  installs the peers (Open3D, scikit-learn) too and regenerates docs/BENCHMARKS.md
 #   ./setup.sh quality  installs Open3D and SciPy too and regenerates docs/QUALITY.md (bench/run_quality.sh)
 #   ./setup.sh packages MODE    prints MODE's package list, one a line (installs nothing)
+#   ./setup.sh install MODE     installs what MODE's list misses, and stops there (.ci/run, to build the
+#                               sanitized tree beside `./setup.sh test`)
 #   ./setup.sh cmake-args MODE  prints the cmake arguments MODE configures with
 # (.ci/check_packages.sh reads both to check that each mode installs all its build links and includes.)
 # Environment: BUILD_DIR (default build), JOBS (default: number of cores).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")"
 
-usage="usage: $0 demo|test|bench|quality, or $0 packages|cmake-args demo|test|bench|quality"
+usage="usage: $0 demo|test|bench|quality, or $0 packages|cmake-args|install demo|test|bench|quality"
 query=""
-if [ "${1:-}" = packages ] || [ "${1:-}" = cmake-args ]; then
+if [ "${1:-}" = packages ] || [ "${1:-}" = cmake-args ] || [ "${1:-}" = install ]; then
   query=$1
   shift
   [ $# -eq 1 ] || { echo "$usage" >&2; exit 2; }
@@ -97,6 +99,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
+[ "$query" = install ] && exit 0
 
 if [ "$mode" = bench ]; then
   # The PyPI package `dbscan` in a venv of its own (Debian does not package it). Where the package index
