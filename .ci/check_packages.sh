@@ -61,8 +61,13 @@ named=$(
 )
 named=$(echo "$named" | grep -v '^$' | sort -u)
 
-closure=$(apt-cache depends --recurse --no-recommends --no-suggests --no-conflicts --no-breaks --no-replaces \
-            --no-enhances "${packages[@]}" 2>/dev/null | grep -v '^ ' | sed 's/:.*//' | sort -u)
+# The closure as a set: a lookup with `echo "$closure" | grep -q` raced (grep -q leaves at its first
+# match, the echo still writing then dies of SIGPIPE, and pipefail turned a found package into a miss).
+declare -A in_closure=()
+while read -r p; do
+  [ -n "$p" ] && in_closure[$p]=1
+done < <(apt-cache depends --recurse --no-recommends --no-suggests --no-conflicts --no-breaks --no-replaces \
+           --no-enhances "${packages[@]}" 2>/dev/null | grep -v '^ ' | sed 's/:.*//' | sort -u)
 
 # The packages that own each path (dpkg -S, once for all paths: one call reads dpkg's file lists
 # once), following a symlink nobody owns.
@@ -102,7 +107,7 @@ while read -r path; do
   fi
   covered=no
   for o in "${own[@]}"; do
-    if echo "$closure" | grep -qx "$o"; then covered=yes; break; fi
+    if [ -n "${in_closure[$o]:-}" ]; then covered=yes; break; fi
   done
   if [ $covered = no ]; then
     echo "check_packages: $mode build names $path (package ${own[*]}), which setup.sh's $mode list does not install"
