@@ -49,6 +49,8 @@ std::string cliMessage(const hullmap::Error& e) {
     std::string name = e.parameter().substr(start, end - start);
     if (name == "keyframes") {
       name = "--trajectory";
+    } else if (name == "start" || name == "goal") {  // planning's request: `plan --from/--to`
+      name = name == "start" ? "--from" : "--to";
     } else if (name != "inputs") {
       std::replace(name.begin(), name.end(), '_', '-');
       name = "--" + name;

@@ -114,7 +114,8 @@ TEST(Fleet, HeadOnSwapInACorridorWaitsOrDetoursAndNamesTheUnroutable) {
   expectSafeFleet(scene, tasks, crowded, params);
 
   params.speed = 0;
-  EXPECT_THROW(planning::planFleet(planner, tasks, params), Error);
+  EXPECT_EQ(test::refusedParameter([&] { planning::planFleet(planner, tasks, params); }), "speed");
+  EXPECT_EQ(test::refusedParameter([] { planning::positionAt({}, 0.0); }), "path");
 }
 
 }  // namespace

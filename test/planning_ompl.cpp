@@ -106,9 +106,12 @@ TEST(PlanningOmpl, BlockedEndsAndBadParametersAreSaid) {
   EXPECT_NE(outside.blocked.find("outside the planning box"), std::string::npos) << outside.blocked;
   for (const double bad : {0.0, -1.0, std::nan("")}) {
     params.time_limit = bad;
-    EXPECT_THROW(hp::planPathOmpl(obstacles, request, params), hullmap::Error);
+    EXPECT_EQ(hullmap::test::refusedParameter([&] { hp::planPathOmpl(obstacles, request, params); }), "time_limit");
   }
   params.time_limit = 0.05;
   params.clearance_scale = 0;
-  EXPECT_THROW(hp::planPathOmpl(obstacles, request, params), hullmap::Error);
+  EXPECT_EQ(hullmap::test::refusedParameter([&] { hp::planPathOmpl(obstacles, request, params); }), "clearance_scale");
+  params.clearance_scale = 0.5;
+  request.goal.x() = std::nan("");
+  EXPECT_EQ(hullmap::test::refusedParameter([&] { hp::planPathOmpl(obstacles, request, params); }), "start/goal");
 }

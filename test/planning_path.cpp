@@ -166,7 +166,8 @@ TEST(PathPlanner, SaysWhereItIsBlocked) {
   const auto inside = planner.plan({Vector3d(-3, 0, 1), goal, 0.2, std::nullopt});
   EXPECT_FALSE(inside.path);
   EXPECT_NE(inside.blocked.find("start (-3, 0, 1) is inside obstacle 1"), std::string::npos) << inside.blocked;
-  EXPECT_THROW(planner.plan({start, goal, -1, std::nullopt}), Error);
+  EXPECT_EQ(test::refusedParameter([&] { planner.plan({start, goal, -1, std::nullopt}); }), "radius");
+  EXPECT_EQ(test::refusedParameter([&] { planner.plan({start, goal, 0.2, std::nan("")}); }), "flight_z");
 }
 
 }  // namespace

@@ -281,10 +281,13 @@ TEST(Roadmap, RejectsBadParameters) {
   const auto a = test::prism(1, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 0, 1);
   RoadmapParams params;
   params.tolerance = 0;
-  EXPECT_THROW(planning::buildRoadmap({a}, params), Error);
+  EXPECT_EQ(test::refusedParameter([&] { planning::buildRoadmap({a}, params); }), "tolerance");
   params = {};
   params.bounds = planning::Bounds2d{1, 0, 0, 1};
-  EXPECT_THROW(planning::buildRoadmap({a}, params), Error);
+  EXPECT_EQ(test::refusedParameter([&] { planning::buildRoadmap({a}, params); }), "bounds");
+  params = {};
+  params.min_clearance = -1;
+  EXPECT_EQ(test::refusedParameter([&] { planning::buildRoadmap({a}, params); }), "min_clearance");
   auto flat = a;
   flat.footprint.polygon.resize(2);
   EXPECT_THROW(planning::buildRoadmap({flat}, {}), Error);

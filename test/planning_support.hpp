@@ -2,14 +2,30 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
+#include <gtest/gtest.h>
 
 #include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/mapper/sample_scene.hpp"
 
 namespace hullmap::test {
+
+/// The name of the parameter that the hullmap::Error thrown by `call` gives (its parameter()); a
+/// failure when nothing or something else is thrown.
+template <typename Call>
+std::string refusedParameter(Call call) {
+  try {
+    call();
+  } catch (const Error& e) {
+    return e.parameter();
+  }
+  ADD_FAILURE() << "no hullmap::Error thrown";
+  return "";
+}
 
 /// A convex prism obstacle: the counter-clockwise `polygon` extruded over [z0, z1], with an outward
 /// triangulated hull and its footprint.

@@ -64,7 +64,7 @@ struct Link {
 }  // namespace
 
 Eigen::Vector3d positionAt(const TimedPath& path, double t) {
-  if (path.empty()) throw Error("positionAt: empty path");
+  if (path.empty()) throw Error::inParameter("path", "empty");
   if (t <= path.front().t) return path.front().position;
   for (std::size_t k = 1; k < path.size(); ++k)
     if (t <= path[k].t) {
@@ -93,9 +93,11 @@ double minimumSeparation(const std::vector<TimedPath>& paths) {
 }
 
 FleetResult planFleet(const PathPlanner& planner, const std::vector<FleetTask>& tasks, const FleetParams& params) {
-  if (!(params.radius > 0) || !std::isfinite(params.radius)) throw Error("fleet radius: must be > 0 and finite");
-  if (!(params.speed > 0) || !std::isfinite(params.speed)) throw Error("fleet speed: must be > 0 and finite");
-  if (!(params.time_step >= 0) || !std::isfinite(params.time_step)) throw Error("fleet time_step: must be >= 0");
+  if (!(params.radius > 0) || !std::isfinite(params.radius))
+    throw Error::inParameter("radius", "must be > 0 and finite");
+  if (!(params.speed > 0) || !std::isfinite(params.speed)) throw Error::inParameter("speed", "must be > 0 and finite");
+  if (!(params.time_step >= 0) || !std::isfinite(params.time_step))
+    throw Error::inParameter("time_step", "must be >= 0 and finite");
   FleetResult result;
   result.time_step = params.time_step > 0 ? params.time_step : params.radius / (2 * params.speed);
   const double reach = params.speed * result.time_step;  // metres per step at most

@@ -142,20 +142,20 @@ Box3d omplBoxFor(const std::vector<clustering::Obstacle>& obstacles, const PlanR
 OmplPlanResult planPathOmpl(const std::vector<clustering::Obstacle>& obstacles, const PlanRequest& request,
                             const OmplParams& params, const std::vector<collision::HalfSpace>& surfaces) {
   if (!(params.time_limit > 0) || !std::isfinite(params.time_limit))
-    throw Error("ompl time_limit: must be > 0 and finite seconds");
+    throw Error::inParameter("time_limit", "must be > 0 and finite seconds");
   if (!(params.clearance_weight >= 0) || !std::isfinite(params.clearance_weight))
-    throw Error("ompl clearance_weight: must be >= 0 and finite");
+    throw Error::inParameter("clearance_weight", "must be >= 0 and finite");
   if (!(params.clearance_scale > 0) || !std::isfinite(params.clearance_scale))
-    throw Error("ompl clearance_scale: must be > 0 and finite");
+    throw Error::inParameter("clearance_scale", "must be > 0 and finite");
   const double r = request.radius;
-  if (!(r >= 0) || !std::isfinite(r)) throw Error("plan radius: must be >= 0 and finite");
-  if (!request.start.allFinite() || !request.goal.allFinite()) throw Error("plan: start and goal must be finite");
+  if (!(r >= 0) || !std::isfinite(r)) throw Error::inParameter("radius", "must be >= 0 and finite");
+  if (!request.start.allFinite() || !request.goal.allFinite()) throw Error::inParameter("start/goal", "must be finite");
 
   OmplPlanResult result;
   result.box = params.box.value_or(omplBoxFor(obstacles, request));
   const Box3d& box = result.box;
   if (!box.min.allFinite() || !box.max.allFinite() || !(box.max.array() > box.min.array()).all())
-    throw Error("ompl box: must be finite with max > min on every axis");
+    throw Error::inParameter("box", "must be finite with max > min on every axis");
 
   const collision::HullChecker checker(obstacles, surfaces);
   for (const auto& [which, p] :

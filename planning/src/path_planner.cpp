@@ -235,10 +235,10 @@ std::vector<std::pair<int, double>> PathPlanner::connections(const Eigen::Vector
 
 PlanResult PathPlanner::plan(const PlanRequest& request) const {
   const double r = request.radius;
-  if (!(r >= 0) || !std::isfinite(r)) throw Error("plan radius: must be >= 0 and finite");
-  if (!request.start.allFinite() || !request.goal.allFinite()) throw Error("plan: start and goal must be finite");
+  if (!(r >= 0) || !std::isfinite(r)) throw Error::inParameter("radius", "must be >= 0 and finite");
+  if (!request.start.allFinite() || !request.goal.allFinite()) throw Error::inParameter("start/goal", "must be finite");
   const double z = request.flight_z.value_or(request.start.z());
-  if (!std::isfinite(z)) throw Error("plan flight_z: must be finite");
+  if (!std::isfinite(z)) throw Error::inParameter("flight_z", "must be finite");
 
   PlanResult result;
   auto blockedAt = [&](const char* which, const Eigen::Vector3d& p) {
@@ -318,7 +318,7 @@ PlanResult PathPlanner::plan(const PlanRequest& request) const {
 
 RoadmapParams roadmapParamsFor(const std::vector<clustering::Obstacle>& obstacles,
                                const std::vector<Eigen::Vector3d>& points, double radius) {
-  if (points.empty()) throw Error("roadmapParamsFor: no points");
+  if (points.empty()) throw Error::inParameter("points", "empty: the roadmap's bounds and band come from them");
   RoadmapParams params;
   Eigen::Vector3d lo = points.front(), hi = points.front();
   for (const auto& p : points) {

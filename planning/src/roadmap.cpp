@@ -362,9 +362,9 @@ double siteDistance(const SiteRef& site, const Eigen::Vector2d& p) {
 Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const RoadmapParams& params,
                      const std::vector<collision::HalfSpace>& surfaces) {
   if (!(params.tolerance > 0) || !std::isfinite(params.tolerance))
-    throw Error("roadmap tolerance: must be > 0, got " + std::to_string(params.tolerance));
-  if (!(params.z0 <= params.z1)) throw Error("roadmap band: z0 must be <= z1");
-  if (!(params.min_clearance >= 0)) throw Error("roadmap min_clearance: must be >= 0");
+    throw Error::inParameter("tolerance", "must be > 0 and finite, got " + std::to_string(params.tolerance));
+  if (!(params.z0 <= params.z1)) throw Error::inParameter("z0/z1", "z0 must be <= z1");
+  if (!(params.min_clearance >= 0)) throw Error::inParameter("min_clearance", "must be >= 0");
 
   Roadmap map;
   map.min_clearance = params.min_clearance;
@@ -388,7 +388,7 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   if (params.bounds) {
     map.bounds = *params.bounds;
   } else {
-    if (!(params.margin > 0)) throw Error("roadmap margin: must be > 0");
+    if (!(params.margin > 0)) throw Error::inParameter("margin", "must be > 0");
     double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
     for (const auto& [footprint, id] : band)
       for (const auto& p : footprint->polygon) {
@@ -402,7 +402,7 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   }
   const Bounds2d& bb = map.bounds;
   if (!(bb.x0 < bb.x1 && bb.y0 < bb.y1) || !std::isfinite(bb.x0 + bb.x1 + bb.y0 + bb.y1))
-    throw Error("roadmap bounds: need x0 < x1 and y0 < y1");
+    throw Error::inParameter("bounds", "need finite x0 < x1 and y0 < y1");
   // The floor and ceiling bound the band: the roadmap lies above the one and below the other, and
   // only obstacles in what is left of the band count.
   std::tie(map.z0, map.z1) = bandBetweenSurfaces(params.z0, params.z1, surfaces, {bb.x0, bb.y0}, {bb.x1, bb.y1});

@@ -187,7 +187,7 @@ def test_plan_refuses_bad_requests(simple):
     raises("method: expected 'roadmap' or 'ompl'", simple.plan, (0, 0, 1), (1, 1, 1), 0.2, method="prm")
     raises("time_limit: applies only to method 'ompl'", simple.plan, (0, 0, 1), (1, 1, 1), 0.2, time_limit=1.0)
     raises("radius: must be a finite number >= 0", simple.plan, (0, 0, 1), (1, 1, 1), -0.2)
-    raises("ompl time_limit: must be > 0", simple.plan, (0, 0, 1), (1, 1, 1), 0.2, method="ompl", time_limit=0.0)
+    raises("time_limit: must be > 0 and finite seconds", simple.plan, (0, 0, 1), (1, 1, 1), 0.2, method="ompl", time_limit=0.0)
 
 
 def test_load_and_save_refuse_what_they_cannot_do(simple, tmp_path):

@@ -57,7 +57,7 @@ FleetResult planFleet(const PathPlanner& planner, const std::vector<FleetTask>& 
 /// motions, closed form per common time interval); +inf for fewer than two paths.
 double minimumSeparation(const std::vector<TimedPath>& paths);
 
-/// Position on a timed path at time t.
+/// Position on a timed path at time t (clamped to its ends). Throws hullmap::Error naming "path" when empty.
 Eigen::Vector3d positionAt(const TimedPath& path, double t);
 
 }  // namespace hullmap::planning

@@ -49,7 +49,8 @@ class PathPlanner {
   PathPlanner(PathPlanner&&) noexcept;
   PathPlanner& operator=(PathPlanner&&) noexcept;
 
-  /// Throws hullmap::Error on a negative or non-finite radius or coordinate.
+  /// Throws hullmap::Error naming the field at fault ("radius", "start/goal", "flight_z") on a
+  /// negative or non-finite radius or a non-finite coordinate.
   PlanResult plan(const PlanRequest& request) const;
 
   const Roadmap& roadmap() const;
@@ -81,7 +82,7 @@ class PathPlanner {
 /// Roadmap settings for flights through `points` (starts, goals, flight heights) at `radius`: band
 /// from the lowest point's z less the radius to the highest's plus it; bounds around the footprints
 /// and the points, grown by max(1 m, 2 radius + 0.5 m); no clearance floor (so that a blocked query
-/// can name its narrowest passage).
+/// can name its narrowest passage). Throws hullmap::Error naming "points" when they are empty.
 RoadmapParams roadmapParamsFor(const std::vector<clustering::Obstacle>& obstacles,
                                const std::vector<Eigen::Vector3d>& points, double radius);
 
