@@ -277,6 +277,33 @@ TEST(Roadmap, ARingOfWallPartsLeavesTheRoomInsideFree) {
   EXPECT_FALSE(checker.checkPath(*result.path, request.radius).first_colliding_segment);
 }
 
+TEST(Roadmap, NodesAndEdgesComeInACanonicalOrder) {
+  // Nodes by position (x, then y), edges by their nodes with from < to, each polyline running from
+  // its `from` node to its `to` node: the numbering does not follow the SDG's face order, which
+  // follows heap addresses where sites are co-circular (a grid of equal boxes has plenty).
+  std::vector<clustering::Obstacle> obstacles;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      obstacles.push_back(test::prism(4 * i + j, rect(2.0 * i, 2.0 * j, 2.0 * i + 1, 2.0 * j + 1), 0, 1));
+  const Roadmap map = planning::buildRoadmap(obstacles, {});
+  ASSERT_GT(map.edges.size(), 10u);
+  for (std::size_t k = 1; k < map.nodes.size(); ++k) {
+    const Vector2d& p = map.nodes[k - 1].position;
+    const Vector2d& q = map.nodes[k].position;
+    EXPECT_TRUE(p.x() < q.x() || (p.x() == q.x() && p.y() < q.y())) << "node " << k;
+  }
+  for (std::size_t k = 0; k < map.edges.size(); ++k) {
+    const auto& e = map.edges[k];
+    EXPECT_LT(e.from, e.to) << "edge " << k;
+    EXPECT_EQ(e.polyline.front(), map.nodes[e.from].position) << "edge " << k;
+    EXPECT_EQ(e.polyline.back(), map.nodes[e.to].position) << "edge " << k;
+    if (k > 0) {
+      const auto& d = map.edges[k - 1];
+      EXPECT_LE(std::make_pair(d.from, d.to), std::make_pair(e.from, e.to)) << "edge " << k;
+    }
+  }
+}
+
 TEST(Roadmap, RejectsBadParameters) {
   const auto a = test::prism(1, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 0, 1);
   RoadmapParams params;

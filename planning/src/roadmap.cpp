@@ -19,10 +19,9 @@
 #include <CGAL/Segment_Delaunay_graph_filtered_traits_2.h>
 #include <CGAL/Segment_Delaunay_graph_traits_2.h>
 #include <CGAL/Simple_cartesian.h>
-#include <nlohmann/json.hpp>
 
-#include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
+#include "polygon_2d.hpp"
 
 namespace hullmap::planning {
 namespace {
@@ -49,91 +48,6 @@ using ExactPolygonWithHoles = CGAL::Polygon_with_holes_2<ExactKernel>;
 using ExactPolygonSet = CGAL::Polygon_set_2<ExactKernel>;
 
 Eigen::Vector2d toEigen(const Kernel::Point_2& p) { return {CGAL::to_double(p.x()), CGAL::to_double(p.y())}; }
-
-double segmentDistance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
-  const Eigen::Vector2d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
-
-/// Boxes binned into a uniform grid over the bounds (about one box per cell), to find those near a
-/// query box without scanning them all.
-class BoxGrid {
- public:
-  BoxGrid(const std::vector<Eigen::AlignedBox<double, 2>>& boxes, const Eigen::AlignedBox<double, 2>& bounds)
-      : lo_(bounds.min()) {
-    const Eigen::Vector2d size = bounds.sizes().cwiseMax(1e-12);
-    const double side =
-        std::sqrt(std::max(size.x() * size.y() / double(std::max<std::size_t>(boxes.size(), 1)), 1e-24));
-    inv_ = 1.0 / side;
-    nx_ = std::clamp(static_cast<int>(std::ceil(size.x() * inv_)), 1, 4096);
-    ny_ = std::clamp(static_cast<int>(std::ceil(size.y() * inv_)), 1, 4096);
-    cells_.resize(std::size_t(nx_) * std::size_t(ny_));
-    for (std::size_t i = 0; i < boxes.size(); ++i) {
-      const auto [x0, y0, x1, y1] = range(boxes[i], 0.0);
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) cells_[std::size_t(y) * std::size_t(nx_) + std::size_t(x)].push_back(i);
-    }
-    stamp_.assign(boxes.size(), 0);
-  }
-
-  /// Calls f(i) once for every box i binned in a cell within `margin` of `box` (a superset of the
-  /// boxes within margin of it). Not thread-safe (a visit stamp).
-  template <class F>
-  void forEachNear(const Eigen::AlignedBox<double, 2>& box, double margin, F&& f) const {
-    ++visit_;
-    const auto [x0, y0, x1, y1] = range(box, margin);
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x)
-        for (std::size_t i : cells_[std::size_t(y) * std::size_t(nx_) + std::size_t(x)]) {
-          if (stamp_[i] == visit_) continue;
-          stamp_[i] = visit_;
-          f(i);
-        }
-  }
-
- private:
-  std::array<int, 4> range(const Eigen::AlignedBox<double, 2>& box, double margin) const {
-    const auto cell = [&](double v, double lo, int n) {
-      const double c = std::floor((v - lo) * inv_);
-      return static_cast<int>(std::clamp(c, 0.0, double(n - 1)));
-    };
-    return {cell(box.min().x() - margin, lo_.x(), nx_), cell(box.min().y() - margin, lo_.y(), ny_),
-            cell(box.max().x() + margin, lo_.x(), nx_), cell(box.max().y() + margin, lo_.y(), ny_)};
-  }
-
-  Eigen::Vector2d lo_;
-  double inv_ = 1.0;
-  int nx_ = 1, ny_ = 1;
-  std::vector<std::vector<std::size_t>> cells_;
-  mutable std::vector<std::uint64_t> stamp_;
-  mutable std::uint64_t visit_ = 0;
-};
-
-/// Distance between segments ab and cd (0 when they cross).
-double segmentsDistance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
-                        const Eigen::Vector2d& d) {
-  const auto side = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r) {
-    return (q - p).x() * (r - p).y() - (q - p).y() * (r - p).x();
-  };
-  if (side(a, b, c) * side(a, b, d) < 0 && side(c, d, a) * side(c, d, b) < 0) return 0.0;
-  return std::min(
-      {segmentDistance(a, b, c), segmentDistance(a, b, d), segmentDistance(c, d, a), segmentDistance(c, d, b)});
-}
-
-/// `p` strictly inside the region bounded by `rings` (outer boundary and holes; even-odd rule).
-bool insideRings(const std::vector<std::vector<Eigen::Vector2d>>& rings, const Eigen::Vector2d& p) {
-  bool inside = false;
-  for (const auto& ring : rings)
-    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-      const Eigen::Vector2d& a = ring[i];
-      const Eigen::Vector2d& b = ring[j];
-      if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
-        inside = !inside;
-    }
-  return inside;
-}
 
 struct UnionFind {
   std::vector<int> parent;
@@ -236,90 +150,6 @@ void traceBisector(RoadmapEdge& edge, const Eigen::Vector2d& a, const Eigen::Vec
   edge.polyline.push_back(b);
 }
 
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
-  return (b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x());
-}
-
-/// Convex counter-clockwise polygons P and Q touch, overlap or come within eps of each other.
-bool polygonsMeet(const std::vector<Eigen::Vector2d>& P, const std::vector<Eigen::Vector2d>& Q, double eps) {
-  auto inside = [](const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
-    for (std::size_t i = 0; i < poly.size(); ++i)
-      if (cross(poly[i], poly[(i + 1) % poly.size()], p) < 0) return false;
-    return true;
-  };
-  for (const auto& p : P)
-    if (inside(Q, p)) return true;
-  for (const auto& q : Q)
-    if (inside(P, q)) return true;
-  for (std::size_t i = 0; i < P.size(); ++i) {
-    const Eigen::Vector2d& a = P[i];
-    const Eigen::Vector2d& b = P[(i + 1) % P.size()];
-    for (std::size_t j = 0; j < Q.size(); ++j) {
-      const Eigen::Vector2d& c = Q[j];
-      const Eigen::Vector2d& d = Q[(j + 1) % Q.size()];
-      if (segmentDistance(a, b, c) <= eps || segmentDistance(c, d, a) <= eps) return true;
-      if (cross(a, b, c) * cross(a, b, d) < 0 && cross(c, d, a) * cross(c, d, b) < 0) return true;
-    }
-  }
-  return false;
-}
-
-/// Some two segments of `rings` (closed polygons) cross or touch other than at a shared end: the
-/// union's vertices rounded to double may do that, which the SDG traits without intersections forbid.
-bool selfIntersecting(const std::vector<std::vector<Eigen::Vector2d>>& rings) {
-  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> segs;
-  for (const auto& ring : rings)
-    for (std::size_t k = 0; k < ring.size(); ++k) {
-      Eigen::Vector2d a = ring[k], b = ring[(k + 1) % ring.size()];
-      if (b.x() < a.x()) std::swap(a, b);
-      segs.emplace_back(a, b);
-    }
-  std::sort(segs.begin(), segs.end(), [](const auto& s, const auto& t) { return s.first.x() < t.first.x(); });
-  for (std::size_t i = 0; i < segs.size(); ++i) {
-    const auto& [a, b] = segs[i];
-    for (std::size_t j = i + 1; j < segs.size() && segs[j].first.x() <= b.x(); ++j) {
-      const auto& [c, d] = segs[j];
-      if (a == c || a == d || b == c || b == d) continue;  // shared ends are fine
-      if (std::max(c.y(), d.y()) < std::min(a.y(), b.y()) || std::min(c.y(), d.y()) > std::max(a.y(), b.y())) continue;
-      const double c1 = cross(a, b, c), c2 = cross(a, b, d), c3 = cross(c, d, a), c4 = cross(c, d, b);
-      if (c1 * c2 <= 0 && c3 * c4 <= 0 && !(c1 == 0 && c2 == 0 && c3 == 0 && c4 == 0)) return true;
-      if (c1 == 0 && c2 == 0) {  // collinear: overlapping along x (or y for vertical ones)?
-        const int axis = a.x() == b.x() ? 1 : 0;
-        const double lo = std::max(std::min(a[axis], b[axis]), std::min(c[axis], d[axis]));
-        const double hi = std::min(std::max(a[axis], b[axis]), std::max(c[axis], d[axis]));
-        if (lo <= hi) return true;
-      }
-    }
-  }
-  return false;
-}
-
-/// Clips a convex polygon to the box (Sutherland-Hodgman); empty when nothing is left.
-std::vector<Eigen::Vector2d> clipToBox(std::vector<Eigen::Vector2d> poly, const Eigen::Vector2d& lo,
-                                       const Eigen::Vector2d& hi) {
-  for (int side = 0; side < 4 && !poly.empty(); ++side) {
-    const int axis = side % 2;
-    const bool low = side < 2;
-    const double limit = low ? lo[axis] : hi[axis];
-    auto in = [&](const Eigen::Vector2d& p) { return low ? p[axis] >= limit : p[axis] <= limit; };
-    std::vector<Eigen::Vector2d> out;
-    for (std::size_t i = 0; i < poly.size(); ++i) {
-      const Eigen::Vector2d& a = poly[i];
-      const Eigen::Vector2d& b = poly[(i + 1) % poly.size()];
-      if (in(a)) out.push_back(a);
-      if (in(a) != in(b)) {
-        const double t = (limit - a[axis]) / (b[axis] - a[axis]);
-        Eigen::Vector2d x = a + t * (b - a);
-        x[axis] = limit;
-        out.push_back(x);
-      }
-    }
-    poly = std::move(out);
-  }
-  poly = clustering::convexHull2d(poly);
-  return poly.size() >= 3 ? poly : std::vector<Eigen::Vector2d>{};
-}
-
 /// The band with the floor and ceiling taken out: above the highest point of each floor-like
 /// surface's solid over the bounds rectangle [lo, hi] (its normal up), below the lowest point of each
 /// ceiling-like one's. Throws hullmap::Error naming z0/z1 when nothing of the band is left.
@@ -351,6 +181,50 @@ std::pair<double, double> bandBetweenSurfaces(double z0, double z1, const std::v
     throw Error::inParameter("z0/z1", s.str());
   }
   return {z0, z1};
+}
+
+bool pointLess(const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+  return std::make_pair(p.x(), p.y()) < std::make_pair(q.x(), q.y());
+}
+
+bool siteLess(const SiteRef& s, const SiteRef& t) {
+  return std::make_tuple(s.obstacle, s.is_point, s.a.x(), s.a.y(), s.b.x(), s.b.y()) <
+         std::make_tuple(t.obstacle, t.is_point, t.a.x(), t.a.y(), t.b.x(), t.b.y());
+}
+
+/// Numbers the nodes by position (x, then y) and orders the edges by their nodes (from < to, the
+/// polyline and the sites turned with them), then by polyline: the same roadmap, whatever order the
+/// SDG gave its faces and edges in.
+void canonicalOrder(Roadmap& map) {
+  std::vector<int> order(map.nodes.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(),
+            [&](int i, int j) { return pointLess(map.nodes[i].position, map.nodes[j].position); });
+  std::vector<int> rank(order.size());
+  std::vector<RoadmapNode> nodes;
+  nodes.reserve(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    rank[order[k]] = static_cast<int>(k);
+    nodes.push_back(map.nodes[order[k]]);
+  }
+  map.nodes = std::move(nodes);
+  for (RoadmapEdge& e : map.edges) {
+    e.from = rank[e.from];
+    e.to = rank[e.to];
+    if (e.from > e.to) {
+      std::swap(e.from, e.to);
+      std::reverse(e.polyline.begin(), e.polyline.end());
+      std::swap(e.site_a, e.site_b);
+    }
+  }
+  std::sort(map.edges.begin(), map.edges.end(), [](const RoadmapEdge& e, const RoadmapEdge& f) {
+    if (e.from != f.from || e.to != f.to) return std::make_pair(e.from, e.to) < std::make_pair(f.from, f.to);
+    if (e.polyline.size() != f.polyline.size()) return e.polyline.size() < f.polyline.size();
+    if (e.polyline != f.polyline)
+      return std::lexicographical_compare(e.polyline.begin(), e.polyline.end(), f.polyline.begin(), f.polyline.end(),
+                                          pointLess);
+    return siteLess(e.site_a, f.site_a) || (!siteLess(f.site_a, e.site_a) && siteLess(e.site_b, f.site_b));
+  });
 }
 
 }  // namespace
@@ -645,6 +519,14 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
         if ((vertex[by_x[k]] - vertex[by_x[l]]).norm() <= same) merged.unite(by_x[k], by_x[l]);
   }
 
+  // The SDG splits co-circular sites' faces in an order that follows heap addresses (it varied
+  // from run to run), and the same Voronoi vertex constructed from other faces differs in its last
+  // bits: snapped to a lattice of 2^-32 of the map's scale (about 1e-10 of it), the nodes are the
+  // same on every run; canonicalOrder then numbers them and their edges independently of the SDG.
+  const double quantum = std::ldexp(scale, -32);
+  for (Eigen::Vector2d& v : vertex)
+    if (v.allFinite()) v = (v / quantum).array().round().matrix() * quantum;
+
   std::map<int, int> node_of_root;
   auto nodeOf = [&](int face) {
     const int root = merged.find(face);
@@ -722,57 +604,8 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     edge.polyline.back() = map.nodes[edge.to].position;
     map.edges.push_back(std::move(edge));
   }
+  canonicalOrder(map);
   return map;
-}
-
-std::string roadmapJson(const Roadmap& roadmap) {
-  using nlohmann::json;
-  auto xy = [](const Eigen::Vector2d& p) { return json::array({p.x(), p.y()}); };
-  auto site = [&](const SiteRef& s) {
-    json j{{"obstacle", s.obstacle >= 0 ? json(s.obstacle) : json(nullptr)}};
-    if (s.is_point)
-      j["point"] = xy(s.a);
-    else
-      j["segment"] = json::array({xy(s.a), xy(s.b)});
-    return j;
-  };
-  json j;
-  j["format"] = "hullmap-roadmap/1";
-  j["frame"] = "z-up map";
-  j["bounds"] = {roadmap.bounds.x0, roadmap.bounds.y0, roadmap.bounds.x1, roadmap.bounds.y1};
-  j["band"] = {roadmap.z0, roadmap.z1};
-  j["min_clearance"] = roadmap.min_clearance;
-  j["tolerance"] = roadmap.tolerance;
-  j["obstacles"] = json::array();
-  for (std::size_t i = 0; i < roadmap.footprints.size(); ++i) {
-    json o{{"ids", roadmap.obstacle_groups[i]}, {"footprint", json::array()}};
-    for (const auto& p : roadmap.footprints[i]) o["footprint"].push_back(xy(p));
-    if (i < roadmap.holes.size() && !roadmap.holes[i].empty()) {
-      o["holes"] = json::array();
-      for (const auto& hole : roadmap.holes[i]) {
-        json h = json::array();
-        for (const auto& p : hole) h.push_back(xy(p));
-        o["holes"].push_back(std::move(h));
-      }
-    }
-    j["obstacles"].push_back(std::move(o));
-  }
-  j["nodes"] = json::array();
-  for (const auto& n : roadmap.nodes) j["nodes"].push_back(xy(n.position));
-  j["edges"] = json::array();
-  for (const auto& e : roadmap.edges) {
-    json je{{"from", e.from}, {"to", e.to}, {"length", e.length}, {"clearance", e.clearance}};
-    je["sites"] = json::array({site(e.site_a), site(e.site_b)});
-    je["polyline"] = json::array();
-    for (const auto& p : e.polyline) je["polyline"].push_back(xy(p));
-    j["edges"].push_back(std::move(je));
-  }
-  return j.dump(1) + "\n";
-}
-
-void writeRoadmapJson(const std::string& path, const Roadmap& roadmap) {
-  const std::string text = roadmapJson(roadmap);
-  core::writeFileAtomically(path, [&](std::ostream& out) { out << text; });
 }
 
 }  // namespace hullmap::planning

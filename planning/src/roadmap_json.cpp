@@ -1,14 +1,66 @@
-// Reading roadmap.json back (its writer, roadmapJson, is beside buildRoadmap in roadmap.cpp).
+// roadmap.json: writing it (roadmapJson, writeRoadmapJson) and reading it back.
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/planning/roadmap.hpp"
 #include "hullmap/planning/roadmap_json.hpp"
 
 namespace hullmap::planning {
+
+std::string roadmapJson(const Roadmap& roadmap) {
+  using nlohmann::json;
+  auto xy = [](const Eigen::Vector2d& p) { return json::array({p.x(), p.y()}); };
+  auto site = [&](const SiteRef& s) {
+    json j{{"obstacle", s.obstacle >= 0 ? json(s.obstacle) : json(nullptr)}};
+    if (s.is_point)
+      j["point"] = xy(s.a);
+    else
+      j["segment"] = json::array({xy(s.a), xy(s.b)});
+    return j;
+  };
+  json j;
+  j["format"] = "hullmap-roadmap/1";
+  j["frame"] = "z-up map";
+  j["bounds"] = {roadmap.bounds.x0, roadmap.bounds.y0, roadmap.bounds.x1, roadmap.bounds.y1};
+  j["band"] = {roadmap.z0, roadmap.z1};
+  j["min_clearance"] = roadmap.min_clearance;
+  j["tolerance"] = roadmap.tolerance;
+  j["obstacles"] = json::array();
+  for (std::size_t i = 0; i < roadmap.footprints.size(); ++i) {
+    json o{{"ids", roadmap.obstacle_groups[i]}, {"footprint", json::array()}};
+    for (const auto& p : roadmap.footprints[i]) o["footprint"].push_back(xy(p));
+    if (i < roadmap.holes.size() && !roadmap.holes[i].empty()) {
+      o["holes"] = json::array();
+      for (const auto& hole : roadmap.holes[i]) {
+        json h = json::array();
+        for (const auto& p : hole) h.push_back(xy(p));
+        o["holes"].push_back(std::move(h));
+      }
+    }
+    j["obstacles"].push_back(std::move(o));
+  }
+  j["nodes"] = json::array();
+  for (const auto& n : roadmap.nodes) j["nodes"].push_back(xy(n.position));
+  j["edges"] = json::array();
+  for (const auto& e : roadmap.edges) {
+    json je{{"from", e.from}, {"to", e.to}, {"length", e.length}, {"clearance", e.clearance}};
+    je["sites"] = json::array({site(e.site_a), site(e.site_b)});
+    je["polyline"] = json::array();
+    for (const auto& p : e.polyline) je["polyline"].push_back(xy(p));
+    j["edges"].push_back(std::move(je));
+  }
+  return j.dump(1) + "\n";
+}
+
+void writeRoadmapJson(const std::string& path, const Roadmap& roadmap) {
+  const std::string text = roadmapJson(roadmap);
+  core::writeFileAtomically(path, [&](std::ostream& out) { out << text; });
+}
 
 Roadmap readRoadmapJson(const std::string& path) {
   using nlohmann::json;
