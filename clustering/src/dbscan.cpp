@@ -1,3 +1,7 @@
+// Exact DBSCAN on a grid (GridDbscan): cells just under eps / sqrt(d), Morton-sorted points, cell-to-cell
+// distance bounds, the core pass, a concurrent union-find and the border pass. Over 600 lines as one
+// job: the helpers above GridDbscan (cell boxes, the allocator, the union-find, the key sort) serve
+// only it and share its layouts. Issue 26 may still move the union-find and the cell table to core/.
 #include "hullmap/clustering/dbscan.hpp"
 
 #include <algorithm>

@@ -1,3 +1,6 @@
+// Over 600 lines as one job (octomap's insertPointCloud tree, built faster): the SIMD ray walk, the
+// brick sets and the batched updates share one key and brick layout, so they stay together.
+//
 // insertScan: the tree octomap's insertPointCloud(points, origin, max_range) builds, built faster.
 //
 // octomap spends its time in two places: inserting every ray key into a shared unordered_set under an

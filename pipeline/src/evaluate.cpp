@@ -1,3 +1,5 @@
+// Two jobs for now: reading ground truth (JSON, OBJ) and scoring a build against it. Issue 26 moves
+// the ground-truth type and its readers to sim/ with the scene generators; that splits this file.
 #include "hullmap/core/constants.hpp"
 #include "hullmap/core/random.hpp"
 #include "hullmap/pipeline/evaluate.hpp"

@@ -1,3 +1,6 @@
+// The build's stages, in order (read, frame, floor, octree, surfaces, clustering, parts), and the
+// streamed two-pass read. Over 600 lines because clusterInto still runs its stages inline; issue 26's
+// stage list (each stage its own function with its timing and hook) is what splits it.
 #include "hullmap/pipeline/pipeline.hpp"
 
 #include <algorithm>

@@ -1,3 +1,6 @@
+// buildRoadmap: the Voronoi roadmap of the footprints (their exact union, CGAL's segment Delaunay
+// graph, the traced bisectors, the guards) and its canonical order. Just over 600 lines as one job;
+// its plane geometry is in polygon_2d, roadmap.json in roadmap_json.cpp.
 #include "hullmap/planning/roadmap.hpp"
 
 #include <algorithm>
