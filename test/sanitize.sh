@@ -8,6 +8,8 @@
 #   test/sanitize.sh [ctest arguments...]      e.g. test/sanitize.sh -R mapper
 #
 # Environment: BUILD_DIR (default <repo>/build-asan), JOBS (build and ctest parallelism, default 2),
+# BUILD_TARGETS (the targets to build first, split on spaces; default everything: .ci/run, which runs
+# only the quick tests here, builds hullmap_quick_tests),
 # EXTRA_CMAKE_ARGS (more configure arguments, split on spaces; .ci/run leaves out the ROS node and the
 # Python module, whose tests are not in the quick subset it runs here).
 set -euo pipefail
@@ -17,7 +19,8 @@ build=${BUILD_DIR:-$root/build-asan}
 jobs=${JOBS:-2}
 san="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
 
-BUILD_DIR=$build JOBS=$jobs "$root/test/sanitized_build.sh"
+# shellcheck disable=SC2086  # BUILD_TARGETS is a list of targets
+BUILD_DIR=$build JOBS=$jobs "$root/test/sanitized_build.sh" ${BUILD_TARGETS:-}
 
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:check_initialization_order=1:strict_init_order=1:detect_odr_violation=2}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
