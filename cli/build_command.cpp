@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
+#include "cli_main.hpp"
 #include "commands.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/live/ros2_bag.hpp"
 #include "hullmap/mapper/level_check.hpp"
-#include "hullmap/mapper/output_dir.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "option_checks.hpp"
 #ifdef HULLMAP_HAS_ROSBAG
@@ -157,11 +157,11 @@ void refuseMisfits(const CLI::App& cmd, const BuildOptions& options) {
               (given.find(',') == std::string::npos ? "it" : "them") + " out, or build from the map points");
 }
 
-/// The output directory, checked before the work (pipeline::checkOutputDir) and named by -o; a
-/// missing parent says that -p creates it.
+/// The output directory, checked before the work (pipeline::checkOutputDir with the build's outputPolicy) and named by
+/// -o; a missing parent says that -p creates it.
 void checkOutput(const BuildOptions& options, const pipeline::BuildParams& params) {
   try {
-    pipeline::checkOutputDir(options.output_dir, params, {options.make_parents});
+    pipeline::checkOutputDir(options.output_dir, pipeline::outputPolicy(params, {options.make_parents}));
   } catch (const Error& e) {
     std::filesystem::path out = std::filesystem::absolute(options.output_dir).lexically_normal();
     if (out.filename().empty()) out = out.parent_path();
@@ -407,7 +407,7 @@ void addBuildCommand(CLI::App& app, int& status) {
     }
     refuseMisfits(*cmd, *options);
     const pipeline::BuildParams params = toParams(*options);
-    const pipeline::WriteOptions write_options{options->make_parents};
+    const pipeline::WriteOptions write_options{options->make_parents, optionSpelling};
     checkOutput(*options, params);
     if (options->trajectory_topic && !options->topic) throw Error("--trajectory-topic: needs --topic (a bag input)");
     pipeline::BuildResult result = options->topic ? buildFromBag(*options, params) : pipeline::build(params);
@@ -420,7 +420,8 @@ void addBuildCommand(CLI::App& app, int& status) {
     auto& warnings = result.report.warnings;
     if (auto hint = mapper::orbSlamUpHint(named, cmd->count("--up") > 0 || options->align.has_value()))
       warnings.insert(warnings.begin(), *hint);
-    for (const auto& warning : warnings) std::cerr << "hullmap: warning: " << warning << "\n";
+    for (const auto& warning : warnings)
+      std::cerr << "hullmap: warning: " << warningText(warning, optionSpelling) << "\n";
     naming([&] { pipeline::write(result, options->output_dir, write_options); });
     const auto& a = result.report.points;
     std::cout << "points: " << a.read << " read, " << a.used << " used";

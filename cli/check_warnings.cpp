@@ -7,6 +7,7 @@
 
 #include "hullmap/clustering/build_warnings.hpp"
 #include "hullmap/core/error.hpp"
+#include "cli_main.hpp"
 
 namespace hullmap::cli {
 
@@ -30,7 +31,9 @@ std::vector<std::string> hullCheckWarnings(const std::string& obstacles_json, st
       outcome.noise_voxels = number("clusters", "noise_voxels");
     }
   }
-  return clustering::hullCheckWarnings(outcome);
+  std::vector<std::string> lines;
+  for (const Warning& w : clustering::hullCheckWarnings(outcome)) lines.push_back(warningText(w, optionSpelling));
+  return lines;
 }
 
 void refuseOctreeAsHulls(const std::string& path) {

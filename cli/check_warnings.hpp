@@ -6,7 +6,7 @@
 namespace hullmap::cli {
 
 /// Warnings for a path check against the hulls in `obstacles_json` (holding `obstacles` of them):
-/// clustering::hullCheckWarnings over the numbers of the report.json beside it (when there is one;
+/// clustering::hullCheckWarnings, in the CLI's words, over the numbers of the report.json beside it (when there is one;
 /// without it only "no obstacle" can be told).
 std::vector<std::string> hullCheckWarnings(const std::string& obstacles_json, std::size_t obstacles);
 

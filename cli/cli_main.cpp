@@ -46,22 +46,29 @@ std::string cliMessage(const hullmap::Error& e) {
   while (start <= e.parameter().size()) {
     std::size_t end = e.parameter().find('/', start);
     if (end == std::string::npos) end = e.parameter().size();
-    std::string name = e.parameter().substr(start, end - start);
-    if (name == "keyframes") {
-      name = "--trajectory";
-    } else if (name == "start" || name == "goal") {  // planning's request: `plan --from/--to`
-      name = name == "start" ? "--from" : "--to";
-    } else if (name != "inputs") {
-      std::replace(name.begin(), name.end(), '_', '-');
-      name = "--" + name;
-    }
-    flags += (flags.empty() ? "" : "/") + name;
+    const std::string name = e.parameter().substr(start, end - start);
+    flags += (flags.empty() ? "" : "/") + (name == "inputs" ? name : optionName(name));
     start = end + 1;
   }
   return flags + ": " + e.detail();
 }
 
 }  // namespace
+
+std::string optionName(std::string_view field) {
+  if (field == "keyframes") return "--trajectory";
+  if (field == "start") return "--from";  // planning's request: `plan --from/--to`
+  if (field == "goal") return "--to";
+  std::string name(field);
+  std::replace(name.begin(), name.end(), '_', '-');
+  return "--" + name;
+}
+
+std::string optionSpelling(std::string_view field, std::string_view value) {
+  std::string out = optionName(field);
+  if (!value.empty()) out.append(" ").append(value);
+  return out;
+}
 
 int runCli(int argc, char** argv, const std::vector<AddCommand>& commands) {
   CLI::App app{"hullmap: SLAM map points -> OctoMap -> DBSCAN clusters -> convex obstacles -> path checks"};

@@ -11,7 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "commands.hpp"
-#include "hullmap/mapper/output_dir.hpp"
+#include "hullmap/pipeline/output_dir.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "option_checks.hpp"
 #include "hullmap/clustering/dbscan.hpp"
@@ -102,7 +102,7 @@ void runCluster(const ClusterOptions& o) {
   const clustering::DbscanParams params{o.eps, o.min_pts, clustering::parseMetric(o.metric)};
   if (!o.output.empty()) {
     try {
-      mapper::checkOutputFile(o.output);
+      pipeline::checkOutputFile(o.output);
     } catch (const Error& e) {
       throw Error("-o " + std::string(e.what()));
     }

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "hullmap/mapper/output_dir.hpp"
+#include "hullmap/pipeline/output_dir.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "option_checks.hpp"
 #include "hullmap/clustering/dbscan.hpp"
@@ -115,7 +115,7 @@ void runSweep(const SweepOptions& o) {
   const mapper::FrameParams frame{mapper::parseUpAxis(o.up), o.scale};
   if (!o.output.empty()) {
     try {
-      mapper::checkOutputFile(o.output);
+      pipeline::checkOutputFile(o.output);
     } catch (const Error& e) {
       throw Error("-o " + std::string(e.what()));
     }

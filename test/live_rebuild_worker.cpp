@@ -248,6 +248,25 @@ TEST(LiveRebuildWorker, SaveWritesWhatWriteWritesForTheSameBuild) {
   }
 }
 
+TEST(LiveRebuildWorker, SavedWarningsNameTheNodesParameters) {
+  // eps below the resolution: report.json's warning names the node's parameters, not the CLI's flags.
+  const auto dir = test::freshDir("save_warnings");
+  NodeSettings s = settings();
+  s.build.eps = 0.03;
+  s.node.output_dir = (dir / "saved").string();
+  Recorder r;
+  RebuildWorker worker(s, r.hooks());
+  worker.submit(update(boxes({{0, 0, 1}})));
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 1; }));
+  ASSERT_TRUE(worker.save().success);
+  const auto warnings = test::readJson(dir / "saved" / "report.json")["warnings"];
+  ASSERT_FALSE(warnings.empty());
+  const std::string first = warnings[0];
+  EXPECT_EQ(first.rfind("eps:=0.03 is below the octree resolution 0.05", 0), 0u) << first;
+  EXPECT_NE(first.find("a finer resolution"), std::string::npos) << first;
+  for (const auto& w : warnings) EXPECT_EQ(w.get<std::string>().find("--"), std::string::npos) << w;
+}
+
 TEST(LiveRebuildWorker, SkippedMessagesAreCountedAndPublished) {
   Recorder r;
   RebuildWorker worker(settings(), r.hooks());

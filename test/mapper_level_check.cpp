@@ -42,7 +42,11 @@ TEST(MapperLevelCheck, LevelWarningSpeaksAboveTenDegrees) {
   EXPECT_FALSE(hullmap::mapper::levelWarning(floorScene(5.0, 500), 0.05, "z"));
   const auto warning = hullmap::mapper::levelWarning(floorScene(21.0, 500), 0.05, "-y");
   ASSERT_TRUE(warning);
-  EXPECT_NE(warning->find("is 21.0 degrees from level after --up -y"), std::string::npos) << *warning;
+  EXPECT_EQ(warning->code, hullmap::Warning::Code::kMapLooksTilted);
+  EXPECT_EQ(warning->subject, "-y");
+  EXPECT_NEAR(warning->number("tilt_deg"), 21.0, 0.05);
+  const std::string text = hullmap::warningText(*warning);
+  EXPECT_NE(text.find("is 21.0 degrees from level after up=-y"), std::string::npos) << text;
   // A plane of too few points is no floor.
   EXPECT_FALSE(hullmap::mapper::levelWarning(floorScene(21.0, 200000), 0.05, "z"));
 }

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/io/number_table.hpp"
-#include "hullmap/mapper/output_dir.hpp"
+#include "hullmap/pipeline/output_dir.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -48,10 +48,10 @@ TEST(MapperNumberTable, ErrorsNameTheFileAndLine) {
 
 TEST(MapperOutputFile, CheckedBeforeTheWorkWithTheReason) {
   const auto dir = hullmap::test::freshDir("output_file");
-  EXPECT_NO_THROW(hullmap::mapper::checkOutputFile((dir / "a.csv").string()));
-  EXPECT_NO_THROW(hullmap::mapper::checkOutputFile("-"));
-  EXPECT_EQ(errorOf([&] { hullmap::mapper::checkOutputFile((dir / "no" / "a.csv").string()); }),
+  EXPECT_NO_THROW(hullmap::pipeline::checkOutputFile((dir / "a.csv").string()));
+  EXPECT_NO_THROW(hullmap::pipeline::checkOutputFile("-"));
+  EXPECT_EQ(errorOf([&] { hullmap::pipeline::checkOutputFile((dir / "no" / "a.csv").string()); }),
             (dir / "no" / "a.csv").string() + ": cannot write there: " + (dir / "no").string() +
                 ": No such file or directory");
-  EXPECT_EQ(errorOf([&] { hullmap::mapper::checkOutputFile(dir.string()); }), dir.string() + ": is a directory");
+  EXPECT_EQ(errorOf([&] { hullmap::pipeline::checkOutputFile(dir.string()); }), dir.string() + ": is a directory");
 }

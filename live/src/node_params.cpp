@@ -339,4 +339,10 @@ NodeSettings readSettings(const ParameterValues& values, Checking checking, cons
   return settings;
 }
 
+std::string nodeParameterSpelling(std::string_view field, std::string_view value) {
+  std::string out(field);
+  if (!value.empty()) out.append(":=").append(value);
+  return out;
+}
+
 }  // namespace hullmap::live

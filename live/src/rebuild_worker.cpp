@@ -246,7 +246,7 @@ SaveAnswer RebuildWorker::save() const {
   }
   if (!snapshot) return {false, "no map built yet"};
   try {
-    pipeline::write(snapshot->result, output_dir, {true});
+    pipeline::write(snapshot->result, output_dir, {true, nodeParameterSpelling});
     return {true, std::filesystem::absolute(output_dir).string()};
   } catch (const std::exception& e) {
     return {false, e.what()};

@@ -3,15 +3,14 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 
 #include "hullmap/mapper/floor.hpp"
 
 namespace hullmap::mapper {
 
-std::optional<std::string> levelWarning(const std::vector<Eigen::Vector3d>& points, double resolution,
-                                        const std::string& up) {
+std::optional<Warning> levelWarning(const std::vector<Eigen::Vector3d>& points, double resolution,
+                                    const std::string& up) {
   PlaneSearchParams params;
   params.band = resolution;
   params.max_tilt_deg = 45.0;
@@ -21,13 +20,8 @@ std::optional<std::string> levelWarning(const std::vector<Eigen::Vector3d>& poin
   params.max_beyond_share = 0.10;
   const PlaneFit floor = findBoundingPlane(points, PlaneSide::kFloor, params);
   if (!floor.found || floor.tilt_deg <= kFloorMaxTiltDeg) return std::nullopt;
-  char text[400];
-  std::snprintf(text, sizeof text,
-                "the map's main floor-like plane (%.0f%% of the occupied voxels) is %.1f degrees from level "
-                "after --up %s: if it is the floor, the map is tilted (SLAM maps start in the first camera's "
-                "frame), and heights, --z-min/--z-max and footprints are slanted by as much",
-                100.0 * floor.inlier_share, floor.tilt_deg, up.c_str());
-  return std::string(text);
+  return Warning{
+      Warning::Code::kMapLooksTilted, {{"inlier_share", floor.inlier_share}, {"tilt_deg", floor.tilt_deg}}, up};
 }
 
 bool looksLikeOrbSlam(const io::InputStats& input) {
@@ -39,15 +33,10 @@ bool looksLikeOrbSlam(const io::InputStats& input) {
   return false;
 }
 
-std::optional<std::string> orbSlamUpHint(const std::vector<io::InputStats>& inputs, bool up_given) {
+std::optional<Warning> orbSlamUpHint(const std::vector<io::InputStats>& inputs, bool up_given) {
   if (up_given) return std::nullopt;
-  for (const auto& input : inputs) {
-    if (looksLikeOrbSlam(input)) {
-      return input.path +
-             " looks like ORB-SLAM output, whose frame is the first camera's (x right, y down, "
-             "z forward): it likely needs --up -y (--up was left at z)";
-    }
-  }
+  for (const auto& input : inputs)
+    if (looksLikeOrbSlam(input)) return Warning{Warning::Code::kOrbSlamFrame, {}, input.path};
   return std::nullopt;
 }
 

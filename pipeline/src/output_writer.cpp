@@ -22,7 +22,7 @@
 
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/output_dir.hpp"
+#include "hullmap/pipeline/output_dir.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "hullmap/pipeline/report.hpp"
 #include "hullmap/pipeline/trajectory_file.hpp"
@@ -79,17 +79,18 @@ void removeStaleStaging(const fs::path& parent, const std::string& name) {
 
 }  // namespace
 
-void checkOutputDir(const fs::path& dir, const BuildParams& params, const WriteOptions& options) {
-  mapper::OutputDirPolicy policy;
+OutputDirPolicy outputPolicy(const BuildParams& params, const WriteOptions& options) {
+  OutputDirPolicy policy;
   for (const auto& input : params.inputs) policy.inputs.push_back(input.string());
   if (params.trajectory) policy.inputs.push_back(params.trajectory->string());
   policy.make_parents = options.make_parents;
-  mapper::checkOutputDir(dir.string(), policy);
+  return policy;
 }
 
 void write(const BuildResult& result, const fs::path& dir, const WriteOptions& options) {
   const std::string name = dir.string();
-  checkOutputDir(dir, result.params, options);  // again: the build may have run for a while
+  const OutputDirPolicy policy = outputPolicy(result.params, options);
+  checkOutputDir(name, policy);  // again: the build may have run for a while
   fs::path out = fs::absolute(dir).lexically_normal();
   if (out.filename().empty()) out = out.parent_path();  // "out/" is "out"
   const fs::path parent = out.parent_path();
@@ -112,7 +113,7 @@ void write(const BuildResult& result, const fs::path& dir, const WriteOptions& o
     runStage("wrote_map");
     writeVoxelsCsv(staging / "voxels.csv", result.voxels, result.clusters);
     runStage("wrote_voxels");
-    const nlohmann::json report = reportJson(result);
+    const nlohmann::json report = reportJson(result, options.spelling);
     ObstaclesMeta meta;
     meta.frame = outputFrame(result);
     meta.parameters = report["parameters"];
@@ -129,11 +130,10 @@ void write(const BuildResult& result, const fs::path& dir, const WriteOptions& o
       writeTumTrajectory(staging / kTrajectoryFile, result.keyframes);
       written.push_back(kTrajectoryFile);
     }
-    mapper::writeOutputMarker(staging.string(), written);
+    writeOutputMarker(staging.string(), written);
 
     runStage("move_into_place");
-    checkOutputDir(dir, result.params,
-                   options);  // a file put there during the build is not removed with the old output
+    checkOutputDir(name, policy);  // a file put there during the build is not removed with the old output
     // One atomic step puts the finished directory in place: a rename when there is no previous
     // output, else an exchange of the two directories (Linux renameat2), after which the staging
     // name holds the previous output. At no instant is there no OUT/ or a half-written one.

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <functional>
 #include <chrono>
-#include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <limits>
@@ -593,13 +592,9 @@ void clusterInto(BuildResult& result, StageTimer& timer) {
     const PlaneReport& floor = report.floor;
     if (floor.plane && floor.setting.mode == mapper::PlaneSetting::Mode::kAuto) {
       if (floor.fit.tilt_deg > kKeptFloorTiltDeg) {
-        char text[320];
-        std::snprintf(text, sizeof text,
-                      "the floor found (%.0f%% of the points) is %.1f degrees from level, and the map was kept in "
-                      "its input frame: heights, --z-min/--z-max and footprints are slanted by as much; --level on "
-                      "levels it",
-                      100.0 * floor.fit.inlier_share, floor.fit.tilt_deg);
-        report.warnings.push_back(text);
+        report.warnings.push_back({Warning::Code::kKeptFloorTilted,
+                                   {{"inlier_share", floor.fit.inlier_share}, {"tilt_deg", floor.fit.tilt_deg}},
+                                   ""});
       }
     } else if (auto tilted = mapper::levelWarning(centers, resolution, upAxisText(params.frame.up))) {
       report.warnings.push_back(*tilted);

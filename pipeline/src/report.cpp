@@ -151,9 +151,11 @@ nlohmann::json parametersJson(const BuildParams& params) {
   };
 }
 
-nlohmann::json reportJson(const BuildResult& result) {
+nlohmann::json reportJson(const BuildResult& result, const ParameterSpelling& spell) {
   using nlohmann::json;
   const BuildReport& report = result.report;
+  json warnings = json::array();
+  for (const Warning& w : report.warnings) warnings.push_back(warningText(w, spell));
   json inputs = json::array();
   for (const auto& in : report.inputs) {
     inputs.push_back(
@@ -251,7 +253,7 @@ nlohmann::json reportJson(const BuildResult& result) {
       {"hullmap_version", HULLMAP_VERSION},
       {"frame", outputFrame(result)},
       {"parameters", parameters},
-      {"warnings", report.warnings},
+      {"warnings", warnings},
       {"inputs", inputs},
       {"points", {{"read", report.points.read}, {"dropped", report.points.dropped}, {"used", report.points.used}}},
       {"keyframes", report.keyframes},

@@ -3,16 +3,25 @@
 #include <system_error>
 
 #include "hullmap/core/error.hpp"
+#include "hullmap/core/number_text.hpp"
 #include "hullmap/pipeline/voxels_csv.hpp"
 #include "hullmap/pipeline/report.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 
 namespace hullmap::python {
 
+std::string keywordSpelling(std::string_view field, std::string_view value) {
+  std::string out(field);
+  if (value.empty()) return out;
+  double number = 0.0;
+  const bool numeric = core::parseDouble(value, number);
+  return out.append("=").append(numeric ? "" : "'").append(value).append(numeric ? "" : "'");
+}
+
 Map::Map(pipeline::BuildResult result) : result_(std::move(result)) {
   const pipeline::BuildResult& r = *result_;
   map_ = pipeline::mapObstacles(r);
-  report_ = pipeline::reportJson(r);
+  report_ = pipeline::reportJson(r, keywordSpelling);
   resolution_ = r.map.resolution();
   centers_.reserve(r.voxels.size());
   weights_.reserve(r.voxels.size());
@@ -69,7 +78,7 @@ void Map::save(const std::filesystem::path& dir, bool parents) const {
   if (!result_)
     throw Error("save: this Map was read from " + dir_.string() +
                 " by load(), which keeps no octree and no report of its own to write; copy that directory instead");
-  pipeline::write(*result_, dir, pipeline::WriteOptions{parents});
+  pipeline::write(*result_, dir, pipeline::WriteOptions{parents, keywordSpelling});
 }
 
 }  // namespace hullmap::python

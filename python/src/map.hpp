@@ -4,6 +4,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -13,6 +14,10 @@
 #include "hullmap/pipeline/pipeline.hpp"
 
 namespace hullmap::python {
+
+/// The module's names for library parameters in warnings (a hullmap::ParameterSpelling): the
+/// keyword ("min_pts"), and "min_pts=5" or "against='octree'" with a value.
+std::string keywordSpelling(std::string_view field, std::string_view value);
 
 /// What hullmap.Map holds: a build's result (hullmap.build) or a build directory read back
 /// (hullmap.load). Immutable after construction but for the checkers, made on first use (under the

@@ -15,8 +15,11 @@ TRAJECTORY = "maps/simple/KeyFrameTrajectory.txt"
 
 
 def report_without_times(path):
+    # Warnings are the same codes in each front end's words (the CLI's flags, the module's keywords):
+    # compared by number here, in words in test_warnings_are_the_clis_in_keywords_and_go_into_the_report.
     report = json.loads(path.read_text())
     del report["timings_ms"], report["peak_rss_mb"]
+    report["warnings"] = len(report["warnings"])
     return report
 
 
@@ -65,8 +68,9 @@ def test_build_writes_what_the_cli_writes(case):
     assert_same_outputs(cli_dir, py_dir)
 
 
-def test_warnings_are_the_clis_and_go_into_the_report():
-    # No --up on files named as ORB-SLAM names its own: the CLI's frame hint, as a BuildWarning.
+def test_warnings_are_the_clis_in_keywords_and_go_into_the_report():
+    # No up on files named as ORB-SLAM names its own: the CLI's frame hint, as a BuildWarning that
+    # names the keyword (up='-y') where the CLI names its flag (--up -y).
     cli_dir, py_dir = fresh_dir("warnings_cli"), fresh_dir("warnings_py")
     done = run_cli("build", POINTS, "--trajectory", TRAJECTORY, "-o", cli_dir)
     assert done.returncode == 0, done.stderr
@@ -75,10 +79,14 @@ def test_warnings_are_the_clis_and_go_into_the_report():
         warnings.simplefilter("always")
         built = hullmap.build(POINTS, trajectory=TRAJECTORY)
     got = [str(w.message) for w in caught if issubclass(w.category, hullmap.BuildWarning)]
-    assert got == cli_warnings and any("-y" in w for w in got)
-    assert built.report["warnings"] == cli_warnings
+    assert "it likely needs --up -y (--up was left at z)" in cli_warnings[0]
+    assert got == [w.replace("--up -y", "up='-y'").replace("--up was", "up was") for w in cli_warnings[:1]] + \
+        cli_warnings[1:], (got, cli_warnings)
+    assert not any("--" in w for w in got)
+    assert built.report["warnings"] == got
     built.save(py_dir)
     assert_same_outputs(cli_dir, py_dir)
+    assert json.loads((py_dir / "report.json").read_text())["warnings"] == got
     # Warnings as errors stop the build there, with the warning as the exception.
     with warnings.catch_warnings():
         warnings.simplefilter("error", hullmap.BuildWarning)

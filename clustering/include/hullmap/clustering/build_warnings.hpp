@@ -1,10 +1,10 @@
 #pragma once
 
 #include <cstddef>
-#include <string>
 #include <vector>
 
 #include "hullmap/clustering/dbscan.hpp"
+#include "hullmap/core/warning.hpp"
 
 namespace hullmap::clustering {
 
@@ -22,18 +22,17 @@ struct ClusteringOutcome {
 /// Share of occupied voxels left as noise above which a build is warned about (0.5: most of them).
 inline constexpr double kNoiseShareLimit = 0.5;
 
-/// One-line warnings about a clustering whose hulls leave out much of the map, for `hullmap build`
-/// to print and record in report.json; empty when there is nothing to say. Warns when eps is below
-/// the resolution (neighbouring voxel centres are `resolution` apart, so with the xyz metric no two
-/// voxels are neighbours and every cluster is one voxel heavy enough alone), when there is no
-/// obstacle although voxels are occupied, and when more than kNoiseShareLimit of the occupied
-/// voxels are noise. Parameters are named as the CLI spells them (--eps, --min-pts, --resolution).
-std::vector<std::string> buildWarnings(const ClusteringOutcome& outcome);
+/// Warnings about a clustering whose hulls leave out much of the map, for a build's report; empty
+/// when there is nothing to say. kEpsBelowResolution (xyz metric: neighbouring voxel centres are
+/// `resolution` apart, so no two voxels are neighbours and every cluster is one voxel heavy enough
+/// alone) or kEpsBelowResolutionInColumns (numbers eps, resolution); kNoObstacle when voxels are
+/// occupied and there is no obstacle (occupied_voxels, eps, min_pts); else kMostlyNoise when more
+/// than kNoiseShareLimit of the occupied voxels are noise (noise_voxels, occupied_voxels).
+std::vector<Warning> buildWarnings(const ClusteringOutcome& outcome);
 
-/// One-line warnings for a path check against the hulls of such a build: path checks against the
-/// hulls cannot see noise voxels, so with no obstacle every path is clear, and with mostly noise
-/// most of the map is invisible to them. Each names the remedy (--against octree, another --eps or
-/// --min-pts). `occupied_voxels` 0 means unknown (an obstacles.json without its report).
-std::vector<std::string> hullCheckWarnings(const ClusteringOutcome& outcome);
+/// Warnings for a path check against the hulls of such a build, which cannot see noise voxels:
+/// kCheckNoObstacle (every path is clear; occupied_voxels), else kCheckMostlyNoise (noise_voxels,
+/// occupied_voxels). `occupied_voxels` 0 means unknown (an obstacles.json without its report).
+std::vector<Warning> hullCheckWarnings(const ClusteringOutcome& outcome);
 
 }  // namespace hullmap::clustering

@@ -4,6 +4,7 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -84,5 +85,10 @@ enum class Checking {
 /// ignored). Throws hullmap::Error::inParameter(prefix + name, why) for the first bad value, so a
 /// front end names it its own way ("~eps" in ROS 1, "eps" in ROS 2).
 NodeSettings readSettings(const ParameterValues& values, Checking checking, const std::string& prefix = "");
+
+/// The node's names for library parameters in the warnings of the report.json it writes: the
+/// parameter's own name ("min_pts"), and "min_pts:=5" with a value, as `ros2 run ... -p` and
+/// roslaunch take it (a hullmap::ParameterSpelling).
+std::string nodeParameterSpelling(std::string_view field, std::string_view value);
 
 }  // namespace hullmap::live

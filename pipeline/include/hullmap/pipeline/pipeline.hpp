@@ -18,6 +18,8 @@
 #include "hullmap/clustering/obstacles.hpp"
 #include "hullmap/clustering/outlier_trim.hpp"
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/core/warning.hpp"
+#include "hullmap/pipeline/output_dir.hpp"
 #include "hullmap/mapper/align.hpp"
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/frame.hpp"
@@ -177,9 +179,10 @@ struct BuildReport {
   std::size_t keyframes_inside_hulls = 0;                   ///< keyframes inside some part's hull
   std::vector<std::pair<std::string, double>> timings_ms;   ///< stage -> wall time, ms, in order
   std::vector<std::pair<std::string, double>> peak_rss_mb;  ///< stage -> process peak RSS at its end, MB
-  /// One line each about what the outputs leave out or misstate (most voxels noise, no obstacle,
-  /// eps below the resolution, a tilted floor): report.json records them, `hullmap build` prints them.
-  std::vector<std::string> warnings;
+  /// What the outputs leave out or misstate (most voxels noise, no obstacle, eps below the
+  /// resolution, a tilted floor), as codes with numbers: report.json records them in the words of
+  /// WriteOptions::spelling, `hullmap build` prints them in its own.
+  std::vector<Warning> warnings;
 };
 
 /// The occupied voxels of a map clustered and wrapped: the one voxel -> DBSCAN -> obstacles step.
@@ -248,6 +251,9 @@ BuildResult buildFromPoints(io::Points points, std::optional<std::vector<io::Key
 /// How write() treats the output directory.
 struct WriteOptions {
   bool make_parents = false;  ///< create missing parents of the directory (as mkdir -p); else refuse
+  /// How report.json's warnings name parameters: the front end's names (the command line's
+  /// "--min-pts"); by default the library's ("min_pts").
+  ParameterSpelling spelling = fieldSpelling;
 };
 
 /// True when the build reads one finished octree (.bt/.ot) rather than points: frame, filters,
@@ -263,17 +269,16 @@ std::string outputFrame(const BuildResult& result);
 /// `.NAME.new<pid>` (locked while written) which then replaces `dir` in one atomic step (rename, or
 /// renameat2 RENAME_EXCHANGE when `dir` exists); a failed run leaves the previous `dir` as it was.
 /// Staging directories of killed runs are removed. `dir` may only be absent, empty or a previous
-/// output (checkOutputDir); write() puts the marker mapper::kOutputMarker in it. Throws
+/// output (checkOutputDir); write() puts the marker kOutputMarker in it. Throws
 /// hullmap::Error naming `dir`.
 void write(const BuildResult& result, const std::filesystem::path& dir, const WriteOptions& options = {});
 
-/// Throws hullmap::Error "<dir>: <why>" when write() may not replace `dir` whole
-/// (mapper::outputDirRefusal): only an absent directory (its parent existing, or
-/// options.make_parents), an empty one, or a previous hullmap output holding nothing else is
-/// replaced; never one holding an input or the trajectory of `params`, nor the working directory.
-/// write() checks it twice (before it writes and just before it swaps the directory in); call it
-/// before a long build so that it does not fail at its end.
-void checkOutputDir(const std::filesystem::path& dir, const BuildParams& params, const WriteOptions& options = {});
+/// What write() may replace (checkOutputDir of output_dir.hpp, which write() calls twice: before it
+/// writes and just before it swaps the directory in): never a directory holding an input or the
+/// trajectory of `params`; missing parents made with options.make_parents. Call
+/// `checkOutputDir(dir, outputPolicy(params, options))` before a long build, so that it does not fail
+/// at its end.
+OutputDirPolicy outputPolicy(const BuildParams& params, const WriteOptions& options = {});
 
 /// The obstacles of an obstacles.json written by write() (or writeObstaclesJson), each with its id.
 /// Throws hullmap::Error "<path>: <what>" on a missing file, another format or any malformed field.

@@ -11,9 +11,9 @@
 
 namespace hullmap::pipeline {
 
-/// The report.json document of a result (parameters, inputs, point account, octree, clusters,
-/// obstacles, timings, peak memory).
-nlohmann::json reportJson(const BuildResult& result);
+/// The report.json document of a result (parameters, warnings, inputs, point account, octree,
+/// clusters, obstacles, timings, peak memory); the warnings in words, parameters named by `spell`.
+nlohmann::json reportJson(const BuildResult& result, const ParameterSpelling& spell = fieldSpelling);
 
 /// The parameters object of report.json and obstacles.json.
 nlohmann::json parametersJson(const BuildParams& params);

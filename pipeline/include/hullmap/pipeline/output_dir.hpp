@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-namespace hullmap::mapper {
+namespace hullmap::pipeline {
 
 /// The marker file hullmap writes into every output directory it makes. Its first line is
 /// kOutputMarkerFormat, then the names of the files the run wrote, one a line. A directory holding
@@ -60,4 +60,4 @@ void checkOutputFile(const std::string& path);
 /// listing `files`, the names of the files the run wrote there. Throws hullmap::Error naming it.
 void writeOutputMarker(const std::string& dir, const std::vector<std::string>& files);
 
-}  // namespace hullmap::mapper
+}  // namespace hullmap::pipeline

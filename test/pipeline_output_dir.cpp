@@ -1,10 +1,10 @@
-// mapper::outputDirRefusal: which directories a run may replace whole, reason by reason.
+// pipeline::outputDirRefusal: which directories a run may replace whole, reason by reason.
 #include <filesystem>
 #include <fstream>
 
 #include <gtest/gtest.h>
 
-#include "hullmap/mapper/output_dir.hpp"
+#include "hullmap/pipeline/output_dir.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -13,9 +13,9 @@ using hullmap::test::writeText;
 
 // The library's answer, reason by reason (the CLI prints the message after "-o ").
 TEST(MapperOutputDir, RefusalReasons) {
-  using hullmap::mapper::OutputDirPolicy;
-  using hullmap::mapper::outputDirRefusal;
-  using Reason = hullmap::mapper::OutputDirRefusal::Reason;
+  using hullmap::pipeline::OutputDirPolicy;
+  using hullmap::pipeline::outputDirRefusal;
+  using Reason = hullmap::pipeline::OutputDirRefusal::Reason;
   const auto dir = freshDir("reasons");
   const auto reason = [](const fs::path& p, const OutputDirPolicy& policy = {}) {
     const auto r = outputDirRefusal(p.string(), policy);
@@ -36,12 +36,12 @@ TEST(MapperOutputDir, RefusalReasons) {
   writeText(dir / "empty" / "in.txt", "1 2 3\n");
   EXPECT_EQ(reason(dir / "empty", reads), static_cast<int>(Reason::kHoldsInput));
   EXPECT_EQ(reason(dir / "empty"), static_cast<int>(Reason::kForeign));
-  hullmap::mapper::writeOutputMarker((dir / "empty").string(), {"in.txt"});
+  hullmap::pipeline::writeOutputMarker((dir / "empty").string(), {"in.txt"});
   EXPECT_EQ(reason(dir / "empty"), -1) << "every entry listed by the marker";
   writeText(dir / "empty" / "other.txt", "y\n");
   EXPECT_EQ(reason(dir / "empty"), static_cast<int>(Reason::kForeignFiles));
   EXPECT_EQ(reason(""), static_cast<int>(Reason::kEmptyName));
   EXPECT_EQ(reason(fs::current_path()), static_cast<int>(Reason::kCurrentDirectory));
-  EXPECT_EQ(hullmap::test::errorOf([&] { hullmap::mapper::checkOutputDir((dir / "file").string()); }),
+  EXPECT_EQ(hullmap::test::errorOf([&] { hullmap::pipeline::checkOutputDir((dir / "file").string()); }),
             (dir / "file").string() + ": exists and is not a directory");
 }

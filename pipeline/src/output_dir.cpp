@@ -1,4 +1,4 @@
-#include "hullmap/mapper/output_dir.hpp"
+#include "hullmap/pipeline/output_dir.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -12,7 +12,7 @@
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
 
-namespace hullmap::mapper {
+namespace hullmap::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
@@ -172,4 +172,4 @@ void writeOutputMarker(const std::string& dir, const std::vector<std::string>& f
   });
 }
 
-}  // namespace hullmap::mapper
+}  // namespace hullmap::pipeline
