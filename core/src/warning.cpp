@@ -68,7 +68,8 @@ const char* warningName(Warning::Code code) {
 std::string warningText(const Warning& w, const ParameterSpelling& spell) {
   const auto name = [&](std::string_view field) { return spell(field, ""); };
   const std::string larger_eps = "a larger " + name("eps") + " or a smaller " + name("min_pts");
-  const std::string slanted = "heights, " + name("z_min") + "/" + name("z_max") + " and footprints are slanted by as much";
+  const std::string slanted =
+      "heights, " + name("z_min") + "/" + name("z_max") + " and footprints are slanted by as much";
   switch (w.code) {
     case Warning::Code::kEpsBelowResolution:
     case Warning::Code::kEpsBelowResolutionInColumns: {
@@ -92,14 +93,16 @@ std::string warningText(const Warning& w, const ParameterSpelling& spell) {
              ", or check paths with " + spell("against", "octree");
     }
     case Warning::Code::kKeptFloorTilted:
-      return printed("the floor found (%.0f%% of the points) is %.1f degrees from level, and the map was kept in "
-                     "its input frame: ",
-                     100.0 * w.number("inlier_share"), w.number("tilt_deg")) +
+      return printed(
+                 "the floor found (%.0f%% of the points) is %.1f degrees from level, and the map was kept in "
+                 "its input frame: ",
+                 100.0 * w.number("inlier_share"), w.number("tilt_deg")) +
              slanted + "; " + spell("level", "on") + " levels it";
     case Warning::Code::kMapLooksTilted:
-      return printed("the map's main floor-like plane (%.0f%% of the occupied voxels) is %.1f degrees from level "
-                     "after ",
-                     100.0 * w.number("inlier_share"), w.number("tilt_deg")) +
+      return printed(
+                 "the map's main floor-like plane (%.0f%% of the occupied voxels) is %.1f degrees from level "
+                 "after ",
+                 100.0 * w.number("inlier_share"), w.number("tilt_deg")) +
              spell("up", w.subject) +
              ": if it is the floor, the map is tilted (SLAM maps start in the first camera's frame), and " + slanted;
     case Warning::Code::kOrbSlamFrame:
@@ -116,9 +119,9 @@ std::string warningText(const Warning& w, const ParameterSpelling& spell) {
     }
     case Warning::Code::kCheckMostlyNoise: {
       const double noise = w.number("noise_voxels"), occupied = w.number("occupied_voxels");
-      return percent(noise, occupied) + " of the build's occupied voxels (" + count(noise) + " of " +
-             count(occupied) + ") are noise and in no hull, so this check does not see them; check with " +
-             spell("against", "octree") + ", or rebuild with " + larger_eps;
+      return percent(noise, occupied) + " of the build's occupied voxels (" + count(noise) + " of " + count(occupied) +
+             ") are noise and in no hull, so this check does not see them; check with " + spell("against", "octree") +
+             ", or rebuild with " + larger_eps;
     }
   }
   return warningName(w.code);
