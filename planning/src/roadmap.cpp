@@ -1,6 +1,8 @@
-// buildRoadmap: the Voronoi roadmap of the footprints (their exact union, CGAL's segment Delaunay
-// graph, the traced bisectors, the guards) and its canonical order. Just over 600 lines as one job;
-// its plane geometry is in polygon_2d, roadmap.json in roadmap_json.cpp.
+// buildRoadmap: the Voronoi roadmap of the footprints, in its steps: the band's footprints and the
+// bounds, their exact union (mergedFootprints), CGAL's segment Delaunay graph and its vertices
+// (voronoiVertices), the traced bisectors and their guard (guardedClearance), the canonical order.
+// Over 600 lines as one job that shares the CGAL types above; its plane geometry is in polygon_2d,
+// roadmap.json in roadmap_json.cpp.
 #include "hullmap/planning/roadmap.hpp"
 
 #include <algorithm>
@@ -230,27 +232,15 @@ void canonicalOrder(Roadmap& map) {
   });
 }
 
-}  // namespace
+using Ring = std::vector<Eigen::Vector2d>;
+using Rings = std::vector<Ring>;  ///< a footprint: its outer ring, then its holes
+using Band = std::vector<std::pair<const clustering::Footprint*, int>>;
 
-double siteDistance(const SiteRef& site, const Eigen::Vector2d& p) {
-  return site.is_point ? (p - site.a).norm() : segmentDistance(site.a, site.b, p);
-}
-
-Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const RoadmapParams& params,
-                     const std::vector<collision::HalfSpace>& surfaces) {
-  if (!(params.tolerance > 0) || !std::isfinite(params.tolerance))
-    throw Error::inParameter("tolerance", "must be > 0 and finite, got " + std::to_string(params.tolerance));
-  if (!(params.z0 <= params.z1)) throw Error::inParameter("z0/z1", "z0 must be <= z1");
-  if (!(params.min_clearance >= 0)) throw Error::inParameter("min_clearance", "must be >= 0");
-
-  Roadmap map;
-  map.min_clearance = params.min_clearance;
-  map.tolerance = params.tolerance;
-
-  // The sites: the footprints of the obstacles' convex parts (an obstacle without parts: its own
-  // footprint), each in the band on its own, tagged with its obstacle's id.
-  std::vector<std::pair<const clustering::Footprint*, int>> band;
-  auto addFootprint = [&](const clustering::Footprint& f, int id) {
+/// The footprints in the height band [params.z0, params.z1] with their obstacle's id: each convex
+/// part's, or the obstacle's own when it has no parts.
+Band bandFootprints(const std::vector<clustering::Obstacle>& obstacles, const RoadmapParams& params) {
+  Band band;
+  auto add = [&](const clustering::Footprint& f, int id) {
     if (f.z_max < params.z0 || f.z_min > params.z1) return;
     if (f.polygon.size() < 3)
       throw Error("obstacle " + std::to_string(id) + ": footprint has " + std::to_string(f.polygon.size()) +
@@ -258,45 +248,82 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     band.emplace_back(&f, id);
   };
   for (const auto& o : obstacles) {
-    if (o.parts.empty()) addFootprint(o.footprint, o.id);
-    for (const auto& part : o.parts) addFootprint(part.footprint, o.id);
+    if (o.parts.empty()) add(o.footprint, o.id);
+    for (const auto& part : o.parts) add(part.footprint, o.id);
   }
+  return band;
+}
 
-  if (params.bounds) {
-    map.bounds = *params.bounds;
-  } else {
-    if (!(params.margin > 0)) throw Error::inParameter("margin", "must be > 0");
-    double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
-    for (const auto& [footprint, id] : band)
-      for (const auto& p : footprint->polygon) {
-        x0 = std::min(x0, p.x());
-        y0 = std::min(y0, p.y());
-        x1 = std::max(x1, p.x());
-        y1 = std::max(y1, p.y());
+/// params.bounds, else the box of the band's footprints grown by params.margin (0 around the origin
+/// when the band is empty). Throws naming `margin` or `bounds`.
+Bounds2d roadmapBounds(const Band& band, const RoadmapParams& params) {
+  if (params.bounds) return *params.bounds;
+  if (!(params.margin > 0)) throw Error::inParameter("margin", "must be > 0");
+  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+  for (const auto& [footprint, id] : band)
+    for (const auto& p : footprint->polygon) {
+      x0 = std::min(x0, p.x());
+      y0 = std::min(y0, p.y());
+      x1 = std::max(x1, p.x());
+      y1 = std::max(y1, p.y());
+    }
+  if (band.empty()) x0 = y0 = x1 = y1 = 0.0;
+  return {x0 - params.margin, y0 - params.margin, x1 + params.margin, y1 + params.margin};
+}
+
+Eigen::AlignedBox<double, 2> boxOf(const Ring& poly) {
+  Eigen::AlignedBox<double, 2> b(poly.front(), poly.front());
+  for (const auto& p : poly) b.extend(p);
+  return b;
+}
+
+bool ringLess(const Ring& a, const Ring& b) {
+  return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end(), pointLess);
+}
+
+/// An exact ring of the union rounded to double once, in a canonical form: vertices exactly between
+/// their neighbours dropped (the same polygon: chains of collinear sites make degenerate SDG faces
+/// whose Voronoi vertex cannot be constructed in double), vertices within `hair` of the one before
+/// merged into it, starting at the lexicographically least vertex.
+Ring exactRingToDouble(const ExactPolygon& poly, double hair) {
+  std::vector<ExactKernel::Point_2> kept;
+  for (auto v = poly.vertices_begin(); v != poly.vertices_end(); ++v) kept.push_back(*v);
+  for (bool changed = true; changed && kept.size() > 3;) {
+    changed = false;
+    for (std::size_t i = 0; i < kept.size() && kept.size() > 3; ++i) {
+      const auto& prev = kept[(i + kept.size() - 1) % kept.size()];
+      const auto& next = kept[(i + 1) % kept.size()];
+      if (CGAL::collinear(prev, kept[i], next) && CGAL::collinear_are_ordered_along_line(prev, kept[i], next)) {
+        kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(i));
+        changed = true;
+        --i;
       }
-    if (band.empty()) x0 = y0 = x1 = y1 = 0.0;
-    map.bounds = {x0 - params.margin, y0 - params.margin, x1 + params.margin, y1 + params.margin};
+    }
   }
-  const Bounds2d& bb = map.bounds;
-  if (!(bb.x0 < bb.x1 && bb.y0 < bb.y1) || !std::isfinite(bb.x0 + bb.x1 + bb.y0 + bb.y1))
-    throw Error::inParameter("bounds", "need finite x0 < x1 and y0 < y1");
-  // The floor and ceiling bound the band: the roadmap lies above the one and below the other, and
-  // only obstacles in what is left of the band count.
-  std::tie(map.z0, map.z1) = bandBetweenSurfaces(params.z0, params.z1, surfaces, {bb.x0, bb.y0}, {bb.x1, bb.y1});
-  band.erase(
-      std::remove_if(band.begin(), band.end(),
-                     [&](const auto& entry) { return entry.first->z_max < map.z0 || entry.first->z_min > map.z1; }),
-      band.end());
+  Ring out;
+  for (auto v = kept.begin(); v != kept.end(); ++v) {
+    // Rounded from the exact value (the lazy approximation depends on what was evaluated before).
+    // Distinct exact vertices a hair apart (the union's intersection points) would leave a site
+    // shorter than a hair, around which the double-precision Voronoi vertices go astray (an edge
+    // was drawn straight through the footprint): such a vertex merges into the one before.
+    const Eigen::Vector2d p(CGAL::to_double(CGAL::exact(v->x())), CGAL::to_double(CGAL::exact(v->y())));
+    if (out.empty() || (p - out.back()).cwiseAbs().maxCoeff() > hair) out.push_back(p);
+  }
+  while (out.size() > 1 && (out.front() - out.back()).cwiseAbs().maxCoeff() <= hair) out.pop_back();
+  // Start at the least vertex: CGAL's output order varies from run to run, and the SDG's insertion
+  // order decides how degenerate (co-circular) faces are split.
+  std::rotate(out.begin(), std::min_element(out.begin(), out.end(), pointLess), out.end());
+  return out;
+}
 
-  const double scale = std::max({std::abs(bb.x0), std::abs(bb.x1), std::abs(bb.y0), std::abs(bb.y1), 1.0});
-
-  // Footprints clipped to the bounds (shrunk by a hair, so none touches them), then every group of
-  // footprints that meet (touch, overlap or come within a hair) replaced by the exact union of its
-  // members (a polygon with holes: a ring of wall parts keeps the room inside it free). The union is
-  // computed with exact constructions and rounded to double once; it leaves CGAL only sites that
-  // meet at shared ends.
-  const double hair = 1e-6 * scale;
-  std::vector<std::vector<Eigen::Vector2d>> clipped;
+/// The band's footprints clipped to the bounds (shrunk by a hair, so none touches them), then every
+/// group of footprints that meet (touch, overlap or come within a hair) replaced by the exact union
+/// of its members (a polygon with holes: a ring of wall parts keeps the room inside it free). The
+/// union is computed with exact constructions and rounded to double once; it leaves CGAL only sites
+/// that meet at shared ends. Fills map.footprints, holes and obstacle_groups; returns the same
+/// footprints as rings.
+std::vector<Rings> mergedFootprints(const Band& band, const Bounds2d& bb, double hair, Roadmap& map) {
+  std::vector<Ring> clipped;
   std::vector<int> clipped_id;
   for (const auto& [footprint, id] : band) {
     auto c = clipToBox(footprint->polygon, {bb.x0 + hair, bb.y0 + hair}, {bb.x1 - hair, bb.y1 - hair});
@@ -304,14 +331,8 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     clipped.push_back(std::move(c));
     clipped_id.push_back(id);
   }
-
-  auto box = [](const std::vector<Eigen::Vector2d>& poly) {
-    Eigen::AlignedBox<double, 2> b(poly.front(), poly.front());
-    for (const auto& p : poly) b.extend(p);
-    return b;
-  };
   std::vector<Eigen::AlignedBox<double, 2>> boxes;
-  for (const auto& poly : clipped) boxes.push_back(box(poly));
+  for (const auto& poly : clipped) boxes.push_back(boxOf(poly));
   UnionFind meeting(clipped.size());
   {
     std::vector<int> by_x(clipped.size());
@@ -327,48 +348,8 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   std::map<int, std::vector<int>> groups;  // root -> members, in input order
   for (std::size_t i = 0; i < clipped.size(); ++i)
     groups[meeting.find(static_cast<int>(i))].push_back(static_cast<int>(i));
-  auto toDouble = [hair](const ExactPolygon& poly) {
-    // Vertices exactly between their neighbours are dropped (the same polygon): chains of collinear
-    // sites make degenerate SDG faces whose Voronoi vertex cannot be constructed in double.
-    std::vector<ExactKernel::Point_2> kept;
-    for (auto v = poly.vertices_begin(); v != poly.vertices_end(); ++v) kept.push_back(*v);
-    for (bool changed = true; changed && kept.size() > 3;) {
-      changed = false;
-      for (std::size_t i = 0; i < kept.size() && kept.size() > 3; ++i) {
-        const auto& prev = kept[(i + kept.size() - 1) % kept.size()];
-        const auto& next = kept[(i + 1) % kept.size()];
-        if (CGAL::collinear(prev, kept[i], next) && CGAL::collinear_are_ordered_along_line(prev, kept[i], next)) {
-          kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(i));
-          changed = true;
-          --i;
-        }
-      }
-    }
-    std::vector<Eigen::Vector2d> out;
-    for (auto v = kept.begin(); v != kept.end(); ++v) {
-      // Rounded from the exact value (the lazy approximation depends on what was evaluated before).
-      // Distinct exact vertices a hair apart (the union's intersection points) would leave a site
-      // shorter than a hair, around which the double-precision Voronoi vertices go astray (an edge
-      // was drawn straight through the footprint): such a vertex merges into the one before.
-      const Eigen::Vector2d p(CGAL::to_double(CGAL::exact(v->x())), CGAL::to_double(CGAL::exact(v->y())));
-      if (out.empty() || (p - out.back()).cwiseAbs().maxCoeff() > hair) out.push_back(p);
-    }
-    while (out.size() > 1 && (out.front() - out.back()).cwiseAbs().maxCoeff() <= hair) out.pop_back();
-    // Start at the lexicographically least vertex: CGAL's output order varies from run to run, and
-    // the SDG's insertion order decides how degenerate (co-circular) faces are split.
-    const auto least = std::min_element(out.begin(), out.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-      return std::make_pair(a.x(), a.y()) < std::make_pair(b.x(), b.y());
-    });
-    std::rotate(out.begin(), least, out.end());
-    return out;
-  };
-  auto ringLess = [](const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b) {
-    return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end(),
-                                        [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
-                                          return std::make_pair(p.x(), p.y()) < std::make_pair(q.x(), q.y());
-                                        });
-  };
-  std::vector<std::vector<std::vector<Eigen::Vector2d>>> rings;  // per footprint: outer, then holes
+
+  std::vector<Rings> rings;
   for (const auto& [root, members] : groups) {
     std::vector<int> ids;
     for (int m : members) ids.push_back(clipped_id[m]);
@@ -393,11 +374,11 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     const std::size_t first = rings.size();
     for (const auto& piece : pieces) {
       if (piece.is_unbounded()) throw Error("roadmap: the union of footprints is unbounded");
-      auto outer = toDouble(piece.outer_boundary());
+      auto outer = exactRingToDouble(piece.outer_boundary(), hair);
       if (outer.size() < 3) continue;
-      std::vector<std::vector<Eigen::Vector2d>> holes;
+      std::vector<Ring> holes;
       for (auto h = piece.holes_begin(); h != piece.holes_end(); ++h) {
-        auto hole = toDouble(*h);
+        auto hole = exactRingToDouble(*h, hair);
         if (hole.size() >= 3) holes.push_back(std::move(hole));
       }
       std::sort(holes.begin(), holes.end(), ringLess);
@@ -411,7 +392,7 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
       map.holes.emplace_back(rings[i].begin() + 1, rings[i].end());
       map.obstacle_groups.push_back(ids);
     }
-    std::vector<std::vector<Eigen::Vector2d>> all;
+    std::vector<Ring> all;
     for (std::size_t i = first; i < rings.size(); ++i) all.insert(all.end(), rings[i].begin(), rings[i].end());
     if (selfIntersecting(all)) {
       // Rounding made the union's boundary cross itself: fall back to the convex hull of the group
@@ -429,43 +410,24 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
       rings.push_back({map.footprints.back()});
     }
   }
-  boxes.clear();
-  for (const auto& poly : map.footprints) boxes.push_back(box(poly));
+  return rings;
+}
 
-  const int bounds_owner = static_cast<int>(map.footprints.size());
-  Boundaries boundaries;
-  boundaries.eps = 1e-9 * scale;
-  boundaries.bounds = Eigen::AlignedBox<double, 2>(Eigen::Vector2d(bb.x0, bb.y0), Eigen::Vector2d(bb.x1, bb.y1));
-  Sdg sdg;
-  auto addSegment = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    const Kernel::Point_2 pa(a.x(), a.y()), pb(b.x(), b.y());
-    if (pa != pb) sdg.insert(pa, pb);
-  };
-  for (std::size_t i = 0; i < rings.size(); ++i) {
-    boundaries.boxes.push_back(boxes[i]);
-    for (const auto& poly : rings[i])
-      for (std::size_t k = 0; k < poly.size(); ++k) addSegment(poly[k], poly[(k + 1) % poly.size()]);
-  }
-  boundaries.polygons = rings;
-  const Eigen::Vector2d corners[4] = {{bb.x0, bb.y0}, {bb.x1, bb.y0}, {bb.x1, bb.y1}, {bb.x0, bb.y1}};
-  for (int k = 0; k < 4; ++k) addSegment(corners[k], corners[(k + 1) % 4]);
-  std::map<Sdg::Vertex_handle, std::vector<int>> owner_cache;
-  auto ownersOf = [&](Sdg::Vertex_handle v) -> const std::vector<int>& {
-    auto it = owner_cache.find(v);
-    if (it != owner_cache.end()) return it->second;
-    const Sdg::Site_2 s = v->site();
-    const Eigen::Vector2d p =
-        s.is_point() ? toEigen(s.point()) : 0.5 * (toEigen(s.segment().source()) + toEigen(s.segment().target()));
-    return owner_cache.emplace(v, boundaries.owners(p)).first->second;
-  };
-
-  // Voronoi vertices: one per finite face; faces whose vertices coincide (co-circular sites, common
-  // with boxes) are merged into one node so that the graph stays connected through them.
+/// The Voronoi vertices of an SDG: one per finite face (face_index), the faces whose vertices
+/// coincide merged (co-circular sites, common with boxes: the graph stays connected through them),
+/// every vertex snapped to a lattice of 2^-32 of `scale`.
+struct VoronoiVertices {
   std::map<Sdg::Face_handle, int> face_index;
-  std::vector<Eigen::Vector2d> vertex;
+  std::vector<Eigen::Vector2d> vertex;  ///< per face; not finite where no construction succeeded
+  UnionFind merged{0};                  ///< faces with one vertex
+};
+
+VoronoiVertices voronoiVertices(const Sdg& sdg, double scale) {
+  VoronoiVertices out;
+  auto& vertex = out.vertex;
   const auto construct = DoubleTraits().construct_svd_vertex_2_object();
   for (auto f = sdg.finite_faces_begin(); f != sdg.finite_faces_end(); ++f) {
-    face_index.emplace(f, static_cast<int>(vertex.size()));
+    out.face_index.emplace(f, static_cast<int>(vertex.size()));
     vertex.push_back(toEigen(construct(f->vertex(0)->site(), f->vertex(1)->site(), f->vertex(2)->site())));
   }
   // A face whose construction failed in double (two parallel segments and a point: the division
@@ -477,14 +439,14 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
                         : segmentDistance(toEigen(s.segment().source()), toEigen(s.segment().target()), x);
   };
   for (auto f = sdg.finite_faces_begin(); f != sdg.finite_faces_end(); ++f) {
-    Eigen::Vector2d& v = vertex[static_cast<std::size_t>(face_index.at(f))];
+    Eigen::Vector2d& v = vertex[static_cast<std::size_t>(out.face_index.at(f))];
     if (v.allFinite()) continue;
     Eigen::Vector2d x = Eigen::Vector2d::Zero();
     int from = 0;
     for (int k = 0; k < 3; ++k) {
       const auto g = f->neighbor(k);
       if (sdg.is_infinite(g)) continue;
-      const Eigen::Vector2d& w = vertex[static_cast<std::size_t>(face_index.at(g))];
+      const Eigen::Vector2d& w = vertex[static_cast<std::size_t>(out.face_index.at(g))];
       if (w.allFinite()) {
         x += w;
         ++from;
@@ -512,16 +474,15 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   }
   // Constructions are in double: one vertex computed from different faces differs by ~1e-8 m.
   const double same = 1e-6 * scale;
-  UnionFind merged(vertex.size());
+  out.merged = UnionFind(vertex.size());
   {
     std::vector<int> by_x(vertex.size());
     std::iota(by_x.begin(), by_x.end(), 0);
     std::sort(by_x.begin(), by_x.end(), [&](int i, int j) { return vertex[i].x() < vertex[j].x(); });
     for (std::size_t k = 0; k < by_x.size(); ++k)
       for (std::size_t l = k + 1; l < by_x.size() && vertex[by_x[l]].x() - vertex[by_x[k]].x() <= same; ++l)
-        if ((vertex[by_x[k]] - vertex[by_x[l]]).norm() <= same) merged.unite(by_x[k], by_x[l]);
+        if ((vertex[by_x[k]] - vertex[by_x[l]]).norm() <= same) out.merged.unite(by_x[k], by_x[l]);
   }
-
   // The SDG splits co-circular sites' faces in an order that follows heap addresses (it varied
   // from run to run), and the same Voronoi vertex constructed from other faces differs in its last
   // bits: snapped to a lattice of 2^-32 of the map's scale (about 1e-10 of it), the nodes are the
@@ -529,18 +490,113 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
   const double quantum = std::ldexp(scale, -32);
   for (Eigen::Vector2d& v : vertex)
     if (v.allFinite()) v = (v / quantum).array().round().matrix() * quantum;
+  return out;
+}
 
+/// A guard on the construction: an edge's polyline chords against every footprint boundary near it.
+/// Where a Voronoi vertex constructed in double went astray, the edge may pass closer to a third
+/// footprint than to its sites: the clearance then measured, else edge.clearance. (Chords of a
+/// parabola lie up to the tolerance nearer its focus, so only a shortfall beyond it counts.)
+double guardedClearance(const RoadmapEdge& edge, const std::vector<Rings>& rings,
+                        const std::vector<Eigen::AlignedBox<double, 2>>& boxes, const BoxGrid& grid, double tolerance) {
+  Eigen::AlignedBox<double, 2> reach(edge.polyline.front(), edge.polyline.front());
+  for (const auto& p : edge.polyline) reach.extend(p);
+  double measured = edge.clearance;
+  const auto near = [&](const Eigen::Vector2d& c, const Eigen::Vector2d& d) {
+    return Eigen::AlignedBox<double, 2>(c.cwiseMin(d), c.cwiseMax(d)).exteriorDistance(reach) < measured;
+  };
+  grid.forEachNear(reach, edge.clearance, [&](std::size_t i) {
+    if (boxes[i].exteriorDistance(reach) >= measured) return;
+    for (const auto& ring : rings[i])
+      for (std::size_t k = 0; k < ring.size(); ++k) {
+        const Eigen::Vector2d& c = ring[k];
+        const Eigen::Vector2d& d = ring[(k + 1) % ring.size()];
+        if (!near(c, d)) continue;
+        for (std::size_t q = 1; q < edge.polyline.size(); ++q)
+          measured = std::min(measured, segmentsDistance(edge.polyline[q - 1], edge.polyline[q], c, d));
+      }
+  });
+  return measured < edge.clearance - tolerance ? measured : edge.clearance;
+}
+
+}  // namespace
+
+double siteDistance(const SiteRef& site, const Eigen::Vector2d& p) {
+  return site.is_point ? (p - site.a).norm() : segmentDistance(site.a, site.b, p);
+}
+
+Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const RoadmapParams& params,
+                     const std::vector<collision::HalfSpace>& surfaces) {
+  if (!(params.tolerance > 0) || !std::isfinite(params.tolerance))
+    throw Error::inParameter("tolerance", "must be > 0 and finite, got " + std::to_string(params.tolerance));
+  if (!(params.z0 <= params.z1)) throw Error::inParameter("z0/z1", "z0 must be <= z1");
+  if (!(params.min_clearance >= 0)) throw Error::inParameter("min_clearance", "must be >= 0");
+
+  Roadmap map;
+  map.min_clearance = params.min_clearance;
+  map.tolerance = params.tolerance;
+
+  // The sites: the footprints of the obstacles' convex parts in the band, within the bounds.
+  Band band = bandFootprints(obstacles, params);
+  map.bounds = roadmapBounds(band, params);
+  const Bounds2d& bb = map.bounds;
+  if (!(bb.x0 < bb.x1 && bb.y0 < bb.y1) || !std::isfinite(bb.x0 + bb.x1 + bb.y0 + bb.y1))
+    throw Error::inParameter("bounds", "need finite x0 < x1 and y0 < y1");
+  // The floor and ceiling bound the band: the roadmap lies above the one and below the other, and
+  // only obstacles in what is left of the band count.
+  std::tie(map.z0, map.z1) = bandBetweenSurfaces(params.z0, params.z1, surfaces, {bb.x0, bb.y0}, {bb.x1, bb.y1});
+  band.erase(
+      std::remove_if(band.begin(), band.end(),
+                     [&](const auto& entry) { return entry.first->z_max < map.z0 || entry.first->z_min > map.z1; }),
+      band.end());
+  const double scale = std::max({std::abs(bb.x0), std::abs(bb.x1), std::abs(bb.y0), std::abs(bb.y1), 1.0});
+  const std::vector<Rings> rings = mergedFootprints(band, bb, 1e-6 * scale, map);
+  std::vector<Eigen::AlignedBox<double, 2>> boxes;
+  for (const auto& poly : map.footprints) boxes.push_back(boxOf(poly));
+
+  // The segment Delaunay graph of the footprints' and the bounds' edges.
+  const int bounds_owner = static_cast<int>(map.footprints.size());
+  Boundaries boundaries;
+  boundaries.eps = 1e-9 * scale;
+  boundaries.bounds = Eigen::AlignedBox<double, 2>(Eigen::Vector2d(bb.x0, bb.y0), Eigen::Vector2d(bb.x1, bb.y1));
+  Sdg sdg;
+  auto addSegment = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    const Kernel::Point_2 pa(a.x(), a.y()), pb(b.x(), b.y());
+    if (pa != pb) sdg.insert(pa, pb);
+  };
+  for (std::size_t i = 0; i < rings.size(); ++i) {
+    boundaries.boxes.push_back(boxes[i]);
+    for (const auto& poly : rings[i])
+      for (std::size_t k = 0; k < poly.size(); ++k) addSegment(poly[k], poly[(k + 1) % poly.size()]);
+  }
+  boundaries.polygons = rings;
+  const Eigen::Vector2d corners[4] = {{bb.x0, bb.y0}, {bb.x1, bb.y0}, {bb.x1, bb.y1}, {bb.x0, bb.y1}};
+  for (int k = 0; k < 4; ++k) addSegment(corners[k], corners[(k + 1) % 4]);
+  std::map<Sdg::Vertex_handle, std::vector<int>> owner_cache;
+  auto ownersOf = [&](Sdg::Vertex_handle v) -> const std::vector<int>& {
+    auto it = owner_cache.find(v);
+    if (it != owner_cache.end()) return it->second;
+    const Sdg::Site_2 s = v->site();
+    const Eigen::Vector2d p =
+        s.is_point() ? toEigen(s.point()) : 0.5 * (toEigen(s.segment().source()) + toEigen(s.segment().target()));
+    return owner_cache.emplace(v, boundaries.owners(p)).first->second;
+  };
+
+  VoronoiVertices voronoi = voronoiVertices(sdg, scale);
+  const double same = 1e-6 * scale;
   std::map<int, int> node_of_root;
   auto nodeOf = [&](int face) {
-    const int root = merged.find(face);
+    const int root = voronoi.merged.find(face);
     const auto [it, fresh] = node_of_root.emplace(root, static_cast<int>(map.nodes.size()));
-    if (fresh) map.nodes.push_back({vertex[root]});
+    if (fresh) map.nodes.push_back({voronoi.vertex[root]});
     return it->second;
   };
   auto inBounds = [&](const Eigen::Vector2d& p) {
     return p.x() >= bb.x0 - same && p.x() <= bb.x1 + same && p.y() >= bb.y0 - same && p.y() <= bb.y1 + same;
   };
 
+  // The edges: the Voronoi edges between two footprints (or one and the bounds) that keep the
+  // clearance and lie outside every footprint.
   const BoxGrid footprint_grid(
       boxes, Eigen::AlignedBox<double, 2>(Eigen::Vector2d(bb.x0, bb.y0), Eigen::Vector2d(bb.x1, bb.y1)));
   for (auto e = sdg.finite_edges_begin(); e != sdg.finite_edges_end(); ++e) {
@@ -555,10 +611,10 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     std::vector<int> common;
     std::set_intersection(oa.begin(), oa.end(), ob.begin(), ob.end(), std::back_inserter(common));
     if (!common.empty() || oa.empty() || ob.empty()) continue;  // same obstacle (or bounds twice)
-    const int fi = face_index.at(f), gi = face_index.at(g);
-    const Eigen::Vector2d a = vertex[merged.find(fi)], b = vertex[merged.find(gi)];
+    const int fi = voronoi.face_index.at(f), gi = voronoi.face_index.at(g);
+    const Eigen::Vector2d a = voronoi.vertex[voronoi.merged.find(fi)], b = voronoi.vertex[voronoi.merged.find(gi)];
     if (!a.allFinite() || !b.allFinite() || !inBounds(a) || !inBounds(b)) continue;
-    if (merged.find(fi) == merged.find(gi)) continue;  // zero length
+    if (voronoi.merged.find(fi) == voronoi.merged.find(gi)) continue;  // zero length
 
     RoadmapEdge edge;
     edge.site_a = siteRef(sa, oa, bounds_owner);
@@ -568,31 +624,8 @@ Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const R
     // they keep min_clearance too (the exact check counts touching as a collision).
     const double keep = params.min_clearance + params.tolerance;
     if (edge.clearance < keep) continue;
-    // A guard on the construction: the polyline's chords against every footprint's boundary near
-    // it. Where a Voronoi vertex constructed in double went astray, the edge may pass closer to a
-    // third footprint than to its sites; its clearance is then what was measured. (Chords of a
-    // parabola lie up to the tolerance nearer its focus, so only a shortfall beyond it counts.)
-    {
-      Eigen::AlignedBox<double, 2> reach(edge.polyline.front(), edge.polyline.front());
-      for (const auto& p : edge.polyline) reach.extend(p);
-      double measured = edge.clearance;
-      const auto near = [&](const Eigen::Vector2d& c, const Eigen::Vector2d& d) {
-        return Eigen::AlignedBox<double, 2>(c.cwiseMin(d), c.cwiseMax(d)).exteriorDistance(reach) < measured;
-      };
-      footprint_grid.forEachNear(reach, edge.clearance, [&](std::size_t i) {
-        if (boxes[i].exteriorDistance(reach) >= measured) return;
-        for (const auto& ring : rings[i])
-          for (std::size_t k = 0; k < ring.size(); ++k) {
-            const Eigen::Vector2d& c = ring[k];
-            const Eigen::Vector2d& d = ring[(k + 1) % ring.size()];
-            if (!near(c, d)) continue;
-            for (std::size_t q = 1; q < edge.polyline.size(); ++q)
-              measured = std::min(measured, segmentsDistance(edge.polyline[q - 1], edge.polyline[q], c, d));
-          }
-      });
-      if (measured < edge.clearance - params.tolerance) edge.clearance = measured;
-      if (edge.clearance < keep) continue;
-    }
+    edge.clearance = guardedClearance(edge, rings, boxes, footprint_grid, params.tolerance);
+    if (edge.clearance < keep) continue;
     const Eigen::Vector2d mid =
         edge.polyline[edge.polyline.size() / 2] * 0.5 + edge.polyline[(edge.polyline.size() - 1) / 2] * 0.5;
     bool inside = false;
