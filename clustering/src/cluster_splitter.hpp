@@ -50,6 +50,15 @@ struct Check {
 };
 
 /// One cluster on its lattice, and the work on it.
+/// a / b rounded down (b != 0).
+inline std::int64_t floorDiv(std::int64_t a, std::int64_t b) {
+  std::int64_t q = a / b;
+  if ((a % b != 0) && ((a < 0) != (b < 0))) --q;
+  return q;
+}
+/// a / b rounded up (b != 0).
+inline std::int64_t ceilDiv(std::int64_t a, std::int64_t b) { return -floorDiv(-a, b); }
+
 class ClusterSplitter {
  public:
   /// `t_cells`: T; `g_cells`: G >= T, the distance allowed in a flat part (G = T: no relaxation).
@@ -191,13 +200,6 @@ class ClusterSplitter {
   /// the width along a facet normal bounds the hull's least width from above). A facet's width is
   /// its plane's value minus the least value of n . x over the cells' cubes (exact integers).
   bool flat(const FacetHull& hull, const std::vector<LatticePoint>& cells) const;
-
-  static std::int64_t floorDiv(std::int64_t a, std::int64_t b) {
-    std::int64_t q = a / b;
-    if ((a % b != 0) && ((a < 0) != (b < 0))) --q;
-    return q;
-  }
-  static std::int64_t ceilDiv(std::int64_t a, std::int64_t b) { return -floorDiv(-a, b); }
 
   /// Two non-empty halves of a part that failed its check.
   struct Halves {

@@ -18,6 +18,48 @@
 #include "distance_transform.hpp"
 
 namespace hullmap::clustering::detail {
+namespace {
+
+/// Per column (i, j) of the box [lo, hi], x fastest: the k range of the cells whose cube meets the
+/// hull, from every facet plane with the cube's lowest value of n . x (exact integers); k1 < k0 when
+/// none does.
+std::vector<std::pair<std::int64_t, std::int64_t>> hullColumns(const FacetHull& hull, const LatticePoint& lo,
+                                                               const LatticePoint& hi) {
+  const std::int64_t nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1;
+  std::vector<std::pair<std::int64_t, std::int64_t>> columns(std::size_t(nx * ny));
+  for (std::int64_t j = lo[1]; j <= hi[1]; ++j) {
+    for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
+      std::int64_t k0 = lo[2], k1 = hi[2];
+      for (const auto& p : hull.planes) {
+        const std::int64_t rest = p.d - (p.n[0] * i + std::min<std::int64_t>(p.n[0], 0) + p.n[1] * j +
+                                         std::min<std::int64_t>(p.n[1], 0) + std::min<std::int64_t>(p.n[2], 0));
+        if (p.n[2] > 0) {
+          k1 = std::min(k1, floorDiv(rest, p.n[2]));
+        } else if (p.n[2] < 0) {
+          k0 = std::max(k0, ceilDiv(rest, p.n[2]));
+        } else if (rest < 0) {
+          k1 = k0 - 1;
+        }
+        if (k1 < k0) break;
+      }
+      columns[std::size_t((j - lo[1]) * nx + (i - lo[0]))] = {k0, k1};
+    }
+  }
+  return columns;
+}
+
+/// True when `x` lies in one of `cells`' closed unit cubes (within 1e-9 of a face counts).
+bool inOneOfTheCells(const Eigen::Vector3d& x, const std::vector<LatticePoint>& cells) {
+  for (int m = 0; m < 8; ++m) {
+    const std::int64_t i = std::int64_t(std::floor(x.x() + (m & 1 ? 1e-9 : -1e-9)));
+    const std::int64_t j = std::int64_t(std::floor(x.y() + (m & 2 ? 1e-9 : -1e-9)));
+    const std::int64_t k = std::int64_t(std::floor(x.z() + (m & 4 ? 1e-9 : -1e-9)));
+    if (std::find(cells.begin(), cells.end(), LatticePoint{i, j, k}) != cells.end()) return true;
+  }
+  return false;
+}
+
+}  // namespace
 
 ClusterSplitter::ClusterSplitter(std::vector<LatticePoint> cells, double t_cells, double g_cells,
                                  std::size_t max_check_cells, std::vector<Eigen::Vector3d> keyframes,
@@ -124,27 +166,8 @@ Check ClusterSplitter::checkPart(const Members& part, bool need_split_point, con
   } else {
     transform();
   }
-  // Cells whose cube meets the hull: per column, the k range allowed by every facet plane, with
-  // the cube's lowest value of n . x (exact integers).
-  std::vector<std::pair<std::int64_t, std::int64_t>> columns(std::size_t(nx * ny));
-  for (std::int64_t j = lo[1]; j <= hi[1]; ++j) {
-    for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
-      std::int64_t k0 = lo[2], k1 = hi[2];
-      for (const auto& p : check.hull.planes) {
-        const std::int64_t rest = p.d - (p.n[0] * i + std::min<std::int64_t>(p.n[0], 0) + p.n[1] * j +
-                                         std::min<std::int64_t>(p.n[1], 0) + std::min<std::int64_t>(p.n[2], 0));
-        if (p.n[2] > 0) {
-          k1 = std::min(k1, floorDiv(rest, p.n[2]));
-        } else if (p.n[2] < 0) {
-          k0 = std::max(k0, ceilDiv(rest, p.n[2]));
-        } else if (rest < 0) {
-          k1 = k0 - 1;
-        }
-        if (k1 < k0) break;
-      }
-      columns[std::size_t((j - lo[1]) * nx + (i - lo[0]))] = {k0, k1};
-    }
-  }
+  // Cells whose cube meets the hull.
+  const std::vector<std::pair<std::int64_t, std::int64_t>> columns = hullColumns(check.hull, lo, hi);
   constexpr std::int64_t kBeyond = std::numeric_limits<std::int64_t>::max();
   std::int64_t worst = -1;
   LatticePoint worst_cell{0, 0, 0};
@@ -196,14 +219,7 @@ Check ClusterSplitter::checkPart(const Members& part, bool need_split_point, con
   for (const auto& x : keyframes_) {
     if (!inside(check.hull, x)) continue;
     // In one of the part's voxels (closed cubes): nothing can keep it out of the hull.
-    bool in_voxel = false;
-    for (int m = 0; m < 8 && !in_voxel; ++m) {
-      const std::int64_t i = std::int64_t(std::floor(x.x() + (m & 1 ? 1e-9 : -1e-9)));
-      const std::int64_t j = std::int64_t(std::floor(x.y() + (m & 2 ? 1e-9 : -1e-9)));
-      const std::int64_t k = std::int64_t(std::floor(x.z() + (m & 4 ? 1e-9 : -1e-9)));
-      in_voxel = std::find(cells.begin(), cells.end(), LatticePoint{i, j, k}) != cells.end();
-    }
-    if (in_voxel) {
+    if (inOneOfTheCells(x, cells)) {
       ++check.keyframes_in_voxels;
       continue;
     }
