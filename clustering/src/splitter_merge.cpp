@@ -21,6 +21,35 @@
 #include "distance_transform.hpp"
 
 namespace hullmap::clustering::detail {
+namespace {
+
+/// Which merge node owns each cell of a box [lo, hi] (x fastest); no cells when the box holds more
+/// than the limit given to allocate.
+struct OwnerGrid {
+  static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  LatticePoint lo{0, 0, 0}, hi{0, 0, 0};
+  std::vector<std::uint32_t> cells;
+
+  void allocate(std::size_t max_cells) {
+    const double n = double(hi[0] - lo[0] + 1) * double(hi[1] - lo[1] + 1) * double(hi[2] - lo[2] + 1);
+    if (n <= double(max_cells)) cells.assign(std::size_t(n), kNone);
+  }
+  std::size_t index(const LatticePoint& c) const {
+    return std::size_t(((c[2] - lo[2]) * (hi[1] - lo[1] + 1) + (c[1] - lo[1])) * (hi[0] - lo[0] + 1) + (c[0] - lo[0]));
+  }
+  /// The owner of cell `c`; kNone outside the box.
+  std::uint32_t at(const LatticePoint& c) const {
+    for (std::size_t k = 0; k < 3; ++k)
+      if (c[k] < lo[k] || c[k] > hi[k]) return kNone;
+    return cells[index(c)];
+  }
+  void own(const std::vector<std::uint32_t>& members, const std::vector<LatticePoint>& all, std::uint32_t node) {
+    if (cells.empty()) return;
+    for (const auto i : members) cells[index(all[i])] = node;
+  }
+};
+
+}  // namespace
 
 bool ClusterSplitter::handOver(std::vector<std::pair<Members, Check>>& parts, std::size_t f, std::size_t q,
                                const Members& in, Members out) const {
@@ -147,33 +176,14 @@ std::vector<std::pair<Members, Check>> ClusterSplitter::merge(std::vector<std::p
   };
   // Which node owns each cell, on a grid over the cluster's box (none when the box is too big;
   // then no pair is ruled out early).
-  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-  LatticePoint grid_lo{0, 0, 0}, grid_hi{0, 0, 0};
-  std::vector<std::uint32_t> owner;
+  OwnerGrid owner;
   {
     Members all(cells_.size());
     std::iota(all.begin(), all.end(), 0u);
-    box(all, grid_lo, grid_hi);
-    const double grid_cells =
-        double(grid_hi[0] - grid_lo[0] + 1) * double(grid_hi[1] - grid_lo[1] + 1) * double(grid_hi[2] - grid_lo[2] + 1);
-    if (grid_cells <= double(max_check_cells_)) owner.assign(std::size_t(grid_cells), kNone);
+    box(all, owner.lo, owner.hi);
+    owner.allocate(max_check_cells_);
   }
-  const auto ownerAt = [&](const LatticePoint& c) -> std::uint32_t {
-    for (std::size_t k = 0; k < 3; ++k)
-      if (c[k] < grid_lo[k] || c[k] > grid_hi[k]) return kNone;
-    return owner[std::size_t(((c[2] - grid_lo[2]) * (grid_hi[1] - grid_lo[1] + 1) + (c[1] - grid_lo[1])) *
-                                 (grid_hi[0] - grid_lo[0] + 1) +
-                             (c[0] - grid_lo[0]))];
-  };
-  const auto own = [&](std::size_t node) {
-    if (owner.empty()) return;
-    for (const auto i : nodes[node].members) {
-      const LatticePoint& c = cells_[i];
-      owner[std::size_t(((c[2] - grid_lo[2]) * (grid_hi[1] - grid_lo[1] + 1) + (c[1] - grid_lo[1])) *
-                            (grid_hi[0] - grid_lo[0] + 1) +
-                        (c[0] - grid_lo[0]))] = std::uint32_t(node);
-    }
-  };
+  const auto own = [&](std::size_t node) { owner.own(nodes[node].members, cells_, std::uint32_t(node)); };
   for (std::size_t node = 0; node < nodes.size(); ++node) own(node);
   // A pair whose union surely fails its check: the midpoint of the centres of a cell of each lies
   // in the union's hull, so the cell holding it is one the check scans; when no site of the union
@@ -181,7 +191,7 @@ std::vector<std::pair<Members, Check>> ClusterSplitter::merge(std::vector<std::p
   // is within max(T, G) of it, the check fails. Such a pair would be popped and rejected, so leaving it
   // out of the queue changes nothing but the time.
   const auto surelyFails = [&](std::size_t a, std::size_t b) {
-    if (owner.empty()) return false;
+    if (owner.cells.empty()) return false;
     const Members& ma = nodes[a].members;
     const Members& mb = nodes[b].members;
     for (const std::size_t pa : {std::size_t(0), ma.size() / 2, ma.size() - 1})
@@ -191,7 +201,7 @@ std::vector<std::pair<Members, Check>> ClusterSplitter::merge(std::vector<std::p
         const LatticePoint m{floorDiv(p[0] + q[0] + 1, 2), floorDiv(p[1] + q[1] + 1, 2), floorDiv(p[2] + q[2] + 1, 2)};
         const bool covered = std::any_of(ball_.begin(), ball_.end(), [&](const auto& offset) {
           const LatticePoint x{m[0] + offset.first[0], m[1] + offset.first[1], m[2] + offset.first[2]};
-          const std::uint32_t o = ownerAt(x);
+          const std::uint32_t o = owner.at(x);
           return o == a || o == b || isEnclosed(x);
         });
         if (!covered) return true;
