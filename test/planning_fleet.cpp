@@ -113,6 +113,15 @@ TEST(Fleet, HeadOnSwapInACorridorWaitsOrDetoursAndNamesTheUnroutable) {
   EXPECT_NE(crowded.reasons[0].find("drone 2"), std::string::npos);
   expectSafeFleet(scene, tasks, crowded, params);
 
+  // The floor is an obstacle: a drone that starts under it is named with the floor, as plan names it.
+  const std::vector<collision::HalfSpace> floor{{"floor", Vector3d::UnitZ(), 0.0}};
+  const planning::PathPlanner on_floor(obstacles, planning::buildRoadmap(obstacles, rp, floor), floor);
+  const auto under = planning::planFleet(on_floor, {{Vector3d(-4, 0, -1), Vector3d(4, 0, 1)}}, params);
+  ASSERT_EQ(under.unrouted, std::vector<std::size_t>{0});
+  EXPECT_NE(under.reasons[0].find("start (-4, 0, -1) is inside the floor or within the radius of it"),
+            std::string::npos)
+      << under.reasons[0];
+
   params.speed = 0;
   EXPECT_EQ(test::refusedParameter([&] { planning::planFleet(planner, tasks, params); }), "speed");
   EXPECT_EQ(test::refusedParameter([] { planning::positionAt({}, 0.0); }), "path");

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <queue>
 #include <sstream>
+#include <string>
 #include <unordered_map>
 
 #include "hullmap/core/constants.hpp"
@@ -60,6 +62,105 @@ struct Link {
   int to;
   std::size_t steps;
 };
+
+/// Steps from each vertex to the goal (index kGoal = graph size + 1) ignoring the other drones: a
+/// reverse Dijkstra from the goal's links over the roadmap links that keep `floor` clearance (links
+/// are symmetric), then the start (kGoal - 1) from its own links. kInf where the goal is out of reach.
+template <typename StepsFor>
+std::vector<double> stepsToGoal(const PathPlanner::Graph& graph, const std::vector<Link>& start_links,
+                                const std::unordered_map<int, std::size_t>& goal_links, double floor,
+                                const StepsFor& stepsFor) {
+  const int vertices = static_cast<int>(graph.position.size());
+  const int kStart = vertices, kGoal = vertices + 1;
+  std::vector<double> h(vertices + 2, kInf);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+  h[kGoal] = 0;
+  for (const auto& [v, k] : goal_links) {
+    h[v] = std::min(h[v], static_cast<double>(k));
+    open.emplace(h[v], v);
+  }
+  while (!open.empty()) {
+    const auto [d, v] = open.top();
+    open.pop();
+    if (d > h[v]) continue;
+    for (const auto& l : graph.links[v])
+      if (l.clearance >= floor && d + stepsFor(l.length) < h[l.to]) {
+        h[l.to] = d + static_cast<double>(stepsFor(l.length));
+        open.emplace(h[l.to], l.to);
+      }
+  }
+  for (const auto& l : start_links) h[kStart] = std::min(h[kStart], l.steps + h[l.to]);
+  return h;
+}
+
+/// The positions step by step along `chain` ((vertex, arrival step) from the start), moving at a
+/// constant velocity between consecutive vertices.
+template <typename Position>
+std::vector<Eigen::Vector3d> perStepPositions(const std::vector<std::pair<int, std::size_t>>& chain,
+                                              const Position& position) {
+  std::vector<Eigen::Vector3d> steps{position(chain.front().first)};
+  for (std::size_t c = 1; c < chain.size(); ++c) {
+    const Eigen::Vector3d a = position(chain[c - 1].first), b = position(chain[c].first);
+    const std::size_t k = chain[c].second - chain[c - 1].second;
+    for (std::size_t s = 1; s <= k; ++s) steps.push_back(a + (b - a) * (static_cast<double>(s) / k));
+  }
+  return steps;
+}
+
+/// The timed path of per-step positions: the points that constant-velocity motion passes anyway
+/// (the middle of three collinear, equally spaced steps) left out.
+TimedPath timedPath(const std::vector<Eigen::Vector3d>& steps, double time_step) {
+  TimedPath path;
+  for (std::size_t s = 0; s < steps.size(); ++s) {
+    const bool keep = s == 0 || s + 1 == steps.size() || (steps[s - 1] + steps[s + 1] - 2 * steps[s]).norm() > 1e-9;
+    if (keep) path.push_back({static_cast<double>(s) * time_step, steps[s]});
+  }
+  return path;
+}
+
+/// Why `task` cannot start or end where it asks (its start or goal inside an obstacle, the floor or
+/// the ceiling, or within the radius of one), or nullopt.
+std::optional<std::string> blockedEnd(const PathPlanner& planner, const FleetTask& task, double radius) {
+  for (const auto* end : {&task.start, &task.goal}) {
+    const auto c = planner.checker().check({*end, *end}, radius);
+    if (c.collides)
+      return (end == &task.start ? "start " : "goal ") + detail::pointText(*end) + " is inside " + hitName(c) +
+             " or within the radius of it";
+  }
+  return std::nullopt;
+}
+
+/// The (vertex, arrival step) chain from the start to the state `last` through `parent` (state keys
+/// t * states + v; the start is its own parent).
+std::vector<std::pair<int, std::size_t>> chainTo(std::uint64_t last,
+                                                 const std::unordered_map<std::uint64_t, std::uint64_t>& parent,
+                                                 std::uint64_t states) {
+  std::vector<std::pair<int, std::size_t>> chain;
+  for (std::uint64_t k = last;; k = parent.at(k)) {
+    chain.emplace_back(static_cast<int>(k % states), static_cast<std::size_t>(k / states));
+    if (parent.at(k) == k) break;
+  }
+  std::reverse(chain.begin(), chain.end());
+  return chain;
+}
+
+/// The distinct consecutive points of `steps`, at least two (a drone that stays: its point twice):
+/// the path the exact hull check takes.
+std::vector<Eigen::Vector3d> visitedPoints(const std::vector<Eigen::Vector3d>& steps) {
+  std::vector<Eigen::Vector3d> visited{steps.front()};
+  for (const auto& p : steps)
+    if ((p - visited.back()).norm() > 0) visited.push_back(p);
+  if (visited.size() == 1) visited.push_back(visited.front());
+  return visited;
+}
+
+std::string noScheduleReason(std::size_t horizon, double time_step) {
+  std::ostringstream why;
+  why << "no conflict-free schedule within " << horizon << " steps of " << time_step
+      << " s (higher-priority drones block the way)";
+  return why.str();
+}
 
 }  // namespace
 
@@ -121,15 +222,10 @@ FleetResult planFleet(const PathPlanner& planner, const std::vector<FleetTask>& 
       result.reasons.push_back("drone " + std::to_string(i) + ": " + why);
       reserved.steps.push_back({task.start});
     };
-    for (const auto* end : {&task.start, &task.goal}) {
-      const auto c = planner.checker().check({*end, *end}, params.radius);
-      if (c.collides) {
-        unrouted((end == &task.start ? "start " : "goal ") + detail::pointText(*end) + " is inside obstacle " +
-                 std::to_string(c.obstacle) + " or within the radius of it");
-        break;
-      }
+    if (const auto why = blockedEnd(planner, task, params.radius)) {
+      unrouted(*why);
+      continue;
     }
-    if (result.paths.size() > i) continue;
 
     // This drone's graph: the roadmap lifted to its height, plus its start and goal.
     auto position = [&](int v) -> Eigen::Vector3d {
@@ -155,28 +251,8 @@ FleetResult planFleet(const PathPlanner& planner, const std::vector<FleetTask>& 
       return out;
     };
 
-    // Heuristic: steps to the goal ignoring the other drones (reverse Dijkstra; links symmetric).
-    std::vector<double> h(vertices + 2, kInf);
-    {
-      using Item = std::pair<double, int>;
-      std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
-      h[kGoal] = 0;
-      for (const auto& [v, k] : goal_links) {
-        h[v] = std::min(h[v], static_cast<double>(k));
-        open.emplace(h[v], v);
-      }
-      while (!open.empty()) {
-        const auto [d, v] = open.top();
-        open.pop();
-        if (d > h[v]) continue;
-        for (const auto& l : graph.links[v])
-          if (l.clearance >= floor && d + stepsFor(l.length) < h[l.to]) {
-            h[l.to] = d + static_cast<double>(stepsFor(l.length));
-            open.emplace(h[l.to], l.to);
-          }
-      }
-      for (const auto& l : start_links) h[kStart] = std::min(h[kStart], l.steps + h[l.to]);
-    }
+    // Heuristic: steps to the goal ignoring the other drones.
+    const std::vector<double> h = stepsToGoal(graph, start_links, goal_links, floor, stepsFor);
     if (h[kStart] == kInf) {
       unrouted(start_links.empty() ? "start " + detail::pointText(task.start) + " sees no roadmap point with clearance"
                                    : "no passage of the radius's clearance from start to goal on the roadmap");
@@ -216,39 +292,18 @@ FleetResult planFleet(const PathPlanner& planner, const std::vector<FleetTask>& 
       for (const auto& l : links(v)) push(l.to, l.steps);
     }
     if (!reached) {
-      std::ostringstream why;
-      why << "no conflict-free schedule within " << horizon << " steps of " << result.time_step
-          << " s (higher-priority drones block the way)";
-      unrouted(why.str());
+      unrouted(noScheduleReason(horizon, result.time_step));
       continue;
     }
 
     // Back to per-step positions, then drop the points that constant-velocity motion passes anyway.
-    std::vector<std::pair<int, std::size_t>> chain;
-    for (std::uint64_t k = key(reached->first, reached->second);; k = parent.at(k)) {
-      chain.emplace_back(static_cast<int>(k % (vertices + 2)), static_cast<std::size_t>(k / (vertices + 2)));
-      if (parent.at(k) == k) break;
-    }
-    std::reverse(chain.begin(), chain.end());
-    std::vector<Eigen::Vector3d> steps{position(chain.front().first)};
-    for (std::size_t c = 1; c < chain.size(); ++c) {
-      const Eigen::Vector3d a = position(chain[c - 1].first), b = position(chain[c].first);
-      const std::size_t k = chain[c].second - chain[c - 1].second;
-      for (std::size_t s = 1; s <= k; ++s) steps.push_back(a + (b - a) * (static_cast<double>(s) / k));
-    }
-    std::vector<Eigen::Vector3d> visited{steps.front()};
-    for (const auto& p : steps)
-      if ((p - visited.back()).norm() > 0) visited.push_back(p);
-    if (visited.size() == 1) visited.push_back(visited.front());
-    if (planner.checker().checkPath(visited, params.radius).first_colliding_segment) {
+    const auto chain = chainTo(key(reached->first, reached->second), parent, static_cast<std::uint64_t>(vertices + 2));
+    std::vector<Eigen::Vector3d> steps = perStepPositions(chain, position);
+    if (planner.checker().checkPath(visitedPoints(steps), params.radius).first_colliding_segment) {
       unrouted("the roadmap path fails the exact hull check (roadmap built for another band?)");
       continue;
     }
-    TimedPath path;
-    for (std::size_t s = 0; s < steps.size(); ++s) {
-      const bool keep = s == 0 || s + 1 == steps.size() || (steps[s - 1] + steps[s + 1] - 2 * steps[s]).norm() > 1e-9;
-      if (keep) path.push_back({static_cast<double>(s) * result.time_step, steps[s]});
-    }
+    TimedPath path = timedPath(steps, result.time_step);
     reserved.steps.push_back(std::move(steps));
     routed.push_back(path);
     result.paths.emplace_back(std::move(path));
