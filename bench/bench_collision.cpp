@@ -157,6 +157,46 @@ struct TemporaryDirectory {
   }
 };
 
+/// How the checkers' answers agree: hits per checker, hits one has and the other not, the same
+/// answers on one thread and two, and the clustered voxels' octree against the hulls.
+struct Agreement {
+  std::size_t hull_hits = 0, same_threads = 0;
+  std::size_t hull_hits_m = 0, octree_hits = 0, octree_only = 0, hull_only = 0, clustered_hits = 0,
+              clustered_missed = 0, clustered_later = 0, octree_same_threads = 0, fcl_disagree = 0;
+};
+
+Agreement agreement(const std::vector<SegmentCheck>& hull_results, const std::vector<SegmentCheck>& hull_results_1t,
+                    const std::vector<SegmentCheck>& octree_results, const std::vector<SegmentCheck>& octree_results_1t,
+                    const std::vector<SegmentCheck>& clustered_results, const std::vector<char>& fcl_hits,
+                    const std::vector<Segment>& octree_segments) {
+  Agreement a;
+  for (std::size_t i = 0; i < hull_results.size(); ++i) {
+    const SegmentCheck& x = hull_results[i];
+    const SegmentCheck& y = hull_results_1t[i];
+    a.hull_hits += x.collides;
+    a.same_threads += x.collides == y.collides && x.obstacle == y.obstacle && x.t == y.t && x.clearance == y.clearance;
+  }
+  for (std::size_t i = 0; i < octree_segments.size(); ++i) {
+    const SegmentCheck& h = hull_results[i];
+    const SegmentCheck& o = octree_results[i];
+    const SegmentCheck& c = clustered_results[i];
+    a.hull_hits_m += h.collides;
+    a.octree_hits += o.collides;
+    a.octree_only += o.collides && !h.collides;
+    a.hull_only += h.collides && !o.collides;
+    a.octree_same_threads += o.collides == octree_results_1t[i].collides && o.t == octree_results_1t[i].t;
+    if (i < fcl_hits.size()) a.fcl_disagree += bool(fcl_hits[i]) != o.collides;
+    if (c.collides) {
+      ++a.clustered_hits;
+      const Segment& s = octree_segments[i];
+      const double tolerance = std::max(1e-3, 1e-3 / (s.b - s.a).norm());
+      a.clustered_missed += !h.collides;
+      a.clustered_later += h.collides && h.t > c.t + tolerance;
+    }
+  }
+  return a;
+}
+
 void run(const BuiltScene& scene, double radius, std::size_t n, std::size_t m, std::size_t f, int repeats) {
   const auto& obstacles = scene.build.obstacles;
   const octomap::OcTree& tree = scene.build.map.tree();
@@ -217,34 +257,8 @@ void run(const BuiltScene& scene, double radius, std::size_t n, std::size_t m, s
   const Timing fcl_2t = timed([&] { two.execute(collideOnly); }, 3);
   const Timing fcl_1t = timed([&] { one.execute(collideOnly); }, 3);
 
-  std::size_t hull_hits = 0, same_threads = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const SegmentCheck& x = hull_results[i];
-    const SegmentCheck& y = hull_results_1t[i];
-    hull_hits += x.collides;
-    same_threads += x.collides == y.collides && x.obstacle == y.obstacle && x.t == y.t && x.clearance == y.clearance;
-  }
-  std::size_t hull_hits_m = 0, octree_hits = 0, octree_only = 0, hull_only = 0, clustered_hits = 0,
-              clustered_missed = 0, clustered_later = 0, octree_same_threads = 0, fcl_disagree = 0;
-  for (std::size_t i = 0; i < octree_segments.size(); ++i) {
-    const SegmentCheck& h = hull_results[i];
-    const SegmentCheck& o = octree_results[i];
-    const SegmentCheck& c = clustered_results[i];
-    hull_hits_m += h.collides;
-    octree_hits += o.collides;
-    octree_only += o.collides && !h.collides;
-    hull_only += h.collides && !o.collides;
-    octree_same_threads += o.collides == octree_results_1t[i].collides && o.t == octree_results_1t[i].t;
-    if (i < fcl_hits.size()) fcl_disagree += bool(fcl_hits[i]) != o.collides;
-    if (c.collides) {
-      ++clustered_hits;
-      const Segment& s = octree_segments[i];
-      const double tolerance = std::max(1e-3, 1e-3 / (s.b - s.a).norm());
-      clustered_missed += !h.collides;
-      clustered_later += h.collides && h.t > c.t + tolerance;
-    }
-  }
-
+  const Agreement agree = agreement(hull_results, hull_results_1t, octree_results, octree_results_1t, clustered_results,
+                                    fcl_hits, octree_segments);
   const double nd = double(n), md = double(octree_segments.size()), fd = double(fcl_segments.size());
   nlohmann::ordered_json row;
   row["scene"] = scene.name;
@@ -269,17 +283,17 @@ void run(const BuiltScene& scene, double radius, std::size_t n, std::size_t m, s
   timing("fcl_collide_1t", fcl_1t, fd);
   row["speedup_2t"] = (nd / hull_2t.wall) / (md / octree_2t.wall);
   row["speedup_1t"] = (nd / hull_1t.wall) / (md / octree_1t.wall);
-  row["hull_hits"] = hull_hits;
-  row["hull_hit_fraction"] = double(hull_hits) / nd;
-  row["hull_hits_on_octree_segments"] = hull_hits_m;
-  row["octree_hits"] = octree_hits;
-  row["octree_only"] = octree_only;
-  row["hull_only"] = hull_only;
-  row["clustered_hits"] = clustered_hits;
-  row["clustered_missed"] = clustered_missed;
-  row["clustered_later"] = clustered_later;
-  row["fcl_collide_disagree"] = fcl_disagree;
-  row["threads_agree"] = same_threads == n && octree_same_threads == octree_segments.size();
+  row["hull_hits"] = agree.hull_hits;
+  row["hull_hit_fraction"] = double(agree.hull_hits) / nd;
+  row["hull_hits_on_octree_segments"] = agree.hull_hits_m;
+  row["octree_hits"] = agree.octree_hits;
+  row["octree_only"] = agree.octree_only;
+  row["hull_only"] = agree.hull_only;
+  row["clustered_hits"] = agree.clustered_hits;
+  row["clustered_missed"] = agree.clustered_missed;
+  row["clustered_later"] = agree.clustered_later;
+  row["fcl_collide_disagree"] = agree.fcl_disagree;
+  row["threads_agree"] = agree.same_threads == n && agree.octree_same_threads == octree_segments.size();
   row["load_average"] = loadAverage();
   std::printf("%s\n", row.dump().c_str());
   std::fflush(stdout);

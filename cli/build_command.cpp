@@ -284,157 +284,189 @@ void printClustering(const pipeline::BuildResult& result) {
   std::cout << "\n";
 }
 
+// The inputs, the output directory, and the input frame: keyframes, sensor origin, up, scale, crop.
+void addInputOptions(CLI::App& cmd, BuildOptions& options) {
+  cmd.add_option("inputs", options.inputs,
+                 "Map-point files (ORB-SLAM echo dump, text/CSV, XYZ, PCD, PLY) unioned, or one .bt/.ot, or one "
+                 "ROS 1 or ROS 2 bag with --topic")
+      ->required()
+      ->check(inputFileOrBag());
+  cmd.add_option("-o,--output", options.output_dir,
+                 "Output directory: new, empty, or a previous hullmap output (replaced whole on success); "
+                 "any other directory is refused")
+      ->capture_default_str();
+  cmd.add_flag("-p,--parents", options.make_parents, "Create missing parent directories of -o (as mkdir -p)");
+  cmd.add_option("--trajectory", options.trajectory, "TUM keyframe trajectory: ray-cast free space from the keyframes")
+      ->check(CLI::ExistingFile);
+  cmd.add_option("--origin", options.origin,
+                 "x,y,z (input frame): insert the points as one scan from this sensor origin");
+  cmd.add_option("--up", options.up, "Input axis that points up: x, -x, y, -y, z, -z (ORB-SLAM: -y)")
+      ->capture_default_str();
+  cmd.add_option("--scale", options.scale, "Scale applied to input coordinates (monocular maps)")
+      ->check(numberAbove(0))
+      ->capture_default_str();
+  cmd.add_option("--crop", options.crop,
+                 "x0,y0,z0,x1,y1,z1: keep points inside this box (output frame: after --up/--scale or --align and "
+                 "levelling; the input frame when none moved the map)");
+  cmd.add_option("--z-min", options.z_min, "Keep points with z >= this (output frame, as --crop)")
+      ->check(finiteNumber());
+  cmd.add_option("--z-max", options.z_max, "Keep points with z <= this (output frame, as --crop)")
+      ->check(finiteNumber());
+}
+
+// The octree: its resolution, ray length and sensor model.
+void addOctreeOptions(CLI::App& cmd, BuildOptions& options) {
+  auto& octree = options.params.octree;
+  cmd.add_option("--resolution", octree.resolution, "Octree leaf size, map units")
+      ->check(numberAbove(0))
+      ->capture_default_str();
+  cmd.add_option("--max-range", octree.max_range, "Bound on ray length for free space (< 0: none)")
+      ->check(finiteNumber())
+      ->capture_default_str();
+  cmd.add_option("--hit", octree.sensor.hit, "Sensor model: P(hit)")->check(numberIn(0.5, 1.0))->capture_default_str();
+  cmd.add_option("--miss", octree.sensor.miss, "Sensor model: P(miss)")
+      ->check(numberIn(0.0, 0.5))
+      ->capture_default_str();
+  cmd.add_option("--clamp-min", octree.sensor.clamp_min, "Lower clamping probability")
+      ->check(numberIn(0.0, 1.0))
+      ->capture_default_str();
+  cmd.add_option("--clamp-max", octree.sensor.clamp_max, "Upper clamping probability")
+      ->check(numberIn(0.0, 1.0))
+      ->capture_default_str();
+  cmd.add_option("--occupancy-threshold", octree.sensor.occupancy_threshold, "Occupied when probability > this")
+      ->check(numberIn(0.0, 1.0))
+      ->capture_default_str();
+}
+
+// --align: a metric reference trajectory and how to read and match it.
+void addAlignOptions(CLI::App& cmd, BuildOptions& options) {
+  cmd.add_option(
+         "--align", options.align,
+         "Metric reference trajectory of the keyframes (needs --trajectory): outputs in its frame, metres, z up")
+      ->check(CLI::ExistingFile);
+  cmd.add_option("--align-format", options.align_format, "Format of --align: tum (t x y z [q]) or gps (t lat lon alt)")
+      ->check(CLI::IsMember({"tum", "gps"}))
+      ->capture_default_str();
+  cmd.add_option("--align-tolerance", options.align_tolerance,
+                 "Seconds within which a keyframe matches a reference stamp")
+      ->check(numberAbove(0, true))
+      ->capture_default_str();
+}
+
+// Floor, levelling and ceiling.
+void addSurfaceOptions(CLI::App& cmd, BuildOptions& options) {
+  cmd.add_option("--floor", options.floor,
+                 "auto: find the floor, none, or its height Z; floor voxels are not clustered, and the floor is an "
+                 "obstacle for check and plan")
+      ->check(wordOr({"auto", "none"}, finiteNumber()))
+      ->capture_default_str();
+  cmd.add_option("--level", options.level,
+                 "auto: level a found floor (rotate it level, move it to z = 0) only for a camera's frame (ORB-SLAM "
+                 "maps, --up other than z); on: always; off: never (the map stays in its input frame)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
+  cmd.add_option("--ceiling", options.ceiling, "auto, none, or its height Z: ceiling voxels are not clustered")
+      ->check(wordOr({"auto", "none"}, finiteNumber()))
+      ->capture_default_str();
+}
+
+// DBSCAN, its automatic parameters and extension, and the convex parts.
+void addClusterOptions(CLI::App& cmd, BuildOptions& options) {
+  cmd.add_option("--eps", options.eps, "DBSCAN radius, map units (>= --resolution), or auto: chosen from the map")
+      ->check(wordOr({"auto"}, numberAbove(0)))
+      ->capture_default_str();
+  cmd.add_option("--min-pts", options.min_pts,
+                 "DBSCAN core threshold, counted in map points (voxels weigh the points in them), or auto")
+      ->check(wordOr({"auto"}, wholeNumberFrom(1)))
+      ->capture_default_str();
+  cmd.add_option("--concavity", options.concavity,
+                 "Split clusters into convex parts no farther than T (map units) from their voxels; "
+                 "default: 3 voxels; none: one hull per cluster")
+      ->check(wordOr({"default", "none"}, numberAbove(0)))
+      ->capture_default_str();
+  cmd.add_option("--flat-gap", options.flat_gap,
+                 "Convex parts at most T thick (walls, table tops) may span gaps up to G (map units) instead "
+                 "of T; auto: the eps used, raised on sparse clusters to the holes their sampling leaves by chance "
+                 "(at most 2 eps); 0: off")
+      ->check(wordOr({"auto"}, numberAbove(0, true)))
+      ->capture_default_str();
+  cmd.add_option("--extension", options.extension,
+                 "After DBSCAN, noise voxels dense at a lower level (min-pts x 0.3, at least 2) join the cluster "
+                 "a chain of them reaches within 1.5 eps (sparse legs and edges); auto: on when --min-pts is auto")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
+  cmd.add_option("--metric", options.metric, "DBSCAN distance: xyz or xy (top view)")
+      ->check(CLI::IsMember({"xyz", "xy"}))
+      ->capture_default_str();
+}
+
+// map.ot, and bag inputs (--topic, --trajectory-topic).
+void addBagOptions(CLI::App& cmd, BuildOptions& options) {
+  cmd.add_flag("--ot", options.params.write_ot, "Also write map.ot (full probabilities)");
+  cmd.add_option("--topic", options.topic,
+                 "The input is a ROS 1 bag (.bag) or a ROS 2 bag (its directory, .db3 or .mcap; read through the "
+                 "ROS 2 package hullmap_ros2): build its last map on this topic (visualization_msgs/Marker as "
+                 "/ORB_SLAM/Map, or sensor_msgs/PointCloud2), as hullmap_node would");
+  cmd.add_option("--trajectory-topic", options.trajectory_topic,
+                 "With --topic: keyframe poses from the bag (geometry_msgs/PoseStamped, one keyframe a message; or "
+                 "nav_msgs/Path, the last message holding them all): ray-cast free space from them as --trajectory");
+}
+
+// The build a parsed command line asks for: read, build, write, print what was done.
+void runBuild(BuildOptions& options, const CLI::App& cmd) {
+  options.inputs = inputPaths(options.inputs);
+  for (const auto& input : options.inputs) {
+    if (!options.topic && input.size() > 4 && input.compare(input.size() - 4, 4, ".bag") == 0)
+      throw Error(input + ": a ROS1 bag: give --topic, the map topic to read (as /ORB_SLAM/Map)");
+    if (!options.topic && live::isRos2Bag(input))
+      throw Error(input + ": a ROS 2 bag: give --topic, the map topic to read (as /ORB_SLAM/Map)");
+  }
+  refuseMisfits(cmd, options);
+  const pipeline::BuildParams params = toParams(options);
+  const pipeline::WriteOptions write_options{options.make_parents, optionSpelling};
+  checkOutput(options, params);
+  if (options.trajectory_topic && !options.topic) throw Error("--trajectory-topic: needs --topic (a bag input)");
+  pipeline::BuildResult result = options.topic ? buildFromBag(options, params) : pipeline::build(params);
+  std::vector<io::InputStats> named = result.report.inputs;
+  if (options.trajectory) {
+    named.emplace_back();
+    named.back().path = *options.trajectory;  // KeyFrameTrajectory.txt names an ORB-SLAM run too
+    named.back().format = "tum";
+  }
+  auto& warnings = result.report.warnings;
+  if (auto hint = mapper::orbSlamUpHint(named, cmd.count("--up") > 0 || options.align.has_value()))
+    warnings.insert(warnings.begin(), *hint);
+  for (const auto& warning : warnings)
+    std::cerr << "hullmap: warning: " << warningText(warning, optionSpelling) << "\n";
+  naming([&] { pipeline::write(result, options.output_dir, write_options); });
+  const auto& a = result.report.points;
+  std::cout << "points: " << a.read << " read, " << a.used << " used";
+  for (const auto& [reason, count] : a.dropped) std::cout << ", " << count << " dropped (" << reason << ")";
+  std::cout << "\n";
+  printStages(result);
+  std::cout << "octree: " << result.voxels.size() << " occupied voxels at " << result.map.resolution()
+            << "\nclusters: " << result.clusters.cluster_sizes.size() << ", noise voxels: " << result.clusters.noise
+            << "\n";
+  printClustering(result);
+  std::cout << "wrote " << options.output_dir << "/{map.bt" << (options.params.write_ot ? ",map.ot" : "")
+            << ",voxels.csv,obstacles.json,obstacles.obj,report.json"
+            << (result.keyframes.empty() ? "" : ",trajectory.txt") << "}\n";
+}
+
 }  // namespace
 
 void addBuildCommand(CLI::App& app, int& status) {
   auto options = std::make_shared<BuildOptions>();
   auto* cmd = app.add_subcommand(
       "build", "Read SLAM dumps (or a .bt), build the octree, cluster it, wrap obstacles; write OUT/");
-  cmd->add_option("inputs", options->inputs,
-                  "Map-point files (ORB-SLAM echo dump, text/CSV, XYZ, PCD, PLY) unioned, or one .bt/.ot, or one "
-                  "ROS 1 or ROS 2 bag with --topic")
-      ->required()
-      ->check(inputFileOrBag());
-  cmd->add_option("-o,--output", options->output_dir,
-                  "Output directory: new, empty, or a previous hullmap output (replaced whole on success); "
-                  "any other directory is refused")
-      ->capture_default_str();
-  cmd->add_flag("-p,--parents", options->make_parents, "Create missing parent directories of -o (as mkdir -p)");
-  cmd->add_option("--trajectory", options->trajectory,
-                  "TUM keyframe trajectory: ray-cast free space from the keyframes")
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--origin", options->origin,
-                  "x,y,z (input frame): insert the points as one scan from this sensor origin");
-  cmd->add_option("--up", options->up, "Input axis that points up: x, -x, y, -y, z, -z (ORB-SLAM: -y)")
-      ->capture_default_str();
-  cmd->add_option("--scale", options->scale, "Scale applied to input coordinates (monocular maps)")
-      ->check(numberAbove(0))
-      ->capture_default_str();
-  cmd->add_option("--crop", options->crop,
-                  "x0,y0,z0,x1,y1,z1: keep points inside this box (output frame: after --up/--scale or --align and "
-                  "levelling; the input frame when none moved the map)");
-  cmd->add_option("--z-min", options->z_min, "Keep points with z >= this (output frame, as --crop)")
-      ->check(finiteNumber());
-  cmd->add_option("--z-max", options->z_max, "Keep points with z <= this (output frame, as --crop)")
-      ->check(finiteNumber());
-  auto& octree = options->params.octree;
-  cmd->add_option("--resolution", octree.resolution, "Octree leaf size, map units")
-      ->check(numberAbove(0))
-      ->capture_default_str();
-  cmd->add_option("--max-range", octree.max_range, "Bound on ray length for free space (< 0: none)")
-      ->check(finiteNumber())
-      ->capture_default_str();
-  cmd->add_option("--hit", octree.sensor.hit, "Sensor model: P(hit)")->check(numberIn(0.5, 1.0))->capture_default_str();
-  cmd->add_option("--miss", octree.sensor.miss, "Sensor model: P(miss)")
-      ->check(numberIn(0.0, 0.5))
-      ->capture_default_str();
-  cmd->add_option("--clamp-min", octree.sensor.clamp_min, "Lower clamping probability")
-      ->check(numberIn(0.0, 1.0))
-      ->capture_default_str();
-  cmd->add_option("--clamp-max", octree.sensor.clamp_max, "Upper clamping probability")
-      ->check(numberIn(0.0, 1.0))
-      ->capture_default_str();
-  cmd->add_option("--occupancy-threshold", octree.sensor.occupancy_threshold, "Occupied when probability > this")
-      ->check(numberIn(0.0, 1.0))
-      ->capture_default_str();
-  cmd->add_option(
-         "--align", options->align,
-         "Metric reference trajectory of the keyframes (needs --trajectory): outputs in its frame, metres, z up")
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--align-format", options->align_format,
-                  "Format of --align: tum (t x y z [q]) or gps (t lat lon alt)")
-      ->check(CLI::IsMember({"tum", "gps"}))
-      ->capture_default_str();
-  cmd->add_option("--align-tolerance", options->align_tolerance,
-                  "Seconds within which a keyframe matches a reference stamp")
-      ->check(numberAbove(0, true))
-      ->capture_default_str();
-  cmd->add_option("--floor", options->floor,
-                  "auto: find the floor, none, or its height Z; floor voxels are not clustered, and the floor is an "
-                  "obstacle for check and plan")
-      ->check(wordOr({"auto", "none"}, finiteNumber()))
-      ->capture_default_str();
-  cmd->add_option("--level", options->level,
-                  "auto: level a found floor (rotate it level, move it to z = 0) only for a camera's frame (ORB-SLAM "
-                  "maps, --up other than z); on: always; off: never (the map stays in its input frame)")
-      ->check(CLI::IsMember({"auto", "on", "off"}))
-      ->capture_default_str();
-  cmd->add_option("--ceiling", options->ceiling, "auto, none, or its height Z: ceiling voxels are not clustered")
-      ->check(wordOr({"auto", "none"}, finiteNumber()))
-      ->capture_default_str();
-  cmd->add_option("--eps", options->eps, "DBSCAN radius, map units (>= --resolution), or auto: chosen from the map")
-      ->check(wordOr({"auto"}, numberAbove(0)))
-      ->capture_default_str();
-  cmd->add_option("--min-pts", options->min_pts,
-                  "DBSCAN core threshold, counted in map points (voxels weigh the points in them), or auto")
-      ->check(wordOr({"auto"}, wholeNumberFrom(1)))
-      ->capture_default_str();
-  cmd->add_option("--concavity", options->concavity,
-                  "Split clusters into convex parts no farther than T (map units) from their voxels; "
-                  "default: 3 voxels; none: one hull per cluster")
-      ->check(wordOr({"default", "none"}, numberAbove(0)))
-      ->capture_default_str();
-  cmd->add_option("--flat-gap", options->flat_gap,
-                  "Convex parts at most T thick (walls, table tops) may span gaps up to G (map units) instead "
-                  "of T; auto: the eps used, raised on sparse clusters to the holes their sampling leaves by chance "
-                  "(at most 2 eps); 0: off")
-      ->check(wordOr({"auto"}, numberAbove(0, true)))
-      ->capture_default_str();
-  cmd->add_option("--extension", options->extension,
-                  "After DBSCAN, noise voxels dense at a lower level (min-pts x 0.3, at least 2) join the cluster "
-                  "a chain of them reaches within 1.5 eps (sparse legs and edges); auto: on when --min-pts is auto")
-      ->check(CLI::IsMember({"auto", "on", "off"}))
-      ->capture_default_str();
-  cmd->add_option("--metric", options->metric, "DBSCAN distance: xyz or xy (top view)")
-      ->check(CLI::IsMember({"xyz", "xy"}))
-      ->capture_default_str();
-  cmd->add_flag("--ot", options->params.write_ot, "Also write map.ot (full probabilities)");
-  cmd->add_option("--topic", options->topic,
-                  "The input is a ROS 1 bag (.bag) or a ROS 2 bag (its directory, .db3 or .mcap; read through the "
-                  "ROS 2 package hullmap_ros2): build its last map on this topic (visualization_msgs/Marker as "
-                  "/ORB_SLAM/Map, or sensor_msgs/PointCloud2), as hullmap_node would");
-  cmd->add_option("--trajectory-topic", options->trajectory_topic,
-                  "With --topic: keyframe poses from the bag (geometry_msgs/PoseStamped, one keyframe a message; or "
-                  "nav_msgs/Path, the last message holding them all): ray-cast free space from them as --trajectory");
-
+  addInputOptions(*cmd, *options);
+  addOctreeOptions(*cmd, *options);
+  addAlignOptions(*cmd, *options);
+  addSurfaceOptions(*cmd, *options);
+  addClusterOptions(*cmd, *options);
+  addBagOptions(*cmd, *options);
   cmd->callback([options, cmd, &status] {
-    options->inputs = inputPaths(options->inputs);
-    for (const auto& input : options->inputs) {
-      if (!options->topic && input.size() > 4 && input.compare(input.size() - 4, 4, ".bag") == 0)
-        throw Error(input + ": a ROS1 bag: give --topic, the map topic to read (as /ORB_SLAM/Map)");
-      if (!options->topic && live::isRos2Bag(input))
-        throw Error(input + ": a ROS 2 bag: give --topic, the map topic to read (as /ORB_SLAM/Map)");
-    }
-    refuseMisfits(*cmd, *options);
-    const pipeline::BuildParams params = toParams(*options);
-    const pipeline::WriteOptions write_options{options->make_parents, optionSpelling};
-    checkOutput(*options, params);
-    if (options->trajectory_topic && !options->topic) throw Error("--trajectory-topic: needs --topic (a bag input)");
-    pipeline::BuildResult result = options->topic ? buildFromBag(*options, params) : pipeline::build(params);
-    std::vector<io::InputStats> named = result.report.inputs;
-    if (options->trajectory) {
-      named.emplace_back();
-      named.back().path = *options->trajectory;  // KeyFrameTrajectory.txt names an ORB-SLAM run too
-      named.back().format = "tum";
-    }
-    auto& warnings = result.report.warnings;
-    if (auto hint = mapper::orbSlamUpHint(named, cmd->count("--up") > 0 || options->align.has_value()))
-      warnings.insert(warnings.begin(), *hint);
-    for (const auto& warning : warnings)
-      std::cerr << "hullmap: warning: " << warningText(warning, optionSpelling) << "\n";
-    naming([&] { pipeline::write(result, options->output_dir, write_options); });
-    const auto& a = result.report.points;
-    std::cout << "points: " << a.read << " read, " << a.used << " used";
-    for (const auto& [reason, count] : a.dropped) std::cout << ", " << count << " dropped (" << reason << ")";
-    std::cout << "\n";
-    printStages(result);
-    std::cout << "octree: " << result.voxels.size() << " occupied voxels at " << result.map.resolution()
-              << "\nclusters: " << result.clusters.cluster_sizes.size() << ", noise voxels: " << result.clusters.noise
-              << "\n";
-    printClustering(result);
-    std::cout << "wrote " << options->output_dir << "/{map.bt" << (options->params.write_ot ? ",map.ot" : "")
-              << ",voxels.csv,obstacles.json,obstacles.obj,report.json"
-              << (result.keyframes.empty() ? "" : ",trajectory.txt") << "}\n";
+    runBuild(*options, *cmd);
     status = 0;
   });
 }

@@ -63,10 +63,8 @@ std::string number(double v) {
   return std::string(text, core::writeShortest(text, v));
 }
 
-}  // namespace
-
-ClusterExtension extendClusters(const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& weights,
-                                DbscanResult& result, const ClusterExtensionParams& params) {
+void checkExtensionInput(const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& weights,
+                         const DbscanResult& result, const ClusterExtensionParams& params) {
   if (!(std::isfinite(params.eps) && params.eps > 0.0)) throw Error::inParameter("eps", "must be finite and > 0");
   if (params.min_pts < 1) throw Error::inParameter("min_pts", "must be >= 1, got " + std::to_string(params.min_pts));
   if (!(std::isfinite(params.reach) && params.reach >= params.eps))
@@ -89,52 +87,77 @@ ClusterExtension extendClusters(const std::vector<Eigen::Vector3d>& points, cons
                                              std::to_string(result.labels[i]) + ", not kNoise or a cluster below " +
                                              std::to_string(clusters));
   }
-  ClusterExtension out;
-  if (n == 0 || clusters == 0) return out;
+}
 
-  const bool xy = params.metric == Metric::kXy;
-  auto squaredDistance = [&](std::size_t a, std::size_t b) {
-    const double dx = points[a].x() - points[b].x();
-    const double dy = points[a].y() - points[b].y();
-    if (xy) return dx * dx + dy * dy;
-    const double dz = points[a].z() - points[b].z();
-    return dx * dx + dy * dy + dz * dz;
-  };
-  // Cells of side slightly above reach (>= eps): every point within reach of p lies in the 27 (9
-  // under kXy) cells around p's, rounding included. Cells beyond +-2^50 are clamped there: a clamped
-  // cell only holds points as far out as its own, and the distances stay exact.
-  const double side = params.reach * (1.0 + 1e-9);
-  constexpr double kClamp = 1125899906842624.0;  // 2^50
-  auto cellOf = [&](std::size_t i) {
-    auto c = [&](double v) { return static_cast<std::int64_t>(std::clamp(std::floor(v / side), -kClamp, kClamp)); };
-    return Cell{c(points[i].x()), c(points[i].y()), xy ? 0 : c(points[i].z())};
-  };
-  // The grid: cell -> its range in `members` (points by cell, in input order within a cell).
-  CellTable cell_index(n);
-  std::vector<std::uint32_t> point_cell(n), cell_begin;
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto [index, added] = cell_index.insert(cellOf(i), static_cast<std::uint32_t>(cell_begin.size()));
-    if (added) cell_begin.push_back(0);
-    point_cell[i] = index;
-    ++cell_begin[index];
+/// The points by cell, cells of side slightly above reach (>= eps): every point within reach of p
+/// lies in the 27 (9 under kXy) cells around p's, rounding included. Cells beyond +-2^50 are clamped
+/// there: a clamped cell only holds points as far out as its own, and the distances stay exact.
+class ReachGrid {
+ public:
+  ReachGrid(const std::vector<Eigen::Vector3d>& points, double reach, bool xy)
+      : points_(points), side_(reach * (1.0 + 1e-9)), xy_(xy), cell_index_(points.size()) {
+    // The grid: cell -> its range in `members_` (points by cell, in input order within a cell).
+    const std::size_t n = points.size();
+    std::vector<std::uint32_t> point_cell(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto [index, added] = cell_index_.insert(cellOf(i), static_cast<std::uint32_t>(cell_begin_.size()));
+      if (added) cell_begin_.push_back(0);
+      point_cell[i] = index;
+      ++cell_begin_[index];
+    }
+    std::uint32_t total = 0;
+    for (auto& b : cell_begin_) total += std::exchange(b, total);
+    cell_begin_.push_back(total);
+    members_.resize(n);
+    std::vector<std::uint32_t> fill(cell_begin_.begin(), cell_begin_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) members_[fill[point_cell[i]]++] = static_cast<std::uint32_t>(i);
   }
-  std::uint32_t total = 0;
-  for (auto& b : cell_begin) total += std::exchange(b, total);
-  cell_begin.push_back(total);
-  std::vector<std::uint32_t> members(n), fill(cell_begin.begin(), cell_begin.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) members[fill[point_cell[i]]++] = static_cast<std::uint32_t>(i);
-  // Calls f(q, squared distance) for the points q in the cells around p until f returns false.
-  auto forEachNear = [&](std::size_t p, auto&& f) {
+
+  /// Calls f(q, squared distance) for the points q in the cells around p until f returns false.
+  template <class F>
+  void forEachNear(std::size_t p, F&& f) const {
     const Cell c = cellOf(p);
     for (std::int64_t dx = -1; dx <= 1; ++dx)
       for (std::int64_t dy = -1; dy <= 1; ++dy)
-        for (std::int64_t dz = xy ? 0 : -1; dz <= (xy ? 0 : 1); ++dz) {
-          const std::uint32_t cell = cell_index.find(Cell{c.x + dx, c.y + dy, c.z + dz});
+        for (std::int64_t dz = xy_ ? 0 : -1; dz <= (xy_ ? 0 : 1); ++dz) {
+          const std::uint32_t cell = cell_index_.find(Cell{c.x + dx, c.y + dy, c.z + dz});
           if (cell == CellTable::kEmpty) continue;
-          for (std::uint32_t k = cell_begin[cell], end = cell_begin[cell + 1]; k < end; ++k)
-            if (!f(members[k], squaredDistance(p, members[k]))) return;
+          for (std::uint32_t k = cell_begin_[cell], end = cell_begin_[cell + 1]; k < end; ++k)
+            if (!f(members_[k], squaredDistance(p, members_[k]))) return;
         }
-  };
+  }
+
+ private:
+  double squaredDistance(std::size_t a, std::size_t b) const {
+    const double dx = points_[a].x() - points_[b].x();
+    const double dy = points_[a].y() - points_[b].y();
+    if (xy_) return dx * dx + dy * dy;
+    const double dz = points_[a].z() - points_[b].z();
+    return dx * dx + dy * dy + dz * dz;
+  }
+  Cell cellOf(std::size_t i) const {
+    constexpr double kClamp = 1125899906842624.0;  // 2^50
+    auto c = [&](double v) { return static_cast<std::int64_t>(std::clamp(std::floor(v / side_), -kClamp, kClamp)); };
+    return Cell{c(points_[i].x()), c(points_[i].y()), xy_ ? 0 : c(points_[i].z())};
+  }
+
+  const std::vector<Eigen::Vector3d>& points_;
+  double side_;
+  bool xy_;
+  CellTable cell_index_;
+  std::vector<std::uint32_t> cell_begin_, members_;
+};
+
+}  // namespace
+
+ClusterExtension extendClusters(const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& weights,
+                                DbscanResult& result, const ClusterExtensionParams& params) {
+  checkExtensionInput(points, weights, result, params);
+  const std::size_t n = points.size();
+  ClusterExtension out;
+  if (n == 0 || result.cluster_sizes.empty()) return out;
+  const ReachGrid grid(points, params.reach, params.metric == Metric::kXy);
+  const auto forEachNear = [&grid](std::size_t p, auto&& f) { grid.forEachNear(p, f); };
 
   const double eps2 = params.eps * params.eps;
   const double reach2 = params.reach * params.reach;

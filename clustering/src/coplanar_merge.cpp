@@ -53,6 +53,41 @@ double pointSetThickness(const std::vector<Eigen::Vector3d>& points, const std::
   return extentAlong(points, indices, principalAxes(points, indices).col(0));
 }
 
+namespace {
+
+// Each cluster joins the end of its chain of targets (targets are larger, so chains end), counted
+// in `merge`; then the clusters are renumbered by first point.
+void applyMerges(const std::vector<std::size_t>& target, const std::vector<std::vector<std::size_t>>& members,
+                 DbscanResult& result, CoplanarMerge& merge) {
+  const std::size_t k = target.size();
+  std::vector<std::size_t> root(k);
+  for (std::size_t c = 0; c < k; ++c) {
+    std::size_t r = c;
+    while (target[r] != r) r = target[r];
+    root[c] = r;
+    if (r != c) {
+      ++merge.merged;
+      merge.points += members[c].size();
+    }
+  }
+  if (merge.merged == 0) return;
+  // Renumber by first point.
+  std::vector<std::int32_t> number(k, -1);
+  std::int32_t next = 0;
+  for (std::size_t i = 0; i < result.labels.size(); ++i) {
+    const std::int32_t l = result.labels[i];
+    if (l < 0) continue;
+    const std::size_t r = root[std::size_t(l)];
+    if (number[r] < 0) number[r] = next++;
+    result.labels[i] = number[r];
+  }
+  result.cluster_sizes.assign(std::size_t(next), 0);
+  for (const auto l : result.labels)
+    if (l >= 0) ++result.cluster_sizes[std::size_t(l)];
+}
+
+}  // namespace
+
 CoplanarMerge mergeCoplanarClusters(const std::vector<Eigen::Vector3d>& points, DbscanResult& result,
                                     const CoplanarMergeParams& params) {
   if (!(std::isfinite(params.reach) && params.reach > 0.0))
@@ -148,31 +183,7 @@ CoplanarMerge mergeCoplanarClusters(const std::vector<Eigen::Vector3d>& points, 
     }
     target[b] = best;
   }
-  // Apply: follow each chain to its end (targets are larger, so chains end).
-  std::vector<std::size_t> root(k);
-  for (std::size_t c = 0; c < k; ++c) {
-    std::size_t r = c;
-    while (target[r] != r) r = target[r];
-    root[c] = r;
-    if (r != c) {
-      ++merge.merged;
-      merge.points += members[c].size();
-    }
-  }
-  if (merge.merged == 0) return merge;
-  // Renumber by first point.
-  std::vector<std::int32_t> number(k, -1);
-  std::int32_t next = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const std::int32_t l = result.labels[i];
-    if (l < 0) continue;
-    const std::size_t r = root[std::size_t(l)];
-    if (number[r] < 0) number[r] = next++;
-    result.labels[i] = number[r];
-  }
-  result.cluster_sizes.assign(std::size_t(next), 0);
-  for (const auto l : result.labels)
-    if (l >= 0) ++result.cluster_sizes[std::size_t(l)];
+  applyMerges(target, members, result, merge);
   return merge;
 }
 

@@ -216,33 +216,58 @@ std::optional<Eigen::Vector2d> anywhereShift(const Eigen::Vector2d& extent, doub
   return Eigen::Vector2d(x, y);
 }
 
-}  // namespace
+// The room's measures, which every step below reads.
+struct Room {
+  double half = 0.0, half_y = 0.0;    // half the room's extent in x and y
+  double height = 0.0;                // the walls' height
+  double loop_x = 0.0, loop_y = 0.0;  // the camera loop's half axes
+  bool circle = false;                // the loop is a circle
+};
 
-Scene generateRoomScene(const SceneParams& p) {
-  SceneRandom rng(p.seed);
-  const double half = 0.5 * p.room_size;  // x
-  const double half_y = 0.5 * (p.room_width > 0.0 ? p.room_width : p.room_size);
-  const double loop_x = p.loop_fraction * p.room_size, loop_y = p.loop_fraction * 2.0 * half_y;
-  Scene scene;
-
-  // Floor and walls (their inner faces are the room's boundary).
-  const double t = kWallThickness;
+// Floor and walls (their inner faces are the room's boundary).
+void addShell(const Room& room, Scene& scene) {
+  const double t = kWallThickness, half = room.half, half_y = room.half_y, zh = room.height;
   SceneObject floor{SceneObject::Kind::kFloor, {box({-half - t, -half_y - t, -t}, {half + t, half_y + t, 0})}};
   scene.objects.push_back(floor);
-  const double zh = p.room_height;
   scene.objects.push_back({SceneObject::Kind::kWall, {box({-half - t, -half_y - t, 0}, {-half, half_y + t, zh})}});
   scene.objects.push_back({SceneObject::Kind::kWall, {box({half, -half_y - t, 0}, {half + t, half_y + t, zh})}});
   scene.objects.push_back({SceneObject::Kind::kWall, {box({-half, -half_y - t, 0}, {half, -half_y, zh})}});
   scene.objects.push_back({SceneObject::Kind::kWall, {box({-half, half_y, 0}, {half, half_y + t, zh})}});
+}
 
-  // Furniture kSceneObstacleGap apart from each other and from the camera loop: inside the loop, or
-  // (kAnywhere) anywhere in the room.
-  const bool circle = loop_x == loop_y;
-  const std::vector<Eigen::Vector2d> loop = circle && p.placement == FurniturePlacement::kInsideLoop
+// Where a piece of furniture of `extent` goes inside the camera loop (its lower corner's shift), or
+// nothing when this draw does not fit.
+std::optional<Eigen::Vector2d> insideLoopShift(const Eigen::Vector2d& extent, const Room& room, SceneRandom& rng) {
+  if (room.circle) {
+    const double reach = room.loop_x - kSceneObstacleGap - 0.5 * extent.norm();
+    if (reach <= 0.0) return std::nullopt;
+    const double centre_y = rng.uniform(-reach, reach);  // y first, as in anywhereShift
+    const Eigen::Vector2d centre(rng.uniform(-reach, reach), centre_y);
+    if (centre.norm() > reach) return std::nullopt;
+    return Eigen::Vector2d(centre - 0.5 * extent);
+  }
+  // Inside the ellipse: the footprint grown by the gap has its corners inside it.
+  const double loop_x = room.loop_x, loop_y = room.loop_y;
+  const double rx = loop_x - kSceneObstacleGap - 0.5 * extent.x(), ry = loop_y - kSceneObstacleGap - 0.5 * extent.y();
+  if (rx <= 0.0 || ry <= 0.0) return std::nullopt;
+  const double centre_y = rng.uniform(-ry, ry);  // y first, as in anywhereShift
+  const Eigen::Vector2d centre(rng.uniform(-rx, rx), centre_y);
+  const Eigen::Vector2d h = 0.5 * extent + Eigen::Vector2d::Constant(kSceneObstacleGap);
+  for (int c = 0; c < 4; ++c) {
+    const Eigen::Vector2d q = centre + Eigen::Vector2d((c & 1) ? h.x() : -h.x(), (c & 2) ? h.y() : -h.y());
+    if ((q.x() / loop_x) * (q.x() / loop_x) + (q.y() / loop_y) * (q.y() / loop_y) > 1.0) return std::nullopt;
+  }
+  return Eigen::Vector2d(centre - 0.5 * extent);
+}
+
+// Furniture kSceneObstacleGap apart from each other and from the camera loop: inside the loop, or
+// (kAnywhere) anywhere in the room. Throws when a piece finds no place in 10000 draws.
+void addFurniture(const SceneParams& p, const Room& room, SceneRandom& rng, Scene& scene) {
+  const std::vector<Eigen::Vector2d> loop = room.circle && p.placement == FurniturePlacement::kInsideLoop
                                                 ? std::vector<Eigen::Vector2d>{}
-                                                : loopSamples(loop_x, loop_y);
+                                                : loopSamples(room.loop_x, room.loop_y);
   // The samples are at most 2 pi max(lx, ly) / 1440 apart: the gap to the curve is within half that.
-  const double loop_slack = kPi * std::max(loop_x, loop_y) / 1440.0;
+  const double loop_slack = kPi * std::max(room.loop_x, room.loop_y) / 1440.0;
   std::vector<Footprint> placed;
   for (std::size_t n = 0; n < p.obstacles; ++n) {
     bool done = false;
@@ -250,35 +275,11 @@ Scene generateRoomScene(const SceneParams& p) {
       SceneObject f = furniture(p, rng);
       const Footprint local = footprint(f);
       const Eigen::Vector2d extent = local.hi - local.lo;
-      Eigen::Vector2d shift;
-      if (p.placement == FurniturePlacement::kAnywhere) {
-        const auto where = anywhereShift(extent, half, half_y, p.wall_fraction, rng);
-        if (!where) continue;
-        shift = *where;
-      } else if (circle) {
-        const double reach = loop_x - kSceneObstacleGap - 0.5 * extent.norm();
-        if (reach <= 0.0) continue;
-        const double centre_y = rng.uniform(-reach, reach);  // y first, as in anywhereShift
-        const Eigen::Vector2d centre(rng.uniform(-reach, reach), centre_y);
-        if (centre.norm() > reach) continue;
-        shift = centre - 0.5 * extent;
-      } else {
-        // Inside the ellipse: the footprint grown by the gap has its corners inside it.
-        const double rx = loop_x - kSceneObstacleGap - 0.5 * extent.x(),
-                     ry = loop_y - kSceneObstacleGap - 0.5 * extent.y();
-        if (rx <= 0.0 || ry <= 0.0) continue;
-        const double centre_y = rng.uniform(-ry, ry);  // y first, as in anywhereShift
-        const Eigen::Vector2d centre(rng.uniform(-rx, rx), centre_y);
-        const Eigen::Vector2d h = 0.5 * extent + Eigen::Vector2d::Constant(kSceneObstacleGap);
-        bool inside = true;
-        for (int c = 0; c < 4 && inside; ++c) {
-          const Eigen::Vector2d q = centre + Eigen::Vector2d((c & 1) ? h.x() : -h.x(), (c & 2) ? h.y() : -h.y());
-          inside = (q.x() / loop_x) * (q.x() / loop_x) + (q.y() / loop_y) * (q.y() / loop_y) <= 1.0;
-        }
-        if (!inside) continue;
-        shift = centre - 0.5 * extent;
-      }
-      for (auto& part : f.parts) part.center.head<2>() += shift;
+      const auto shift = p.placement == FurniturePlacement::kAnywhere
+                             ? anywhereShift(extent, room.half, room.half_y, p.wall_fraction, rng)
+                             : insideLoopShift(extent, room, rng);
+      if (!shift) continue;
+      for (auto& part : f.parts) part.center.head<2>() += *shift;
       const Footprint fp = footprint(f);
       if (!loop.empty() && p.placement == FurniturePlacement::kAnywhere &&
           loopGap(fp, loop) < kSceneObstacleGap + loop_slack)
@@ -293,9 +294,57 @@ Scene generateRoomScene(const SceneParams& p) {
     if (!done) {
       throw Error("scene parameters: cannot place " + std::to_string(p.obstacles) + " pieces of furniture " +
                   std::to_string(kSceneObstacleGap) + " m apart in a room of " + std::to_string(p.room_size) + " x " +
-                  std::to_string(2.0 * half_y) + " m (obstacles too many for room_size)");
+                  std::to_string(2.0 * room.half_y) + " m (obstacles too many for room_size)");
     }
   }
+}
+
+// Visible patches: the floor's top, the walls' inner faces, furniture's tops and sides.
+std::vector<Patch> visiblePatches(const Scene& scene, const Room& room) {
+  std::vector<Patch> patches;
+  std::size_t part = 0;
+  for (const auto& object : scene.objects) {
+    for (const auto& o : object.parts) {
+      if (object.kind == SceneObject::Kind::kFloor) {
+        Patch top;
+        top.c = Eigen::Vector3d(0, 0, 0);
+        top.a = Eigen::Vector3d(room.half, 0, 0);
+        top.b = Eigen::Vector3d(0, room.half_y, 0);
+        top.area = 4.0 * room.half * room.half_y;
+        top.part = part;
+        patches.push_back(top);
+      } else if (object.kind == SceneObject::Kind::kWall) {
+        // The face toward the room's centre.
+        const Eigen::Vector3d h = 0.5 * o.size;
+        Patch face;
+        face.part = part;
+        if (o.size.x() < o.size.y()) {
+          const double x = o.center.x() > 0 ? room.half : -room.half;
+          face.c = Eigen::Vector3d(x, 0, 0.5 * room.height);
+          face.a = Eigen::Vector3d(0, room.half_y, 0);
+        } else {
+          const double y = o.center.y() > 0 ? room.half_y : -room.half_y;
+          face.c = Eigen::Vector3d(0, y, 0.5 * room.height);
+          face.a = Eigen::Vector3d(room.half, 0, 0);
+        }
+        face.b = Eigen::Vector3d(0, 0, h.z());
+        face.area = 4.0 * face.a.norm() * face.b.norm();
+        patches.push_back(face);
+      } else if (o.shape == SceneObstacle::Shape::kBox) {
+        addBoxFaces(o, part, true, patches);
+      } else {
+        addCylinder(o, part, patches);
+      }
+      ++part;
+    }
+  }
+  return patches;
+}
+
+// The points, in chunks of kChunk drawn in parallel from seeds of their own: on the visible patches
+// (redrawn where furniture hides them), with noise; outliers in the room; gross outliers far away.
+// Then shuffled with `rng`. Fills scene.obstacles (the flat parts list) too.
+void samplePoints(const SceneParams& p, const Room& room, SceneRandom& rng, Scene& scene) {
   // Only furniture hides surfaces (a wall's foot on the floor is a visible edge, as is a box's).
   std::vector<bool> hides;
   for (const auto& object : scene.objects) {
@@ -304,47 +353,7 @@ Scene generateRoomScene(const SceneParams& p) {
       hides.push_back(object.kind != SceneObject::Kind::kFloor && object.kind != SceneObject::Kind::kWall);
     }
   }
-
-  // Visible patches: the floor's top, the walls' inner faces, furniture's tops and sides.
-  std::vector<Patch> patches;
-  {
-    std::size_t part = 0;
-    for (const auto& object : scene.objects) {
-      for (const auto& o : object.parts) {
-        if (object.kind == SceneObject::Kind::kFloor) {
-          Patch top;
-          top.c = Eigen::Vector3d(0, 0, 0);
-          top.a = Eigen::Vector3d(half, 0, 0);
-          top.b = Eigen::Vector3d(0, half_y, 0);
-          top.area = 4.0 * half * half_y;
-          top.part = part;
-          patches.push_back(top);
-        } else if (object.kind == SceneObject::Kind::kWall) {
-          // The face toward the room's centre.
-          const Eigen::Vector3d h = 0.5 * o.size;
-          Patch face;
-          face.part = part;
-          if (o.size.x() < o.size.y()) {
-            const double x = o.center.x() > 0 ? half : -half;
-            face.c = Eigen::Vector3d(x, 0, 0.5 * zh);
-            face.a = Eigen::Vector3d(0, half_y, 0);
-          } else {
-            const double y = o.center.y() > 0 ? half_y : -half_y;
-            face.c = Eigen::Vector3d(0, y, 0.5 * zh);
-            face.a = Eigen::Vector3d(half, 0, 0);
-          }
-          face.b = Eigen::Vector3d(0, 0, h.z());
-          face.area = 4.0 * face.a.norm() * face.b.norm();
-          patches.push_back(face);
-        } else if (o.shape == SceneObstacle::Shape::kBox) {
-          addBoxFaces(o, part, true, patches);
-        } else {
-          addCylinder(o, part, patches);
-        }
-        ++part;
-      }
-    }
-  }
+  const std::vector<Patch> patches = visiblePatches(scene, room);
   std::vector<double> cumulative;
   double area = 0.0;
   for (const auto& patch : patches) cumulative.push_back(area += patch.area);
@@ -376,9 +385,9 @@ Scene generateRoomScene(const SceneParams& p) {
         }
         q += p.noise_sigma * local.normal3();
       } else if (i < surface + outliers) {
-        const double z = local.uniform(0.0, zh);  // z, y, x: as normal3()
-        const double y = local.uniform(-half_y, half_y);
-        q = Eigen::Vector3d(local.uniform(-half, half), y, z);
+        const double z = local.uniform(0.0, room.height);  // z, y, x: as normal3()
+        const double y = local.uniform(-room.half_y, room.half_y);
+        q = Eigen::Vector3d(local.uniform(-room.half, room.half), y, z);
       } else {
         const Eigen::Vector3d direction = local.unitVector();  // then the distance: as normal3()
         q = local.uniform(1e5, 1e6) * direction;
@@ -386,18 +395,21 @@ Scene generateRoomScene(const SceneParams& p) {
     }
   });
   for (std::size_t i = n; i > 1; --i) std::swap(scene.points[i - 1], scene.points[rng.index(i)]);
+}
 
-  // Keyframes: a loop at about kCameraHeight, each camera looking at the room's axis, pitched down.
+// Keyframes: a loop at about kCameraHeight, each camera looking at the room's axis, pitched down.
+std::vector<io::Keyframe> cameraLoop(const SceneParams& p, const Room& room) {
   const double pitch = p.camera_pitch_deg * kPi / 180.0;
-  scene.reference.resize(p.keyframes);
+  std::vector<io::Keyframe> keyframes(p.keyframes);
   for (std::size_t i = 0; i < p.keyframes; ++i) {
     const double a = 2.0 * kPi * static_cast<double>(i) / static_cast<double>(p.keyframes);
-    io::Keyframe& k = scene.reference[i];
+    io::Keyframe& k = keyframes[i];
     k.stamp = 1.0 + 0.5 * static_cast<double>(i);
-    k.position = Eigen::Vector3d(loop_x * std::cos(a), loop_y * std::sin(a), kCameraHeight + 0.05 * std::sin(3.0 * a));
+    k.position =
+        Eigen::Vector3d(room.loop_x * std::cos(a), room.loop_y * std::sin(a), kCameraHeight + 0.05 * std::sin(3.0 * a));
     // Toward the room's vertical axis.
-    const Eigen::Vector3d inward = circle ? Eigen::Vector3d(-std::cos(a), -std::sin(a), 0.0)
-                                          : Eigen::Vector3d(-k.position.x(), -k.position.y(), 0.0).normalized();
+    const Eigen::Vector3d inward = room.circle ? Eigen::Vector3d(-std::cos(a), -std::sin(a), 0.0)
+                                               : Eigen::Vector3d(-k.position.x(), -k.position.y(), 0.0).normalized();
     const Eigen::Vector3d forward = std::cos(pitch) * inward - std::sin(pitch) * Eigen::Vector3d::UnitZ();
     const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
     const Eigen::Vector3d down = forward.cross(right);
@@ -407,8 +419,12 @@ Scene generateRoomScene(const SceneParams& p) {
     r.col(2) = forward;
     k.orientation = Eigen::Quaterniond(r).normalized();
   }
+  return keyframes;
+}
 
-  // Output frame: the first camera's, scaled: p_out = s R0^T (p - t0).
+// The output frame: the first camera's, scaled (p_out = s R0^T (p - t0)), when p.orbslam_frame; the
+// points and keyframes moved into it (scene.reference stays in the room's frame).
+void toOutputFrame(const SceneParams& p, Scene& scene) {
   if (p.orbslam_frame) {
     const io::Keyframe& first = scene.reference.front();
     scene.output_scale = p.monocular_scale;
@@ -418,6 +434,7 @@ Scene generateRoomScene(const SceneParams& p) {
   const double s = scene.output_scale;
   const Eigen::Matrix3d& r = scene.output_rotation;
   const Eigen::Vector3d& tr = scene.output_translation;
+  const std::size_t n = scene.points.size(), chunks = (n + kChunk - 1) / kChunk;
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
     const std::size_t end = std::min(n, (chunk + 1) * kChunk);
     for (std::size_t i = chunk * kChunk; i < end; ++i) scene.points[i] = s * (r * scene.points[i]) + tr;
@@ -428,6 +445,25 @@ Scene generateRoomScene(const SceneParams& p) {
     k.position = s * (r * k.position) + tr;
     k.orientation = (rq * k.orientation).normalized();
   }
+}
+
+}  // namespace
+
+Scene generateRoomScene(const SceneParams& p) {
+  SceneRandom rng(p.seed);
+  Room room;
+  room.half = 0.5 * p.room_size;
+  room.half_y = 0.5 * (p.room_width > 0.0 ? p.room_width : p.room_size);
+  room.height = p.room_height;
+  room.loop_x = p.loop_fraction * p.room_size;
+  room.loop_y = p.loop_fraction * 2.0 * room.half_y;
+  room.circle = room.loop_x == room.loop_y;
+  Scene scene;
+  addShell(room, scene);
+  addFurniture(p, room, rng, scene);
+  samplePoints(p, room, rng, scene);
+  scene.reference = cameraLoop(p, room);
+  toOutputFrame(p, scene);
   return scene;
 }
 

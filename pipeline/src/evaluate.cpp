@@ -9,6 +9,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -399,23 +400,23 @@ GroundTruth readGroundTruth(const std::string& path) {
   return readJsonTruth(path, in);
 }
 
-Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const GroundTruth& truth,
-                    const std::vector<V3>& points, const std::vector<std::uint32_t>& weights,
-                    const EvaluateParams& params, const std::vector<collision::HalfSpace>& surfaces) {
+namespace {
+
+void checkEvaluateParams(std::size_t points, std::size_t weights, const EvaluateParams& params) {
   if (!(params.radius >= 0) || !std::isfinite(params.radius))
     throw Error("evaluate: --radius must be >= 0, got " + std::to_string(params.radius));
-  if (!weights.empty() && weights.size() != points.size())
-    throw Error("evaluate: " + std::to_string(weights.size()) + " weights for " + std::to_string(points.size()) +
-                " points");
+  if (weights != 0 && weights != points)
+    throw Error("evaluate: " + std::to_string(weights) + " weights for " + std::to_string(points) + " points");
   if (!(params.sample_step > 0) || !(params.segment_length > 0.2))
     throw Error("evaluate: sample_step must be > 0 and segment_length > 0.2");
-  Evaluation e;
-  const std::vector<HullPlanes> hulls = hullsOf(obstacles);
-  e.parts = hulls.size();
+}
 
-  // Observed points: each belongs to the one shape whose surface is nearest (|signed distance|
-  // smallest, ties to the lower index), when that is within surface_margin. A floor point at the
-  // foot of a wall lies on the floor, not on the wall 3 cm away.
+// Observed points: each belongs to the one shape whose surface is nearest (|signed distance|
+// smallest, ties to the lower index), when that is within surface_margin. A floor point at the
+// foot of a wall lies on the floor, not on the wall 3 cm away. Fills e.truth's labels, points_near,
+// points_inside and parts.
+void scoreObservedPoints(const std::vector<HullPlanes>& hulls, const GroundTruth& truth, const std::vector<V3>& points,
+                         const std::vector<std::uint32_t>& weights, const EvaluateParams& params, Evaluation& e) {
   e.truth.resize(truth.shapes.size());
   for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
     e.truth[s].label = truth.shapes[s].label;
@@ -450,8 +451,11 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
     if (most == held[h].end() || !(*most > 0)) continue;
     e.truth[std::size_t(most - held[h].begin())].parts.emplace_back(hulls[h].obstacle, hulls[h].part);
   }
+}
 
-  // Volumes and touching, by Monte Carlo in each hull.
+// Volumes and touching, by Monte Carlo in each hull (params.seed); the false parts.
+void scoreVolumes(const std::vector<HullPlanes>& hulls, const GroundTruth& truth, const EvaluateParams& params,
+                  Evaluation& e) {
   std::mt19937_64 rng(params.seed);
   double union_var = 0, outside_var = 0, far_var = 0;
   for (std::size_t h = 0; h < hulls.size(); ++h) {
@@ -504,16 +508,25 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
   e.union_volume_se = std::sqrt(union_var);
   e.outside_volume_se = std::sqrt(outside_var);
   e.far_volume_se = std::sqrt(far_var);
+}
 
-  // Random segments in the free volume.
+// Random segments in the free volume, drawn from the truth and params.seed only (two builds are
+// scored on the same ones), each with the truth's verdict and its deepest shape.
+struct SampledSegments {
+  std::vector<collision::Segment> segments;
+  std::vector<int> verdict;                             // 1 deep, 2 clear, 0 neither
+  std::vector<std::pair<std::size_t, double>> deepest;  // the shape nearest along it, radius - distance
+};
+
+// Nothing when the truth is empty or no segment is asked for.
+std::optional<SampledSegments> sampleSegments(const GroundTruth& truth, const EvaluateParams& params) {
   V3 lo = V3::Constant(kInf), hi = V3::Constant(-kInf);
   for (const auto& s : truth.shapes) {
     lo = lo.cwiseMin(s.aabb_min);
     hi = hi.cwiseMax(s.aabb_max);
   }
-  if (!lo.allFinite() || params.segments == 0) return e;
-  // The segments depend on the truth and the seed only, so that two builds are scored on the same ones.
-  rng.seed(params.seed + 1);
+  if (!lo.allFinite() || params.segments == 0) return std::nullopt;
+  std::mt19937_64 rng(params.seed + 1);
   const bool free_ends = params.ends == SegmentEnds::kFree;
   if (free_ends) {
     lo -= V3::Constant(params.radius + params.clear_margin + 0.5);
@@ -530,9 +543,8 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
       below = std::min(below, s.aabb_min.z() - free_distance);
   }
   const auto onMapSide = [&](const V3& p) { return p.z() >= above && p.z() <= below; };
-  std::vector<collision::Segment> segments;
-  std::vector<int> verdict;                             // 1 deep, 2 clear, 0 neither
-  std::vector<std::pair<std::size_t, double>> deepest;  // the shape nearest along it, radius - distance
+  SampledSegments sampled;
+  auto& segments = sampled.segments;
   for (std::size_t tries = 0; segments.size() < params.segments && tries < 1000 * params.segments; ++tries) {
     const V3 a = lo + (hi - lo).cwiseProduct(unitCubePoint(rng));
     // A direction uniform on the sphere, and a length in [0.2, segment_length].
@@ -563,9 +575,20 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
     else if (nearest - 0.5 * spacing > params.radius + params.clear_margin)
       v = 2;
     segments.push_back({a, b});
-    verdict.push_back(v);
-    deepest.emplace_back(nearest_shape, params.radius - nearest);
+    sampled.verdict.push_back(v);
+    sampled.deepest.emplace_back(nearest_shape, params.radius - nearest);
   }
+  return sampled;
+}
+
+// The build's checks of the sampled segments against the truth's verdicts: deep ones missed, clear
+// ones blocked (false alarms), and the parts those hit.
+void scoreSegments(const std::vector<clustering::Obstacle>& obstacles,
+                   const std::vector<collision::HalfSpace>& surfaces, const GroundTruth& truth,
+                   const EvaluateParams& params, const SampledSegments& sampled, Evaluation& e) {
+  const auto& segments = sampled.segments;
+  const auto& verdict = sampled.verdict;
+  const auto& deepest = sampled.deepest;
   e.segments = segments.size();
   const collision::HullChecker checker(obstacles, surfaces);
   const std::vector<collision::SegmentCheck> checks = checker.checkBatch(segments, params.radius);
@@ -589,6 +612,21 @@ Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const Gr
   for (const auto& [hull, count] : hit) e.false_alarm_hulls.push_back({hull.first, hull.second, count});
   std::stable_sort(e.false_alarm_hulls.begin(), e.false_alarm_hulls.end(),
                    [](const FalseAlarmHull& a, const FalseAlarmHull& b) { return a.segments > b.segments; });
+}
+
+}  // namespace
+
+Evaluation evaluate(const std::vector<clustering::Obstacle>& obstacles, const GroundTruth& truth,
+                    const std::vector<V3>& points, const std::vector<std::uint32_t>& weights,
+                    const EvaluateParams& params, const std::vector<collision::HalfSpace>& surfaces) {
+  checkEvaluateParams(points.size(), weights.size(), params);
+  Evaluation e;
+  const std::vector<HullPlanes> hulls = hullsOf(obstacles);
+  e.parts = hulls.size();
+  scoreObservedPoints(hulls, truth, points, weights, params, e);
+  scoreVolumes(hulls, truth, params, e);
+  const std::optional<SampledSegments> sampled = sampleSegments(truth, params);
+  if (sampled) scoreSegments(obstacles, surfaces, truth, params, *sampled, e);
   return e;
 }
 

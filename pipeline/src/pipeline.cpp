@@ -1,12 +1,10 @@
-// The build's stages, in order (read, frame, floor, octree, surfaces, clustering, parts), and the
-// streamed two-pass read. Over 600 lines because clusterInto still runs its stages inline; issue 26's
-// stage list (each stage its own function with its timing and hook) is what splits it.
+// The build up to the octree: the inputs read whole or streamed in two passes, the frame, the floor
+// and the filters; then cluster_stages.cpp's stage list from the voxels to the obstacles.
 #include "hullmap/pipeline/pipeline.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <functional>
 #include <chrono>
 #include <exception>
 #include <filesystem>
@@ -23,6 +21,8 @@
 #include "hullmap/mapper/level_check.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "input_points.hpp"
+#include "cluster_stages.hpp"
+#include "stage_timer.hpp"
 #include "stages.hpp"
 #include "surfaces.hpp"
 #include "hullmap/pipeline/report.hpp"
@@ -32,36 +32,6 @@ namespace hullmap::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
-
-double peakRssMb() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
-}
-
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-/// Wall time of each stage, and the process's peak resident memory when it ends.
-class StageTimer {
- public:
-  explicit StageTimer(BuildReport& report) : report_(report) {}
-  /// The stage that ends now began when the previous one ended.
-  void stage(const std::string& name) { stage(name, msSince(start_)); }
-  /// A stage whose time was summed over pieces interleaved with other stages.
-  void stage(const std::string& name, double ms) {
-    report_.timings_ms.emplace_back(name, ms);
-    report_.peak_rss_mb.emplace_back(name, peakRssMb());
-    start_ = Clock::now();
-  }
-
- private:
-  BuildReport& report_;
-  Clock::time_point start_ = Clock::now();
-};
 
 bool isOctomapFile(const fs::path& path) {
   const std::string ext = path.extension().string();
@@ -439,169 +409,6 @@ void finishAccount(const BuildParams& params, BuildResult& result) {
   }
 }
 
-ClusteredVoxels clusterStages(const mapper::OccupancyMap& map, const clustering::DbscanParams& dbscan,
-                              const std::function<void()>& clustered) {
-  ClusteredVoxels out;
-  out.voxels = map.occupiedVoxels();
-  std::vector<Eigen::Vector3d> centers;
-  std::vector<std::uint32_t> weights;
-  centers.reserve(out.voxels.size());
-  weights.reserve(out.voxels.size());
-  for (const auto& v : out.voxels) {
-    centers.push_back(v.center);
-    weights.push_back(v.weight);
-  }
-  out.clusters = clustering::dbscan(centers, weights, dbscan);
-  if (clustered) clustered();
-  out.obstacles = clustering::buildObstacles(centers, weights, out.clusters.labels, map.resolution());
-  return out;
-}
-
-}  // namespace
-
-namespace {
-
-/// A floor kept in the input frame tilted by more than this (degrees) is warned about.
-constexpr double kKeptFloorTiltDeg = 3.0;
-
-void clusterInto(BuildResult& result, StageTimer& timer) {
-  const BuildParams& params = result.params;
-  BuildReport& report = result.report;
-  const double resolution = result.map.resolution();
-  result.voxels = result.map.occupiedVoxels();
-  const std::size_t n = result.voxels.size();
-  std::vector<Eigen::Vector3d> centers;
-  std::vector<std::uint32_t> weights;
-  centers.reserve(n);
-  weights.reserve(n);
-  for (const auto& v : result.voxels) {
-    centers.push_back(v.center);
-    weights.push_back(v.weight);
-  }
-
-  // Floor and ceiling voxels stay in the map but are not clustered. The band covers the plane's
-  // noise (about a voxel) and half a voxel: a voxel holding floor points has its centre within it.
-  runStage("surfaces");
-  std::vector<std::int32_t> labels(n, clustering::kNoise);
-  if (report.floor.plane || report.ceiling.plane) {
-    const auto classes = mapper::classifySurfaces(centers, report.floor.plane, report.ceiling.plane, 1.25 * resolution);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (classes[i] == mapper::SurfaceClass::kFloor) labels[i] = kFloorLabel;
-      if (classes[i] == mapper::SurfaceClass::kCeiling) labels[i] = kCeilingLabel;
-    }
-  }
-  std::vector<std::size_t> obstacle_index;
-  obstacle_index.reserve(n);
-  for (std::size_t i = 0; i < n; ++i)
-    if (labels[i] == clustering::kNoise) obstacle_index.push_back(i);
-  std::vector<Eigen::Vector3d> obstacle_centers;
-  std::vector<std::uint32_t> obstacle_weights;
-  obstacle_centers.reserve(obstacle_index.size());
-  obstacle_weights.reserve(obstacle_index.size());
-  for (std::size_t i : obstacle_index) {
-    obstacle_centers.push_back(centers[i]);
-    obstacle_weights.push_back(weights[i]);
-  }
-  timer.stage("surfaces");
-
-  runStage("auto_params");
-  ClusterParamsReport& chosen = report.cluster_params;
-  chosen.used.metric = params.metric;
-  chosen.eps_auto = !params.eps;
-  chosen.min_pts_auto = !params.min_pts;
-  if (chosen.eps_auto || chosen.min_pts_auto) {
-    chosen.chosen =
-        clustering::chooseDbscanParams(obstacle_centers, obstacle_weights, resolution, params.metric, params.auto_rule);
-  }
-  chosen.used.eps = params.eps ? *params.eps : chosen.chosen->eps;
-  chosen.used.min_pts = params.min_pts ? *params.min_pts : chosen.chosen->min_pts;
-  timer.stage("auto_params");
-
-  runStage("dbscan");
-  clustering::DbscanResult sub = clustering::dbscan(obstacle_centers, obstacle_weights, chosen.used);
-  timer.stage("dbscan");
-
-  if (params.extension.value_or(!params.min_pts)) {
-    runStage("extension");
-    chosen.extension_params = clustering::extensionParams(chosen.used, params.extension_rule);
-    chosen.extension = clustering::extendClusters(obstacle_centers, obstacle_weights, sub, *chosen.extension_params);
-    // Stray map points that the eps, wide on a sparse map, took in off the surfaces go back to noise;
-    // the floor's and ceiling's voxels support what stands on them (a table leg's foot).
-    std::vector<Eigen::Vector3d> surface_centers;
-    for (std::size_t i = 0; i < n; ++i)
-      if (labels[i] == kFloorLabel || labels[i] == kCeilingLabel) surface_centers.push_back(centers[i]);
-    chosen.trim_params =
-        clustering::OutlierTrimParams{3.0 * resolution, std::max(3.0 * resolution, chosen.extension_params->reach)};
-    chosen.trim = clustering::trimOutliers(obstacle_centers, sub, surface_centers, *chosen.trim_params);
-    // A flat cluster in the plane of a larger one around it (a wall's foot that DBSCAN cut off the
-    // sparse wall above it) joins it, so that the wall's parts can merge over it.
-    chosen.coplanar_params = clustering::CoplanarMergeParams{chosen.used.eps, 3.0 * resolution};
-    chosen.coplanar = clustering::mergeCoplanarClusters(obstacle_centers, sub, *chosen.coplanar_params);
-    timer.stage("extension");
-  }
-
-  runStage("obstacles");
-  result.clusters.cluster_sizes = sub.cluster_sizes;
-  result.clusters.noise = sub.noise;
-  result.clusters.core.assign(n, 0);
-  for (std::size_t k = 0; k < obstacle_index.size(); ++k) {
-    labels[obstacle_index[k]] = sub.labels[k];
-    result.clusters.core[obstacle_index[k]] = sub.core[k];
-  }
-  // The rims reach as far as the eps used, but no farther than the auto rule's upper clamp: a large
-  // eps given by hand (1 m) would otherwise join most of the floor to the walls' feet.
-  detail::attachSurfaceRims(centers, resolution,
-                            std::min(chosen.used.eps, params.auto_rule.max_eps_voxels * resolution), labels);
-  std::vector<std::int32_t> cluster_labels(labels);
-  for (auto& l : cluster_labels) l = std::max(l, clustering::kNoise);
-  result.obstacles = clustering::buildObstacles(centers, weights, cluster_labels, resolution);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (labels[i] == kFloorLabel) ++report.floor.voxels;
-    if (labels[i] == kCeilingLabel) ++report.ceiling.voxels;
-  }
-  result.surfaces = surfaceHalfSpaces(report, centers, labels, resolution);
-  timer.stage("obstacles");
-
-  if (params.convex_parts) {
-    runStage("convex_parts");
-    clustering::KnownFreeSpace known;
-    for (const auto& k : result.keyframes) known.keyframes.push_back(k.position);
-    if (params.trajectory || params.origin) known.free_voxels = freeVoxelCentres(result.map);
-    // G unset: the eps used, the distance at which this map's sampling connects a surface.
-    clustering::ConvexPartsParams parts_params = *params.convex_parts;
-    // Auto G is also adapted to each cluster's sampling (a sparse wall's chance holes); a G the user
-    // gives is used as given.
-    if (!parts_params.flat_gap) {
-      parts_params.flat_gap = chosen.used.eps;
-      parts_params.adapt_flat_gap = true;
-    }
-    // A level floor closes the shells standing on it from below (their bottom is never seen).
-    if (report.floor.plane && !parts_params.floor_z)
-      parts_params.floor_z = levelFloorHeight(*report.floor.plane, centers, resolution);
-    report.parts =
-        clustering::addConvexParts(result.obstacles, centers, weights, cluster_labels, resolution, parts_params, known);
-    report.keyframes_inside_hulls = report.parts->keyframes_in_voxels;
-    timer.stage("convex_parts");
-  }
-  result.clusters.labels = std::move(labels);
-
-  const clustering::DbscanParams& used = chosen.used;
-  report.warnings = clustering::buildWarnings({obstacle_index.size(), result.clusters.noise, result.obstacles.size(),
-                                               used.eps, used.min_pts, used.metric, resolution});
-  if (!readsOctree(params) && !params.align && !report.floor.levelled) {
-    const PlaneReport& floor = report.floor;
-    if (floor.plane && floor.setting.mode == mapper::PlaneSetting::Mode::kAuto) {
-      if (floor.fit.tilt_deg > kKeptFloorTiltDeg) {
-        report.warnings.push_back({Warning::Code::kKeptFloorTilted,
-                                   {{"inlier_share", floor.fit.inlier_share}, {"tilt_deg", floor.fit.tilt_deg}},
-                                   ""});
-      }
-    } else if (auto tilted = mapper::levelWarning(centers, resolution, upAxisText(params.frame.up))) {
-      report.warnings.push_back(*tilted);
-    }
-  }
-}
-
 }  // namespace
 
 namespace detail {
@@ -672,7 +479,19 @@ bool mayLevel(const BuildParams& params) {
 }  // namespace
 
 ClusteredVoxels clusterMap(const mapper::OccupancyMap& map, const clustering::DbscanParams& dbscan) {
-  return clusterStages(map, dbscan, nullptr);
+  ClusteredVoxels out;
+  out.voxels = map.occupiedVoxels();
+  std::vector<Eigen::Vector3d> centers;
+  std::vector<std::uint32_t> weights;
+  centers.reserve(out.voxels.size());
+  weights.reserve(out.voxels.size());
+  for (const auto& v : out.voxels) {
+    centers.push_back(v.center);
+    weights.push_back(v.weight);
+  }
+  out.clusters = clustering::dbscan(centers, weights, dbscan);
+  out.obstacles = clustering::buildObstacles(centers, weights, out.clusters.labels, map.resolution());
+  return out;
 }
 
 BuildResult build(const BuildParams& params) {

@@ -151,6 +151,87 @@ nlohmann::json parametersJson(const BuildParams& params) {
   };
 }
 
+namespace {
+
+// report.json's "clustering": the DBSCAN parameters used, how they were chosen, and what the
+// extension, outlier trim and coplanar merge did.
+nlohmann::json clusteringJson(const ClusterParamsReport& cp) {
+  using nlohmann::json;
+  json clustering_params = {
+      {"eps", cp.used.eps}, {"eps_auto", cp.eps_auto}, {"min_pts", cp.used.min_pts}, {"min_pts_auto", cp.min_pts_auto}};
+  if (cp.chosen) {
+    const auto& c = *cp.chosen;
+    clustering_params["auto"] = {
+        {"knn", std::isfinite(c.knn) ? json(c.knn) : json(nullptr)},
+        {"eps_unclamped", std::isfinite(c.eps_unclamped) ? json(c.eps_unclamped) : json(nullptr)},
+        {"sampled", c.sampled},
+        {"structured", c.structured},
+        {"eps", c.eps},
+        {"min_pts", c.min_pts}};
+  }
+  clustering_params["extension"] = nullptr;
+  if (cp.extension_params) {
+    clustering_params["extension"] = {{"min_pts", cp.extension_params->min_pts},
+                                      {"reach", cp.extension_params->reach},
+                                      {"joined", cp.extension.joined},
+                                      {"rounds", cp.extension.rounds}};
+  }
+  clustering_params["outlier_trim"] = nullptr;
+  if (cp.trim_params)
+    clustering_params["outlier_trim"] = {
+        {"radius", cp.trim_params->radius}, {"reach", cp.trim_params->reach}, {"dropped", cp.trim.dropped}};
+  clustering_params["coplanar_merge"] = nullptr;
+  if (cp.coplanar_params) {
+    clustering_params["coplanar_merge"] = {{"reach", cp.coplanar_params->reach},
+                                           {"thickness", cp.coplanar_params->thickness},
+                                           {"merged", cp.coplanar.merged},
+                                           {"points", cp.coplanar.points}};
+  }
+  return clustering_params;
+}
+
+// report.json's "parts": the convex parts' figures; null without convex parts.
+nlohmann::json partsJson(const BuildResult& result) {
+  using nlohmann::json;
+  const BuildReport& report = result.report;
+  if (!report.parts) return nullptr;
+  const auto& p = *report.parts;
+  std::size_t split = 0, largest = 0;
+  for (const auto& o : result.obstacles) {
+    split += o.parts.size() > 1;
+    largest = std::max(largest, o.parts.size());
+  }
+  return {{"count", p.parts},
+          {"concavity", p.concavity},
+          {"flat_gap", p.flat_gap},
+          {"flat_gap_max", p.flat_gap_max},
+          {"flat_parts", p.flat_parts},
+          {"face_parts", p.face_parts},
+          {"per_obstacle", result.obstacles.empty() ? 0.0 : double(p.parts) / double(result.obstacles.size())},
+          {"obstacles_split", split},
+          {"most_parts_of_one_obstacle", largest},
+          {"hull_volume_before", p.hull_volume_before},
+          {"hull_volume_after", p.hull_volume_after},
+          {"voxel_volume", p.voxel_volume},
+          {"free_voxels_inside", p.free_voxels_inside},
+          {"free_voxels_off_surface", p.free_voxels_off_surface},
+          {"keyframes_inside_hulls", report.keyframes_inside_hulls}};
+}
+
+// A finished octree is read as it is: its parameters are what it holds, not ones that were not applied.
+void octreeParameters(const octomap::OcTree& tree, double resolution, nlohmann::json& parameters) {
+  for (const char* key : {"trajectory", "origin", "up", "scale", "crop", "z_min", "z_max", "max_range", "level"})
+    parameters[key] = nullptr;
+  parameters["resolution"] = resolution;
+  parameters["hit"] = tree.getProbHit();
+  parameters["miss"] = tree.getProbMiss();
+  parameters["clamp_min"] = tree.getClampingThresMin();
+  parameters["clamp_max"] = tree.getClampingThresMax();
+  parameters["occupancy_threshold"] = tree.getOccupancyThres();
+}
+
+}  // namespace
+
 nlohmann::json reportJson(const BuildResult& result, const ParameterSpelling& spell) {
   using nlohmann::json;
   const BuildReport& report = result.report;
@@ -183,72 +264,9 @@ nlohmann::json reportJson(const BuildResult& result, const ParameterSpelling& sp
   parameters["min_pts"] = cp.used.min_pts;
   parameters["eps_auto"] = cp.eps_auto;
   parameters["min_pts_auto"] = cp.min_pts_auto;
-  json clustering_params = {
-      {"eps", cp.used.eps}, {"eps_auto", cp.eps_auto}, {"min_pts", cp.used.min_pts}, {"min_pts_auto", cp.min_pts_auto}};
-  if (cp.chosen) {
-    const auto& c = *cp.chosen;
-    clustering_params["auto"] = {
-        {"knn", std::isfinite(c.knn) ? json(c.knn) : json(nullptr)},
-        {"eps_unclamped", std::isfinite(c.eps_unclamped) ? json(c.eps_unclamped) : json(nullptr)},
-        {"sampled", c.sampled},
-        {"structured", c.structured},
-        {"eps", c.eps},
-        {"min_pts", c.min_pts}};
-  }
-  clustering_params["extension"] = nullptr;
-  if (cp.extension_params) {
-    clustering_params["extension"] = {{"min_pts", cp.extension_params->min_pts},
-                                      {"reach", cp.extension_params->reach},
-                                      {"joined", cp.extension.joined},
-                                      {"rounds", cp.extension.rounds}};
-  }
-  clustering_params["outlier_trim"] = nullptr;
-  if (cp.trim_params)
-    clustering_params["outlier_trim"] = {
-        {"radius", cp.trim_params->radius}, {"reach", cp.trim_params->reach}, {"dropped", cp.trim.dropped}};
-  clustering_params["coplanar_merge"] = nullptr;
-  if (cp.coplanar_params) {
-    clustering_params["coplanar_merge"] = {{"reach", cp.coplanar_params->reach},
-                                           {"thickness", cp.coplanar_params->thickness},
-                                           {"merged", cp.coplanar.merged},
-                                           {"points", cp.coplanar.points}};
-  }
-  json parts = nullptr;
-  if (report.parts) {
-    const auto& p = *report.parts;
-    std::size_t split = 0, largest = 0;
-    for (const auto& o : result.obstacles) {
-      split += o.parts.size() > 1;
-      largest = std::max(largest, o.parts.size());
-    }
-    parts = {{"count", p.parts},
-             {"concavity", p.concavity},
-             {"flat_gap", p.flat_gap},
-             {"flat_gap_max", p.flat_gap_max},
-             {"flat_parts", p.flat_parts},
-             {"face_parts", p.face_parts},
-             {"per_obstacle", result.obstacles.empty() ? 0.0 : double(p.parts) / double(result.obstacles.size())},
-             {"obstacles_split", split},
-             {"most_parts_of_one_obstacle", largest},
-             {"hull_volume_before", p.hull_volume_before},
-             {"hull_volume_after", p.hull_volume_after},
-             {"voxel_volume", p.voxel_volume},
-             {"free_voxels_inside", p.free_voxels_inside},
-             {"free_voxels_off_surface", p.free_voxels_off_surface},
-             {"keyframes_inside_hulls", report.keyframes_inside_hulls}};
-  }
-  if (readsOctree(result.params)) {
-    // A finished octree is read as it is: record what it holds, not parameters that were not applied.
-    const auto& tree = result.map.tree();
-    for (const char* key : {"trajectory", "origin", "up", "scale", "crop", "z_min", "z_max", "max_range", "level"})
-      parameters[key] = nullptr;
-    parameters["resolution"] = info.resolution;
-    parameters["hit"] = tree.getProbHit();
-    parameters["miss"] = tree.getProbMiss();
-    parameters["clamp_min"] = tree.getClampingThresMin();
-    parameters["clamp_max"] = tree.getClampingThresMax();
-    parameters["occupancy_threshold"] = tree.getOccupancyThres();
-  }
+  if (readsOctree(result.params)) octreeParameters(result.map.tree(), info.resolution, parameters);
+  const json clustering_params = clusteringJson(cp);
+  const json parts = partsJson(result);
   return {
       {"hullmap_version", HULLMAP_VERSION},
       {"frame", outputFrame(result)},

@@ -357,18 +357,18 @@ Rgb pathColour(std::size_t index) {
   return kColours[index % (sizeof kColours / sizeof kColours[0])];
 }
 
-SvgPicture renderMapSvg(const MapPlot& plot) {
-  if (!(plot.voxel_size > 0.0) || !std::isfinite(plot.voxel_size)) {
-    throw Error("plot: voxel size must be > 0, got " + shortNum(plot.voxel_size));
-  }
-  if (plot.labels.size() != plot.centers.size()) {
-    throw Error("plot: " + std::to_string(plot.labels.size()) + " labels for " + std::to_string(plot.centers.size()) +
-                " voxels");
-  }
+namespace {
+
+// What the picture shows: the box around everything clustered or drawn on top plus the bulk of the
+// noise (noise voxels outside it are far outliers, hidden), and the viewport that maps it to the page.
+struct PlotFrame {
+  Box2 shown;
+  Viewport vp;
+};
+
+PlotFrame plotFrame(const MapPlot& plot) {
   const PlotView view = plot.view;
   const double cell = plot.voxel_size;
-
-  // The view: everything clustered or drawn on top, plus the bulk of the noise.
   std::vector<Eigen::Vector2d> noise;
   Box2 box;
   for (std::size_t i = 0; i < plot.centers.size(); ++i) {
@@ -409,6 +409,44 @@ SvgPicture renderMapSvg(const MapPlot& plot) {
   vp.scale = std::min(max_w / (vp.world.x1 - vp.world.x0), max_h / (vp.world.y1 - vp.world.y0));
   vp.left = 78.0;
   vp.top = 36.0;
+  return {shown, vp};
+}
+
+struct VoxelCounts {
+  std::size_t clusters = 0, noise = 0, floor = 0;
+};
+
+VoxelCounts countVoxels(const MapPlot& plot) {
+  std::set<std::int32_t> clusters;
+  std::size_t noise_voxels = 0, floor_voxels = 0;
+  for (std::int32_t l : plot.labels) {
+    if (l >= 0) {
+      clusters.insert(l);
+    } else if (plot.floor_label && l == *plot.floor_label) {
+      ++floor_voxels;
+    } else {
+      ++noise_voxels;
+    }
+  }
+  return {clusters.size(), noise_voxels, floor_voxels};
+}
+
+}  // namespace
+
+SvgPicture renderMapSvg(const MapPlot& plot) {
+  if (!(plot.voxel_size > 0.0) || !std::isfinite(plot.voxel_size)) {
+    throw Error("plot: voxel size must be > 0, got " + shortNum(plot.voxel_size));
+  }
+  if (plot.labels.size() != plot.centers.size()) {
+    throw Error("plot: " + std::to_string(plot.labels.size()) + " labels for " + std::to_string(plot.centers.size()) +
+                " voxels");
+  }
+  const PlotView view = plot.view;
+  const double cell = plot.voxel_size;
+
+  const PlotFrame frame = plotFrame(plot);
+  const Box2& shown = frame.shown;
+  const Viewport& vp = frame.vp;
 
   SvgPicture picture;
   CellMap cells;
@@ -428,17 +466,7 @@ SvgPicture renderMapSvg(const MapPlot& plot) {
   }
   picture.cells = cells.size();
 
-  std::set<std::int32_t> clusters;
-  std::size_t noise_voxels = 0, floor_voxels = 0;
-  for (std::int32_t l : plot.labels) {
-    if (l >= 0) {
-      clusters.insert(l);
-    } else if (plot.floor_label && l == *plot.floor_label) {
-      ++floor_voxels;
-    } else {
-      ++noise_voxels;
-    }
-  }
+  const VoxelCounts counts = countVoxels(plot);
 
   std::ostringstream body;
   const double font = 12.0;
@@ -449,8 +477,8 @@ SvgPicture renderMapSvg(const MapPlot& plot) {
   }
   writeObstacles(body, plot.obstacles, view, vp);
   std::vector<std::string> caption = plot.caption;
-  caption.push_back(std::to_string(plot.centers.size()) + " voxels, " + std::to_string(clusters.size()) +
-                    " clusters (colours), " + std::to_string(noise_voxels) + " noise voxels (black), " +
+  caption.push_back(std::to_string(plot.centers.size()) + " voxels, " + std::to_string(counts.clusters) +
+                    " clusters (colours), " + std::to_string(counts.noise) + " noise voxels (black), " +
                     std::to_string(plot.obstacles.size()) + " obstacles (outlined, numbered)");
   caption.push_back(view == PlotView::kTop
                         ? "top view: each x-y cell shows its topmost clustered voxel, else its topmost voxel"
@@ -458,8 +486,8 @@ SvgPicture renderMapSvg(const MapPlot& plot) {
   if (picture.hidden_voxels > 0) {
     caption.push_back(std::to_string(picture.hidden_voxels) + " far noise voxels outside the view, not drawn");
   }
-  if (floor_voxels > 0) {
-    caption.push_back("floor (light brown cells, dashed outline): " + std::to_string(floor_voxels) +
+  if (counts.floor > 0) {
+    caption.push_back("floor (light brown cells, dashed outline): " + std::to_string(counts.floor) +
                       " voxels, not clustered");
   }
   if (!plot.keyframes.empty()) {

@@ -151,30 +151,11 @@ std::filesystem::path toPath(py::handle object) {
   return py::cast<std::string>(py::module_::import("os").attr("fspath")(object));
 }
 
-BuildRequest buildRequest(py::handle points, py::handle trajectory, py::handle align, py::handle origin,
-                          const py::dict& keywords) {
-  BuildRequest request;
+namespace {
+
+// up, scale, crop, z_min, z_max: the input frame and the bounds.
+void takeFrame(Keywords& k, py::handle align, BuildRequest& request) {
   pipeline::BuildParams& params = request.params;
-  Keywords k(keywords);
-
-  if (auto files = paths(points)) {
-    params.inputs = std::move(*files);
-  } else {
-    const auto rows = rowsArray(points, 3, "points", "x y z");
-    requireFinite(rows, "points");
-    request.points = python::points(rows);
-  }
-
-  if (!trajectory.is_none()) {
-    if (isPath(trajectory)) {
-      params.trajectory = toPath(trajectory);
-    } else {
-      request.keyframes =
-          io::parseTumTrajectory(rowsText(rowsArray(trajectory, 8, "trajectory", "t x y z qx qy qz qw")), "trajectory");
-    }
-  }
-  if (!origin.is_none()) params.origin = vector3(origin, "origin");
-
   if (py::object v = k.take("up"); !v.is_none()) {
     if (!isWord(v)) throw Error::inParameter("up", "expected one of x, -x, y, -y, z, -z, got " + reprOf(v));
     params.frame.up = mapper::parseUpAxis(word(v));
@@ -197,7 +178,10 @@ BuildRequest buildRequest(py::handle points, py::handle trajectory, py::handle a
   }
   if (py::object v = k.take("z_min"); !v.is_none()) params.filters.z_min = number(v, "z_min");
   if (py::object v = k.take("z_max"); !v.is_none()) params.filters.z_max = number(v, "z_max");
+}
 
+// The octree's resolution, ray length and sensor model.
+void takeOctree(Keywords& k, pipeline::BuildParams& params) {
   mapper::OctreeParams& octree = params.octree;
   for (auto [name, field] : {std::pair<const char*, double*>{"resolution", &octree.resolution},
                              {"max_range", &octree.max_range},
@@ -208,7 +192,10 @@ BuildRequest buildRequest(py::handle points, py::handle trajectory, py::handle a
                              {"occupancy_threshold", &octree.sensor.occupancy_threshold}}) {
     if (py::object v = k.take(name); !v.is_none()) *field = number(v, name);
   }
+}
 
+// align (a file or an array of poses), align_format, align_tolerance.
+void takeAlign(Keywords& k, py::handle align, pipeline::BuildParams& params) {
   py::object format = k.take("align_format");
   py::object tolerance = k.take("align_tolerance");
   if (!align.is_none()) {
@@ -226,7 +213,10 @@ BuildRequest buildRequest(py::handle points, py::handle trajectory, py::handle a
     }
     params.align = std::move(settings);
   }
+}
 
+// floor, ceiling, level, camera_frame.
+void takeSurfaces(Keywords& k, pipeline::BuildParams& params) {
   if (py::object v = k.take("floor"); k.has("floor")) params.floor = planeSetting(v, "floor");
   if (py::object v = k.take("ceiling"); k.has("ceiling")) params.ceiling = planeSetting(v, "ceiling");
   if (py::object v = k.take("level"); !v.is_none()) {
@@ -241,7 +231,10 @@ BuildRequest buildRequest(py::handle points, py::handle trajectory, py::handle a
       throw Error::inParameter("camera_frame", "expected True, False or None, got " + reprOf(v));
     params.camera_frame = py::cast<bool>(v);
   }
+}
 
+// DBSCAN (eps, min_pts, metric, extension), the convex parts (concavity, flat_gap), write_ot.
+void takeClustering(Keywords& k, pipeline::BuildParams& params) {
   if (py::object v = k.take("eps"); !v.is_none()) {
     if (!isWord(v) || word(v) != "auto") params.eps = number(v, "eps", "a number or 'auto'");
   }
@@ -275,6 +268,38 @@ BuildRequest buildRequest(py::handle points, py::handle trajectory, py::handle a
     if (!py::isinstance<py::bool_>(v)) throw Error::inParameter("write_ot", "expected True or False, got " + reprOf(v));
     params.write_ot = py::cast<bool>(v);
   }
+}
+}  // namespace
+
+BuildRequest buildRequest(py::handle points, py::handle trajectory, py::handle align, py::handle origin,
+                          const py::dict& keywords) {
+  BuildRequest request;
+  pipeline::BuildParams& params = request.params;
+  Keywords k(keywords);
+
+  if (auto files = paths(points)) {
+    params.inputs = std::move(*files);
+  } else {
+    const auto rows = rowsArray(points, 3, "points", "x y z");
+    requireFinite(rows, "points");
+    request.points = python::points(rows);
+  }
+
+  if (!trajectory.is_none()) {
+    if (isPath(trajectory)) {
+      params.trajectory = toPath(trajectory);
+    } else {
+      request.keyframes =
+          io::parseTumTrajectory(rowsText(rowsArray(trajectory, 8, "trajectory", "t x y z qx qy qz qw")), "trajectory");
+    }
+  }
+  if (!origin.is_none()) params.origin = vector3(origin, "origin");
+
+  takeFrame(k, align, request);
+  takeOctree(k, params);
+  takeAlign(k, align, params);
+  takeSurfaces(k, params);
+  takeClustering(k, params);
   k.refuseUnknown();
   std::set<std::string> named;
   for (const auto& [key, value] : keywords) named.insert(py::cast<std::string>(key));

@@ -236,11 +236,11 @@ void truthSegments(const pipeline::TruthShape& s, std::vector<std::pair<Eigen::V
   }
 }
 
-json pageData(const ViewScene& scene, const std::vector<VoxelCells>& levels, std::size_t max_instances) {
-  const Eigen::AlignedBox3d box = viewBox(scene);
-  const Eigen::Vector3d shift = box.center();
+// The build's figures, parameters and warnings, the view box and the colours.
+json pageHeader(const ViewScene& scene, const Eigen::AlignedBox3d& box) {
   const json& report = scene.report;
-  json data = {
+  const Eigen::Vector3d shift = box.center();
+  return {
       {"format", "hullmap-view/1"},
       {"title", scene.title},
       {"hullmap_version", reportValue(report, {"hullmap_version"})},
@@ -274,8 +274,10 @@ json pageData(const ViewScene& scene, const std::vector<VoxelCells>& levels, std
         {"axis_y", "#2e8b57"},
         {"axis_z", "#1f4fd1"}}},
   };
+}
 
-  // Voxels: counts of the build, then each level's cells as 16-bit indices from its first cell.
+// Voxels: counts of the build, then each level's cells as 16-bit indices from its first cell.
+json voxelsJson(const ViewScene& scene, const std::vector<VoxelCells>& levels, std::size_t max_instances) {
   std::size_t clustered = 0, noise = 0, floor = 0, ceiling = 0;
   for (const std::int32_t l : scene.labels) {
     if (l >= 0)
@@ -312,15 +314,17 @@ json pageData(const ViewScene& scene, const std::vector<VoxelCells>& levels, std
                           {"groups", groups},
                           {"cells", cell_bytes.base64()}});
   }
-  data["voxels"] = {{"total", scene.centers.size()},
-                    {"clustered", clustered},
-                    {"noise", noise},
-                    {"floor", floor},
-                    {"ceiling", ceiling},
-                    {"max_instances", max_instances},
-                    {"levels", level_data}};
+  return {{"total", scene.centers.size()},
+          {"clustered", clustered},
+          {"noise", noise},
+          {"floor", floor},
+          {"ceiling", ceiling},
+          {"max_instances", max_instances},
+          {"levels", level_data}};
+}
 
-  // Obstacles and their hulls: one per convex part (the whole hull for an obstacle without parts).
+// Obstacles and their hulls: one per convex part (the whole hull for an obstacle without parts).
+void addHulls(const ViewScene& scene, const Eigen::Vector3d& shift, json& data) {
   json obstacles = json::array();
   json items = json::array(), vertex_counts = json::array(), triangle_counts = json::array();
   Bytes vertices, triangles;
@@ -359,24 +363,23 @@ json pageData(const ViewScene& scene, const std::vector<VoxelCells>& levels, std
                    {"triangle_counts", triangle_counts},
                    {"vertices", vertices.base64()},
                    {"triangles", triangles.base64()}};
-  data["floor"] = planeJson(report, "floor");
-  data["ceiling"] = planeJson(report, "ceiling");
+}
 
-  // Keyframes, each with a tick along its viewing direction (the camera's +z).
-  data["keyframes"] = nullptr;
-  if (!scene.keyframes.empty()) {
-    Bytes positions, ticks;
-    const double tick = 4 * scene.resolution;
-    for (const auto& k : scene.keyframes) {
-      putLocal(positions, k.position, shift);
-      putLocal(ticks, k.position, shift);
-      putLocal(ticks, k.position + tick * (k.orientation * Eigen::Vector3d::UnitZ()), shift);
-    }
-    data["keyframes"] = {
-        {"count", scene.keyframes.size()}, {"positions", positions.base64()}, {"ticks", ticks.base64()}};
+// Keyframes, each with a tick along its viewing direction (the camera's +z); null without any.
+json keyframesJson(const ViewScene& scene, const Eigen::Vector3d& shift) {
+  if (scene.keyframes.empty()) return nullptr;
+  Bytes positions, ticks;
+  const double tick = 4 * scene.resolution;
+  for (const auto& k : scene.keyframes) {
+    putLocal(positions, k.position, shift);
+    putLocal(ticks, k.position, shift);
+    putLocal(ticks, k.position + tick * (k.orientation * Eigen::Vector3d::UnitZ()), shift);
   }
+  return {{"count", scene.keyframes.size()}, {"positions", positions.base64()}, {"ticks", ticks.base64()}};
+}
 
-  // Paths: their checks as `hullmap check --json` prints them.
+// Paths: their checks as `hullmap check --json` prints them.
+json pathsJson(const ViewScene& scene) {
   json paths = json::array();
   for (std::size_t i = 0; i < scene.paths.size(); ++i) {
     const auto& p = scene.paths[i];
@@ -400,42 +403,58 @@ json pageData(const ViewScene& scene, const std::vector<VoxelCells>& levels, std
                       p.check.first_colliding_segment ? json(*p.check.first_colliding_segment) : json(nullptr)},
                      {"first_contact", p.check.first_contact ? vec(*p.check.first_contact) : json(nullptr)}});
   }
-  data["paths"] = paths;
+  return paths;
+}
 
-  data["roadmap"] = nullptr;
-  if (scene.roadmap) {
-    const ViewRoadmap& r = *scene.roadmap;
-    Bytes nodes, edges;
-    for (const auto& n : r.nodes) putLocal(nodes, Eigen::Vector3d(n.x(), n.y(), r.z), shift);
-    for (const auto& e : r.edges) {
-      for (std::size_t k = 0; k + 1 < e.size(); ++k) {
-        putLocal(edges, Eigen::Vector3d(e[k].x(), e[k].y(), r.z), shift);
-        putLocal(edges, Eigen::Vector3d(e[k + 1].x(), e[k + 1].y(), r.z), shift);
-      }
+// The roadmap's nodes and edges at its height; null without one.
+json roadmapJson(const ViewScene& scene, const Eigen::Vector3d& shift) {
+  if (!scene.roadmap) return nullptr;
+  const ViewRoadmap& r = *scene.roadmap;
+  Bytes nodes, edges;
+  for (const auto& n : r.nodes) putLocal(nodes, Eigen::Vector3d(n.x(), n.y(), r.z), shift);
+  for (const auto& e : r.edges) {
+    for (std::size_t k = 0; k + 1 < e.size(); ++k) {
+      putLocal(edges, Eigen::Vector3d(e[k].x(), e[k].y(), r.z), shift);
+      putLocal(edges, Eigen::Vector3d(e[k + 1].x(), e[k + 1].y(), r.z), shift);
     }
-    data["roadmap"] = {{"name", r.name},
-                       {"z", r.z},
-                       {"nodes", r.nodes.size()},
-                       {"edges", r.edges.size()},
-                       {"node_positions", nodes.base64()},
-                       {"edge_segments", edges.base64()}};
   }
+  return {{"name", r.name},
+          {"z", r.z},
+          {"nodes", r.nodes.size()},
+          {"edges", r.edges.size()},
+          {"node_positions", nodes.base64()},
+          {"edge_segments", edges.base64()}};
+}
 
-  data["truth"] = nullptr;
-  if (scene.truth) {
-    Bytes segments;
-    json shapes = json::array();
-    for (const auto& s : scene.truth->shapes) {
-      std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> lines;
-      truthSegments(s, lines);
-      for (const auto& [a, b] : lines) {
-        putLocal(segments, a, shift);
-        putLocal(segments, b, shift);
-      }
-      shapes.push_back({{"label", s.label}, {"surface", s.surface}, {"segments", lines.size()}});
+// The ground truth's shapes as wireframe segments; null without one.
+json truthJson(const ViewScene& scene, const Eigen::Vector3d& shift) {
+  if (!scene.truth) return nullptr;
+  Bytes segments;
+  json shapes = json::array();
+  for (const auto& s : scene.truth->shapes) {
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> lines;
+    truthSegments(s, lines);
+    for (const auto& [a, b] : lines) {
+      putLocal(segments, a, shift);
+      putLocal(segments, b, shift);
     }
-    data["truth"] = {{"name", scene.truth_name}, {"shapes", shapes}, {"segments", segments.base64()}};
+    shapes.push_back({{"label", s.label}, {"surface", s.surface}, {"segments", lines.size()}});
   }
+  return {{"name", scene.truth_name}, {"shapes", shapes}, {"segments", segments.base64()}};
+}
+
+json pageData(const ViewScene& scene, const std::vector<VoxelCells>& levels, std::size_t max_instances) {
+  const Eigen::AlignedBox3d box = viewBox(scene);
+  const Eigen::Vector3d shift = box.center();
+  json data = pageHeader(scene, box);
+  data["voxels"] = voxelsJson(scene, levels, max_instances);
+  addHulls(scene, shift, data);
+  data["floor"] = planeJson(scene.report, "floor");
+  data["ceiling"] = planeJson(scene.report, "ceiling");
+  data["keyframes"] = keyframesJson(scene, shift);
+  data["paths"] = pathsJson(scene);
+  data["roadmap"] = roadmapJson(scene, shift);
+  data["truth"] = truthJson(scene, shift);
   return data;
 }
 

@@ -1,0 +1,220 @@
+// The build's stages after the octree: one list, wired once (kStages), each stage a function of the
+// voxels' work state, timed and announced to the stage hook by the loop that runs them.
+#include "cluster_stages.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hullmap/clustering/auto_params.hpp"
+#include "hullmap/clustering/build_warnings.hpp"
+#include "hullmap/clustering/cluster_extension.hpp"
+#include "hullmap/clustering/convex_parts.hpp"
+#include "hullmap/clustering/coplanar_merge.hpp"
+#include "hullmap/clustering/dbscan.hpp"
+#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/clustering/outlier_trim.hpp"
+#include "hullmap/mapper/floor.hpp"
+#include "hullmap/mapper/level_check.hpp"
+#include "hullmap/pipeline/report.hpp"
+#include "stages.hpp"
+#include "surfaces.hpp"
+
+namespace hullmap::pipeline {
+namespace {
+
+/// A floor kept in the input frame tilted by more than this (degrees) is warned about.
+constexpr double kKeptFloorTiltDeg = 3.0;
+
+/// What the stages hand on to each other.
+struct ClusterWork {
+  std::vector<Eigen::Vector3d> centers;  // every occupied voxel's centre
+  std::vector<std::uint32_t> weights;    // and its map points
+  std::vector<std::int32_t> labels;      // per voxel: kFloorLabel, kCeilingLabel, a cluster or kNoise
+  // The voxels that are neither floor nor ceiling, which DBSCAN clusters.
+  std::vector<std::size_t> obstacle_index;
+  std::vector<Eigen::Vector3d> obstacle_centers;
+  std::vector<std::uint32_t> obstacle_weights;
+  clustering::DbscanResult clusters;         // over the obstacle voxels
+  std::vector<std::int32_t> cluster_labels;  // labels with the surfaces as noise
+};
+
+// Floor and ceiling voxels stay in the map but are not clustered. The band covers the plane's
+// noise (about a voxel) and half a voxel: a voxel holding floor points has its centre within it.
+void separateSurfaces(BuildResult& result, ClusterWork& w) {
+  const BuildReport& report = result.report;
+  result.voxels = result.map.occupiedVoxels();
+  const std::size_t n = result.voxels.size();
+  w.centers.reserve(n);
+  w.weights.reserve(n);
+  for (const auto& v : result.voxels) {
+    w.centers.push_back(v.center);
+    w.weights.push_back(v.weight);
+  }
+  w.labels.assign(n, clustering::kNoise);
+  if (report.floor.plane || report.ceiling.plane) {
+    const auto classes =
+        mapper::classifySurfaces(w.centers, report.floor.plane, report.ceiling.plane, 1.25 * result.map.resolution());
+    for (std::size_t i = 0; i < n; ++i) {
+      if (classes[i] == mapper::SurfaceClass::kFloor) w.labels[i] = kFloorLabel;
+      if (classes[i] == mapper::SurfaceClass::kCeiling) w.labels[i] = kCeilingLabel;
+    }
+  }
+  w.obstacle_index.reserve(n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (w.labels[i] == clustering::kNoise) w.obstacle_index.push_back(i);
+  w.obstacle_centers.reserve(w.obstacle_index.size());
+  w.obstacle_weights.reserve(w.obstacle_index.size());
+  for (std::size_t i : w.obstacle_index) {
+    w.obstacle_centers.push_back(w.centers[i]);
+    w.obstacle_weights.push_back(w.weights[i]);
+  }
+}
+
+// eps and min_pts: given, or chosen from the obstacle voxels.
+void chooseParams(BuildResult& result, ClusterWork& w) {
+  const BuildParams& params = result.params;
+  ClusterParamsReport& chosen = result.report.cluster_params;
+  chosen.used.metric = params.metric;
+  chosen.eps_auto = !params.eps;
+  chosen.min_pts_auto = !params.min_pts;
+  if (chosen.eps_auto || chosen.min_pts_auto) {
+    chosen.chosen = clustering::chooseDbscanParams(w.obstacle_centers, w.obstacle_weights, result.map.resolution(),
+                                                   params.metric, params.auto_rule);
+  }
+  chosen.used.eps = params.eps ? *params.eps : chosen.chosen->eps;
+  chosen.used.min_pts = params.min_pts ? *params.min_pts : chosen.chosen->min_pts;
+}
+
+void runDbscan(BuildResult& result, ClusterWork& w) {
+  w.clusters = clustering::dbscan(w.obstacle_centers, w.obstacle_weights, result.report.cluster_params.used);
+}
+
+bool extensionOn(const BuildParams& params) { return params.extension.value_or(!params.min_pts); }
+
+// The clusters extended, their strays trimmed, and flat clusters merged into the ones around them.
+void extendClusters(BuildResult& result, ClusterWork& w) {
+  const double resolution = result.map.resolution();
+  ClusterParamsReport& chosen = result.report.cluster_params;
+  chosen.extension_params = clustering::extensionParams(chosen.used, result.params.extension_rule);
+  chosen.extension =
+      clustering::extendClusters(w.obstacle_centers, w.obstacle_weights, w.clusters, *chosen.extension_params);
+  // Stray map points that the eps, wide on a sparse map, took in off the surfaces go back to noise;
+  // the floor's and ceiling's voxels support what stands on them (a table leg's foot).
+  std::vector<Eigen::Vector3d> surface_centers;
+  for (std::size_t i = 0; i < w.labels.size(); ++i)
+    if (w.labels[i] == kFloorLabel || w.labels[i] == kCeilingLabel) surface_centers.push_back(w.centers[i]);
+  chosen.trim_params =
+      clustering::OutlierTrimParams{3.0 * resolution, std::max(3.0 * resolution, chosen.extension_params->reach)};
+  chosen.trim = clustering::trimOutliers(w.obstacle_centers, w.clusters, surface_centers, *chosen.trim_params);
+  // A flat cluster in the plane of a larger one around it (a wall's foot that DBSCAN cut off the
+  // sparse wall above it) joins it, so that the wall's parts can merge over it.
+  chosen.coplanar_params = clustering::CoplanarMergeParams{chosen.used.eps, 3.0 * resolution};
+  chosen.coplanar = clustering::mergeCoplanarClusters(w.obstacle_centers, w.clusters, *chosen.coplanar_params);
+}
+
+// Every voxel's label, the surfaces' rims joined to what stands on them, a hull and footprint per
+// cluster, and the floor and ceiling as half-spaces.
+void makeObstacles(BuildResult& result, ClusterWork& w) {
+  const double resolution = result.map.resolution();
+  const BuildParams& params = result.params;
+  BuildReport& report = result.report;
+  const clustering::DbscanParams& used = report.cluster_params.used;
+  const std::size_t n = w.centers.size();
+  result.clusters.cluster_sizes = w.clusters.cluster_sizes;
+  result.clusters.noise = w.clusters.noise;
+  result.clusters.core.assign(n, 0);
+  for (std::size_t k = 0; k < w.obstacle_index.size(); ++k) {
+    w.labels[w.obstacle_index[k]] = w.clusters.labels[k];
+    result.clusters.core[w.obstacle_index[k]] = w.clusters.core[k];
+  }
+  // The rims reach as far as the eps used, but no farther than the auto rule's upper clamp: a large
+  // eps given by hand (1 m) would otherwise join most of the floor to the walls' feet.
+  detail::attachSurfaceRims(w.centers, resolution, std::min(used.eps, params.auto_rule.max_eps_voxels * resolution),
+                            w.labels);
+  w.cluster_labels = w.labels;
+  for (auto& l : w.cluster_labels) l = std::max(l, clustering::kNoise);
+  result.obstacles = clustering::buildObstacles(w.centers, w.weights, w.cluster_labels, resolution);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (w.labels[i] == kFloorLabel) ++report.floor.voxels;
+    if (w.labels[i] == kCeilingLabel) ++report.ceiling.voxels;
+  }
+  result.surfaces = surfaceHalfSpaces(report, w.centers, w.labels, resolution);
+}
+
+bool convexPartsOn(const BuildParams& params) { return params.convex_parts.has_value(); }
+
+// Each obstacle split into convex parts that keep out of the space the keyframes saw free.
+void splitConvexParts(BuildResult& result, ClusterWork& w) {
+  const BuildParams& params = result.params;
+  BuildReport& report = result.report;
+  const double resolution = result.map.resolution();
+  clustering::KnownFreeSpace known;
+  for (const auto& k : result.keyframes) known.keyframes.push_back(k.position);
+  if (params.trajectory || params.origin) known.free_voxels = freeVoxelCentres(result.map);
+  // G unset: the eps used, the distance at which this map's sampling connects a surface.
+  clustering::ConvexPartsParams parts_params = *params.convex_parts;
+  // Auto G is also adapted to each cluster's sampling (a sparse wall's chance holes); a G the user
+  // gives is used as given.
+  if (!parts_params.flat_gap) {
+    parts_params.flat_gap = report.cluster_params.used.eps;
+    parts_params.adapt_flat_gap = true;
+  }
+  // A level floor closes the shells standing on it from below (their bottom is never seen).
+  if (report.floor.plane && !parts_params.floor_z)
+    parts_params.floor_z = levelFloorHeight(*report.floor.plane, w.centers, resolution);
+  report.parts = clustering::addConvexParts(result.obstacles, w.centers, w.weights, w.cluster_labels, resolution,
+                                            parts_params, known);
+  report.keyframes_inside_hulls = report.parts->keyframes_in_voxels;
+}
+
+// The clustering's warnings, and a kept floor's tilt or a map that looks unlevelled.
+void addWarnings(BuildResult& result, const ClusterWork& w) {
+  const BuildParams& params = result.params;
+  BuildReport& report = result.report;
+  const double resolution = result.map.resolution();
+  const clustering::DbscanParams& used = report.cluster_params.used;
+  report.warnings = clustering::buildWarnings({w.obstacle_index.size(), result.clusters.noise, result.obstacles.size(),
+                                               used.eps, used.min_pts, used.metric, resolution});
+  if (readsOctree(params) || params.align || report.floor.levelled) return;
+  const PlaneReport& floor = report.floor;
+  if (floor.plane && floor.setting.mode == mapper::PlaneSetting::Mode::kAuto) {
+    if (floor.fit.tilt_deg > kKeptFloorTiltDeg) {
+      report.warnings.push_back({Warning::Code::kKeptFloorTilted,
+                                 {{"inlier_share", floor.fit.inlier_share}, {"tilt_deg", floor.fit.tilt_deg}},
+                                 ""});
+    }
+  } else if (auto tilted = mapper::levelWarning(w.centers, resolution, upAxisText(params.frame.up))) {
+    report.warnings.push_back(*tilted);
+  }
+}
+
+struct Stage {
+  const char* name;                  // in report.json's timings and to the stage hook
+  bool (*runs)(const BuildParams&);  // nullptr: always
+  void (*run)(BuildResult&, ClusterWork&);
+};
+
+constexpr Stage kStages[] = {
+    {"surfaces", nullptr, separateSurfaces}, {"auto_params", nullptr, chooseParams},
+    {"dbscan", nullptr, runDbscan},          {"extension", extensionOn, extendClusters},
+    {"obstacles", nullptr, makeObstacles},   {"convex_parts", convexPartsOn, splitConvexParts},
+};
+
+}  // namespace
+
+void clusterInto(BuildResult& result, StageTimer& timer) {
+  ClusterWork work;
+  for (const Stage& stage : kStages) {
+    if (stage.runs != nullptr && !stage.runs(result.params)) continue;
+    runStage(stage.name);
+    stage.run(result, work);
+    timer.stage(stage.name);
+  }
+  result.clusters.labels = std::move(work.labels);
+  addWarnings(result, work);
+}
+
+}  // namespace hullmap::pipeline
