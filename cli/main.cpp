@@ -12,7 +12,7 @@
 
 namespace {
 
-// Test-only (test/cli_build.cpp): HULLMAP_TEST_KILL_AT=<stage> makes the run SIGKILL itself when
+// Test-only (test/e2e/build.cpp): HULLMAP_TEST_KILL_AT=<stage> makes the run SIGKILL itself when
 // the pipeline reaches that stage, so that "a run killed there" is a fact, not a race with a timer.
 const char* kill_at = nullptr;
 

@@ -1,4 +1,4 @@
-"""Reference DBSCAN for test/clustering_dbscan.cpp: scikit-learn on a points file.
+"""Reference DBSCAN for test/clustering/dbscan.cpp: scikit-learn on a points file.
 
 usage: clustering_sklearn_dbscan.py POINTS EPS MIN_PTS xyz|xy
 POINTS holds one point a line, `x y z` (whitespace separated). Prints one line per point, in order:

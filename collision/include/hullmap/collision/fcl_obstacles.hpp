@@ -32,7 +32,7 @@ struct HullSource {
 ///
 /// HullChecker uses this manager as its broadphase. It does not take its answers from FCL's
 /// narrowphase on `Convex` (GJK/EPA distances that are not exact, and a continuous collision that
-/// samples poses; test/collision_distance.cpp measures how far they are off): it computes them with
+/// samples poses; test/collision/distance.cpp measures how far they are off): it computes them with
 /// hullmap's certified segment-hull distance (convex_distance.hpp).
 ///
 /// Immutable after construction: the const queries of FCL's manager (collide, distance against one

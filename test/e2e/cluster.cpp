@@ -1,0 +1,168 @@
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include "hullmap/clustering/dbscan.hpp"
+#include "hullmap/core/error.hpp"
+#include "run_hullmap.hpp"
+#include "metric_distance.hpp"
+
+namespace hullmap::clustering {
+namespace {
+
+using Points = std::vector<Eigen::Vector3d>;
+using Weights = std::vector<std::uint32_t>;
+
+using hullmap::test::squaredDistance;
+
+/// Gaussian blobs plus uniform background, in a box of side `extent`.
+Points blobs(std::uint32_t seed, std::size_t n, double extent, int blob_count, double sigma) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uniform(0.0, extent);
+  std::normal_distribution<double> gauss(0.0, sigma);
+  std::vector<Eigen::Vector3d> centers;
+  for (int b = 0; b < blob_count; ++b) centers.emplace_back(uniform(rng), uniform(rng), uniform(rng));
+  Points points;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i % 5 == 4 || centers.empty()) {
+      points.emplace_back(uniform(rng), uniform(rng), uniform(rng));
+    } else {
+      const Eigen::Vector3d& c = centers[i % centers.size()];
+      points.emplace_back(c.x() + gauss(rng), c.y() + gauss(rng), c.z() + gauss(rng));
+    }
+  }
+  return points;
+}
+
+// ---- scikit-learn on real SLAM maps ----
+
+// ---- hullmap cluster / hullmap sweep ----
+
+/// Writes `points` as `x y z` text (exact: 17 significant digits).
+std::string writeXyz(const std::filesystem::path& path, const Points& points) {
+  std::ofstream out(path);
+  out.precision(17);
+  for (const auto& p : points) out << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  return path.string();
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream s(text);
+  std::string line;
+  while (std::getline(s, line)) out.push_back(line);
+  return out;
+}
+
+TEST(ClusterCommand, WritesLabelsOfEveryPointInInputOrder) {
+  const auto dir = test::freshDir("cluster_command");
+  const Points points = blobs(91, 2000, 2.0, 6, 0.05);
+  const std::string input = writeXyz(dir / "points.xyz", points);
+  const std::string output = (dir / "labels.csv").string();
+  const auto r = test::runHullmap("cluster '" + input + "' --eps 0.1 --min-pts 10 --up -y -o '" + output + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  // The same points in the map frame: --up -y maps (x, y, z) to (x, z, -y).
+  Points map;
+  for (const auto& p : points) map.emplace_back(p.x(), p.z(), -p.y());
+  const DbscanResult expected = dbscan(map, {}, DbscanParams{0.1, 10, Metric::kXyz});
+  const auto rows = lines(test::slurp(output));
+  ASSERT_EQ(rows.size(), points.size() + 1);
+  EXPECT_EQ(rows[0], "x,y,z,label,core");
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::istringstream row(rows[i + 1]);
+    double v[3];
+    int label = 0, core = 0;
+    char comma;
+    ASSERT_TRUE(row >> v[0] >> comma >> v[1] >> comma >> v[2] >> comma >> label >> comma >> core) << rows[i + 1];
+    EXPECT_EQ(Eigen::Vector3d(v[0], v[1], v[2]), map[i]) << "row " << i + 1;
+    EXPECT_EQ(label, expected.labels[i]) << "row " << i + 1;
+    EXPECT_EQ(core, int(expected.core[i])) << "row " << i + 1;
+  }
+  EXPECT_NE(r.out.find("clusters: " + std::to_string(expected.cluster_sizes.size()) + "\n"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("noise points: " + std::to_string(expected.noise) + " "), std::string::npos) << r.out;
+  std::vector<std::size_t> sizes = expected.cluster_sizes;
+  std::sort(sizes.rbegin(), sizes.rend());
+  EXPECT_NE(r.out.find("largest clusters: " + std::to_string(sizes[0]) + ", " + std::to_string(sizes[1])),
+            std::string::npos)
+      << r.out;
+  std::ostringstream knee;
+  knee << "eps suggestion: " << suggestEps(kDistanceCurve(map, 10, Metric::kXyz));
+  EXPECT_NE(r.out.find(knee.str()), std::string::npos) << r.out;
+}
+
+TEST(ClusterCommand, RejectsBadValuesAndEmptyInput) {
+  const auto dir = test::freshDir("cluster_command_errors");
+  const std::string input = writeXyz(dir / "points.xyz", blobs(92, 100, 1.0, 2, 0.05));
+  const std::string empty = (dir / "empty.xyz").string();
+  std::ofstream(empty).close();
+  const std::string output = (dir / "labels.csv").string();
+  for (const auto& [args, needle] : std::vector<std::pair<std::string, std::string>>{
+           {"cluster '" + input + "' --eps 0", "--eps"},
+           {"cluster '" + input + "' --eps -0.5", "--eps"},
+           {"cluster '" + input + "' --min-pts 0", "--min-pts"},
+           {"cluster '" + input + "' --metric z", "--metric"},
+           {"cluster '" + input + "' --up w", "--up"},
+           {"cluster '" + empty + "' -o '" + output + "'", empty + ": no points"},
+           {"sweep '" + input + "' --eps 0.1,abc", "--eps"},
+           {"sweep '" + input + "' --eps 0.1,0", "--eps"},
+           {"sweep '" + input + "' --eps ''", "--eps"},
+           {"sweep '" + input + "' --min-pts 5,1.5", "--min-pts"},
+           {"sweep '" + input + "' --min-pts 0,5", "--min-pts"},
+           {"sweep '" + empty + "'", empty + ": no points"}}) {
+    const auto r = test::runHullmap(args);
+    EXPECT_EQ(r.status, 2) << args;
+    EXPECT_NE(r.err.find("hullmap: error: "), std::string::npos) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << args << ": " << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(output)) << "a failed run left an output behind";
+}
+
+TEST(SweepCommand, OneRowPerPair) {
+  const auto dir = test::freshDir("sweep_command");
+  const Points points = blobs(93, 1500, 2.0, 5, 0.05);
+  const std::string input = writeXyz(dir / "points.xyz", points);
+  const std::string output = (dir / "sweep.csv").string();
+  const auto r =
+      test::runHullmap("sweep '" + input + "' --eps 0.05,0.1 --min-pts 3,10,20 --metric xy -o '" + output + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto rows = lines(test::slurp(output));
+  ASSERT_EQ(rows.size(), 7u);
+  EXPECT_EQ(rows[0], "eps,min_pts,clusters,noise,largest");
+  std::size_t row = 1;
+  for (double eps : {0.05, 0.1}) {
+    for (int min_pts : {3, 10, 20}) {
+      const DbscanResult d = dbscan(points, {}, DbscanParams{eps, min_pts, Metric::kXy});
+      const std::size_t largest =
+          d.cluster_sizes.empty() ? 0 : *std::max_element(d.cluster_sizes.begin(), d.cluster_sizes.end());
+      std::ostringstream want;
+      want << eps << ',' << min_pts << ',' << d.cluster_sizes.size() << ',' << d.noise << ',' << largest;
+      EXPECT_EQ(rows[row++], want.str());
+      // The printed table has the same row, space-aligned.
+      std::string printed = want.str();
+      std::replace(printed.begin(), printed.end(), ',', ' ');
+      bool found = false;
+      for (const std::string& line : lines(r.out)) {
+        std::istringstream tokens(line);
+        std::string token, joined;
+        while (tokens >> token) joined += (joined.empty() ? "" : " ") + token;
+        found = found || joined == printed;
+      }
+      EXPECT_TRUE(found) << "no row '" << printed << "' in\n" << r.out;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace hullmap::clustering

@@ -1,0 +1,62 @@
+#pragma once
+
+// The end-to-end tests' way to run the hullmap command (HULLMAP_BINARY): only test/e2e/ includes it.
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "test_support.hpp"
+
+namespace hullmap::test {
+
+struct CommandResult {
+  int status = -1;  ///< exit status, or -1 when killed by a signal
+  std::string out;
+  std::string err;
+};
+
+/// Runs the hullmap binary with `args` (already shell-quoted where needed), capturing both streams.
+inline CommandResult runHullmap(const std::string& args) {
+  static int counter = 0;
+  const auto dir = std::filesystem::path(HULLMAP_TEST_TMP) / "cmd";
+  std::filesystem::create_directories(dir);
+  const std::string stem = (dir / ("run" + std::to_string(::getpid()) + "_" + std::to_string(counter++))).string();
+  const std::string command =
+      std::string("'") + HULLMAP_BINARY + "' " + args + " >" + stem + ".out 2>" + stem + ".err </dev/null";
+  const int raw = std::system(command.c_str());
+  CommandResult r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  r.out = slurp(stem + ".out");
+  r.err = slurp(stem + ".err");
+  return r;
+}
+
+/// Runs the hullmap binary with `args` from the working directory `cwd`, standard input from `input`.
+inline CommandResult runHullmapIn(const std::filesystem::path& cwd, const std::string& args,
+                                  const std::string& input = "/dev/null") {
+  static int counter = 0;
+  const auto dir = std::filesystem::path(HULLMAP_TEST_TMP) / "cmd";
+  std::filesystem::create_directories(dir);
+  const std::string stem = (dir / ("in" + std::to_string(::getpid()) + "_" + std::to_string(counter++))).string();
+  const std::string command = "cd '" + cwd.string() + "' && '" + std::string(HULLMAP_BINARY) + "' " + args + " >" +
+                              stem + ".out 2>" + stem + ".err <'" + input + "'";
+  const int raw = std::system(command.c_str());
+  CommandResult r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  r.out = slurp(stem + ".out");
+  r.err = slurp(stem + ".err");
+  return r;
+}
+
+/// A run that failed as bad input does: exit 2, one line on stderr, "hullmap: error: ", holding `needle`.
+inline void expectOneLineError(const CommandResult& r, const std::string& needle) {
+  EXPECT_EQ(r.status, 2) << r.out << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_EQ(r.err.rfind("hullmap: error: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find(needle), std::string::npos) << "expected '" << needle << "' in: " << r.err;
+}
+
+}  // namespace hullmap::test

@@ -1,0 +1,228 @@
+// The stages issue 13 adds to the build (align, floor, auto eps/minPts, convex parts with known free
+// space) on a generated room in ORB-SLAM's frame at a monocular scale, and their bad inputs.
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "hullmap/clustering/auto_params.hpp"
+#include "hullmap/core/error.hpp"
+#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/pipeline/evaluate.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/pipeline/report.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using V3 = Eigen::Vector3d;
+namespace pipeline = hullmap::pipeline;
+namespace mapper = hullmap::mapper;
+
+/// A realistic room (by default 6 m, 4 pieces of furniture, 60 points per m^2) written as
+/// `generate --layout room`.
+struct Room {
+  mapper::SceneParams params;
+  mapper::Scene scene;
+  std::filesystem::path dir;
+};
+
+Room writeRoom(const std::string& name, std::uint64_t seed, double room_size = 6.0, std::size_t obstacles = 4,
+               double density = 60.0) {
+  Room room;
+  room.params.layout = mapper::SceneLayout::kRoom;
+  room.params.seed = seed;
+  room.params.room_size = room_size;
+  room.params.obstacles = obstacles;
+  room.params.density = density;
+  room.scene = mapper::generateScene(room.params);
+  room.dir = hullmap::test::freshDir(name);
+  mapper::writeScene(room.scene, room.params, room.dir.string());
+  return room;
+}
+
+pipeline::BuildParams alignedBuild(const Room& room) {
+  pipeline::BuildParams params;
+  params.inputs = {room.dir / "map_points.txt"};
+  params.trajectory = room.dir / "KeyFrameTrajectory.txt";
+  params.align = pipeline::AlignSettings{room.dir / "reference_trajectory.txt", {}, {}};
+  return params;
+}
+
+/// A build scored against its room's truth (pipeline::evaluate over its voxels), `segments` random
+/// segments at r = 0.3.
+pipeline::Evaluation score(const pipeline::BuildResult& r, const Room& room, std::size_t segments) {
+  std::vector<V3> centers;
+  std::vector<std::uint32_t> weights;
+  for (const auto& v : r.voxels) {
+    centers.push_back(v.center);
+    weights.push_back(v.weight);
+  }
+  pipeline::EvaluateParams eval;
+  eval.segments = segments;
+  return pipeline::evaluate(r.obstacles, pipeline::readGroundTruth((room.dir / "ground_truth.json").string()), centers,
+                            weights, eval);
+}
+
+/// True when p is inside the convex hull (outward triangles) or on it.
+bool insideHull(const hullmap::clustering::ConvexHull& hull, const V3& p) {
+  if (hull.triangles.empty()) return false;
+  for (const auto& t : hull.triangles) {
+    const V3& a = hull.vertices[t[0]];
+    const V3 n = (hull.vertices[t[1]] - a).cross(hull.vertices[t[2]] - a);
+    if (n.dot(p - a) > 1e-12 * n.norm()) return false;
+  }
+  return true;
+}
+
+TEST(PipelineStages, AlignedRoomAtTheDefaults) {
+  const Room room = writeRoom("stages_room", 3);
+  const pipeline::BuildResult r = pipeline::build(alignedBuild(room));
+  const auto& report = r.report;
+
+  // The fitted similarity is the generator's inverse: map units -> metres by 1 / monocular scale.
+  ASSERT_TRUE(report.alignment);
+  EXPECT_NEAR(report.alignment->transform.scale, 1.0 / room.scene.output_scale, 1e-6);
+  EXPECT_TRUE(report.alignment->transform.rotation.isApprox(room.scene.output_rotation.transpose(), 1e-6));
+  EXPECT_LT(report.alignment->rmse, 1e-6);
+  EXPECT_EQ(report.alignment->matched, room.scene.keyframes.size());
+
+  // The floor (z = 0 in the reference frame) is found and not moved (REF defines up).
+  ASSERT_TRUE(report.floor.plane);
+  EXPECT_FALSE(report.floor.levelled);
+  EXPECT_NEAR(report.floor.plane->normal.z(), 1.0, 1e-12);
+  EXPECT_NEAR(report.floor.plane->offset, 0.0, 0.03);
+  EXPECT_GT(report.floor.voxels, 100u);
+
+  // Floor voxels are in no obstacle; every voxel is floor, noise or in exactly one obstacle.
+  std::size_t floor_voxels = 0, clustered = 0;
+  for (std::size_t i = 0; i < r.voxels.size(); ++i) {
+    floor_voxels += r.clusters.labels[i] == pipeline::kFloorLabel;
+    clustered += r.clusters.labels[i] >= 0;
+    if (r.clusters.labels[i] == pipeline::kFloorLabel) {
+      EXPECT_GT(r.voxels[i].center.z(), -0.2);
+    }
+  }
+  EXPECT_EQ(floor_voxels, report.floor.voxels);
+  std::size_t in_obstacles = 0;
+  for (const auto& o : r.obstacles) in_obstacles += o.voxel_count;
+  EXPECT_EQ(in_obstacles, clustered);
+  EXPECT_EQ(clustered + r.clusters.noise + floor_voxels, r.voxels.size());
+
+  // Auto eps/minPts were chosen and recorded.
+  EXPECT_TRUE(report.cluster_params.eps_auto);
+  EXPECT_TRUE(report.cluster_params.min_pts_auto);
+  ASSERT_TRUE(report.cluster_params.chosen);
+  EXPECT_EQ(report.cluster_params.used.eps, report.cluster_params.chosen->eps);
+
+  // No part's hull contains a keyframe (brute force over every part and keyframe).
+  ASSERT_TRUE(report.parts);
+  ASSERT_EQ(r.keyframes.size(), room.scene.keyframes.size());
+  std::size_t inside = 0;
+  for (const auto& o : r.obstacles)
+    for (const auto& part : o.parts)
+      for (const auto& k : r.keyframes) inside += insideHull(part.hull, k.position);
+  EXPECT_EQ(inside, report.keyframes_inside_hulls);
+  EXPECT_EQ(inside, 0u);
+
+  // Scored against the truth at r = 0.3 on issue 13's five targets (docs/QUALITY.md): no deep
+  // collision missed, false alarms at most 5 % of the clear segments, swallowed free space at most 5 %.
+  const pipeline::Evaluation e = score(r, room, 1000);
+  std::cout << "room: " << e.parts << " parts for " << e.truth.size() << " true objects; deep " << e.deep << " missed "
+            << e.missed << "; clear " << e.clear << " false alarms " << e.false_alarms << "; far volume "
+            << e.far_volume << " of " << e.union_volume << "\n";
+  // The other two targets: at least 98 % of each true obstacle's observed points inside hulls, and at
+  // most 1.5 hulls representing each convex true obstacle (walls, boxes, cylinders) on average.
+  std::size_t convex = 0, convex_parts = 0;
+  for (const auto& t : e.truth) {
+    std::cout << "  " << t.label << ": " << t.points_inside << " / " << t.points_near << ", " << t.parts.size()
+              << " hulls\n";
+    if (t.surface) continue;
+    EXPECT_GE(t.points_inside, 0.98 * t.points_near) << t.label;
+    for (const std::string kind : {"wall ", "box ", "cylinder "})
+      if (t.label.rfind(kind, 0) == 0) {
+        ++convex;
+        convex_parts += t.parts.size();
+      }
+  }
+  EXPECT_GT(e.deep, 0u);
+  EXPECT_EQ(e.missed, 0u);
+  EXPECT_LE(double(e.false_alarms), 0.05 * double(e.clear));
+  EXPECT_LE(e.far_volume, 0.05 * e.union_volume);
+  ASSERT_GT(convex, 0u);
+  EXPECT_LE(double(convex_parts), 1.5 * double(convex));
+}
+
+TEST(PipelineStages, ExplicitEpsAndMinPtsWinOverAuto) {
+  const Room room = writeRoom("stages_explicit", 5);
+  pipeline::BuildParams params = alignedBuild(room);
+  params.convex_parts.reset();
+  const pipeline::BuildResult automatic = pipeline::build(params);
+  params.eps = 0.17;
+  params.min_pts = 4;
+  const pipeline::BuildResult given = pipeline::build(params);
+  EXPECT_EQ(given.report.cluster_params.used.eps, 0.17);
+  EXPECT_EQ(given.report.cluster_params.used.min_pts, 4);
+  EXPECT_FALSE(given.report.cluster_params.eps_auto);
+  EXPECT_FALSE(given.report.cluster_params.min_pts_auto);
+  EXPECT_FALSE(given.report.cluster_params.chosen);
+  const auto json = pipeline::reportJson(given);
+  EXPECT_EQ(json["parameters"]["eps"].get<double>(), 0.17);
+  EXPECT_FALSE(json["parameters"]["eps_auto"].get<bool>());
+  // The auto values are those of the rule on the obstacle voxels (floor left out).
+  std::vector<V3> centers;
+  std::vector<std::uint32_t> weights;
+  for (std::size_t i = 0; i < automatic.voxels.size(); ++i) {
+    if (automatic.clusters.labels[i] == pipeline::kFloorLabel) continue;
+    centers.push_back(automatic.voxels[i].center);
+    weights.push_back(automatic.voxels[i].weight);
+  }
+  // Rims of the floor joined clusters after DBSCAN; the rule saw every non-floor voxel before that.
+  EXPECT_GE(centers.size(), automatic.voxels.size() - automatic.report.floor.voxels);
+  EXPECT_TRUE(automatic.report.cluster_params.eps_auto);
+  EXPECT_NE(automatic.report.cluster_params.used.eps, 0.17);
+}
+
+TEST(PipelineStages, UnalignedTiltedFloorIsLevelledAtZeroInBothPaths) {
+  // The room in ORB-SLAM's frame read with --up -y: tilted by the camera pitch, at monocular scale.
+  const Room room = writeRoom("stages_level", 11);
+  pipeline::BuildParams params;
+  params.inputs = {room.dir / "map_points.txt"};
+  params.frame.up = mapper::UpAxis::kNegY;
+  params.eps = 0.05;
+  params.min_pts = 3;
+  params.convex_parts.reset();
+  params.stream_above_bytes = 0;  // stream, twice: the first pass finds the floor
+  const pipeline::BuildResult streamed = pipeline::build(params);
+  ASSERT_TRUE(streamed.report.floor.plane);
+  EXPECT_TRUE(streamed.report.floor.levelled);
+  EXPECT_NEAR(streamed.report.floor.fit.tilt_deg, room.params.camera_pitch_deg, 2.0);
+  EXPECT_GT(streamed.report.floor.voxels, 100u);
+  for (std::size_t i = 0; i < streamed.voxels.size(); ++i)
+    if (streamed.clusters.labels[i] == pipeline::kFloorLabel) {
+      EXPECT_LT(std::abs(streamed.voxels[i].center.z()), 0.1);
+    }
+  // The in-memory path (whole) samples and levels the same way (the file holds rounded numbers).
+  const pipeline::BuildResult memory = pipeline::buildFromPoints(room.scene.points, params);
+  EXPECT_TRUE(memory.report.levelling.isApprox(streamed.report.levelling, 1e-6));
+  EXPECT_EQ(memory.voxels.size(), streamed.voxels.size());
+  // A file this small is read whole at the default (one pass): the same map, voxel for voxel.
+  params.stream_above_bytes = pipeline::BuildParams{}.stream_above_bytes;
+  const pipeline::BuildResult whole = pipeline::build(params);
+  EXPECT_TRUE(whole.report.levelling.isApprox(streamed.report.levelling, 0.0));
+  ASSERT_EQ(whole.voxels.size(), streamed.voxels.size());
+  for (std::size_t i = 0; i < whole.voxels.size(); ++i) {
+    EXPECT_EQ(whole.voxels[i].center, streamed.voxels[i].center) << i;
+    EXPECT_EQ(whole.voxels[i].weight, streamed.voxels[i].weight) << i;
+  }
+  EXPECT_EQ(whole.clusters.labels, streamed.clusters.labels);
+}
+
+}  // namespace

@@ -1,0 +1,155 @@
+// obstacles.json /2: parts round-trip exactly, /1 files still read, errors name the JSON path;
+// the OBJ has one object per part.
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "hullmap/clustering/convex_parts.hpp"
+#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/obstacle_io.hpp"
+#include "test_support.hpp"
+
+namespace hullmap::pipeline {
+namespace {
+
+using V3 = Eigen::Vector3d;
+
+/// An L (two parts) and a box (one part), 5 cm voxels.
+std::vector<clustering::Obstacle> lAndBox() {
+  std::vector<V3> centers;
+  std::vector<std::int32_t> labels;
+  const auto add = [&](int i0, int i1, int j0, int j1, int k1, std::int32_t label) {
+    for (int i = i0; i < i1; ++i)
+      for (int j = j0; j < j1; ++j)
+        for (int k = 0; k < k1; ++k) {
+          centers.push_back(V3(i + 0.5, j + 0.5, k + 0.5) * 0.05);
+          labels.push_back(label);
+        }
+  };
+  add(0, 30, 0, 4, 10, 0);
+  add(0, 4, 4, 20, 10, 0);
+  add(50, 60, 0, 5, 5, 1);
+  auto obstacles = clustering::buildObstacles(centers, {}, labels, 0.05);
+  clustering::addConvexParts(obstacles, centers, {}, labels, 0.05, {});
+  return obstacles;
+}
+
+TEST(ObstaclesJson, V2RoundTripsPartsExactly) {
+  auto obstacles = lAndBox();
+  ASSERT_EQ(obstacles[0].parts.size(), 2u);
+  ASSERT_EQ(obstacles[1].parts.size(), 1u);
+  obstacles[0].parts[0].flat = true;
+  obstacles[0].parts[1].faces = true;
+  obstacles[1].parts[0].filled = true;
+  ObstaclesMeta meta;
+  meta.frame = "z-up map, test";
+  meta.parameters = {{"concavity", 0.15}};
+  // Through text, as a file would be.
+  const nlohmann::json doc = nlohmann::json::parse(obstaclesToJson(obstacles, meta).dump(1));
+  EXPECT_EQ(doc["format"], "hullmap-obstacles/2");
+  ObstaclesMeta back_meta;
+  const auto back = obstaclesFromJson(doc, "mem", &back_meta);
+  EXPECT_EQ(back_meta.format, kObstaclesFormatV2);
+  EXPECT_EQ(back_meta.frame, meta.frame);
+  EXPECT_EQ(back_meta.parameters, meta.parameters);
+  ASSERT_EQ(back.size(), obstacles.size());
+  for (std::size_t o = 0; o < obstacles.size(); ++o) {
+    EXPECT_EQ(back[o].id, obstacles[o].id);
+    EXPECT_EQ(back[o].hull.vertices, obstacles[o].hull.vertices);
+    ASSERT_EQ(back[o].parts.size(), obstacles[o].parts.size());
+    for (std::size_t p = 0; p < obstacles[o].parts.size(); ++p) {
+      const auto& a = obstacles[o].parts[p];
+      const auto& b = back[o].parts[p];
+      EXPECT_EQ(b.voxel_count, a.voxel_count);
+      EXPECT_EQ(b.point_weight, a.point_weight);
+      EXPECT_EQ(b.aabb_min, a.aabb_min);
+      EXPECT_EQ(b.aabb_max, a.aabb_max);
+      EXPECT_EQ(b.centroid, a.centroid);
+      EXPECT_EQ(b.volume, a.volume);
+      EXPECT_EQ(b.hull.vertices, a.hull.vertices);
+      EXPECT_EQ(b.hull.triangles, a.hull.triangles);
+      EXPECT_EQ(b.footprint.polygon, a.footprint.polygon);
+      EXPECT_EQ(b.footprint.z_min, a.footprint.z_min);
+      EXPECT_EQ(b.footprint.z_max, a.footprint.z_max);
+      EXPECT_EQ(b.concavity_bound, a.concavity_bound);
+      EXPECT_EQ(b.free_voxels_inside, a.free_voxels_inside);
+      EXPECT_EQ(b.free_voxels_off_surface, a.free_voxels_off_surface);
+      EXPECT_EQ(b.flat, a.flat);
+      EXPECT_EQ(b.filled, a.filled);
+      EXPECT_EQ(b.faces, a.faces);
+    }
+  }
+}
+
+TEST(ObstaclesJson, ReadsVersion1WithoutParts) {
+  const auto obstacles = lAndBox();
+  const auto dir = test::freshDir("v1");
+  const std::string path = (dir / "obstacles.json").string();
+  // A /1 document: /2's without the parts (what hullmap wrote before parts existed).
+  nlohmann::json doc = obstaclesToJson(obstacles, {});
+  doc["format"] = kObstaclesFormatV1;
+  for (auto& o : doc["obstacles"]) o.erase("parts");
+  std::ofstream(path) << doc.dump(1);
+  ObstaclesMeta meta;
+  const auto back = readObstaclesJson(path, &meta);
+  EXPECT_EQ(meta.format, kObstaclesFormatV1);
+  ASSERT_EQ(back.size(), obstacles.size());
+  for (std::size_t o = 0; o < back.size(); ++o) {
+    EXPECT_TRUE(back[o].parts.empty());
+    EXPECT_EQ(back[o].hull.vertices, obstacles[o].hull.vertices);
+  }
+}
+
+std::string errorOf(const nlohmann::json& doc) {
+  try {
+    obstaclesFromJson(doc, "f.json");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(ObstaclesJson, ErrorsNameTheJsonPath) {
+  const nlohmann::json good = obstaclesToJson(lAndBox(), {});
+  nlohmann::json bad = good;
+  bad["format"] = "hullmap-obstacles/3";
+  EXPECT_NE(errorOf(bad).find("f.json: format: expected \"hullmap-obstacles/2\" or \"hullmap-obstacles/1\""),
+            std::string::npos)
+      << errorOf(bad);
+  bad = good;
+  bad["obstacles"][0].erase("parts");
+  EXPECT_EQ(errorOf(bad), "f.json: obstacles[0]: missing \"parts\"");
+  bad = good;
+  bad["obstacles"][0]["parts"][1]["hull"]["triangles"][2][1] = 999;
+  EXPECT_NE(errorOf(bad).find("f.json: obstacles[0].parts[1].hull.triangles[2]: vertex index out of range"),
+            std::string::npos)
+      << errorOf(bad);
+  bad = good;
+  bad["obstacles"][1]["parts"][0]["concavity_bound"] = "x";
+  EXPECT_EQ(errorOf(bad), "f.json: obstacles[1].parts[0].concavity_bound: expected a number");
+  bad = good;
+  bad["obstacles"][0]["parts"][0]["faces"] = 1;
+  EXPECT_EQ(errorOf(bad), "f.json: obstacles[0].parts[0].faces: expected true or false");
+  EXPECT_THROW(readObstaclesJson("/nonexistent/obstacles.json"), Error);
+}
+
+TEST(ObstaclesJson, ObjHasOneObjectPerPart) {
+  std::ostringstream out;
+  writeObstaclesObj(out, lAndBox());
+  std::istringstream in(out.str());
+  std::vector<std::string> names;
+  std::size_t faces = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("o ", 0) == 0) names.push_back(line.substr(2));
+    if (line.rfind("f ", 0) == 0) ++faces;
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"obstacle_0_part_0", "obstacle_0_part_1", "obstacle_1_part_0"}));
+  EXPECT_EQ(faces, 3u * 12u);  // three boxes, two triangles a face
+}
+
+}  // namespace
+}  // namespace hullmap::pipeline
+
+namespace hullmap::pipeline {}  // namespace hullmap::pipeline
