@@ -58,7 +58,7 @@
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 
 namespace {
 
@@ -335,14 +335,14 @@ int main(int argc, char** argv) {
     std::vector<BuiltScene> scenes;
     scenes.push_back({"room", 10.0, 3.0, buildLikeCli(room_dir)});
 
-    hullmap::mapper::SceneParams params;
+    hullmap::sim::SceneParams params;
     params.seed = 42;
     params.obstacles = 100;
     params.room_size = 30.0;
     params.points = 500000;
     const TemporaryDirectory dir{std::filesystem::temp_directory_path() /
                                  ("hullmap_bench_collision." + std::to_string(::getpid()))};
-    hullmap::mapper::writeScene(hullmap::mapper::generateScene(params), params, dir.path.string());
+    hullmap::sim::writeScene(hullmap::sim::generateScene(params), params, dir.path.string());
     scenes.push_back({"generated_100", params.room_size, params.room_height, buildLikeCli(dir.path.string())});
 
     for (const auto& scene : scenes)

@@ -1,4 +1,4 @@
-// Convex parts (clustering::addConvexParts) on a built map: its cost against the build's.
+// Convex parts (hulls::addConvexParts) on a built map: its cost against the build's.
 //
 // usage: hullmap_bench_convex_parts MAP_POINTS [--up AXIS] [--eps E] [--min-pts N] [--trajectory TUM]
 //                                   [--concavity T] [--repeat R] [--dump FILE]
@@ -21,7 +21,7 @@
 
 #include <tbb/info.h>
 
-#include "hullmap/clustering/convex_parts.hpp"
+#include "hullmap/hulls/convex_parts.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/io/readers.hpp"
@@ -35,7 +35,7 @@ int main(int argc, char** argv) try {
   }
   hullmap::pipeline::BuildParams params;
   params.inputs = {argv[1]};
-  hullmap::clustering::ConvexPartsParams parts_params;
+  hullmap::hulls::ConvexPartsParams parts_params;
   int repeat = 1;
   std::string dump;
   for (int i = 2; i < argc; ++i) {
@@ -73,7 +73,7 @@ int main(int argc, char** argv) try {
     centers.push_back(v.center);
     weights.push_back(v.weight);
   }
-  hullmap::clustering::KnownFreeSpace known;
+  hullmap::hulls::KnownFreeSpace known;
   if (params.trajectory) {
     std::vector<hullmap::io::Keyframe> keyframes = hullmap::io::readTumTrajectory(params.trajectory->string());
     hullmap::mapper::toMapFrame(params.frame, keyframes);
@@ -81,13 +81,13 @@ int main(int argc, char** argv) try {
   }
 
   double best = 1e300;
-  std::vector<hullmap::clustering::Obstacle> obstacles;
-  hullmap::clustering::ConvexPartsSummary summary;
+  std::vector<hullmap::hulls::Obstacle> obstacles;
+  hullmap::hulls::ConvexPartsSummary summary;
   for (int r = 0; r < repeat; ++r) {
     obstacles = built.obstacles;
     const auto t0 = std::chrono::steady_clock::now();
-    summary = hullmap::clustering::addConvexParts(obstacles, centers, weights, built.clusters.labels,
-                                                  built.map.resolution(), parts_params, known);
+    summary = hullmap::hulls::addConvexParts(obstacles, centers, weights, built.clusters.labels, built.map.resolution(),
+                                             parts_params, known);
     best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
   std::size_t largest = 0;

@@ -42,7 +42,7 @@
 
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 
 namespace {
 
@@ -122,10 +122,10 @@ int main(int argc, char** argv) {
   }
 
   for (std::size_t n : sizes) {
-    hullmap::mapper::SceneParams scene_params;
+    hullmap::sim::SceneParams scene_params;
     scene_params.points = n;
     scene_params.orbslam_frame = false;
-    const hullmap::mapper::Scene scene = hullmap::mapper::generateScene(scene_params);
+    const hullmap::sim::Scene scene = hullmap::sim::generateScene(scene_params);
     const auto& points = scene.points;
 
     // Peak memory of one run, after a run on a few points that starts TBB's worker threads (their

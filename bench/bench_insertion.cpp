@@ -34,7 +34,7 @@
 #include "hullmap/core/random.hpp"
 #include "hullmap/mapper/detail/octree_keys.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 
 namespace {
 
@@ -214,11 +214,11 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  hullmap::mapper::SceneParams params;
+  hullmap::sim::SceneParams params;
   params.points = 65536;
   params.gross_outliers = 0;
   params.orbslam_frame = false;
-  const auto scene = hullmap::mapper::generateScene(params);
+  const auto scene = hullmap::sim::generateScene(params);
 
   const LidarScan lidar = lidarScan();
 

@@ -27,7 +27,7 @@
 #include "hullmap/planning/roadmap.hpp"
 
 namespace hp = hullmap::planning;
-using hullmap::clustering::Obstacle;
+using hullmap::hulls::Obstacle;
 
 namespace {
 

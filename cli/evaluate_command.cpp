@@ -13,7 +13,7 @@
 #include "commands.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/io/readers.hpp"
-#include "hullmap/pipeline/evaluate.hpp"
+#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 
 namespace hullmap::cli {
@@ -23,7 +23,7 @@ struct EvaluateOptions {
   std::string dir;
   std::string truth;
   std::string points;
-  pipeline::EvaluateParams params;
+  sim::EvaluateParams params;
   bool json = false;
   std::optional<double> false_tolerance;  ///< unset: one voxel of the build
 };
@@ -66,7 +66,7 @@ void runEvaluate(const EvaluateOptions& o) {
   const std::string obstacles_path = fs::is_directory(o.dir) ? (fs::path(o.dir) / "obstacles.json").string() : o.dir;
   pipeline::ObstaclesMeta meta;
   const auto obstacles = pipeline::readObstaclesJson(obstacles_path, &meta);  // meta.surfaces: the floor is checked too
-  pipeline::EvaluateParams params = o.params;
+  sim::EvaluateParams params = o.params;
   // False parts: farther than a voxel of the build (its resolution) from every true obstacle, unless given.
   std::string tolerance_why = "given";
   if (o.false_tolerance) {
@@ -77,7 +77,7 @@ void runEvaluate(const EvaluateOptions& o) {
   } else {
     tolerance_why = "the default: no resolution in " + obstacles_path;
   }
-  const pipeline::GroundTruth truth = pipeline::readGroundTruth(o.truth);
+  const sim::GroundTruth truth = sim::readGroundTruth(o.truth);
   std::vector<Eigen::Vector3d> points;
   std::vector<std::uint32_t> weights;
   if (!o.points.empty()) {
@@ -86,9 +86,9 @@ void runEvaluate(const EvaluateOptions& o) {
     if (!fs::is_directory(o.dir)) throw Error(o.dir + ": not a build directory; give --points for the map points");
     readVoxelPoints((fs::path(o.dir) / "voxels.csv").string(), points, weights);
   }
-  const pipeline::Evaluation e = pipeline::evaluate(obstacles, truth, points, weights, params, meta.surfaces);
+  const sim::Evaluation e = sim::evaluate(obstacles, truth, points, weights, params, meta.surfaces);
   if (o.json) {
-    std::cout << pipeline::evaluationToJson(e, params).dump(1) << '\n';
+    std::cout << sim::evaluationToJson(e, params).dump(1) << '\n';
     return;
   }
   std::cout << "truth: " << truth.shapes.size() << " obstacles; hulls: " << e.parts << "\n";
@@ -106,7 +106,7 @@ void runEvaluate(const EvaluateOptions& o) {
             << "): " << e.false_parts.size() << " of " << e.parts << " hulls";
   if (!e.false_parts.empty()) {
     std::size_t single = 0;
-    const pipeline::FalsePart* largest = &e.false_parts.front();
+    const sim::FalsePart* largest = &e.false_parts.front();
     double farthest = 0.0;
     std::array<std::size_t, 4> by_distance{};  // up to 0.1, 0.2, 0.5, beyond
     for (const auto& f : e.false_parts) {
@@ -154,9 +154,9 @@ void addEvaluateCommand(CLI::App& app, int& status) {
                   "a room's inside; default free)");
   cmd->callback([options, ends, &status] {
     if (*ends == "free") {
-      options->params.ends = pipeline::SegmentEnds::kFree;
+      options->params.ends = sim::SegmentEnds::kFree;
     } else if (*ends == "in-box") {
-      options->params.ends = pipeline::SegmentEnds::kInTruthBox;
+      options->params.ends = sim::SegmentEnds::kInTruthBox;
     } else {
       throw Error("--ends: expected 'free' or 'in-box', got '" + *ends + "'");
     }

@@ -4,12 +4,12 @@
 
 #include "commands.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 
 namespace hullmap::cli {
 
 void addGenerateCommand(CLI::App& app, int& status) {
-  auto params = std::make_shared<mapper::SceneParams>();
+  auto params = std::make_shared<sim::SceneParams>();
   auto dir = std::make_shared<std::string>();
   auto zup = std::make_shared<bool>(false);
   auto* cmd =
@@ -57,24 +57,24 @@ void addGenerateCommand(CLI::App& app, int& status) {
   cmd->add_flag("--z-up", *zup, "Write in the z-up map frame (metres) instead of ORB-SLAM's (y down)");
   cmd->callback([params, dir, zup, layout, placement, &status] {
     if (*placement == "inside-loop") {
-      params->placement = mapper::FurniturePlacement::kInsideLoop;
+      params->placement = sim::FurniturePlacement::kInsideLoop;
     } else if (*placement == "anywhere") {
-      params->placement = mapper::FurniturePlacement::kAnywhere;
+      params->placement = sim::FurniturePlacement::kAnywhere;
     } else {
       throw Error("--placement: expected 'inside-loop' or 'anywhere', got '" + *placement + "'");
     }
     if (*layout == "obstacles") {
-      params->layout = mapper::SceneLayout::kObstacles;
+      params->layout = sim::SceneLayout::kObstacles;
     } else if (*layout == "room") {
-      params->layout = mapper::SceneLayout::kRoom;
+      params->layout = sim::SceneLayout::kRoom;
     } else {
       throw Error("--layout: expected 'obstacles' or 'room', got '" + *layout + "'");
     }
     params->orbslam_frame = !*zup;
-    const mapper::Scene scene = mapper::generateScene(*params);
+    const sim::Scene scene = sim::generateScene(*params);
     std::filesystem::create_directories(*dir);
-    mapper::writeScene(scene, *params, *dir);
-    if (params->layout == mapper::SceneLayout::kRoom) {
+    sim::writeScene(scene, *params, *dir);
+    if (params->layout == sim::SceneLayout::kRoom) {
       std::cout << "wrote " << scene.points.size() << " points, " << scene.keyframes.size() << " keyframes, "
                 << scene.objects.size() << " objects (floor, 4 walls, " << params->obstacles
                 << " pieces of furniture) and reference_trajectory.txt to " << *dir << "\n";

@@ -9,7 +9,7 @@
 
 #include "commands.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/pipeline/evaluate.hpp"
+#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/planning/roadmap_json.hpp"
 #include "hullmap/view/html_view.hpp"
 #include "option_checks.hpp"
@@ -76,7 +76,7 @@ void runView(const ViewOptions& o) {
     inputs.roadmap = std::move(drawn);
   }
   if (!o.truth.empty()) {
-    inputs.truth = pipeline::readGroundTruth(o.truth);
+    inputs.truth = sim::readGroundTruth(o.truth);
     inputs.truth_name = fs::path(o.truth).filename().string();
   }
   view::ViewParams params;

@@ -17,5 +17,7 @@ function(hullmap_library name)
   set_target_properties(hullmap_${name} PROPERTIES UNITY_BUILD ${HULLMAP_UNITY_BUILD})
   install(TARGETS hullmap_${name} EXPORT hullmapTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
-  install(DIRECTORY include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  # detail/: white-box headers for the library's own sources, its tests and benchmarks; no installed
+  # header includes them.
+  install(DIRECTORY include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} PATTERN detail EXCLUDE)
 endfunction()

@@ -8,7 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/core/convex_hull_2d.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/core/lattice.hpp"
 
@@ -41,7 +41,7 @@ bool offAFlatPatch(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>&
   std::vector<Eigen::Vector2d> flat;
   flat.reserve(q.size());
   for (const auto& x : q) flat.emplace_back(u.dot(x - mean), v.dot(x - mean));
-  const std::vector<Eigen::Vector2d> hull = convexHull2d(std::move(flat));
+  const std::vector<Eigen::Vector2d> hull = core::convexHull2d(std::move(flat));
   if (hull.size() < 3) return false;
   const Eigen::Vector2d at(u.dot(p - mean), v.dot(p - mean));
   for (std::size_t k = 0; k < hull.size(); ++k) {

@@ -174,7 +174,7 @@ double segmentTriangleDistance(const V3& a, const V3& b, const V3& t0, const V3&
 
 }  // namespace
 
-ConvexPolytope ConvexPolytope::fromHull(const clustering::ConvexHull& hull, const std::string& what) {
+ConvexPolytope ConvexPolytope::fromHull(const hulls::ConvexHull& hull, const std::string& what) {
   ConvexPolytope p;
   p.vertices = hull.vertices;
   p.triangles = hull.triangles;

@@ -8,7 +8,7 @@
 
 namespace hullmap::collision {
 
-FclObstacles::FclObstacles(const std::vector<clustering::Obstacle>& obstacles)
+FclObstacles::FclObstacles(const std::vector<hulls::Obstacle>& obstacles)
     : manager_(std::make_unique<fcl::DynamicAABBTreeCollisionManagerd>()) {
   std::vector<fcl::CollisionObjectd*> registered;
   std::vector<std::size_t> owner;  // per object: index of its obstacle in `obstacles`
@@ -19,9 +19,9 @@ FclObstacles::FclObstacles(const std::vector<clustering::Obstacle>& obstacles)
     }
   }
   for (std::size_t i = 0; i < sources_.size(); ++i) {
-    const clustering::Obstacle& obstacle = obstacles[owner[i]];
+    const hulls::Obstacle& obstacle = obstacles[owner[i]];
     const int part = sources_[i].part;
-    const clustering::ConvexHull& hull = part < 0 ? obstacle.hull : obstacle.parts[std::size_t(part)].hull;
+    const hulls::ConvexHull& hull = part < 0 ? obstacle.hull : obstacle.parts[std::size_t(part)].hull;
     const std::string what =
         "obstacle " + std::to_string(obstacle.id) + (part < 0 ? "" : " part " + std::to_string(part));
     polytopes_.push_back(ConvexPolytope::fromHull(hull, what));  // FCL checks none of this

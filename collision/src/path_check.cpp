@@ -178,7 +178,7 @@ class TouchingHulls {
 }  // namespace
 
 struct HullChecker::Impl {
-  Impl(const std::vector<clustering::Obstacle>& obstacles, std::vector<HalfSpace> given)
+  Impl(const std::vector<hulls::Obstacle>& obstacles, std::vector<HalfSpace> given)
       : fcl(obstacles), surfaces(std::move(given)) {
     checkSurfaces(surfaces);
     for (std::size_t i = 0; i < fcl.size(); ++i) {
@@ -249,7 +249,7 @@ bool visitHull(fcl::CollisionObjectd* object, fcl::CollisionObjectd*, void* data
 
 }  // namespace
 
-HullChecker::HullChecker(const std::vector<clustering::Obstacle>& obstacles, std::vector<HalfSpace> surfaces)
+HullChecker::HullChecker(const std::vector<hulls::Obstacle>& obstacles, std::vector<HalfSpace> surfaces)
     : impl_(std::make_unique<Impl>(obstacles, std::move(surfaces))) {}
 
 HullChecker::~HullChecker() = default;

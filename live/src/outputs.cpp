@@ -30,8 +30,8 @@ MarkerSpec deletion(const std::string& ns, int id) {
 }
 
 /// The footprints an obstacle stands on: its convex parts' when it has parts, else its own.
-std::vector<const clustering::Footprint*> footprintsOf(const clustering::Obstacle& o) {
-  std::vector<const clustering::Footprint*> prints;
+std::vector<const hulls::Footprint*> footprintsOf(const hulls::Obstacle& o) {
+  std::vector<const hulls::Footprint*> prints;
   if (o.parts.empty()) {
     prints.push_back(&o.footprint);
   } else {
@@ -64,7 +64,7 @@ bool polygonTouchesSquare(const std::vector<Eigen::Vector2d>& polygon, const Eig
 
 }  // namespace
 
-std::vector<MarkerSpec> obstacleMarkers(const std::vector<clustering::Obstacle>& obstacles,
+std::vector<MarkerSpec> obstacleMarkers(const std::vector<hulls::Obstacle>& obstacles,
                                         const std::vector<int>& previous_ids) {
   std::vector<MarkerSpec> markers;
   std::set<int> ids;
@@ -74,7 +74,7 @@ std::vector<MarkerSpec> obstacleMarkers(const std::vector<clustering::Obstacle>&
     // whole cluster can cover free space the parts leave open.
     auto hull = added("hulls", o.id, marker::kTriangleList);
     hull.color = {0.9f, 0.5f, 0.1f, 0.6f};
-    const auto add_hull = [&hull](const clustering::ConvexHull& h) {
+    const auto add_hull = [&hull](const hulls::ConvexHull& h) {
       for (const auto& t : h.triangles) {
         for (int k : t) hull.points.push_back(h.vertices[k]);
       }
@@ -155,12 +155,12 @@ std::vector<MarkerSpec> pathCheckMarkers(const std::vector<Eigen::Vector3d>& way
   return {std::move(m)};
 }
 
-ProjectedGrid projectedGrid(const std::vector<clustering::Obstacle>& obstacles, double resolution, double min_z,
+ProjectedGrid projectedGrid(const std::vector<hulls::Obstacle>& obstacles, double resolution, double min_z,
                             double max_z, double margin) {
   if (!(resolution > 0.0) || !std::isfinite(resolution)) {
     throw Error::inParameter("resolution", "must be finite and > 0, got " + std::to_string(resolution));
   }
-  std::vector<const clustering::Footprint*> in_band;
+  std::vector<const hulls::Footprint*> in_band;
   Eigen::Vector2d lo(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
   Eigen::Vector2d hi = -lo;
   for (const auto& o : obstacles) {

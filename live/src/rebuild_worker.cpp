@@ -177,7 +177,7 @@ void RebuildWorker::publishMap(const std::shared_ptr<const Snapshot>& snapshot, 
     if (generation != generation_) return;
     settings = settings_;
   }
-  static const std::vector<clustering::Obstacle> kNone;
+  static const std::vector<hulls::Obstacle> kNone;
   static const std::vector<mapper::OccupiedVoxel> kNoVoxels;
   const auto& obstacles = snapshot ? snapshot->result.obstacles : kNone;
   // The resolution the map was built at (the current setting for the empty map).
@@ -227,7 +227,7 @@ PathCheckAnswer RebuildWorker::checkPath(const std::vector<Eigen::Vector3d>& way
   if (snapshot) {
     answer.check = snapshot->checker.checkPath(waypoints, request);
   } else {
-    answer.check = collision::HullChecker(std::vector<clustering::Obstacle>{}).checkPath(waypoints, request);
+    answer.check = collision::HullChecker(std::vector<hulls::Obstacle>{}).checkPath(waypoints, request);
   }
   for (std::size_t i = 0; i < answer.check.segments.size(); ++i) {
     answer.json_lines += pipeline::segmentCheckJsonLine(i, answer.check.segments[i]) + "\n";

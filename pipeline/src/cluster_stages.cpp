@@ -11,10 +11,10 @@
 #include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/clustering/build_warnings.hpp"
 #include "hullmap/clustering/cluster_extension.hpp"
-#include "hullmap/clustering/convex_parts.hpp"
+#include "hullmap/hulls/convex_parts.hpp"
 #include "hullmap/clustering/coplanar_merge.hpp"
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/clustering/outlier_trim.hpp"
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/level_check.hpp"
@@ -136,7 +136,7 @@ void makeObstacles(BuildResult& result, ClusterWork& w) {
                             w.labels);
   w.cluster_labels = w.labels;
   for (auto& l : w.cluster_labels) l = std::max(l, clustering::kNoise);
-  result.obstacles = clustering::buildObstacles(w.centers, w.weights, w.cluster_labels, resolution);
+  result.obstacles = hulls::buildObstacles(w.centers, w.weights, w.cluster_labels, resolution);
   for (std::size_t i = 0; i < n; ++i) {
     if (w.labels[i] == kFloorLabel) ++report.floor.voxels;
     if (w.labels[i] == kCeilingLabel) ++report.ceiling.voxels;
@@ -151,11 +151,11 @@ void splitConvexParts(BuildResult& result, ClusterWork& w) {
   const BuildParams& params = result.params;
   BuildReport& report = result.report;
   const double resolution = result.map.resolution();
-  clustering::KnownFreeSpace known;
+  hulls::KnownFreeSpace known;
   for (const auto& k : result.keyframes) known.keyframes.push_back(k.position);
   if (params.trajectory || params.origin) known.free_voxels = freeVoxelCentres(result.map);
   // G unset: the eps used, the distance at which this map's sampling connects a surface.
-  clustering::ConvexPartsParams parts_params = *params.convex_parts;
+  hulls::ConvexPartsParams parts_params = *params.convex_parts;
   // Auto G is also adapted to each cluster's sampling (a sparse wall's chance holes); a G the user
   // gives is used as given.
   if (!parts_params.flat_gap) {
@@ -165,8 +165,8 @@ void splitConvexParts(BuildResult& result, ClusterWork& w) {
   // A level floor closes the shells standing on it from below (their bottom is never seen).
   if (report.floor.plane && !parts_params.floor_z)
     parts_params.floor_z = levelFloorHeight(*report.floor.plane, w.centers, resolution);
-  report.parts = clustering::addConvexParts(result.obstacles, w.centers, w.weights, w.cluster_labels, resolution,
-                                            parts_params, known);
+  report.parts =
+      hulls::addConvexParts(result.obstacles, w.centers, w.weights, w.cluster_labels, resolution, parts_params, known);
   report.keyframes_inside_hulls = report.parts->keyframes_in_voxels;
 }
 

@@ -16,7 +16,7 @@ using nlohmann::json;
 
 json vec3(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 
-json hullJson(const clustering::ConvexHull& hull) {
+json hullJson(const hulls::ConvexHull& hull) {
   json vertices = json::array();
   for (const auto& v : hull.vertices) vertices.push_back(vec3(v));
   json triangles = json::array();
@@ -24,7 +24,7 @@ json hullJson(const clustering::ConvexHull& hull) {
   return {{"vertices", vertices}, {"triangles", triangles}};
 }
 
-json footprintJson(const clustering::Footprint& footprint) {
+json footprintJson(const hulls::Footprint& footprint) {
   json polygon = json::array();
   for (const auto& p : footprint.polygon) polygon.push_back({p.x(), p.y()});
   return {{"polygon", polygon}, {"z_min", footprint.z_min}, {"z_max", footprint.z_max}};
@@ -60,8 +60,8 @@ struct Reader {
     if (!j.is_array()) fail(where, "expected an array");
     return j;
   }
-  clustering::ConvexHull hull(const json& j, const std::string& at) const {
-    clustering::ConvexHull out;
+  hulls::ConvexHull hull(const json& j, const std::string& at) const {
+    hulls::ConvexHull out;
     const json& vertices = array(field(j, "vertices", at), at + ".vertices");
     for (std::size_t i = 0; i < vertices.size(); ++i)
       out.vertices.push_back(point3(vertices[i], at + ".vertices[" + std::to_string(i) + "]"));
@@ -83,8 +83,8 @@ struct Reader {
       fail(at, "a closed hull needs at least 4 vertices and 4 triangles");
     return out;
   }
-  clustering::Footprint footprint(const json& j, const std::string& at) const {
-    clustering::Footprint out;
+  hulls::Footprint footprint(const json& j, const std::string& at) const {
+    hulls::Footprint out;
     const json& polygon = array(field(j, "polygon", at), at + ".polygon");
     for (std::size_t i = 0; i < polygon.size(); ++i) {
       const std::string where = at + ".polygon[" + std::to_string(i) + "]";
@@ -171,7 +171,7 @@ mapper::Similarity similarityFromJson(const json& j, const std::string& source, 
   return s;
 }
 
-json obstaclesToJson(const std::vector<clustering::Obstacle>& obstacles, const ObstaclesMeta& meta) {
+json obstaclesToJson(const std::vector<hulls::Obstacle>& obstacles, const ObstaclesMeta& meta) {
   json doc;
   doc["format"] = kObstaclesFormatV2;
   doc["frame"] = meta.frame;
@@ -200,7 +200,7 @@ json obstaclesToJson(const std::vector<clustering::Obstacle>& obstacles, const O
   return doc;
 }
 
-std::vector<clustering::Obstacle> obstaclesFromJson(const json& doc, const std::string& source, ObstaclesMeta* meta) {
+std::vector<hulls::Obstacle> obstaclesFromJson(const json& doc, const std::string& source, ObstaclesMeta* meta) {
   const Reader r{source};
   const json& format = r.field(doc, "format", "top level");
   const bool v1 = format.is_string() && format.get<std::string>() == kObstaclesFormatV1;
@@ -220,12 +220,12 @@ std::vector<clustering::Obstacle> obstaclesFromJson(const json& doc, const std::
     if (const auto frame_change = doc.find("input_to_output"); frame_change != doc.end())
       meta->input_to_output = similarityFromJson(*frame_change, source, "input_to_output");
   }
-  std::vector<clustering::Obstacle> obstacles;
+  std::vector<hulls::Obstacle> obstacles;
   const json& list = r.array(r.field(doc, "obstacles", "top level"), "obstacles");
   for (std::size_t k = 0; k < list.size(); ++k) {
     const std::string at = "obstacles[" + std::to_string(k) + "]";
     const json& j = list[k];
-    clustering::Obstacle o;
+    hulls::Obstacle o;
     const json& id = r.field(j, "id", at);
     if (!id.is_number_integer()) r.fail(at + ".id", "expected an integer");
     o.id = id.get<int>();
@@ -234,7 +234,7 @@ std::vector<clustering::Obstacle> obstaclesFromJson(const json& doc, const std::
       const json& parts = r.array(r.field(j, "parts", at), at + ".parts");
       for (std::size_t p = 0; p < parts.size(); ++p) {
         const std::string where = at + ".parts[" + std::to_string(p) + "]";
-        clustering::ObstaclePart part;
+        hulls::ObstaclePart part;
         r.common(parts[p], where, part);
         part.concavity_bound = r.number(r.field(parts[p], "concavity_bound", where), where + ".concavity_bound");
         part.free_voxels_inside =
@@ -265,13 +265,13 @@ std::vector<clustering::Obstacle> obstaclesFromJson(const json& doc, const std::
   return obstacles;
 }
 
-void writeObstaclesJson(const std::string& path, const std::vector<clustering::Obstacle>& obstacles,
+void writeObstaclesJson(const std::string& path, const std::vector<hulls::Obstacle>& obstacles,
                         const ObstaclesMeta& meta) {
   const json doc = obstaclesToJson(obstacles, meta);
   core::writeFileAtomically(path, [&](std::ostream& out) { out << doc.dump(1) << '\n'; });
 }
 
-std::vector<clustering::Obstacle> readObstaclesJson(const std::string& path, ObstaclesMeta* meta) {
+std::vector<hulls::Obstacle> readObstaclesJson(const std::string& path, ObstaclesMeta* meta) {
   std::ifstream in(path);
   if (!in) throw Error(path + ": cannot open");
   json doc;
@@ -283,11 +283,11 @@ std::vector<clustering::Obstacle> readObstaclesJson(const std::string& path, Obs
   return obstaclesFromJson(doc, path, meta);
 }
 
-void writeObstaclesObj(std::ostream& out, const std::vector<clustering::Obstacle>& obstacles) {
+void writeObstaclesObj(std::ostream& out, const std::vector<hulls::Obstacle>& obstacles) {
   out << "# hullmap obstacles: convex hulls (one object per convex part), z-up map frame\n";
   out << std::setprecision(std::numeric_limits<double>::max_digits10);
   std::size_t base = 1;
-  const auto write = [&](const std::string& name, const clustering::ConvexHull& hull) {
+  const auto write = [&](const std::string& name, const hulls::ConvexHull& hull) {
     out << "o " << name << '\n';
     for (const auto& v : hull.vertices) out << "v " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
     for (const auto& t : hull.triangles) out << "f " << base + t[0] << ' ' << base + t[1] << ' ' << base + t[2] << '\n';
@@ -300,7 +300,7 @@ void writeObstaclesObj(std::ostream& out, const std::vector<clustering::Obstacle
   }
 }
 
-void writeObstaclesObj(const std::string& path, const std::vector<clustering::Obstacle>& obstacles) {
+void writeObstaclesObj(const std::string& path, const std::vector<hulls::Obstacle>& obstacles) {
   core::writeFileAtomically(path, [&](std::ostream& out) { writeObstaclesObj(out, obstacles); });
 }
 

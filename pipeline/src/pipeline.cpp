@@ -490,7 +490,7 @@ ClusteredVoxels clusterMap(const mapper::OccupancyMap& map, const clustering::Db
     weights.push_back(v.weight);
   }
   out.clusters = clustering::dbscan(centers, weights, dbscan);
-  out.obstacles = clustering::buildObstacles(centers, weights, out.clusters.labels, map.resolution());
+  out.obstacles = hulls::buildObstacles(centers, weights, out.clusters.labels, map.resolution());
   return out;
 }
 
@@ -576,7 +576,7 @@ BuildResult buildFromPoints(io::Points points, std::optional<std::vector<io::Key
   return result;
 }
 
-std::vector<clustering::Obstacle> readObstacles(const fs::path& obstacles_json) {
+std::vector<hulls::Obstacle> readObstacles(const fs::path& obstacles_json) {
   return readObstaclesJson(obstacles_json.string());
 }
 

@@ -117,7 +117,7 @@ bool inside(const Box3d& box, const Eigen::Vector3d& p) {
 
 }  // namespace
 
-Box3d omplBoxFor(const std::vector<clustering::Obstacle>& obstacles, const PlanRequest& request) {
+Box3d omplBoxFor(const std::vector<hulls::Obstacle>& obstacles, const PlanRequest& request) {
   const double margin = std::max(1.0, 2 * request.radius + 0.5);
   Box3d box{request.start.cwiseMin(request.goal), request.start.cwiseMax(request.goal)};
   double ground = box.min.z();
@@ -139,7 +139,7 @@ Box3d omplBoxFor(const std::vector<clustering::Obstacle>& obstacles, const PlanR
   return box;
 }
 
-OmplPlanResult planPathOmpl(const std::vector<clustering::Obstacle>& obstacles, const PlanRequest& request,
+OmplPlanResult planPathOmpl(const std::vector<hulls::Obstacle>& obstacles, const PlanRequest& request,
                             const OmplParams& params, const std::vector<collision::HalfSpace>& surfaces) {
   if (!(params.time_limit > 0) || !std::isfinite(params.time_limit))
     throw Error::inParameter("time_limit", "must be > 0 and finite seconds");

@@ -32,7 +32,7 @@ struct PathPlanner::Impl {
   collision::HullChecker checker;
   Graph graph;
 
-  Impl(const std::vector<clustering::Obstacle>& obstacles, Roadmap map, std::vector<collision::HalfSpace> surfaces)
+  Impl(const std::vector<hulls::Obstacle>& obstacles, Roadmap map, std::vector<collision::HalfSpace> surfaces)
       : roadmap(std::move(map)), checker(obstacles, std::move(surfaces)) {
     for (const auto& n : roadmap.nodes) graph.position.push_back(n.position);
     graph.links.resize(graph.position.size());
@@ -219,7 +219,7 @@ struct PathPlanner::Impl {
   }
 };
 
-PathPlanner::PathPlanner(const std::vector<clustering::Obstacle>& obstacles, Roadmap roadmap,
+PathPlanner::PathPlanner(const std::vector<hulls::Obstacle>& obstacles, Roadmap roadmap,
                          std::vector<collision::HalfSpace> surfaces)
     : impl_(std::make_unique<Impl>(obstacles, std::move(roadmap), std::move(surfaces))) {}
 PathPlanner::~PathPlanner() = default;
@@ -316,7 +316,7 @@ PlanResult PathPlanner::plan(const PlanRequest& request) const {
   return result;
 }
 
-RoadmapParams roadmapParamsFor(const std::vector<clustering::Obstacle>& obstacles,
+RoadmapParams roadmapParamsFor(const std::vector<hulls::Obstacle>& obstacles,
                                const std::vector<Eigen::Vector3d>& points, double radius) {
   if (points.empty()) throw Error::inParameter("points", "empty: the roadmap's bounds and band come from them");
   RoadmapParams params;
@@ -338,7 +338,7 @@ RoadmapParams roadmapParamsFor(const std::vector<clustering::Obstacle>& obstacle
   return params;
 }
 
-PlanResult planPath(const std::vector<clustering::Obstacle>& obstacles, const PlanRequest& request,
+PlanResult planPath(const std::vector<hulls::Obstacle>& obstacles, const PlanRequest& request,
                     std::optional<RoadmapParams> roadmap_params, const std::vector<collision::HalfSpace>& surfaces) {
   const double z = request.flight_z.value_or(request.start.z());
   const RoadmapParams params = roadmap_params.value_or(roadmapParamsFor(

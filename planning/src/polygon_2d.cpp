@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/core/convex_hull_2d.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 
 namespace hullmap::planning {
 
@@ -112,7 +113,7 @@ std::vector<Eigen::Vector2d> clipToBox(std::vector<Eigen::Vector2d> poly, const 
     }
     poly = std::move(out);
   }
-  poly = clustering::convexHull2d(poly);
+  poly = hullmap::core::convexHull2d(poly);
   return poly.size() >= 3 ? poly : std::vector<Eigen::Vector2d>{};
 }
 

@@ -3,6 +3,7 @@
 // (voronoiVertices), the traced bisectors and their guard (guardedClearance), the canonical order.
 // Over 600 lines as one job that shares the CGAL types above; its plane geometry is in polygon_2d,
 // roadmap.json in roadmap_json.cpp.
+#include "hullmap/core/convex_hull_2d.hpp"
 #include "hullmap/planning/roadmap.hpp"
 
 #include <algorithm>
@@ -234,13 +235,13 @@ void canonicalOrder(Roadmap& map) {
 
 using Ring = std::vector<Eigen::Vector2d>;
 using Rings = std::vector<Ring>;  ///< a footprint: its outer ring, then its holes
-using Band = std::vector<std::pair<const clustering::Footprint*, int>>;
+using Band = std::vector<std::pair<const hulls::Footprint*, int>>;
 
 /// The footprints in the height band [params.z0, params.z1] with their obstacle's id: each convex
 /// part's, or the obstacle's own when it has no parts.
-Band bandFootprints(const std::vector<clustering::Obstacle>& obstacles, const RoadmapParams& params) {
+Band bandFootprints(const std::vector<hulls::Obstacle>& obstacles, const RoadmapParams& params) {
   Band band;
-  auto add = [&](const clustering::Footprint& f, int id) {
+  auto add = [&](const hulls::Footprint& f, int id) {
     if (f.z_max < params.z0 || f.z_min > params.z1) return;
     if (f.polygon.size() < 3)
       throw Error("obstacle " + std::to_string(id) + ": footprint has " + std::to_string(f.polygon.size()) +
@@ -404,7 +405,7 @@ std::vector<Rings> mergedFootprints(const Band& band, const Bounds2d& bb, double
       map.footprints.erase(map.footprints.begin() + at, map.footprints.end());
       map.holes.erase(map.holes.begin() + at, map.holes.end());
       map.obstacle_groups.erase(map.obstacle_groups.begin() + at, map.obstacle_groups.end());
-      map.footprints.push_back(clustering::convexHull2d(points));
+      map.footprints.push_back(hullmap::core::convexHull2d(points));
       map.holes.emplace_back();
       map.obstacle_groups.push_back(ids);
       rings.push_back({map.footprints.back()});
@@ -525,7 +526,7 @@ double siteDistance(const SiteRef& site, const Eigen::Vector2d& p) {
   return site.is_point ? (p - site.a).norm() : segmentDistance(site.a, site.b, p);
 }
 
-Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const RoadmapParams& params,
+Roadmap buildRoadmap(const std::vector<hulls::Obstacle>& obstacles, const RoadmapParams& params,
                      const std::vector<collision::HalfSpace>& surfaces) {
   if (!(params.tolerance > 0) || !std::isfinite(params.tolerance))
     throw Error::inParameter("tolerance", "must be > 0 and finite, got " + std::to_string(params.tolerance));

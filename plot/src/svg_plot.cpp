@@ -1,5 +1,6 @@
 // renderMapSvg: one map drawn as SVG (voxel cells, obstacle outlines, floor, roadmap, paths, scale
 // bar, captions). Just over 600 lines as one job: every part writes to the same viewport.
+#include "hullmap/core/convex_hull_2d.hpp"
 #include "hullmap/plot/svg_plot.hpp"
 
 #include <algorithm>
@@ -136,7 +137,7 @@ double writeScaleBar(std::ostream& svg, const Viewport& vp, double y, double fon
 }
 
 /// The outline of a hull in the view: its footprint (top) or its projected hull (side), else the box.
-std::vector<Eigen::Vector2d> outline(const clustering::ConvexHull& hull, const clustering::Footprint& footprint,
+std::vector<Eigen::Vector2d> outline(const hulls::ConvexHull& hull, const hulls::Footprint& footprint,
                                      const Eigen::Vector3d& aabb_min, const Eigen::Vector3d& aabb_max, PlotView view) {
   if (view == PlotView::kTop) {
     if (footprint.polygon.size() >= 3) return footprint.polygon;
@@ -148,7 +149,7 @@ std::vector<Eigen::Vector2d> outline(const clustering::ConvexHull& hull, const c
   std::vector<Eigen::Vector2d> projected;
   projected.reserve(hull.vertices.size());
   for (const auto& v : hull.vertices) projected.push_back(project(v, view));
-  auto outer = clustering::convexHull2d(std::move(projected));
+  auto outer = hullmap::core::convexHull2d(std::move(projected));
   if (outer.size() >= 3) return outer;
   return {{aabb_min.x(), aabb_min.z()},
           {aabb_max.x(), aabb_min.z()},
@@ -158,7 +159,7 @@ std::vector<Eigen::Vector2d> outline(const clustering::ConvexHull& hull, const c
 
 /// One outline per convex part of the obstacle (its whole outline when it has no parts): the whole
 /// hull of a ring of walls would cover the room inside it.
-std::vector<std::vector<Eigen::Vector2d>> outlines(const clustering::Obstacle& o, PlotView view) {
+std::vector<std::vector<Eigen::Vector2d>> outlines(const hulls::Obstacle& o, PlotView view) {
   if (o.parts.empty()) return {outline(o.hull, o.footprint, o.aabb_min, o.aabb_max, view)};
   std::vector<std::vector<Eigen::Vector2d>> out;
   for (const auto& part : o.parts)
@@ -166,7 +167,7 @@ std::vector<std::vector<Eigen::Vector2d>> outlines(const clustering::Obstacle& o
   return out;
 }
 
-void writeObstacles(std::ostream& svg, const std::vector<clustering::Obstacle>& obstacles, PlotView view,
+void writeObstacles(std::ostream& svg, const std::vector<hulls::Obstacle>& obstacles, PlotView view,
                     const Viewport& vp) {
   svg << "<g class=\"obstacles\" font-family=\"sans-serif\" font-size=\"12\" font-weight=\"bold\">\n";
   for (const auto& o : obstacles) {
@@ -241,7 +242,7 @@ std::vector<Eigen::Vector2d> floorOutline(const MapPlot& plot) {
     for (const double dx : {-h, h})
       for (const double dy : {-h, h}) corners.emplace_back(c.x() + dx, c.y() + dy);
   }
-  return clustering::convexHull2d(std::move(corners));
+  return hullmap::core::convexHull2d(std::move(corners));
 }
 
 void writeFloorOutline(std::ostream& svg, const std::vector<Eigen::Vector2d>& outline, const Viewport& vp) {

@@ -32,7 +32,7 @@ class Map {
 
   /// The obstacles, surfaces and frame, as the checks and planners take them.
   const pipeline::MapObstacles& map() const { return map_; }
-  const std::vector<clustering::Obstacle>& obstacles() const { return map_.obstacles; }
+  const std::vector<hulls::Obstacle>& obstacles() const { return map_.obstacles; }
   const nlohmann::json& report() const { return report_; }
   double resolution() const { return resolution_; }
   const std::vector<Eigen::Vector3d>& centers() const { return centers_; }

@@ -350,78 +350,76 @@ void bindShape(py::class_<T>& c) {
       .def_property_readonly(
           "volume", [](const T& o) { return o.volume; }, "of the hull, map units cubed")
       .def_property_readonly(
-          "hull", [](const T& o) -> const clustering::ConvexHull& { return o.hull; },
+          "hull", [](const T& o) -> const hulls::ConvexHull& { return o.hull; },
           py::return_value_policy::reference_internal, "its convex hull (ConvexHull)")
       .def_property_readonly(
-          "footprint", [](const T& o) -> const clustering::Footprint& { return o.footprint; },
+          "footprint", [](const T& o) -> const hulls::Footprint& { return o.footprint; },
           py::return_value_policy::reference_internal, "its footprint (Footprint)");
 }
 
 void bindObstacles(py::module_& m) {
-  py::class_<clustering::ConvexHull>(m, "ConvexHull",
-                                     "A convex polyhedron, map frame: vertices (V, 3) float64 and triangles (F, 3) "
-                                     "int32, counter-clockwise seen from outside. Read-only views into the Map.")
-      .def_property_readonly(
-          "vertices", [](py::object self) { return view(self.cast<const clustering::ConvexHull&>().vertices, self); })
+  py::class_<hulls::ConvexHull>(m, "ConvexHull",
+                                "A convex polyhedron, map frame: vertices (V, 3) float64 and triangles (F, 3) "
+                                "int32, counter-clockwise seen from outside. Read-only views into the Map.")
+      .def_property_readonly("vertices",
+                             [](py::object self) { return view(self.cast<const hulls::ConvexHull&>().vertices, self); })
       .def_property_readonly(
           "triangles",
           [](py::object self) {
             static_assert(sizeof(std::array<int, 3>) == 3 * sizeof(std::int32_t), "triangles are three packed ints");
-            const auto& t = self.cast<const clustering::ConvexHull&>().triangles;
+            const auto& t = self.cast<const hulls::ConvexHull&>().triangles;
             static const std::int32_t none[3] = {0, 0, 0};
             return view(t.empty() ? none : t.front().data(), {static_cast<py::ssize_t>(t.size()), 3}, self);
           })
-      .def("__repr__", [](const clustering::ConvexHull& h) {
+      .def("__repr__", [](const hulls::ConvexHull& h) {
         return "<hullmap.ConvexHull: " + std::to_string(h.vertices.size()) + " vertices, " +
                std::to_string(h.triangles.size()) + " triangles>";
       });
-  py::class_<clustering::Footprint>(m, "Footprint",
-                                    "The ground-plane footprint: a convex polygon (P, 2), counter-clockwise, and "
-                                    "its z range.")
-      .def_property_readonly(
-          "polygon", [](py::object self) { return view(self.cast<const clustering::Footprint&>().polygon, self); })
-      .def_property_readonly("z_min", [](const clustering::Footprint& f) { return f.z_min; })
-      .def_property_readonly("z_max", [](const clustering::Footprint& f) { return f.z_max; })
-      .def("__repr__", [](const clustering::Footprint& f) {
+  py::class_<hulls::Footprint>(m, "Footprint",
+                               "The ground-plane footprint: a convex polygon (P, 2), counter-clockwise, and "
+                               "its z range.")
+      .def_property_readonly("polygon",
+                             [](py::object self) { return view(self.cast<const hulls::Footprint&>().polygon, self); })
+      .def_property_readonly("z_min", [](const hulls::Footprint& f) { return f.z_min; })
+      .def_property_readonly("z_max", [](const hulls::Footprint& f) { return f.z_max; })
+      .def("__repr__", [](const hulls::Footprint& f) {
         return "<hullmap.Footprint: " + std::to_string(f.polygon.size()) + " corners, z " + std::to_string(f.z_min) +
                " to " + std::to_string(f.z_max) + ">";
       });
 
-  py::class_<clustering::ObstaclePart> part(m, "ObstaclePart",
-                                            "One convex part of an obstacle (obstacles.json's parts[]).");
+  py::class_<hulls::ObstaclePart> part(m, "ObstaclePart", "One convex part of an obstacle (obstacles.json's parts[]).");
   bindShape(part);
-  part.def_property_readonly("concavity_bound", [](const clustering::ObstaclePart& p) { return p.concavity_bound; })
-      .def_property_readonly("flat", [](const clustering::ObstaclePart& p) { return p.flat; })
-      .def_property_readonly("filled", [](const clustering::ObstaclePart& p) { return p.filled; })
+  part.def_property_readonly("concavity_bound", [](const hulls::ObstaclePart& p) { return p.concavity_bound; })
+      .def_property_readonly("flat", [](const hulls::ObstaclePart& p) { return p.flat; })
+      .def_property_readonly("filled", [](const hulls::ObstaclePart& p) { return p.filled; })
       .def_property_readonly(
-          "faces", [](const clustering::ObstaclePart& p) { return p.faces; },
+          "faces", [](const hulls::ObstaclePart& p) { return p.faces; },
           "passed by the face-hole rule (CONVEX_PARTS.md)")
-      .def_property_readonly("free_voxels_inside",
-                             [](const clustering::ObstaclePart& p) { return p.free_voxels_inside; })
+      .def_property_readonly("free_voxels_inside", [](const hulls::ObstaclePart& p) { return p.free_voxels_inside; })
       .def_property_readonly("free_voxels_off_surface",
-                             [](const clustering::ObstaclePart& p) { return p.free_voxels_off_surface; })
-      .def("__repr__", [](const clustering::ObstaclePart& p) {
+                             [](const hulls::ObstaclePart& p) { return p.free_voxels_off_surface; })
+      .def("__repr__", [](const hulls::ObstaclePart& p) {
         return "<hullmap.ObstaclePart: " + std::to_string(p.voxel_count) + " voxels, " +
                std::to_string(p.hull.vertices.size()) + " hull vertices>";
       });
 
-  py::class_<clustering::Obstacle> obstacle(m, "Obstacle",
-                                            "One obstacle: a cluster of occupied voxels, its hull, footprint and "
-                                            "convex parts (obstacles.json's obstacles[]).");
+  py::class_<hulls::Obstacle> obstacle(m, "Obstacle",
+                                       "One obstacle: a cluster of occupied voxels, its hull, footprint and "
+                                       "convex parts (obstacles.json's obstacles[]).");
   obstacle.def_property_readonly(
-      "id", [](const clustering::Obstacle& o) { return o.id; }, "cluster label");
+      "id", [](const hulls::Obstacle& o) { return o.id; }, "cluster label");
   bindShape(obstacle);
   obstacle
       .def_property_readonly(
           "parts",
           [](py::object self) {
             py::list list;
-            for (const auto& p : self.cast<const clustering::Obstacle&>().parts)
+            for (const auto& p : self.cast<const hulls::Obstacle&>().parts)
               list.append(py::cast(&p, py::return_value_policy::reference_internal, self));
             return list;
           },
           "its convex parts (ObstaclePart), empty when not split")
-      .def("__repr__", [](const clustering::Obstacle& o) {
+      .def("__repr__", [](const hulls::Obstacle& o) {
         return "<hullmap.Obstacle " + std::to_string(o.id) + ": " + std::to_string(o.voxel_count) + " voxels, " +
                std::to_string(o.parts.size()) + " parts>";
       });

@@ -83,7 +83,7 @@ nav_msgs::OccupancyGrid toOccupancyGrid(const live::ProjectedGrid& g, const std_
   return grid;
 }
 
-visualization_msgs::MarkerArray obstacleMarkers(const std::vector<clustering::Obstacle>& obstacles,
+visualization_msgs::MarkerArray obstacleMarkers(const std::vector<hulls::Obstacle>& obstacles,
                                                 const std::vector<int>& previous_ids, const std_msgs::Header& header) {
   return toMarkerArray(live::obstacleMarkers(obstacles, previous_ids), header);
 }
@@ -93,8 +93,8 @@ visualization_msgs::MarkerArray occupiedCellMarkers(const std::vector<mapper::Oc
   return toMarkerArray(live::occupiedCellMarkers(voxels, resolution, header.frame_id), header);
 }
 
-nav_msgs::OccupancyGrid projectedMap(const std::vector<clustering::Obstacle>& obstacles, double resolution,
-                                     double min_z, double max_z, double margin, const std_msgs::Header& header) {
+nav_msgs::OccupancyGrid projectedMap(const std::vector<hulls::Obstacle>& obstacles, double resolution, double min_z,
+                                     double max_z, double margin, const std_msgs::Header& header) {
   return toOccupancyGrid(live::projectedGrid(obstacles, resolution, min_z, max_z, margin), header);
 }
 

@@ -17,7 +17,7 @@
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/io/readers.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -25,7 +25,7 @@ namespace {
 using hullmap::test::errorOf;
 using namespace hullmap::clustering;
 using hullmap::io::Points;
-using hullmap::mapper::SceneObstacle;
+using hullmap::sim::SceneObstacle;
 
 struct Voxels {
   std::vector<Eigen::Vector3d> centres;
@@ -61,10 +61,10 @@ double surfaceDistance(const SceneObstacle& o, const Eigen::Vector3d& p) {
 }
 
 TEST(ClusteringAutoParams, ScalesWithTheMapAndTheResolution) {
-  hullmap::mapper::SceneParams p;
+  hullmap::sim::SceneParams p;
   p.points = 8000;
   p.orbslam_frame = false;
-  const auto scene = hullmap::mapper::generateScene(p);
+  const auto scene = hullmap::sim::generateScene(p);
   const Voxels v = voxelize(scene.points, 0.05);
   const AutoParams base = chooseDbscanParams(v.centres, v.weights, 0.05);
   for (const double s : {4.0, 0.125, 3.7, 0.013}) {
@@ -141,10 +141,10 @@ TEST(ClusteringAutoParams, RejectsBadInput) {
 TEST(ClusteringAutoParams, GeneratedScenesClusterWithLittleNoiseAndNoMerges) {
   for (const std::size_t points : {5000u, 20000u, 200000u}) {
     SCOPED_TRACE(points);
-    hullmap::mapper::SceneParams p;
+    hullmap::sim::SceneParams p;
     p.points = points;
     p.orbslam_frame = false;
-    const auto scene = hullmap::mapper::generateScene(p);
+    const auto scene = hullmap::sim::generateScene(p);
     const Voxels v = voxelize(scene.points, 0.05);
     const AutoParams a = chooseDbscanParams(v.centres, v.weights, 0.05);
     DbscanParams params;
@@ -183,11 +183,11 @@ TEST(ClusteringAutoParams, GeneratedScenesClusterWithLittleNoiseAndNoMerges) {
 TEST(ClusteringAutoParams, RealisticRoomsClusterIntoWallsAndFurniture) {
   for (const double density : {30.0, 80.0, 200.0}) {
     SCOPED_TRACE(density);
-    hullmap::mapper::SceneParams p;
-    p.layout = hullmap::mapper::SceneLayout::kRoom;
+    hullmap::sim::SceneParams p;
+    p.layout = hullmap::sim::SceneLayout::kRoom;
     p.density = density;
     p.orbslam_frame = false;
-    const auto scene = hullmap::mapper::generateScene(p);
+    const auto scene = hullmap::sim::generateScene(p);
     const hullmap::mapper::PlaneFit floor =
         hullmap::mapper::findBoundingPlane(scene.points, hullmap::mapper::PlaneSide::kFloor);
     ASSERT_TRUE(floor.found) << floor.reason;

@@ -17,7 +17,7 @@ namespace {
 using test::V3;
 
 struct Scene {
-  std::vector<clustering::Obstacle> obstacles;
+  std::vector<hulls::Obstacle> obstacles;
   test::VoxelBlobs voxels;
 };
 
@@ -25,7 +25,7 @@ Scene randomScene(std::uint32_t seed, int clusters, double size) {
   std::mt19937 rng(seed);
   Scene s;
   s.voxels = test::randomBlobs(rng, clusters, 150, size, 30);
-  s.obstacles = clustering::buildObstacles(s.voxels.centers, s.voxels.weights, s.voxels.labels, size);
+  s.obstacles = hulls::buildObstacles(s.voxels.centers, s.voxels.weights, s.voxels.labels, size);
   return s;
 }
 
@@ -39,7 +39,7 @@ TEST(FclObstacles, CallbacksNameTheObstacleByItsId) {
     centers.emplace_back(5.0 + 0.1 * i, 0.0, 1.0);
     labels.push_back(1);
   }
-  auto obstacles = clustering::buildObstacles(centers, std::vector<std::uint32_t>(centers.size(), 1), labels, 0.1);
+  auto obstacles = hulls::buildObstacles(centers, std::vector<std::uint32_t>(centers.size(), 1), labels, 0.1);
   ASSERT_EQ(obstacles.size(), 2u);
   obstacles[0].id = 7;
   obstacles[1].id = 3;

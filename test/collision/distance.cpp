@@ -14,10 +14,10 @@ namespace {
 
 using test::V3;
 
-std::vector<clustering::ConvexHull> randomHulls(std::mt19937& rng, int count) {
+std::vector<hulls::ConvexHull> randomHulls(std::mt19937& rng, int count) {
   const auto blobs = test::randomBlobs(rng, count, 120, 0.1, 3);
-  std::vector<clustering::ConvexHull> hulls;
-  for (const auto& o : clustering::buildObstacles(blobs.centers, blobs.weights, blobs.labels, 0.1))
+  std::vector<hulls::ConvexHull> hulls;
+  for (const auto& o : hulls::buildObstacles(blobs.centers, blobs.weights, blobs.labels, 0.1))
     hulls.push_back(test::moved(o.hull, rng, 0.5));
   return hulls;
 }
@@ -88,11 +88,11 @@ TEST(ConvexDistance, FirstContactBracketsTheTrueContact) {
 }
 
 TEST(ConvexDistance, RejectsInvalidHulls) {
-  clustering::ConvexHull flat;
+  hulls::ConvexHull flat;
   flat.vertices = {V3(0, 0, 0), V3(1, 0, 0), V3(0, 1, 0), V3(1, 1, 0)};
   flat.triangles = {{0, 1, 2}, {1, 3, 2}, {0, 2, 1}, {1, 2, 3}};
   EXPECT_THROW(ConvexPolytope::fromHull(flat, "flat"), Error);
-  clustering::ConvexHull inward;
+  hulls::ConvexHull inward;
   inward.vertices = {V3(0, 0, 0), V3(1, 0, 0), V3(0, 1, 0), V3(0, 0, 1)};
   inward.triangles = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};  // all clockwise from outside
   EXPECT_THROW(ConvexPolytope::fromHull(inward, "inward"), Error);

@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/collision/path_check.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "test_support.hpp"
 
@@ -18,7 +18,7 @@ namespace hullmap::collision {
 namespace {
 
 using V3 = Eigen::Vector3d;
-using mapper::SceneObstacle;
+using sim::SceneObstacle;
 
 /// Distance from p to the obstacle's solid (0 inside).
 double distanceToSolid(const SceneObstacle& o, const V3& p) {
@@ -39,16 +39,16 @@ V3 innerPoint(const SceneObstacle& o, std::mt19937& rng) {
 }
 
 struct Built {
-  mapper::Scene scene;
+  sim::Scene scene;
   pipeline::BuildResult result;
 };
 
 /// `hullmap build MAP --trajectory TRAJ --up -y` with the given DBSCAN parameters.
-Built build(const mapper::SceneParams& params, const std::string& name, double eps, int min_pts) {
+Built build(const sim::SceneParams& params, const std::string& name, double eps, int min_pts) {
   Built b;
-  b.scene = mapper::generateScene(params);
+  b.scene = sim::generateScene(params);
   const auto dir = test::freshDir(name);
-  mapper::writeScene(b.scene, params, dir.string());
+  sim::writeScene(b.scene, params, dir.string());
   pipeline::BuildParams options;
   options.inputs = {dir / "map_points.txt"};
   options.trajectory = dir / "KeyFrameTrajectory.txt";
@@ -110,7 +110,7 @@ TEST(GroundTruth, SparseSampleAtReferenceParametersFragmentsButDronesDoNotSlipTh
   // maps/simple (20,000 points, seed 42) at eps 0.1, minPts 10 splits its 8 obstacles into ~90
   // clusters; a line (radius 0) can pass between two fragments' hulls, a sphere of 0.1 m cannot.
   // At eps 0.12, minPts 5 each obstacle is one cluster and not even a line gets through.
-  mapper::SceneParams params;  // the generator's defaults are maps/simple's
+  sim::SceneParams params;  // the generator's defaults are maps/simple's
   const Built fragmented = build(params, "sample_reference", 0.1, 10);
   EXPECT_GT(fragmented.result.obstacles.size(), 2 * params.obstacles);
   EXPECT_EQ(expectNoPathThroughAnObstacleIsClear(fragmented, {0.1, 0.3}, 42, false), int(params.obstacles));

@@ -2,8 +2,8 @@
 // the free notch of an L is free with parts and blocked by the whole hull.
 #include <gtest/gtest.h>
 
-#include "hullmap/clustering/convex_parts.hpp"
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/convex_parts.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/fcl_obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 
@@ -14,15 +14,15 @@ using V3 = Eigen::Vector3d;
 
 /// An L of 5 cm voxels: arm along x [0, 1.5] x [0, 0.2], arm along y [0, 0.2] x [0, 1], 0.5 high;
 /// obstacle id 7.
-std::vector<clustering::Obstacle> lShape(bool with_parts) {
+std::vector<hulls::Obstacle> lShape(bool with_parts) {
   std::vector<V3> centers;
   for (int i = 0; i < 30; ++i)
     for (int j = 0; j < 20; ++j)
       for (int k = 0; k < 10; ++k)
         if (j < 4 || i < 4) centers.push_back(V3(i + 0.5, j + 0.5, k + 0.5) * 0.05);
   const std::vector<std::int32_t> labels(centers.size(), 7);
-  auto obstacles = clustering::buildObstacles(centers, {}, labels, 0.05);
-  if (with_parts) clustering::addConvexParts(obstacles, centers, {}, labels, 0.05, {});
+  auto obstacles = hulls::buildObstacles(centers, {}, labels, 0.05);
+  if (with_parts) hulls::addConvexParts(obstacles, centers, {}, labels, 0.05, {});
   return obstacles;
 }
 

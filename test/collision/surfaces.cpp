@@ -68,7 +68,7 @@ TEST(SurfaceCheck, EverySegmentThroughTheFloorCollidesAtAnyRadius) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> xy(-10.0, 10.0), height(0.0, 5.0), radius(0.0, 2.0);
   const HalfSpace floor{"floor", V3(0.02, -0.01, 1.0).normalized(), 0.05};
-  const std::vector<clustering::Obstacle> none;
+  const std::vector<hulls::Obstacle> none;
   const HullChecker hulls(none, {floor});
   for (int trial = 0; trial < 2000; ++trial) {
     // One end above the floor's plane, the other below it.
@@ -94,8 +94,8 @@ TEST(SurfaceCheck, TheEarliestOfHullsAndSurfacesIsReported) {
   for (int i = 0; i < 10; ++i)
     for (int j = 0; j < 10; ++j)
       for (int k = 0; k < 10; ++k) centers.emplace_back(0.05 + 0.1 * i, 0.05 + 0.1 * j, 0.05 + 0.1 * k);
-  auto obstacles = clustering::buildObstacles(centers, std::vector<std::uint32_t>(centers.size(), 1),
-                                              std::vector<std::int32_t>(centers.size(), 0), 0.1);
+  auto obstacles = hulls::buildObstacles(centers, std::vector<std::uint32_t>(centers.size(), 1),
+                                         std::vector<std::int32_t>(centers.size(), 0), 0.1);
   obstacles[0].id = 4;
   const HalfSpace floor{"floor", V3::UnitZ(), 0.0};
   const HalfSpace ceiling{"ceiling", -V3::UnitZ(), -3.0};
@@ -158,7 +158,7 @@ TEST(SurfaceCheck, OctreeModeSeesTheFloorBetweenItsSparseVoxels) {
 }
 
 TEST(SurfaceCheck, BadSurfacesAreRefusedNamingThem) {
-  const std::vector<clustering::Obstacle> none;
+  const std::vector<hulls::Obstacle> none;
   for (const HalfSpace& bad : {HalfSpace{"floor", V3(0, 0, 2), 0.0}, HalfSpace{"floor", V3(0, 0, NAN), 0.0},
                                HalfSpace{"floor", V3::UnitZ(), INFINITY}}) {
     try {

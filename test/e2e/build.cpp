@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/mapper/frame.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "run_hullmap.hpp"
 
@@ -33,10 +33,10 @@ namespace {
 
 /// A small generated scene (ORB-SLAM frame) written to `dir`.
 fs::path sampleScene(const fs::path& dir, std::size_t points = 6000) {
-  hullmap::mapper::SceneParams params;
+  hullmap::sim::SceneParams params;
   params.points = points;
   params.seed = 7;
-  hullmap::mapper::writeScene(hullmap::mapper::generateScene(params), params, dir.string());
+  hullmap::sim::writeScene(hullmap::sim::generateScene(params), params, dir.string());
   return dir;
 }
 
@@ -324,7 +324,7 @@ void buildWholeFile(const hullmap::pipeline::BuildParams& params, const fs::path
   dbscan.metric = params.metric;
   result.report.cluster_params.used = dbscan;
   result.clusters = clustering::dbscan(centers, weights, dbscan);
-  result.obstacles = clustering::buildObstacles(centers, weights, result.clusters.labels, result.map.resolution());
+  result.obstacles = hulls::buildObstacles(centers, weights, result.clusters.labels, result.map.resolution());
   for (const char* stage : {"read", "frame_and_filters", "octree", "dbscan", "obstacles"}) {
     result.report.timings_ms.emplace_back(stage, 0.0);
     result.report.peak_rss_mb.emplace_back(stage, 0.0);

@@ -14,8 +14,8 @@
 
 #include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
-#include "hullmap/pipeline/evaluate.hpp"
+#include "hullmap/sim/sample_scene.hpp"
+#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/pipeline/report.hpp"
 #include "run_hullmap.hpp"
@@ -29,22 +29,22 @@ namespace mapper = hullmap::mapper;
 /// A realistic room (by default 6 m, 4 pieces of furniture, 60 points per m^2) written as
 /// `generate --layout room`.
 struct Room {
-  mapper::SceneParams params;
-  mapper::Scene scene;
+  hullmap::sim::SceneParams params;
+  hullmap::sim::Scene scene;
   std::filesystem::path dir;
 };
 
 Room writeRoom(const std::string& name, std::uint64_t seed, double room_size = 6.0, std::size_t obstacles = 4,
                double density = 60.0) {
   Room room;
-  room.params.layout = mapper::SceneLayout::kRoom;
+  room.params.layout = hullmap::sim::SceneLayout::kRoom;
   room.params.seed = seed;
   room.params.room_size = room_size;
   room.params.obstacles = obstacles;
   room.params.density = density;
-  room.scene = mapper::generateScene(room.params);
+  room.scene = hullmap::sim::generateScene(room.params);
   room.dir = hullmap::test::freshDir(name);
-  mapper::writeScene(room.scene, room.params, room.dir.string());
+  hullmap::sim::writeScene(room.scene, room.params, room.dir.string());
   return room;
 }
 

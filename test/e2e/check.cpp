@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <octomap/OcTree.h>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
@@ -21,7 +21,7 @@ namespace {
 using V3 = Eigen::Vector3d;
 
 /// Two boxes of voxels: obstacle 0 at x in [1, 2], obstacle 3 at x in [4, 5]; y, z in [0, 1].
-std::vector<clustering::Obstacle> twoBoxes(std::vector<V3>* voxels = nullptr) {
+std::vector<hulls::Obstacle> twoBoxes(std::vector<V3>* voxels = nullptr) {
   std::vector<V3> centers;
   std::vector<std::int32_t> labels;
   for (int i = 0; i < 10; ++i)
@@ -33,7 +33,7 @@ std::vector<clustering::Obstacle> twoBoxes(std::vector<V3>* voxels = nullptr) {
         labels.push_back(3);
       }
   if (voxels) *voxels = centers;
-  return clustering::buildObstacles(centers, {}, labels, 0.1);
+  return hulls::buildObstacles(centers, {}, labels, 0.1);
 }
 
 TEST(CheckCommand, SegmentsPathsStatusAndJson) {

@@ -11,10 +11,10 @@
 
 #include <gtest/gtest.h>
 
-#include "hullmap/clustering/convex_parts.hpp"
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/convex_parts.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/pipeline/evaluate.hpp"
+#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "run_hullmap.hpp"

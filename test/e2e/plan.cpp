@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/collision/path_check.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "planning_support.hpp"
@@ -25,12 +25,12 @@ using hullmap::test::slurp;
 namespace {
 
 /// A generated scene (z-up) and `hullmap build` of it in dir/out; returns the scene.
-hullmap::mapper::Scene builtScene(const fs::path& dir) {
-  hullmap::mapper::SceneParams params;
+hullmap::sim::Scene builtScene(const fs::path& dir) {
+  hullmap::sim::SceneParams params;
   params.seed = 7;
   params.orbslam_frame = false;
-  const auto scene = hullmap::mapper::generateScene(params);
-  hullmap::mapper::writeScene(scene, params, dir.string());
+  const auto scene = hullmap::sim::generateScene(params);
+  hullmap::sim::writeScene(scene, params, dir.string());
   const auto r = runHullmap("build " + (dir / "map_points.txt").string() + " -o " + (dir / "out").string());
   EXPECT_EQ(r.status, 0) << r.err;
   return scene;
@@ -60,7 +60,7 @@ void expectOneLine(const hullmap::test::CommandResult& r, int status, const std:
 /// Four walls round the origin (1 m inside), the gaps between them 0.4 m wide at the corners.
 fs::path walledRoom(const fs::path& dir) {
   using hullmap::test::prism;
-  const std::vector<hullmap::clustering::Obstacle> walls{
+  const std::vector<hullmap::hulls::Obstacle> walls{
       prism(0, {{-1.2, -1.2}, {1.2, -1.2}, {1.2, -1.0}, {-1.2, -1.0}}, 0, 2),  // south
       prism(1, {{-1.2, 1.0}, {1.2, 1.0}, {1.2, 1.2}, {-1.2, 1.2}}, 0, 2),      // north
       prism(2, {{-1.2, -0.6}, {-1.0, -0.6}, {-1.0, 0.6}, {-1.2, 0.6}}, 0, 2),  // west: 0.4 m gaps
@@ -249,7 +249,7 @@ TEST(CliPlan, OmplMethodPlansRoundAThinPlateAndCheckAcceptsIt) {
   const auto dir = freshDir("cli_plan_ompl");
   using hullmap::test::prism;
   // A 1 cm plate, 4 m wide and 3 m tall, across the straight line.
-  const std::vector<hullmap::clustering::Obstacle> plate{
+  const std::vector<hullmap::hulls::Obstacle> plate{
       prism(0, {{-0.005, -2}, {0.005, -2}, {0.005, 2}, {-0.005, 2}}, 0, 3)};
   const auto json = (dir / "obstacles.json").string();
   hullmap::pipeline::writeObstaclesJson(json, plate, {});

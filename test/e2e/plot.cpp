@@ -15,7 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "hullmap/plot/svg_plot.hpp"
@@ -131,7 +131,7 @@ Scene makeScene(int clusters, double vs, std::uint64_t seed) {
   s.plot.centers.emplace_back(centre(-30000), centre(-30000), centre(1));
   s.plot.labels.push_back(hullmap::clustering::kNoise);
   s.weights.assign(s.plot.centers.size(), 1);
-  s.plot.obstacles = hullmap::clustering::buildObstacles(s.plot.centers, s.weights, s.plot.labels, vs);
+  s.plot.obstacles = hullmap::hulls::buildObstacles(s.plot.centers, s.weights, s.plot.labels, vs);
   s.plot.caption = {"eps = 0.1, minPts = 10, resolution = " + std::to_string(vs)};
   return s;
 }

@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/view/html_view.hpp"
 #include "run_hullmap.hpp"
 
@@ -34,11 +34,11 @@ bool haveThree() { return fs::exists(fs::path(hullmap::view::kThreeDir) / "three
 // A build of a small generated scene, with its keyframes, by the CLI.
 fs::path builtScene(const std::string& name) {
   const fs::path dir = hullmap::test::freshDir(name);
-  hullmap::mapper::SceneParams params;
+  hullmap::sim::SceneParams params;
   params.points = 6000;
   params.obstacles = 4;
   params.seed = 3;
-  hullmap::mapper::writeScene(hullmap::mapper::generateScene(params), params, dir.string());
+  hullmap::sim::writeScene(hullmap::sim::generateScene(params), params, dir.string());
   const auto r = runHullmap("build " + q(dir / "map_points.txt") + " --trajectory " +
                             q(dir / "KeyFrameTrajectory.txt") + " --up -y --eps 0.12 --min-pts 5 -o " + q(dir / "out"));
   EXPECT_EQ(r.status, 0) << r.err;

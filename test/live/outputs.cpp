@@ -6,7 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/core/convex_hull_2d.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/live/outputs.hpp"
 
 namespace hullmap::live {
@@ -48,14 +49,14 @@ TEST(LiveProjectedGrid, MarksExactlyTheCellsThatTheFootprintsInTheBandTouch) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> coord(-2.0, 2.0);
   for (int round = 0; round < 5; ++round) {
-    std::vector<clustering::Obstacle> obstacles;
+    std::vector<hulls::Obstacle> obstacles;
     for (int i = 0; i < 6; ++i) {
       std::vector<Eigen::Vector2d> cloud;
       const Eigen::Vector2d centre(coord(rng), coord(rng));
       for (int k = 0; k < 7; ++k) cloud.push_back(centre + 0.3 * Eigen::Vector2d(coord(rng), coord(rng)));
-      clustering::Obstacle o;
+      hulls::Obstacle o;
       o.id = i;
-      o.footprint.polygon = clustering::convexHull2d(cloud);
+      o.footprint.polygon = hullmap::core::convexHull2d(cloud);
       o.footprint.z_min = i;  // obstacles 0..5 span z [i, i + 0.5]
       o.footprint.z_max = i + 0.5;
       obstacles.push_back(o);
@@ -85,15 +86,15 @@ TEST(LiveProjectedGrid, MarksExactlyTheCellsThatTheFootprintsInTheBandTouch) {
   EXPECT_THROW(projectedGrid({}, 0.0, 0, 1, 0.2), Error);
 }
 
-clustering::Obstacle cube(int id, const Eigen::Vector3d& lo, double size) {
+hulls::Obstacle cube(int id, const Eigen::Vector3d& lo, double size) {
   std::vector<Eigen::Vector3d> centers{lo + Eigen::Vector3d::Constant(size / 2)};
-  auto obstacles = clustering::buildObstacles(centers, {1}, {0}, size);
+  auto obstacles = hulls::buildObstacles(centers, {1}, {0}, size);
   obstacles.at(0).id = id;
   return obstacles.at(0);
 }
 
 TEST(LiveObstacleMarkers, HullTrianglesFootprintsLabelsAndDeletionsOfStaleIds) {
-  const std::vector<clustering::Obstacle> obstacles{cube(3, {0, 0, 0}, 1.0), cube(5, {4, 0, 0}, 0.5)};
+  const std::vector<hulls::Obstacle> obstacles{cube(3, {0, 0, 0}, 1.0), cube(5, {4, 0, 0}, 0.5)};
   const auto markers = obstacleMarkers(obstacles, {1, 3, 5, 8});
   std::map<std::pair<std::string, int>, const MarkerSpec*> by_key;
   for (const auto& m : markers) by_key[{m.ns, m.id}] = &m;

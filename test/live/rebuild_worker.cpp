@@ -82,7 +82,7 @@ MapUpdate update(io::Points points, std::int64_t stamp_ns = 1) {
 }
 
 /// id -> hull vertices, the comparison of two obstacle sets.
-std::map<int, std::vector<Eigen::Vector3d>> hulls(const std::vector<clustering::Obstacle>& obstacles) {
+std::map<int, std::vector<Eigen::Vector3d>> hulls(const std::vector<hulls::Obstacle>& obstacles) {
   std::map<int, std::vector<Eigen::Vector3d>> out;
   for (const auto& o : obstacles) out[o.id] = o.hull.vertices;
   return out;

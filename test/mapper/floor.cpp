@@ -11,7 +11,7 @@
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/io/readers.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -19,6 +19,7 @@ namespace {
 using hullmap::test::errorOf;
 using namespace hullmap::mapper;
 using namespace hullmap::io;
+using namespace hullmap::sim;
 
 using hullmap::kPi;
 

@@ -8,7 +8,7 @@
 
 #include "hullmap/mapper/detail/octree_keys.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "octree_oracle.hpp"
 #include "test_support.hpp"
 
@@ -16,6 +16,7 @@ namespace hullmap::mapper {
 namespace {
 
 using namespace hullmap::io;
+using namespace hullmap::sim;
 
 using test::sameTree;
 

@@ -13,7 +13,7 @@
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/io/readers.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "octree_oracle.hpp"
 #include "test_support.hpp"
 
@@ -21,6 +21,7 @@ namespace hullmap::mapper {
 namespace {
 
 using namespace hullmap::io;
+using namespace hullmap::sim;
 
 using test::sameTree;
 

@@ -14,8 +14,8 @@
 
 #include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
-#include "hullmap/pipeline/evaluate.hpp"
+#include "hullmap/sim/sample_scene.hpp"
+#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/pipeline/report.hpp"
 #include "test_support.hpp"
@@ -29,22 +29,22 @@ namespace mapper = hullmap::mapper;
 /// A realistic room (by default 6 m, 4 pieces of furniture, 60 points per m^2) written as
 /// `generate --layout room`.
 struct Room {
-  mapper::SceneParams params;
-  mapper::Scene scene;
+  hullmap::sim::SceneParams params;
+  hullmap::sim::Scene scene;
   std::filesystem::path dir;
 };
 
 Room writeRoom(const std::string& name, std::uint64_t seed, double room_size = 6.0, std::size_t obstacles = 4,
                double density = 60.0) {
   Room room;
-  room.params.layout = mapper::SceneLayout::kRoom;
+  room.params.layout = hullmap::sim::SceneLayout::kRoom;
   room.params.seed = seed;
   room.params.room_size = room_size;
   room.params.obstacles = obstacles;
   room.params.density = density;
-  room.scene = mapper::generateScene(room.params);
+  room.scene = hullmap::sim::generateScene(room.params);
   room.dir = hullmap::test::freshDir(name);
-  mapper::writeScene(room.scene, room.params, room.dir.string());
+  hullmap::sim::writeScene(room.scene, room.params, room.dir.string());
   return room;
 }
 
@@ -56,23 +56,23 @@ pipeline::BuildParams alignedBuild(const Room& room) {
   return params;
 }
 
-/// A build scored against its room's truth (pipeline::evaluate over its voxels), `segments` random
+/// A build scored against its room's truth (hullmap::sim::evaluate over its voxels), `segments` random
 /// segments at r = 0.3.
-pipeline::Evaluation score(const pipeline::BuildResult& r, const Room& room, std::size_t segments) {
+hullmap::sim::Evaluation score(const pipeline::BuildResult& r, const Room& room, std::size_t segments) {
   std::vector<V3> centers;
   std::vector<std::uint32_t> weights;
   for (const auto& v : r.voxels) {
     centers.push_back(v.center);
     weights.push_back(v.weight);
   }
-  pipeline::EvaluateParams eval;
+  hullmap::sim::EvaluateParams eval;
   eval.segments = segments;
-  return pipeline::evaluate(r.obstacles, pipeline::readGroundTruth((room.dir / "ground_truth.json").string()), centers,
-                            weights, eval);
+  return hullmap::sim::evaluate(r.obstacles, hullmap::sim::readGroundTruth((room.dir / "ground_truth.json").string()),
+                                centers, weights, eval);
 }
 
 /// True when p is inside the convex hull (outward triangles) or on it.
-bool insideHull(const hullmap::clustering::ConvexHull& hull, const V3& p) {
+bool insideHull(const hullmap::hulls::ConvexHull& hull, const V3& p) {
   if (hull.triangles.empty()) return false;
   for (const auto& t : hull.triangles) {
     const V3& a = hull.vertices[t[0]];
@@ -134,7 +134,7 @@ TEST(PipelineStages, AlignedRoomAtTheDefaults) {
 
   // Scored against the truth at r = 0.3 on issue 13's five targets (docs/QUALITY.md): no deep
   // collision missed, false alarms at most 5 % of the clear segments, swallowed free space at most 5 %.
-  const pipeline::Evaluation e = score(r, room, 1000);
+  const hullmap::sim::Evaluation e = score(r, room, 1000);
   std::cout << "room: " << e.parts << " parts for " << e.truth.size() << " true objects; deep " << e.deep << " missed "
             << e.missed << "; clear " << e.clear << " false alarms " << e.false_alarms << "; far volume "
             << e.far_volume << " of " << e.union_volume << "\n";

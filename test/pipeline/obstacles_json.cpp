@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "hullmap/clustering/convex_parts.hpp"
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/convex_parts.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "test_support.hpp"
@@ -17,7 +17,7 @@ namespace {
 using V3 = Eigen::Vector3d;
 
 /// An L (two parts) and a box (one part), 5 cm voxels.
-std::vector<clustering::Obstacle> lAndBox() {
+std::vector<hulls::Obstacle> lAndBox() {
   std::vector<V3> centers;
   std::vector<std::int32_t> labels;
   const auto add = [&](int i0, int i1, int j0, int j1, int k1, std::int32_t label) {
@@ -31,8 +31,8 @@ std::vector<clustering::Obstacle> lAndBox() {
   add(0, 30, 0, 4, 10, 0);
   add(0, 4, 4, 20, 10, 0);
   add(50, 60, 0, 5, 5, 1);
-  auto obstacles = clustering::buildObstacles(centers, {}, labels, 0.05);
-  clustering::addConvexParts(obstacles, centers, {}, labels, 0.05, {});
+  auto obstacles = hulls::buildObstacles(centers, {}, labels, 0.05);
+  hulls::addConvexParts(obstacles, centers, {}, labels, 0.05, {});
   return obstacles;
 }
 

@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/pipeline/trajectory_file.hpp"
 #include "test_support.hpp"
@@ -21,11 +21,11 @@ namespace mapper = hullmap::mapper;
 namespace io = hullmap::io;
 
 fs::path scene(const std::string& name) {
-  mapper::SceneParams params;
+  hullmap::sim::SceneParams params;
   params.points = 4000;
   params.obstacles = 4;
   const fs::path dir = hullmap::test::freshDir(name);
-  mapper::writeScene(mapper::generateScene(params), params, dir.string());
+  hullmap::sim::writeScene(hullmap::sim::generateScene(params), params, dir.string());
   return dir;
 }
 

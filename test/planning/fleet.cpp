@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/planning/fleet.hpp"
 #include "planning_support.hpp"
 
@@ -28,7 +28,7 @@ double sampledSeparation(const std::vector<TimedPath>& paths) {
   return best;
 }
 
-void expectSafeFleet(const mapper::Scene& scene, const std::vector<planning::FleetTask>& tasks,
+void expectSafeFleet(const sim::Scene& scene, const std::vector<planning::FleetTask>& tasks,
                      const planning::FleetResult& result, const planning::FleetParams& params) {
   std::vector<TimedPath> routed;
   for (std::size_t i = 0; i < tasks.size(); ++i) {
@@ -58,10 +58,10 @@ void expectSafeFleet(const mapper::Scene& scene, const std::vector<planning::Fle
 }
 
 TEST(Fleet, RoutesDronesInTheSampleSceneApartAndClearOfTheTruth) {
-  mapper::SceneParams sp;
+  sim::SceneParams sp;
   sp.obstacles = 10;
   sp.points = 100;
-  const mapper::Scene scene = mapper::generateScene(sp);
+  const sim::Scene scene = sim::generateScene(sp);
   const auto obstacles = test::truthObstacles(scene);
   planning::FleetParams params;
   params.radius = 0.2;
@@ -90,9 +90,9 @@ TEST(Fleet, RoutesDronesInTheSampleSceneApartAndClearOfTheTruth) {
 
 TEST(Fleet, HeadOnSwapInACorridorWaitsOrDetoursAndNamesTheUnroutable) {
   // Two drones swap ends of a 1 m wide corridor with a wide hall at each end.
-  mapper::Scene scene;
-  scene.obstacles.push_back({mapper::SceneObstacle::Shape::kBox, Vector3d(0, 1.5, 1.5), Vector3d(4, 2, 3)});
-  scene.obstacles.push_back({mapper::SceneObstacle::Shape::kBox, Vector3d(0, -1.5, 1.5), Vector3d(4, 2, 3)});
+  sim::Scene scene;
+  scene.obstacles.push_back({sim::SceneObstacle::Shape::kBox, Vector3d(0, 1.5, 1.5), Vector3d(4, 2, 3)});
+  scene.obstacles.push_back({sim::SceneObstacle::Shape::kBox, Vector3d(0, -1.5, 1.5), Vector3d(4, 2, 3)});
   const auto obstacles = test::truthObstacles(scene);
   planning::FleetParams params;
   params.radius = 0.2;

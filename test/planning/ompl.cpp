@@ -6,12 +6,12 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/planning/ompl_planner.hpp"
 #include "planning_support.hpp"
 
 namespace hp = hullmap::planning;
-using hullmap::mapper::SceneObstacle;
+using hullmap::sim::SceneObstacle;
 
 namespace {
 
@@ -19,7 +19,7 @@ SceneObstacle box(const Eigen::Vector3d& center, const Eigen::Vector3d& size) {
   return {SceneObstacle::Shape::kBox, center, size};
 }
 
-hullmap::clustering::Obstacle prismOf(int id, const SceneObstacle& b) {
+hullmap::hulls::Obstacle prismOf(int id, const SceneObstacle& b) {
   const Eigen::Vector2d c = b.center.head<2>(), h = 0.5 * b.size.head<2>();
   return hullmap::test::prism(id,
                               {c - h, c + Eigen::Vector2d(h.x(), -h.y()), c + h, c + Eigen::Vector2d(-h.x(), h.y())},
@@ -45,7 +45,7 @@ TEST(PlanningOmpl, PathsRoundAThinWallKeepTheRadiusFromTheTruth) {
   // A 1 cm plate across the way, 4 m wide and 3 m tall, and a post beside it: OMPL's discrete
   // validator steps over the plate; the capsule sweep cannot.
   const std::vector<SceneObstacle> truth{box({0, 0, 1.5}, {0.01, 4, 3}), box({-1, 2.5, 1}, {0.4, 0.4, 2})};
-  const std::vector<hullmap::clustering::Obstacle> obstacles{prismOf(0, truth[0]), prismOf(1, truth[1])};
+  const std::vector<hullmap::hulls::Obstacle> obstacles{prismOf(0, truth[0]), prismOf(1, truth[1])};
   hp::PlanRequest request;
   request.start = {-2, 0, 1};
   request.goal = {2, 0, 1};
@@ -89,7 +89,7 @@ TEST(PlanningOmpl, DefaultBoxHoldsObstaclesStartAndGoal) {
 }
 
 TEST(PlanningOmpl, BlockedEndsAndBadParametersAreSaid) {
-  const std::vector<hullmap::clustering::Obstacle> obstacles{prismOf(0, box({0, 0, 1}, {1, 1, 2}))};
+  const std::vector<hullmap::hulls::Obstacle> obstacles{prismOf(0, box({0, 0, 1}, {1, 1, 2}))};
   hp::PlanRequest request;
   request.start = {0.1, 0, 1};
   request.goal = {3, 0, 1};

@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/planning/path_planner.hpp"
 #include "planning_support.hpp"
 
@@ -24,7 +24,7 @@ struct GridOracle {
   double cell, x0, y0;
   int n;
   std::vector<char> free;
-  GridOracle(const mapper::Scene& scene, double room, double z, double clearance, double cell_size)
+  GridOracle(const sim::Scene& scene, double room, double z, double clearance, double cell_size)
       : cell(cell_size), x0(-room / 2), y0(-room / 2), n(static_cast<int>(std::ceil(room / cell_size))) {
     free.assign(static_cast<std::size_t>(n) * n, 1);
     for (int i = 0; i < n; ++i)
@@ -72,7 +72,7 @@ struct GridOracle {
 };
 
 /// Smallest distance from the densely sampled path (1 cm) to the true solids.
-double pathClearance(const mapper::Scene& scene, const std::vector<Vector3d>& path) {
+double pathClearance(const sim::Scene& scene, const std::vector<Vector3d>& path) {
   double best = 1e300;
   for (std::size_t k = 1; k < path.size(); ++k) {
     const int steps = std::max(1, static_cast<int>(std::ceil((path[k] - path[k - 1]).norm() / 0.01)));
@@ -89,11 +89,11 @@ TEST(PathPlanner, FindsWhatTheGridOracleConnectsAndKeepsTheRadiusFromTheTruth) {
   int connected = 0, found = 0, spurious = 0;
   double ratio_sum = 0, ratio_max = 0;
   for (const std::uint64_t seed : {1u, 2u, 3u}) {
-    mapper::SceneParams params;
+    sim::SceneParams params;
     params.seed = seed;
     params.obstacles = 14;
     params.points = 100;
-    const mapper::Scene scene = mapper::generateScene(params);
+    const sim::Scene scene = sim::generateScene(params);
     const auto obstacles = test::truthObstacles(scene);
     for (const double radius : {0.2, 0.4}) {
       planning::RoadmapParams rp;

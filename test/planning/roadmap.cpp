@@ -7,7 +7,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/core/convex_hull_2d.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/planning/path_planner.hpp"
@@ -22,17 +23,17 @@ using planning::Roadmap;
 using planning::RoadmapParams;
 
 /// Random convex polygons, one per cell of a grid with a gap between cells (so they are disjoint).
-std::vector<clustering::Obstacle> randomPolygons(std::mt19937& rng, int per_side, double cell) {
+std::vector<hulls::Obstacle> randomPolygons(std::mt19937& rng, int per_side, double cell) {
   std::uniform_real_distribution<double> u(0.1 * cell, 0.9 * cell);
   std::uniform_int_distribution<int> count(3, 9);
   std::bernoulli_distribution present(0.8);
-  std::vector<clustering::Obstacle> out;
+  std::vector<hulls::Obstacle> out;
   for (int i = 0; i < per_side; ++i)
     for (int j = 0; j < per_side; ++j) {
       if (!present(rng)) continue;
       std::vector<Vector2d> pts;
       for (int k = count(rng); k > 0; --k) pts.emplace_back(i * cell + u(rng), j * cell + u(rng));
-      auto hull = clustering::convexHull2d(pts);
+      auto hull = hullmap::core::convexHull2d(pts);
       if (hull.size() < 3) continue;
       out.push_back(test::prism(static_cast<int>(out.size()) + 100, hull, 0.0, 1.0));
     }
@@ -41,7 +42,7 @@ std::vector<clustering::Obstacle> randomPolygons(std::mt19937& rng, int per_side
 
 /// Brute-force distance from p to the region covered by the footprints (those of an obstacle's
 /// parts when it has parts): 0 inside one, else to the nearest footprint or bounds edge.
-double nearestSite(const std::vector<clustering::Obstacle>& obstacles, const Roadmap& map, const Vector2d& p) {
+double nearestSite(const std::vector<hulls::Obstacle>& obstacles, const Roadmap& map, const Vector2d& p) {
   double best = std::min({p.x() - map.bounds.x0, map.bounds.x1 - p.x(), p.y() - map.bounds.y0, map.bounds.y1 - p.y()});
   auto visit = [&](const std::vector<Vector2d>& poly) {
     bool inside = true;  // counter-clockwise convex: strictly left of every edge
@@ -69,11 +70,11 @@ std::vector<Vector2d> rect(double x0, double y0, double x1, double y1) {
 
 /// The walls of a room [0, 6]^2, 0.2 thick, as ONE obstacle (id 1) whose four convex parts touch
 /// along their ends (its whole hull and footprint cover the room), and a box (id 2) in the middle.
-std::vector<clustering::Obstacle> ringRoom() {
+std::vector<hulls::Obstacle> ringRoom() {
   auto ring = test::prism(1, rect(-0.2, -0.2, 6.2, 6.2), 0, 2);
   for (const auto& r : {rect(-0.2, -0.2, 6.2, 0), rect(-0.2, 6, 6.2, 6.2), rect(-0.2, 0, 0, 6), rect(6, 0, 6.2, 6)}) {
     const auto wall = test::prism(1, r, 0, 2);
-    clustering::ObstaclePart part;
+    hulls::ObstaclePart part;
     part.hull = wall.hull;
     part.footprint = wall.footprint;
     part.aabb_min = wall.aabb_min;
@@ -188,7 +189,7 @@ TEST(Roadmap, TouchingAndOverlappingFootprintsKeepTheRoadmapConnected) {
   // Fragments of one voxelized object: edges on the same lines, overlapping in part, one footprint
   // inside another (CGAL splits such edges into pieces whose ends come from different obstacles),
   // and separate obstacles around them. The free space is connected, so must the roadmap be.
-  const std::vector<clustering::Obstacle> obstacles{
+  const std::vector<hulls::Obstacle> obstacles{
       test::prism(1, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 0, 1),
       test::prism(2, {{0.5, 1}, {1.5, 1}, {1.5, 2}, {0.5, 2}}, 0, 1),
       test::prism(3, {{0.2, 0.5}, {0.6, 0.5}, {0.6, 1}, {0.2, 1}}, 0, 1),
@@ -216,7 +217,7 @@ TEST(Roadmap, AVertexOfTwoParallelSegmentsAndAPointKeepsTheRoadmapConnected) {
   // the corner (3.1, 0.5) of another (x = 3.15, y = 0.5 - sqrt(1.95^2 - 0.05^2)): its construction in
   // double divides by zero (parallel segments) and gave NaN; the face was dropped and with it the
   // only link between the roadmap's two halves on a built scene (CliPlan found no path).
-  const std::vector<clustering::Obstacle> obstacles{
+  const std::vector<hulls::Obstacle> obstacles{
       test::prism(5, rect(1.0, -1.45, 1.2, -1.25), 0, 1),
       test::prism(7, rect(3.05, 0.5, 3.1, 0.6), 0, 1),
   };
@@ -281,7 +282,7 @@ TEST(Roadmap, NodesAndEdgesComeInACanonicalOrder) {
   // Nodes by position (x, then y), edges by their nodes with from < to, each polyline running from
   // its `from` node to its `to` node: the numbering does not follow the SDG's face order, which
   // follows heap addresses where sites are co-circular (a grid of equal boxes has plenty).
-  std::vector<clustering::Obstacle> obstacles;
+  std::vector<hulls::Obstacle> obstacles;
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 4; ++j)
       obstacles.push_back(test::prism(4 * i + j, rect(2.0 * i, 2.0 * j, 2.0 * i + 1, 2.0 * j + 1), 0, 1));

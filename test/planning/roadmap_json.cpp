@@ -13,9 +13,9 @@ namespace hp = hullmap::planning;
 
 TEST(PlanningRoadmapJson, ReadsBackWhatWasWritten) {
   using hullmap::test::prism;
-  const std::vector<hullmap::clustering::Obstacle> obstacles{prism(0, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 0, 2),
-                                                             prism(1, {{2, 0.5}, {3, 0}, {3, 2}}, 0, 2),
-                                                             prism(2, {{0, 3}, {1, 3}, {0.5, 4}}, 0, 2)};
+  const std::vector<hullmap::hulls::Obstacle> obstacles{prism(0, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 0, 2),
+                                                        prism(1, {{2, 0.5}, {3, 0}, {3, 2}}, 0, 2),
+                                                        prism(2, {{0, 3}, {1, 3}, {0.5, 4}}, 0, 2)};
   hp::RoadmapParams params;
   params.z0 = 0.5;
   params.z1 = 1.5;

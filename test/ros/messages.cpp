@@ -10,7 +10,8 @@
 
 #include <gtest/gtest.h>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/core/convex_hull_2d.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/ros1/messages.hpp"
 
@@ -121,15 +122,15 @@ TEST(CloudPoints, AMissingFieldOrShortDataIsNamed) {
   EXPECT_THROW(cloudPoints(ints), Error);
 }
 
-clustering::Obstacle cube(int id, const Eigen::Vector3d& lo, double size) {
+hulls::Obstacle cube(int id, const Eigen::Vector3d& lo, double size) {
   std::vector<Eigen::Vector3d> centers{lo + Eigen::Vector3d::Constant(size / 2)};
-  auto obstacles = clustering::buildObstacles(centers, {1}, {0}, size);
+  auto obstacles = hulls::buildObstacles(centers, {1}, {0}, size);
   obstacles.at(0).id = id;
   return obstacles.at(0);
 }
 
 TEST(ObstacleMarkers, HullTrianglesFootprintsLabelsAndDeletesForStaleIds) {
-  const std::vector<clustering::Obstacle> obstacles{cube(3, {0, 0, 0}, 1.0), cube(5, {4, 0, 0}, 0.5)};
+  const std::vector<hulls::Obstacle> obstacles{cube(3, {0, 0, 0}, 1.0), cube(5, {4, 0, 0}, 0.5)};
   std_msgs::Header header;
   header.frame_id = "map";
   const auto array = obstacleMarkers(obstacles, {1, 3, 5, 8}, header);
@@ -194,14 +195,14 @@ bool meetsOracle(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d
 TEST(ProjectedMap, MarksExactlyTheCellsTheFootprintsInTheBandTouch) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> coord(-2.0, 2.0);
-  std::vector<clustering::Obstacle> obstacles;
+  std::vector<hulls::Obstacle> obstacles;
   for (int i = 0; i < 6; ++i) {
     std::vector<Eigen::Vector2d> cloud;
     const Eigen::Vector2d centre(coord(rng), coord(rng));
     for (int k = 0; k < 7; ++k) cloud.push_back(centre + 0.3 * Eigen::Vector2d(coord(rng), coord(rng)));
-    clustering::Obstacle o;
+    hulls::Obstacle o;
     o.id = i;
-    o.footprint.polygon = clustering::convexHull2d(cloud);
+    o.footprint.polygon = hullmap::core::convexHull2d(cloud);
     o.footprint.z_min = i;  // obstacles 0..5 span z [i, i + 0.5]
     o.footprint.z_max = i + 0.5;
     obstacles.push_back(o);

@@ -12,7 +12,7 @@
 
 #include <Eigen/Geometry>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 
 namespace hullmap::test {
 
@@ -36,7 +36,7 @@ inline double pointTriangle(const V3& p, const V3& a, const V3& b, const V3& c) 
   return std::min({pointSegment(p, a, b), pointSegment(p, b, c), pointSegment(p, c, a)});
 }
 
-inline double pointHull(const V3& p, const clustering::ConvexHull& hull) {
+inline double pointHull(const V3& p, const hulls::ConvexHull& hull) {
   bool inside = true;
   for (const auto& t : hull.triangles) {
     const V3& a = hull.vertices[t[0]];
@@ -50,7 +50,7 @@ inline double pointHull(const V3& p, const clustering::ConvexHull& hull) {
   return best;
 }
 
-inline double segmentHull(const V3& a, const V3& b, const clustering::ConvexHull& hull) {
+inline double segmentHull(const V3& a, const V3& b, const hulls::ConvexHull& hull) {
   auto f = [&](double s) { return pointHull(a + s * (b - a), hull); };
   double lo = 0, hi = 1;
   const double g = (std::sqrt(5.0) - 1) / 2;
@@ -90,7 +90,7 @@ inline double segmentBox(const V3& a, const V3& b, const V3& lo, const V3& hi) {
 }
 
 /// A lower bound of the distance between a segment and a hull: the gap between their boxes.
-inline double boxGap(const V3& a, const V3& b, const clustering::ConvexHull& hull) {
+inline double boxGap(const V3& a, const V3& b, const hulls::ConvexHull& hull) {
   V3 lo = hull.vertices[0], hi = hull.vertices[0];
   for (const auto& v : hull.vertices) {
     lo = lo.cwiseMin(v);
@@ -101,11 +101,11 @@ inline double boxGap(const V3& a, const V3& b, const clustering::ConvexHull& hul
 }
 
 /// A random rigid motion applied to a hull (rotations make faces that no lattice would).
-inline clustering::ConvexHull moved(const clustering::ConvexHull& hull, std::mt19937& rng, double spread) {
+inline hulls::ConvexHull moved(const hulls::ConvexHull& hull, std::mt19937& rng, double spread) {
   std::uniform_real_distribution<double> u(-1, 1);
   const Eigen::Quaterniond q = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized();
   const V3 shift(u(rng) * spread, u(rng) * spread, u(rng) * spread);
-  clustering::ConvexHull out = hull;
+  hulls::ConvexHull out = hull;
   for (auto& v : out.vertices) v = q * v + shift;
   return out;
 }

@@ -8,9 +8,9 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 
 namespace hullmap::test {
 
@@ -29,8 +29,8 @@ std::string refusedParameter(Call call) {
 
 /// A convex prism obstacle: the counter-clockwise `polygon` extruded over [z0, z1], with an outward
 /// triangulated hull and its footprint.
-inline clustering::Obstacle prism(int id, const std::vector<Eigen::Vector2d>& polygon, double z0, double z1) {
-  clustering::Obstacle o;
+inline hulls::Obstacle prism(int id, const std::vector<Eigen::Vector2d>& polygon, double z0, double z1) {
+  hulls::Obstacle o;
   o.id = id;
   const int n = static_cast<int>(polygon.size());
   for (const auto& p : polygon) o.hull.vertices.emplace_back(p.x(), p.y(), z0);
@@ -59,13 +59,13 @@ inline clustering::Obstacle prism(int id, const std::vector<Eigen::Vector2d>& po
 
 /// The ground-truth solids of a generated scene as prisms that contain them: boxes exactly,
 /// cylinders by the circumscribed 32-gon.
-inline std::vector<clustering::Obstacle> truthObstacles(const mapper::Scene& scene) {
-  std::vector<clustering::Obstacle> out;
+inline std::vector<hulls::Obstacle> truthObstacles(const sim::Scene& scene) {
+  std::vector<hulls::Obstacle> out;
   for (const auto& s : scene.obstacles) {
     const Eigen::Vector2d c = s.center.head<2>();
     const double z0 = s.center.z() - 0.5 * s.size.z(), z1 = s.center.z() + 0.5 * s.size.z();
     std::vector<Eigen::Vector2d> poly;
-    if (s.shape == mapper::SceneObstacle::Shape::kBox) {
+    if (s.shape == sim::SceneObstacle::Shape::kBox) {
       const Eigen::Vector2d h = 0.5 * s.size.head<2>();
       poly = {c + Eigen::Vector2d(-h.x(), -h.y()), c + Eigen::Vector2d(h.x(), -h.y()), c + h,
               c + Eigen::Vector2d(-h.x(), h.y())};
@@ -80,9 +80,9 @@ inline std::vector<clustering::Obstacle> truthObstacles(const mapper::Scene& sce
 }
 
 /// Exact distance from p to a ground-truth solid, metres.
-inline double distanceToSolid(const mapper::SceneObstacle& o, const Eigen::Vector3d& p) {
+inline double distanceToSolid(const sim::SceneObstacle& o, const Eigen::Vector3d& p) {
   const Eigen::Vector3d half = 0.5 * o.size;
-  if (o.shape == mapper::SceneObstacle::Shape::kBox) return ((p - o.center).cwiseAbs() - half).cwiseMax(0.0).norm();
+  if (o.shape == sim::SceneObstacle::Shape::kBox) return ((p - o.center).cwiseAbs() - half).cwiseMax(0.0).norm();
   const double radial = std::max(0.0, (p - o.center).head<2>().norm() - half.x());
   const double vertical = std::max(0.0, std::abs(p.z() - o.center.z()) - half.z());
   return std::hypot(radial, vertical);

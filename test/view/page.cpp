@@ -17,7 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/path_checker.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
@@ -97,13 +97,13 @@ struct Build {
 };
 
 Build smallBuild(const std::string& name) {
-  mapper::SceneParams params;
+  hullmap::sim::SceneParams params;
   params.points = 6000;
   params.obstacles = 5;
   params.seed = 11;
   Build b;
   b.dir = hullmap::test::freshDir(name);
-  mapper::writeScene(mapper::generateScene(params), params, b.dir.string());
+  hullmap::sim::writeScene(hullmap::sim::generateScene(params), params, b.dir.string());
   pipeline::BuildParams build;
   build.inputs = {b.dir / "map_points.txt"};
   build.trajectory = b.dir / "KeyFrameTrajectory.txt";
@@ -121,13 +121,13 @@ const Build& sharedBuild() {
 }
 
 // A segment through the middle of the largest obstacle's box and out the other side.
-view::ViewPath pathThrough(const hullmap::clustering::Obstacle& o) {
+view::ViewPath pathThrough(const hullmap::hulls::Obstacle& o) {
   const Eigen::Vector3d c = (o.aabb_min + o.aabb_max) / 2;
   const double reach = (o.aabb_max - o.aabb_min).norm() + 1.0;
   return {"through.txt", {c - Eigen::Vector3d(reach, 0.1, 0), c + Eigen::Vector3d(reach, -0.1, 0)}};
 }
 
-const hullmap::clustering::Obstacle& largest(const std::vector<hullmap::clustering::Obstacle>& obstacles) {
+const hullmap::hulls::Obstacle& largest(const std::vector<hullmap::hulls::Obstacle>& obstacles) {
   return *std::max_element(obstacles.begin(), obstacles.end(),
                            [](const auto& a, const auto& b) { return a.voxel_count < b.voxel_count; });
 }
@@ -425,7 +425,7 @@ TEST(ViewPage, TruthShapesAreWireframes) {
       {"shape": "cylinder", "center": [-1, 0, 1], "size": [0.4, 0.4, 2]},
       {"kind": "floor", "shape": "box", "center": [0, 0, -0.05], "size": [10, 10, 0.1]}]})");
   view::ViewInputs inputs;
-  inputs.truth = pipeline::readGroundTruth(truth_file.string());
+  inputs.truth = hullmap::sim::readGroundTruth(truth_file.string());
   inputs.truth_name = "truth.json";
   const json data = pageData(view::renderPage(view::readScene(b.dir / "out", inputs)).html);
   const json& truth = data["truth"];

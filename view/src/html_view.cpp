@@ -195,8 +195,8 @@ std::string htmlEscape(const std::string& text) {
 }
 
 // Line segments (pairs of points) of a truth shape's wireframe.
-void truthSegments(const pipeline::TruthShape& s, std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& out) {
-  using Kind = pipeline::TruthShape::Kind;
+void truthSegments(const sim::TruthShape& s, std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& out) {
+  using Kind = sim::TruthShape::Kind;
   if (s.kind == Kind::kUnion) {
     for (const auto& part : s.parts) truthSegments(part, out);
   } else if (s.kind == Kind::kBox) {
@@ -328,8 +328,8 @@ void addHulls(const ViewScene& scene, const Eigen::Vector3d& shift, json& data) 
   json obstacles = json::array();
   json items = json::array(), vertex_counts = json::array(), triangle_counts = json::array();
   Bytes vertices, triangles;
-  const auto addHull = [&](const clustering::ConvexHull& hull, int obstacle, int part, double volume,
-                           std::size_t voxels, bool flat) {
+  const auto addHull = [&](const hulls::ConvexHull& hull, int obstacle, int part, double volume, std::size_t voxels,
+                           bool flat) {
     items.push_back({{"obstacle", obstacle},
                      {"part", part},
                      {"volume", volume},

@@ -17,7 +17,7 @@ namespace {
 using test::V3;
 
 struct Scene {
-  std::vector<clustering::Obstacle> obstacles;
+  std::vector<hulls::Obstacle> obstacles;
   test::VoxelBlobs voxels;
 };
 
@@ -25,7 +25,7 @@ Scene randomScene(std::uint32_t seed, int clusters, double size) {
   std::mt19937 rng(seed);
   Scene s;
   s.voxels = test::randomBlobs(rng, clusters, 150, size, 30);
-  s.obstacles = clustering::buildObstacles(s.voxels.centers, s.voxels.weights, s.voxels.labels, size);
+  s.obstacles = hulls::buildObstacles(s.voxels.centers, s.voxels.weights, s.voxels.labels, size);
   return s;
 }
 

@@ -14,10 +14,10 @@ namespace {
 
 using test::V3;
 
-std::vector<clustering::ConvexHull> randomHulls(std::mt19937& rng, int count) {
+std::vector<hulls::ConvexHull> randomHulls(std::mt19937& rng, int count) {
   const auto blobs = test::randomBlobs(rng, count, 120, 0.1, 3);
-  std::vector<clustering::ConvexHull> hulls;
-  for (const auto& o : clustering::buildObstacles(blobs.centers, blobs.weights, blobs.labels, 0.1))
+  std::vector<hulls::ConvexHull> hulls;
+  for (const auto& o : hulls::buildObstacles(blobs.centers, blobs.weights, blobs.labels, 0.1))
     hulls.push_back(test::moved(o.hull, rng, 0.5));
   return hulls;
 }

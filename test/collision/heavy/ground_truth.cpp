@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/collision/path_check.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "test_support.hpp"
 
@@ -18,7 +18,7 @@ namespace hullmap::collision {
 namespace {
 
 using V3 = Eigen::Vector3d;
-using mapper::SceneObstacle;
+using sim::SceneObstacle;
 
 /// Distance from p to the obstacle's solid (0 inside).
 double distanceToSolid(const SceneObstacle& o, const V3& p) {
@@ -39,16 +39,16 @@ V3 innerPoint(const SceneObstacle& o, std::mt19937& rng) {
 }
 
 struct Built {
-  mapper::Scene scene;
+  sim::Scene scene;
   pipeline::BuildResult result;
 };
 
 /// `hullmap build MAP --trajectory TRAJ --up -y` with the given DBSCAN parameters.
-Built build(const mapper::SceneParams& params, const std::string& name, double eps, int min_pts) {
+Built build(const sim::SceneParams& params, const std::string& name, double eps, int min_pts) {
   Built b;
-  b.scene = mapper::generateScene(params);
+  b.scene = sim::generateScene(params);
   const auto dir = test::freshDir(name);
-  mapper::writeScene(b.scene, params, dir.string());
+  sim::writeScene(b.scene, params, dir.string());
   pipeline::BuildParams options;
   options.inputs = {dir / "map_points.txt"};
   options.trajectory = dir / "KeyFrameTrajectory.txt";
@@ -111,13 +111,13 @@ TEST(GroundTruth, NoPathThroughAnObservedObstacleIsReportedClear) {
   // obstacle whole; several seeds, and one scene of 30 obstacles in a larger room.
   for (const std::uint64_t seed : {1u, 2u, 3u}) {
     SCOPED_TRACE("seed " + std::to_string(seed));
-    mapper::SceneParams params;
+    sim::SceneParams params;
     params.seed = seed;
     params.points = 60000;
     const Built b = build(params, "scene_" + std::to_string(seed), 0.1, 10);
     EXPECT_EQ(expectNoPathThroughAnObstacleIsClear(b, {0.0, 0.1, 0.3}, std::uint32_t(seed)), int(params.obstacles));
   }
-  mapper::SceneParams params;
+  sim::SceneParams params;
   params.seed = 4;
   params.points = 200000;
   params.obstacles = 30;

@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/mapper/frame.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "run_hullmap.hpp"
 
@@ -32,10 +32,10 @@ namespace {
 
 /// A small generated scene (ORB-SLAM frame) written to `dir`.
 fs::path sampleScene(const fs::path& dir, std::size_t points = 6000) {
-  hullmap::mapper::SceneParams params;
+  hullmap::sim::SceneParams params;
   params.points = points;
   params.seed = 7;
-  hullmap::mapper::writeScene(hullmap::mapper::generateScene(params), params, dir.string());
+  hullmap::sim::writeScene(hullmap::sim::generateScene(params), params, dir.string());
   return dir;
 }
 

@@ -14,8 +14,8 @@
 
 #include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
-#include "hullmap/pipeline/evaluate.hpp"
+#include "hullmap/sim/sample_scene.hpp"
+#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/pipeline/report.hpp"
 #include "run_hullmap.hpp"
@@ -29,22 +29,22 @@ namespace mapper = hullmap::mapper;
 /// A realistic room (by default 6 m, 4 pieces of furniture, 60 points per m^2) written as
 /// `generate --layout room`.
 struct Room {
-  mapper::SceneParams params;
-  mapper::Scene scene;
+  hullmap::sim::SceneParams params;
+  hullmap::sim::Scene scene;
   std::filesystem::path dir;
 };
 
 Room writeRoom(const std::string& name, std::uint64_t seed, double room_size = 6.0, std::size_t obstacles = 4,
                double density = 60.0) {
   Room room;
-  room.params.layout = mapper::SceneLayout::kRoom;
+  room.params.layout = hullmap::sim::SceneLayout::kRoom;
   room.params.seed = seed;
   room.params.room_size = room_size;
   room.params.obstacles = obstacles;
   room.params.density = density;
-  room.scene = mapper::generateScene(room.params);
+  room.scene = hullmap::sim::generateScene(room.params);
   room.dir = hullmap::test::freshDir(name);
-  mapper::writeScene(room.scene, room.params, room.dir.string());
+  hullmap::sim::writeScene(room.scene, room.params, room.dir.string());
   return room;
 }
 
@@ -87,7 +87,7 @@ TEST(PipelineStages, FlatGapOptionReachesTheReportAndZeroTurnsItOff) {
   ASSERT_GT(a["flat_gap"].get<double>(), a["concavity"].get<double>()) << "the room's auto eps should exceed T";
   EXPECT_GT(a["flat_parts"].get<std::size_t>(), 0u);
   EXPECT_EQ(flatInObstacles(automatic.obstacles), a["flat_parts"].get<std::size_t>());
-  // Auto G is adapted per cluster (clustering::adaptedFlatGap): between G and 2 G.
+  // Auto G is adapted per cluster (hullmap::hulls::adaptedFlatGap): between G and 2 G.
   EXPECT_GE(a["flat_gap_max"].get<double>(), a["flat_gap"].get<double>());
   EXPECT_LE(a["flat_gap_max"].get<double>(), 2.0 * a["flat_gap"].get<double>() + 1e-12);
   std::ostringstream line;

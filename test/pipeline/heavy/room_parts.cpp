@@ -12,9 +12,9 @@
 
 #include <gtest/gtest.h>
 
-#include "hullmap/clustering/convex_parts.hpp"
-#include "hullmap/mapper/sample_scene.hpp"
-#include "hullmap/pipeline/evaluate.hpp"
+#include "hullmap/hulls/convex_parts.hpp"
+#include "hullmap/sim/sample_scene.hpp"
+#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "test_support.hpp"
 
@@ -43,21 +43,21 @@ std::string caseName(const RoomCase& c) {
 /// off the loop, a share `wall_fraction` of it against the walls (0: 0.5 m from them, the walls' own
 /// cluster), ORB-SLAM's frame; as bench/quality.py's sweep writes it.
 pipeline::BuildResult buildRoom(const RoomCase& c, std::filesystem::path& dir, double wall_fraction = 0.0) {
-  mapper::SceneParams p;
-  p.layout = mapper::SceneLayout::kRoom;
+  hullmap::sim::SceneParams p;
+  p.layout = hullmap::sim::SceneLayout::kRoom;
   p.seed = c.seed;
   p.room_size = 8.0;
   p.room_width = 6.0;
   p.loop_fraction = 0.25;
-  p.placement = mapper::FurniturePlacement::kAnywhere;
+  p.placement = hullmap::sim::FurniturePlacement::kAnywhere;
   p.wall_fraction = wall_fraction;
   p.obstacles = c.furniture;
   p.density = c.density;
   p.camera_pitch_deg = c.pitch;
   p.monocular_scale = c.scale;
-  const mapper::Scene scene = mapper::generateScene(p);
+  const hullmap::sim::Scene scene = hullmap::sim::generateScene(p);
   dir = hullmap::test::freshDir(caseName(c));
-  mapper::writeScene(scene, p, dir.string());
+  hullmap::sim::writeScene(scene, p, dir.string());
   pipeline::BuildParams build;
   build.inputs = {dir / "map_points.txt"};
   build.trajectory = dir / "KeyFrameTrajectory.txt";
@@ -67,14 +67,14 @@ pipeline::BuildResult buildRoom(const RoomCase& c, std::filesystem::path& dir, d
 
 /// The truth's primitives (a union's parts each), with the object each belongs to.
 struct Primitive {
-  const pipeline::TruthShape* shape;
+  const hullmap::sim::TruthShape* shape;
   std::size_t object;
 };
 
-std::vector<Primitive> primitives(const pipeline::GroundTruth& truth) {
+std::vector<Primitive> primitives(const hullmap::sim::GroundTruth& truth) {
   std::vector<Primitive> out;
   for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
-    if (truth.shapes[s].kind == pipeline::TruthShape::Kind::kUnion) {
+    if (truth.shapes[s].kind == hullmap::sim::TruthShape::Kind::kUnion) {
       for (const auto& part : truth.shapes[s].parts) out.push_back({&part, s});
     } else {
       out.push_back({&truth.shapes[s], s});
@@ -98,7 +98,8 @@ struct PartReach {
 /// Points of a hull at which its distance from convex primitives peaks: its vertices (the distance
 /// to a convex set is convex); with several primitives (their union's distance may peak inside), also
 /// the points of a grid of `step` over its box that lie in it.
-std::vector<V3> hullSamples(const clustering::ConvexHull& hull, const V3& lo, const V3& hi, bool grid, double step) {
+std::vector<V3> hullSamples(const hullmap::hulls::ConvexHull& hull, const V3& lo, const V3& hi, bool grid,
+                            double step) {
   std::vector<V3> out = hull.vertices;
   if (!grid) return out;
   std::vector<std::pair<V3, double>> planes;
@@ -123,7 +124,7 @@ std::vector<V3> hullSamples(const clustering::ConvexHull& hull, const V3& lo, co
 /// Every part of the build with its reach. A voxel came from the primitive nearest its centre when
 /// that is within `noise_margin`, else from none (an outlier). The parts' voxels are split again with
 /// the build's own parameters (splitConvexParts gives the parts addConvexParts wraps).
-std::vector<PartReach> partReaches(const pipeline::BuildResult& r, const pipeline::GroundTruth& truth,
+std::vector<PartReach> partReaches(const pipeline::BuildResult& r, const hullmap::sim::GroundTruth& truth,
                                    double noise_margin) {
   const double res = r.map.resolution();
   const std::vector<Primitive> prims = primitives(truth);
@@ -139,7 +140,7 @@ std::vector<PartReach> partReaches(const pipeline::BuildResult& r, const pipelin
       }
     }
   }
-  clustering::ConvexPartsParams params = r.params.convex_parts.value_or(clustering::ConvexPartsParams{});
+  hullmap::hulls::ConvexPartsParams params = r.params.convex_parts.value_or(hullmap::hulls::ConvexPartsParams{});
   if (!params.flat_gap) {
     params.flat_gap = r.report.cluster_params.used.eps;
     params.adapt_flat_gap = true;
@@ -157,7 +158,7 @@ std::vector<PartReach> partReaches(const pipeline::BuildResult& r, const pipelin
         members.push_back(i);
         local.push_back(r.voxels[i].center);
       }
-    const auto split = clustering::splitConvexParts(local, res, params, keyframes);
+    const auto split = hullmap::hulls::splitConvexParts(local, res, params, keyframes);
     EXPECT_EQ(split.size(), o.parts.size()) << "obstacle " << o.id;
     if (split.size() != o.parts.size()) continue;
     for (std::size_t p = 0; p < split.size(); ++p) {
@@ -203,9 +204,9 @@ TEST(RoomParts, WallPartsStayWithinConcavityPlusAVoxelOfTheirSurfaces) {
     SCOPED_TRACE(caseName(c));
     std::filesystem::path dir;
     const pipeline::BuildResult r = buildRoom(c, dir);
-    const pipeline::GroundTruth truth = pipeline::readGroundTruth((dir / "ground_truth.json").string());
+    const hullmap::sim::GroundTruth truth = hullmap::sim::readGroundTruth((dir / "ground_truth.json").string());
     const double res = r.map.resolution();
-    const double bound = clustering::defaultConcavity(res) + res;
+    const double bound = hullmap::hulls::defaultConcavity(res) + res;
     // The generator's 1 cm noise (3 sigma) and half a voxel's diagonal.
     const auto reaches = partReaches(r, truth, 0.03 + 0.5 * std::sqrt(3.0) * res);
     const auto prims = primitives(truth);
@@ -250,12 +251,12 @@ TEST(RoomParts, SweepRoomsMissNoDeepCollisionAndAtMost3PercentFalseAlarms) {
       centers.push_back(v.center);
       weights.push_back(v.weight);
     }
-    pipeline::EvaluateParams params;
+    hullmap::sim::EvaluateParams params;
     params.segments = 3000;
-    params.ends = pipeline::SegmentEnds::kInTruthBox;
+    params.ends = hullmap::sim::SegmentEnds::kInTruthBox;
     params.clear_margin = 0.15;
-    const pipeline::Evaluation e = pipeline::evaluate(
-        r.obstacles, pipeline::readGroundTruth((dir / "ground_truth.json").string()), centers, weights, params);
+    const hullmap::sim::Evaluation e = hullmap::sim::evaluate(
+        r.obstacles, hullmap::sim::readGroundTruth((dir / "ground_truth.json").string()), centers, weights, params);
     std::cout << caseName(c) << " walls " << walls << ": deep " << e.deep << ", missed " << e.missed << "; clear "
               << e.clear << ", false alarms " << e.false_alarms << "\n";
     EXPECT_GT(e.deep, 500u);

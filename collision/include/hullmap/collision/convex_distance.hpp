@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 
 namespace hullmap::collision {
 
@@ -24,7 +24,7 @@ struct ConvexPolytope {
   double scale = 1.0;  ///< max |coordinate|, for relative tolerances
 
   /// Checks the hull is closed, convex and of positive volume; throws hullmap::Error naming `what`.
-  static ConvexPolytope fromHull(const clustering::ConvexHull& hull, const std::string& what);
+  static ConvexPolytope fromHull(const hulls::ConvexHull& hull, const std::string& what);
 };
 
 /// Distance between the segment [a, b] and the polytope (0 when they intersect), by GJK on the

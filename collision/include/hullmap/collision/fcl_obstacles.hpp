@@ -8,13 +8,13 @@
 #include <fcl/geometry/shape/convex.h>
 #include <fcl/narrowphase/collision_object.h>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/convex_distance.hpp"
 
 namespace hullmap::collision {
 
 /// Which hull an object of FclObstacles is: part `part` of the obstacle whose id
-/// (clustering::Obstacle::id) is `id`, or (part -1) the whole hull of an obstacle that has no parts.
+/// (hulls::Obstacle::id) is `id`, or (part -1) the whole hull of an obstacle that has no parts.
 struct HullSource {
   int id = 0;
   int part = -1;
@@ -41,7 +41,7 @@ struct HullSource {
 class FclObstacles {
  public:
   /// Throws hullmap::Error naming the obstacle id (and part) when a hull is invalid.
-  explicit FclObstacles(const std::vector<clustering::Obstacle>& obstacles);
+  explicit FclObstacles(const std::vector<hulls::Obstacle>& obstacles);
   ~FclObstacles();
   FclObstacles(FclObstacles&&) noexcept;
   FclObstacles& operator=(FclObstacles&&) noexcept;
@@ -62,7 +62,7 @@ class FclObstacles {
   /// The obstacle (by id) and part of object i.
   const HullSource& source(std::size_t i) const { return sources_[i]; }
 
-  /// The id (clustering::Obstacle::id) of the obstacle an object this class made stands for.
+  /// The id (hulls::Obstacle::id) of the obstacle an object this class made stands for.
   int idOf(const fcl::CollisionObjectd& object) const { return sources_[indexOf(object)].id; }
 
   /// Position of an object this class made among object(i) and polytope(i) (the user data FCL carries).

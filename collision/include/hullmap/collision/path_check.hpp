@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 
 namespace octomap {
 class OcTree;
@@ -90,7 +90,7 @@ SegmentCheck checkHalfSpace(const Segment& segment, double radius, const HalfSpa
 /// `surfaces` when one has a non-unit or non-finite normal or a non-finite offset.
 class HullChecker {
  public:
-  explicit HullChecker(const std::vector<clustering::Obstacle>& obstacles, std::vector<HalfSpace> surfaces = {});
+  explicit HullChecker(const std::vector<hulls::Obstacle>& obstacles, std::vector<HalfSpace> surfaces = {});
   ~HullChecker();
   HullChecker(HullChecker&&) noexcept;
   HullChecker& operator=(HullChecker&&) noexcept;

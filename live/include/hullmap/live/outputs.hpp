@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/live/map_messages.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
@@ -40,7 +40,7 @@ struct MarkerSpec {
 /// footprint at its z_min (with parts: a LINE_LIST of every part's polygon edges), ns "labels" a
 /// TEXT_VIEW_FACING "id" above the hull. Ids in `previous_ids` that are no longer obstacles get a
 /// DELETE in each namespace (stale markers go away when the obstacle set shrinks).
-std::vector<MarkerSpec> obstacleMarkers(const std::vector<clustering::Obstacle>& obstacles,
+std::vector<MarkerSpec> obstacleMarkers(const std::vector<hulls::Obstacle>& obstacles,
                                         const std::vector<int>& previous_ids);
 
 /// Occupied voxels as octomap_server's occupied_cells_vis_array: one CUBE_LIST per tree depth
@@ -71,7 +71,7 @@ struct ProjectedGrid {
 /// touches, 0 elsewhere (free as far as the hulls know), over the footprints' bounding box plus
 /// `margin` (map units) on each side, the origin on multiples of the resolution. An empty map gives
 /// a 1x1 grid at the origin. Throws hullmap::Error naming `resolution` unless it is finite and > 0.
-ProjectedGrid projectedGrid(const std::vector<clustering::Obstacle>& obstacles, double resolution, double min_z,
+ProjectedGrid projectedGrid(const std::vector<hulls::Obstacle>& obstacles, double resolution, double min_z,
                             double max_z, double margin);
 
 }  // namespace hullmap::live

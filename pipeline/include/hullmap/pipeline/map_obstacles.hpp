@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/mapper/align.hpp"
 
@@ -17,8 +17,8 @@ struct BuildResult;
 
 /// What a path check of a build needs. Coordinates in the build's output (map) frame, map units.
 struct MapObstacles {
-  std::vector<clustering::Obstacle> obstacles;  ///< with their convex parts
-  std::vector<collision::HalfSpace> surfaces;   ///< the floor and ceiling found or given, solid
+  std::vector<hulls::Obstacle> obstacles;      ///< with their convex parts
+  std::vector<collision::HalfSpace> surfaces;  ///< the floor and ceiling found or given, solid
   /// Input coordinates -> map coordinates; nullopt for an obstacles.json written before it was recorded.
   std::optional<mapper::Similarity> input_to_output;
   std::string frame;  ///< the build's description of its frame

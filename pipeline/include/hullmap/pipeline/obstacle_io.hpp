@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/mapper/align.hpp"
 
@@ -47,27 +47,27 @@ mapper::Similarity similarityFromJson(const nlohmann::json& j, const std::string
 /// {polygon, z_min, z_max} (the whole cluster) and "parts", one object per convex part with the same
 /// fields plus concavity_bound and free_voxels_inside (empty when the obstacle was not split).
 /// Coordinates in the z-up map frame, map units.
-nlohmann::json obstaclesToJson(const std::vector<clustering::Obstacle>& obstacles, const ObstaclesMeta& meta);
+nlohmann::json obstaclesToJson(const std::vector<hulls::Obstacle>& obstacles, const ObstaclesMeta& meta);
 
 /// Reads a /1 or /2 document (a /1 obstacle has no parts). Validates the tag and every field (types,
 /// array sizes, triangle indices in range); throws hullmap::Error "<source>: <json path>: <what>".
-std::vector<clustering::Obstacle> obstaclesFromJson(const nlohmann::json& doc, const std::string& source,
-                                                    ObstaclesMeta* meta = nullptr);
+std::vector<hulls::Obstacle> obstaclesFromJson(const nlohmann::json& doc, const std::string& source,
+                                               ObstaclesMeta* meta = nullptr);
 
 /// Writes obstaclesToJson's document to `path` atomically. Throws hullmap::Error naming `path`.
-void writeObstaclesJson(const std::string& path, const std::vector<clustering::Obstacle>& obstacles,
+void writeObstaclesJson(const std::string& path, const std::vector<hulls::Obstacle>& obstacles,
                         const ObstaclesMeta& meta);
 
 /// Reads an obstacles.json (/1 or /2) through obstaclesFromJson; throws hullmap::Error naming `path`
 /// when it cannot be opened, is not JSON, or any field is malformed.
-std::vector<clustering::Obstacle> readObstaclesJson(const std::string& path, ObstaclesMeta* meta = nullptr);
+std::vector<hulls::Obstacle> readObstaclesJson(const std::string& path, ObstaclesMeta* meta = nullptr);
 
 /// Writes the hulls as Wavefront OBJ: one object per convex part, `o obstacle_<id>_part_<k>` (k from
 /// 0), or `o obstacle_<id>` for an obstacle without parts; `v` lines then `f` lines with 1-based
 /// global indices; opens in MeshLab, CloudCompare, Blender and Open3D.
-void writeObstaclesObj(std::ostream& out, const std::vector<clustering::Obstacle>& obstacles);
+void writeObstaclesObj(std::ostream& out, const std::vector<hulls::Obstacle>& obstacles);
 
 /// writeObstaclesObj into `path`, atomically. Throws hullmap::Error naming `path`.
-void writeObstaclesObj(const std::string& path, const std::vector<clustering::Obstacle>& obstacles);
+void writeObstaclesObj(const std::string& path, const std::vector<hulls::Obstacle>& obstacles);
 
 }  // namespace hullmap::pipeline

@@ -13,9 +13,9 @@
 #include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/clustering/cluster_extension.hpp"
 #include "hullmap/clustering/coplanar_merge.hpp"
-#include "hullmap/clustering/convex_parts.hpp"
+#include "hullmap/hulls/convex_parts.hpp"
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/clustering/outlier_trim.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/warning.hpp"
@@ -108,11 +108,11 @@ struct BuildParams {
   /// `min_pts` is given (the clusters are then exactly DBSCAN's). true / false: always / never.
   std::optional<bool> extension;
   clustering::ClusterExtensionRule extension_rule;  ///< the rule behind the extension
-  /// Convex parts of each cluster (clustering::addConvexParts) with concavity bound
-  /// `convex_parts->concavity` (0: clustering::defaultConcavity, 3 voxels); nullopt: one hull per
+  /// Convex parts of each cluster (hulls::addConvexParts) with concavity bound
+  /// `convex_parts->concavity` (0: hulls::defaultConcavity, 3 voxels); nullopt: one hull per
   /// cluster. The keyframes (with `trajectory`) are kept out of every part's hull.
   /// `convex_parts->flat_gap` (G of flat parts) unset: the DBSCAN eps used; 0: off (G = T).
-  std::optional<clustering::ConvexPartsParams> convex_parts = clustering::ConvexPartsParams{};
+  std::optional<hulls::ConvexPartsParams> convex_parts = hulls::ConvexPartsParams{};
   /// Point files only (no trajectory, no origin): they stream batch by batch into the octree, so a
   /// map larger than memory builds. When the floor may have to be levelled (floor auto, no align),
   /// inputs totalling less than this many bytes are read whole instead (one pass: the levelling is
@@ -175,7 +175,7 @@ struct BuildReport {
   PlaneReport floor;
   PlaneReport ceiling;
   ClusterParamsReport cluster_params;
-  std::optional<clustering::ConvexPartsSummary> parts;      ///< with params.convex_parts
+  std::optional<hulls::ConvexPartsSummary> parts;           ///< with params.convex_parts
   std::size_t keyframes_inside_hulls = 0;                   ///< keyframes inside some part's hull
   std::vector<std::pair<std::string, double>> timings_ms;   ///< stage -> wall time, ms, in order
   std::vector<std::pair<std::string, double>> peak_rss_mb;  ///< stage -> process peak RSS at its end, MB
@@ -187,9 +187,9 @@ struct BuildReport {
 
 /// The occupied voxels of a map clustered and wrapped: the one voxel -> DBSCAN -> obstacles step.
 struct ClusteredVoxels {
-  std::vector<mapper::OccupiedVoxel> voxels;    ///< sorted by octree key (OccupancyMap::occupiedVoxels)
-  clustering::DbscanResult clusters;            ///< per voxel: label, core; cluster sizes in voxels
-  std::vector<clustering::Obstacle> obstacles;  ///< one per cluster, id = cluster label
+  std::vector<mapper::OccupiedVoxel> voxels;  ///< sorted by octree key (OccupancyMap::occupiedVoxels)
+  clustering::DbscanResult clusters;          ///< per voxel: label, core; cluster sizes in voxels
+  std::vector<hulls::Obstacle> obstacles;     ///< one per cluster, id = cluster label
 };
 
 /// The in-memory result of a build: what write() puts in the output directory.
@@ -200,7 +200,7 @@ struct BuildResult {
   /// Voxel labels: clusters.labels[i] is voxels[i]'s (kFloorLabel / kCeilingLabel for the floor's
   /// and ceiling's voxels, which are counted in neither noise nor clusters).
   clustering::DbscanResult clusters;
-  std::vector<clustering::Obstacle> obstacles;  ///< what collision::HullChecker takes (with parts)
+  std::vector<hulls::Obstacle> obstacles;  ///< what collision::HullChecker takes (with parts)
   /// The floor and ceiling found or given, as solid half-spaces for path checks (HullChecker's
   /// surfaces): the solid reaches up to the plane, or to the top of its highest voxel when that is
   /// higher (every voxel set aside as floor lies inside it completely, as a cluster's voxels lie
@@ -282,7 +282,7 @@ OutputDirPolicy outputPolicy(const BuildParams& params, const WriteOptions& opti
 
 /// The obstacles of an obstacles.json written by write() (or writeObstaclesJson), each with its id.
 /// Throws hullmap::Error "<path>: <what>" on a missing file, another format or any malformed field.
-std::vector<clustering::Obstacle> readObstacles(const std::filesystem::path& obstacles_json);
+std::vector<hulls::Obstacle> readObstacles(const std::filesystem::path& obstacles_json);
 
 /// Reads and unions point files (any format the mapper reads); throws hullmap::Error naming them
 /// when none holds a point.

@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/planning/path_planner.hpp"
 
@@ -60,7 +60,7 @@ struct OmplPlanResult {
 /// max(1 m, 2 radius + 0.5 m); in z from the lowest obstacle bottom (the ground, when obstacles
 /// stand on it) plus the radius up to the highest top plus that margin, and always taking in the
 /// start and goal.
-Box3d omplBoxFor(const std::vector<clustering::Obstacle>& obstacles, const PlanRequest& request);
+Box3d omplBoxFor(const std::vector<hulls::Obstacle>& obstacles, const PlanRequest& request);
 
 /// Plans in 3D with OMPL's RRT* (ompl::geometric::RRTstar, asymptotically optimal, default range
 /// and rewiring) from request.start to request.goal inside the box, for a sphere of request.radius:
@@ -74,7 +74,7 @@ Box3d omplBoxFor(const std::vector<clustering::Obstacle>& obstacles, const PlanR
 /// clearance_weight < 0, clearance_scale <= 0, a negative radius, an empty box, non-finite
 /// coordinates; and on an invalid hull (naming its id).
 /// `surfaces` (floor, ceiling) are obstacles for the states, the motions and the final check.
-OmplPlanResult planPathOmpl(const std::vector<clustering::Obstacle>& obstacles, const PlanRequest& request,
+OmplPlanResult planPathOmpl(const std::vector<hulls::Obstacle>& obstacles, const PlanRequest& request,
                             const OmplParams& params = {}, const std::vector<collision::HalfSpace>& surfaces = {});
 
 }  // namespace hullmap::planning

@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/planning/roadmap.hpp"
 
@@ -43,7 +43,7 @@ class PathPlanner {
   /// `surfaces` (floor, ceiling) are obstacles for every check, as in collision::HullChecker; the
   /// roadmap should have been built with them. Throws hullmap::Error on an invalid hull (naming its
   /// id) or surface.
-  PathPlanner(const std::vector<clustering::Obstacle>& obstacles, Roadmap roadmap,
+  PathPlanner(const std::vector<hulls::Obstacle>& obstacles, Roadmap roadmap,
               std::vector<collision::HalfSpace> surfaces = {});
   ~PathPlanner();
   PathPlanner(PathPlanner&&) noexcept;
@@ -83,13 +83,13 @@ class PathPlanner {
 /// from the lowest point's z less the radius to the highest's plus it; bounds around the footprints
 /// and the points, grown by max(1 m, 2 radius + 0.5 m); no clearance floor (so that a blocked query
 /// can name its narrowest passage). Throws hullmap::Error naming "points" when they are empty.
-RoadmapParams roadmapParamsFor(const std::vector<clustering::Obstacle>& obstacles,
+RoadmapParams roadmapParamsFor(const std::vector<hulls::Obstacle>& obstacles,
                                const std::vector<Eigen::Vector3d>& points, double radius);
 
 /// Builds the roadmap (roadmapParamsFor the start, goal and flight height unless `roadmap_params`
 /// is given) and plans, `surfaces` (floor, ceiling) being obstacles for both. Throws hullmap::Error
 /// as buildRoadmap and plan do.
-PlanResult planPath(const std::vector<clustering::Obstacle>& obstacles, const PlanRequest& request,
+PlanResult planPath(const std::vector<hulls::Obstacle>& obstacles, const PlanRequest& request,
                     std::optional<RoadmapParams> roadmap_params = std::nullopt,
                     const std::vector<collision::HalfSpace>& surfaces = {});
 

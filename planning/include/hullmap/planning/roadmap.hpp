@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 
 namespace hullmap::planning {
@@ -88,7 +88,7 @@ struct Roadmap {
 /// exact checks keep the drone's radius from them. Throws hullmap::Error naming the parameter at
 /// fault (empty bounds, tolerance <= 0, a footprint with fewer than 3 vertices naming its id, "z0/z1"
 /// when nothing of the band is left between the surfaces).
-Roadmap buildRoadmap(const std::vector<clustering::Obstacle>& obstacles, const RoadmapParams& params,
+Roadmap buildRoadmap(const std::vector<hulls::Obstacle>& obstacles, const RoadmapParams& params,
                      const std::vector<collision::HalfSpace>& surfaces = {});
 
 /// Distance from `p` to the site (point or segment), metres.

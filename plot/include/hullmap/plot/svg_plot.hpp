@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/plot/colour.hpp"
 #include "hullmap/plot/picture_output.hpp"
@@ -46,7 +46,7 @@ struct MapPlot {
   std::vector<Eigen::Vector3d> centers;  ///< occupied voxel centres, map frame, map units
   std::vector<std::int32_t> labels;      ///< per voxel: cluster label or clustering::kNoise
   double voxel_size = 0.05;              ///< leaf edge length, map units (> 0)
-  std::vector<clustering::Obstacle> obstacles;
+  std::vector<hulls::Obstacle> obstacles;
   std::optional<PlotRoadmap> roadmap;  ///< drawn in the top view only (it is a ground-plane graph)
   std::vector<PlotPath> paths;         ///< one colour each (pathColour), drawn over the roadmap
   /// Keyframe positions (map frame; a build's trajectory.txt), drawn as the camera's path; may be empty.

@@ -11,7 +11,7 @@
 #include <visualization_msgs/Marker.h>
 #include <visualization_msgs/MarkerArray.h>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/live/map_messages.hpp"
 #include "hullmap/live/outputs.hpp"
@@ -57,7 +57,7 @@ io::Points cloudPoints(const sensor_msgs::PointCloud2& cloud, std::size_t* non_f
 /// ns "labels" a TEXT_VIEW_FACING "id" above the hull. Ids in
 /// `previous_ids` that are no longer obstacles get a DELETE in each namespace (stale markers go away
 /// when the obstacle set shrinks).
-visualization_msgs::MarkerArray obstacleMarkers(const std::vector<clustering::Obstacle>& obstacles,
+visualization_msgs::MarkerArray obstacleMarkers(const std::vector<hulls::Obstacle>& obstacles,
                                                 const std::vector<int>& previous_ids, const std_msgs::Header& header);
 
 /// Occupied voxels as octomap_server's ~occupied_cells_vis_array: one CUBE_LIST per tree depth
@@ -71,8 +71,8 @@ visualization_msgs::MarkerArray occupiedCellMarkers(const std::vector<mapper::Oc
 /// an OccupancyGrid of `resolution` cells: 100 in every cell that the footprint polygon touches,
 /// 0 elsewhere (free as far as the hulls know), over the footprints' bounding box plus `margin`
 /// (map units) on each side. An empty map gives a 1x1 grid at the origin.
-nav_msgs::OccupancyGrid projectedMap(const std::vector<clustering::Obstacle>& obstacles, double resolution,
-                                     double min_z, double max_z, double margin, const std_msgs::Header& header);
+nav_msgs::OccupancyGrid projectedMap(const std::vector<hulls::Obstacle>& obstacles, double resolution, double min_z,
+                                     double max_z, double margin, const std_msgs::Header& header);
 
 /// A path check as RViz markers: ns "path_check" id 0, a LINE_LIST of the path's segments, red for
 /// those that collide and green for the clear ones (width `line_width`, map units).

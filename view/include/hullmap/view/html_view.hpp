@@ -10,10 +10,10 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
-#include "hullmap/clustering/obstacles.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/io/readers.hpp"
-#include "hullmap/pipeline/evaluate.hpp"
+#include "hullmap/sim/evaluate.hpp"
 
 /// `hullmap view` as a library: a build directory (and paths, a roadmap, ground truth) drawn in 3D as
 /// one self-contained HTML page that opens from file:// with no network and no server. The page runs
@@ -60,8 +60,8 @@ struct ViewInputs {
   std::vector<ViewPath> paths;  ///< checked against the build's hulls at `radius`
   double radius = 0.0;          ///< drone radius for `paths`, map units (>= 0)
   std::optional<ViewRoadmap> roadmap;
-  std::optional<pipeline::GroundTruth> truth;  ///< drawn as wireframes
-  std::string truth_name;                      ///< shown in the legend
+  std::optional<sim::GroundTruth> truth;  ///< drawn as wireframes
+  std::string truth_name;                 ///< shown in the legend
 };
 
 /// A path with its check: pipeline::pathChecker(...).checkPath(waypoints, radius), the call
@@ -77,15 +77,15 @@ struct ViewScene {
   std::string title;  ///< the page's title (the build directory's name)
   /// The build's report.json (frame, parameters, counts, floor and ceiling): shown in the legend.
   nlohmann::json report = nlohmann::json::object();
-  double resolution = 0.05;                     ///< voxel edge, map units (> 0)
-  std::vector<Eigen::Vector3d> centers;         ///< occupied voxel centres (voxels.csv)
-  std::vector<std::int32_t> labels;             ///< per voxel: obstacle id, -1 noise, -2 floor, -3 ceiling
-  std::vector<clustering::Obstacle> obstacles;  ///< with their convex parts (obstacles.json)
-  std::vector<io::Keyframe> keyframes;          ///< trajectory.txt; empty when the build had none
+  double resolution = 0.05;                ///< voxel edge, map units (> 0)
+  std::vector<Eigen::Vector3d> centers;    ///< occupied voxel centres (voxels.csv)
+  std::vector<std::int32_t> labels;        ///< per voxel: obstacle id, -1 noise, -2 floor, -3 ceiling
+  std::vector<hulls::Obstacle> obstacles;  ///< with their convex parts (obstacles.json)
+  std::vector<io::Keyframe> keyframes;     ///< trajectory.txt; empty when the build had none
   std::vector<CheckedPath> paths;
   double radius = 0.0;  ///< the paths' drone radius
   std::optional<ViewRoadmap> roadmap;
-  std::optional<pipeline::GroundTruth> truth;
+  std::optional<sim::GroundTruth> truth;
   std::string truth_name;
 };
 

@@ -1,0 +1,412 @@
+#include "hullmap/hulls/obstacles.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <set>
+#include <tuple>
+#include <utility>
+
+#include <Eigen/Geometry>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/convex_hull_3.h>
+#include <tbb/parallel_for.h>
+
+#include "hullmap/clustering/dbscan.hpp"
+#include "hullmap/core/convex_hull_2d.hpp"
+#include "hullmap/core/error.hpp"
+#include "lattice_hull.hpp"
+
+namespace hullmap::hulls {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point3 = Kernel::Point_3;
+using Mesh = CGAL::Surface_mesh<Point3>;
+
+using Range = std::pair<std::int64_t, std::int64_t>;
+
+}  // namespace
+
+namespace detail {
+namespace {
+
+using Corner = std::array<std::int64_t, 3>;
+
+/// Keeps, in each plane of constant coordinate `axis`, only the vertices of the 2D convex hull of
+/// the points lying in that plane (Andrew's monotone chain, exact in integers; collinear points
+/// dropped). A point that is no vertex of its plane's hull is a convex combination of other points
+/// of the set, so it is no vertex of the 3D hull either: the 3D hull is unchanged.
+void keepPlaneHullVertices(std::vector<Corner>& points, int axis) {
+  const std::size_t a = std::size_t(axis), u = std::size_t((axis + 1) % 3), v = std::size_t((axis + 2) % 3);
+  if (points.empty()) return;
+  Corner lo = points[0], hi = points[0];
+  for (const auto& p : points)
+    for (std::size_t k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], p[k]);
+      hi[k] = std::max(hi[k], p[k]);
+    }
+  constexpr int kBits = 21;
+  if (hi[0] - lo[0] < (1 << kBits) && hi[1] - lo[1] < (1 << kBits) && hi[2] - lo[2] < (1 << kBits)) {
+    // Sorted as packed (a, u, v) keys: the same order, faster.
+    constexpr std::uint64_t kMask = (std::uint64_t(1) << kBits) - 1;
+    std::vector<std::uint64_t> keys;
+    keys.reserve(points.size());
+    for (const auto& p : points)
+      keys.push_back(std::uint64_t(p[a] - lo[a]) << (2 * kBits) | std::uint64_t(p[u] - lo[u]) << kBits |
+                     std::uint64_t(p[v] - lo[v]));
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    points.resize(keys.size());
+    for (std::size_t k = 0; k < keys.size(); ++k) {
+      points[k][a] = std::int64_t(keys[k] >> (2 * kBits)) + lo[a];
+      points[k][u] = std::int64_t((keys[k] >> kBits) & kMask) + lo[u];
+      points[k][v] = std::int64_t(keys[k] & kMask) + lo[v];
+    }
+  } else {
+    std::sort(points.begin(), points.end(), [&](const Corner& p, const Corner& q) {
+      return std::tie(p[a], p[u], p[v]) < std::tie(q[a], q[u], q[v]);
+    });
+    points.erase(std::unique(points.begin(), points.end()), points.end());
+  }
+  // Turn of p -> q -> r in the (u, v) plane: > 0 counter-clockwise.
+  const auto turn = [&](const Corner& p, const Corner& q, const Corner& r) {
+    return (q[u] - p[u]) * (r[v] - p[v]) - (q[v] - p[v]) * (r[u] - p[u]);
+  };
+  std::vector<Corner> out, chain;
+  for (std::size_t begin = 0; begin < points.size();) {
+    std::size_t end = begin + 1;
+    while (end < points.size() && points[end][a] == points[begin][a]) ++end;
+    if (end - begin <= 2) {
+      out.insert(out.end(), points.begin() + std::ptrdiff_t(begin), points.begin() + std::ptrdiff_t(end));
+    } else {
+      chain.clear();
+      for (std::size_t k = begin; k < end; ++k) {  // lower chain
+        while (chain.size() >= 2 && turn(chain[chain.size() - 2], chain.back(), points[k]) <= 0) chain.pop_back();
+        chain.push_back(points[k]);
+      }
+      const std::size_t lower = chain.size();
+      for (std::size_t k = end - 1; k-- > begin;) {  // upper chain
+        while (chain.size() > lower && turn(chain[chain.size() - 2], chain.back(), points[k]) <= 0) chain.pop_back();
+        chain.push_back(points[k]);
+      }
+      chain.pop_back();  // the first point again
+      out.insert(out.end(), chain.begin(), chain.end());
+    }
+    begin = end;
+  }
+  points.swap(out);
+}
+
+}  // namespace
+
+/// Corners that can be vertices of the hull of all voxel corners: each layer of cells z = k is a
+/// union of squares whose 2D hull comes from its rows' first and last cells (a sweep over the cells
+/// sorted by packed (k, j, i) keys); that hull's vertices at z = k and k + 1 are kept, then only
+/// the vertices of the 2D hull of each plane x = c, y = c and z = c (keepPlaneHullVertices). Exact
+/// (integer lattice), never drops a hull vertex; O(n log n).
+std::vector<std::array<std::int64_t, 3>> candidateCorners(const std::vector<std::array<std::int64_t, 3>>& cells) {
+  if (cells.empty()) return {};
+  Corner lo = cells[0], hi = cells[0];
+  for (const auto& c : cells)
+    for (std::size_t a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], c[a]);
+      hi[a] = std::max(hi[a], c[a]);
+    }
+  constexpr int kBits = 21;
+  std::vector<Corner> out;
+  if (hi[0] - lo[0] >= (1 << kBits) || hi[1] - lo[1] >= (1 << kBits) || hi[2] - lo[2] >= (1 << kBits)) {
+    // Too wide to pack: every cell's corners.
+    for (const auto& c : cells)
+      for (int m = 0; m < 8; ++m) out.push_back({c[0] + (m & 1), c[1] + ((m >> 1) & 1), c[2] + ((m >> 2) & 1)});
+  } else {
+    std::vector<std::uint64_t> keys;
+    keys.reserve(cells.size());
+    for (const auto& c : cells)
+      keys.push_back(std::uint64_t(c[2] - lo[2]) << (2 * kBits) | std::uint64_t(c[1] - lo[1]) << kBits |
+                     std::uint64_t(c[0] - lo[0]));
+    std::sort(keys.begin(), keys.end());
+    constexpr std::uint64_t kMask = (std::uint64_t(1) << kBits) - 1;
+    // Per layer: for each line y = c, the smallest and largest x of the squares touching it.
+    struct Level {
+      std::int64_t y, x0, x1;
+    };
+    std::vector<Level> levels;
+    std::vector<std::array<std::int64_t, 2>> points, chain;  // (y, x)
+    const auto turn = [](const std::array<std::int64_t, 2>& p, const std::array<std::int64_t, 2>& q,
+                         const std::array<std::int64_t, 2>& r) {
+      return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+    };
+    for (std::size_t begin = 0; begin < keys.size();) {
+      const std::uint64_t layer = keys[begin] >> (2 * kBits);
+      levels.clear();
+      std::size_t end = begin;
+      while (end < keys.size() && keys[end] >> (2 * kBits) == layer) {
+        const std::uint64_t row = keys[end] >> kBits;
+        const std::int64_t j = std::int64_t(row & kMask), x0 = std::int64_t(keys[end] & kMask);
+        std::size_t row_end = end;
+        while (row_end + 1 < keys.size() && keys[row_end + 1] >> kBits == row) ++row_end;
+        const std::int64_t x1 = std::int64_t(keys[row_end] & kMask) + 1;
+        for (const std::int64_t y : {j, j + 1}) {
+          if (!levels.empty() && levels.back().y == y) {
+            levels.back().x0 = std::min(levels.back().x0, x0);
+            levels.back().x1 = std::max(levels.back().x1, x1);
+          } else {
+            levels.push_back({y, x0, x1});
+          }
+        }
+        end = row_end + 1;
+      }
+      // The layer's 2D hull (Andrew's monotone chain over points sorted by (y, x)).
+      points.clear();
+      for (const auto& l : levels) {
+        points.push_back({l.y, l.x0});
+        points.push_back({l.y, l.x1});
+      }
+      chain.clear();
+      if (points.size() <= 2) {
+        chain = points;
+      } else {
+        for (const auto& q : points) {
+          while (chain.size() >= 2 && turn(chain[chain.size() - 2], chain.back(), q) <= 0) chain.pop_back();
+          chain.push_back(q);
+        }
+        const std::size_t lower = chain.size();
+        for (std::size_t k = points.size() - 1; k-- > 0;) {
+          while (chain.size() > lower && turn(chain[chain.size() - 2], chain.back(), points[k]) <= 0) chain.pop_back();
+          chain.push_back(points[k]);
+        }
+        chain.pop_back();
+      }
+      const std::int64_t z = std::int64_t(layer) + lo[2];
+      for (const auto& q : chain)
+        for (const std::int64_t dz : {0, 1}) out.push_back({q[1] + lo[0], q[0] + lo[1], z + dz});
+      begin = end;
+    }
+  }
+  for (const int axis : {2, 0, 1}) keepPlaneHullVertices(out, axis);
+  return out;
+}
+
+}  // namespace detail
+
+namespace {
+using detail::candidateCorners;
+
+/// A hull on the integer lattice of voxel corners.
+struct LatticeHull {
+  std::vector<std::array<std::int64_t, 3>> vertices;
+  std::vector<std::array<int, 3>> triangles;  ///< counter-clockwise seen from outside
+};
+
+/// The hull in a form that depends only on the polytope, not on how CGAL happened to build it:
+/// CGAL triangulates each flat facet (a lattice hull has many: every face of a box) in an order
+/// that varies from run to run with memory addresses, and lists vertices in its own order. Here
+/// each facet (the triangles of one plane, exact on the lattice) is traced as its boundary loop,
+/// vertices lying on a straight part of the loop (on an edge of the polytope) are dropped, and the
+/// loop is fanned from its smallest vertex; vertices are sorted lexicographically, triangles too.
+LatticeHull canonical(const LatticeHull& hull, int id) {
+  using Vec = std::array<std::int64_t, 3>;
+  const auto sub = [](const Vec& a, const Vec& b) { return Vec{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+  const auto cross = [](const Vec& a, const Vec& b) {
+    return Vec{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  };
+  const auto fail = [&](const char* what) -> void {
+    throw Error("buildObstacles: hull of cluster " + std::to_string(id) + ": " + what);
+  };
+  // Facets: triangles grouped by their plane (primitive outward normal and offset).
+  std::map<std::array<std::int64_t, 4>, std::vector<std::array<int, 3>>> facets;
+  for (const auto& t : hull.triangles) {
+    const Vec& a = hull.vertices[std::size_t(t[0])];
+    Vec n = cross(sub(hull.vertices[std::size_t(t[1])], a), sub(hull.vertices[std::size_t(t[2])], a));
+    const std::int64_t g = std::gcd(std::gcd(std::abs(n[0]), std::abs(n[1])), std::abs(n[2]));
+    if (g == 0) fail("a triangle of zero area");
+    for (auto& c : n) c /= g;
+    facets[{n[0], n[1], n[2], n[0] * a[0] + n[1] * a[1] + n[2] * a[2]}].push_back(t);
+  }
+  std::vector<std::vector<int>> loops;
+  for (const auto& [plane, triangles] : facets) {
+    // Boundary edges are those of one triangle whose reverse is in none; they run counter-clockwise.
+    std::set<std::pair<int, int>> edges;
+    for (const auto& t : triangles)
+      for (int k = 0; k < 3; ++k) edges.insert({t[k], t[(k + 1) % 3]});
+    std::map<int, int> next;
+    for (const auto& [u, v] : edges)
+      if (!edges.count({v, u}) && !next.emplace(u, v).second) fail("a facet whose boundary is not one loop");
+    std::vector<int> loop{next.begin()->first};
+    while (loop.size() <= next.size()) {
+      const auto it = next.find(loop.back());
+      if (it == next.end()) fail("a facet whose boundary is not one loop");
+      if (it->second == loop.front()) break;
+      loop.push_back(it->second);
+    }
+    if (loop.size() != next.size()) fail("a facet whose boundary is not one loop");
+    std::vector<int> corners;
+    const Vec normal{plane[0], plane[1], plane[2]};
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      const Vec& prev = hull.vertices[std::size_t(loop[(k + loop.size() - 1) % loop.size()])];
+      const Vec& here = hull.vertices[std::size_t(loop[k])];
+      const Vec& after = hull.vertices[std::size_t(loop[(k + 1) % loop.size()])];
+      const Vec turn = cross(sub(here, prev), sub(after, here));
+      if (turn[0] * normal[0] + turn[1] * normal[1] + turn[2] * normal[2] != 0) corners.push_back(loop[k]);
+    }
+    if (corners.size() < 3) fail("a facet of fewer than three corners");
+    loops.push_back(std::move(corners));
+  }
+  // Vertices in lexicographic order, then each loop fanned from its smallest vertex.
+  std::vector<int> used;
+  for (const auto& loop : loops) used.insert(used.end(), loop.begin(), loop.end());
+  std::sort(used.begin(), used.end(), [&](int a, int b) {
+    return hull.vertices[std::size_t(a)] < hull.vertices[std::size_t(b)] ||
+           (hull.vertices[std::size_t(a)] == hull.vertices[std::size_t(b)] && a < b);
+  });
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  LatticeHull out;
+  std::map<int, int> renumber;
+  for (const int v : used) {
+    renumber[v] = int(out.vertices.size());
+    out.vertices.push_back(hull.vertices[std::size_t(v)]);
+  }
+  for (auto& loop : loops) {
+    for (int& v : loop) v = renumber.at(v);
+    std::rotate(loop.begin(), std::min_element(loop.begin(), loop.end()), loop.end());
+    for (std::size_t k = 1; k + 1 < loop.size(); ++k) out.triangles.push_back({loop[0], loop[k], loop[k + 1]});
+  }
+  std::sort(out.triangles.begin(), out.triangles.end());
+  return out;
+}
+
+}  // namespace
+
+namespace detail {
+Obstacle wrapCluster(int id, const std::vector<std::size_t>& members, const std::vector<Eigen::Vector3d>& centers,
+                     const std::vector<std::uint32_t>& weights, double voxel_size) {
+  Obstacle obstacle;
+  obstacle.id = id;
+  obstacle.voxel_count = members.size();
+  const double half = 0.5 * voxel_size;
+  // Lattice origin: the lower corner of the lexicographically smallest voxel centre (not the first
+  // member: the corners' last bits must not depend on the order of the voxels); every voxel's index
+  // is its offset from it.
+  const std::size_t anchor = *std::min_element(members.begin(), members.end(), [&](std::size_t a, std::size_t b) {
+    const Eigen::Vector3d& p = centers[a];
+    const Eigen::Vector3d& q = centers[b];
+    return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
+  });
+  const Eigen::Vector3d origin = centers[anchor] - Eigen::Vector3d::Constant(half);
+  std::vector<std::array<std::int64_t, 3>> cells;
+  cells.reserve(members.size());
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (const std::size_t i : members) {
+    obstacle.point_weight += weights.empty() ? 1 : weights[i];
+    cells.push_back(latticeIndex(centers[i], origin, voxel_size));
+    lo = lo.cwiseMin(centers[i] - Eigen::Vector3d::Constant(half));
+    hi = hi.cwiseMax(centers[i] + Eigen::Vector3d::Constant(half));
+  }
+  // Corners on the lattice can differ from centre +- half by an ulp: containment holds to ~1e-15
+  // relative, which is what the tests allow.
+  auto cornerPoint = [&](const std::array<std::int64_t, 3>& c) {
+    return Eigen::Vector3d(origin + Eigen::Vector3d(double(c[0]), double(c[1]), double(c[2])) * voxel_size);
+  };
+
+  // The hull is computed on the integer lattice, where coplanar and collinear corners are exactly
+  // so (scaled doubles are not: rounding would leave sliver triangles with meaningless normals).
+  std::vector<Point3> points;
+  for (const auto& c : candidateCorners(cells)) points.emplace_back(double(c[0]), double(c[1]), double(c[2]));
+  Mesh mesh;
+  CGAL::convex_hull_3(points.begin(), points.end(), mesh);
+  if (mesh.number_of_faces() == 0) throw Error("buildObstacles: degenerate hull for cluster " + std::to_string(id));
+
+  LatticeHull lattice;
+  std::map<Mesh::Vertex_index, int> index;
+  for (const auto v : mesh.vertices()) {
+    const Point3& p = mesh.point(v);
+    index[v] = int(lattice.vertices.size());
+    lattice.vertices.push_back({std::int64_t(p.x()), std::int64_t(p.y()), std::int64_t(p.z())});
+  }
+  for (const auto f : mesh.faces()) {
+    std::vector<int> ring;
+    for (const auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) ring.push_back(index[v]);
+    for (std::size_t k = 1; k + 1 < ring.size(); ++k) lattice.triangles.push_back({ring[0], ring[k], ring[k + 1]});
+  }
+  lattice = canonical(lattice, id);
+  for (const auto& v : lattice.vertices) obstacle.hull.vertices.push_back(cornerPoint(v));
+  obstacle.hull.triangles = lattice.triangles;
+
+  // Volume and centroid by the divergence theorem on the outward triangles (tetrahedra from a
+  // reference point inside the hull, for accuracy away from the origin).
+  const Eigen::Vector3d ref = obstacle.hull.vertices.front();
+  double volume = 0.0;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  for (const auto& t : obstacle.hull.triangles) {
+    const Eigen::Vector3d a = obstacle.hull.vertices[t[0]] - ref;
+    const Eigen::Vector3d b = obstacle.hull.vertices[t[1]] - ref;
+    const Eigen::Vector3d c = obstacle.hull.vertices[t[2]] - ref;
+    const double v = a.dot(b.cross(c)) / 6.0;
+    volume += v;
+    moment += v * (a + b + c) / 4.0;
+  }
+  obstacle.volume = volume;
+  obstacle.centroid = volume > 0 ? Eigen::Vector3d(ref + moment / volume) : Eigen::Vector3d(0.5 * (lo + hi));
+  obstacle.aabb_min = lo;
+  obstacle.aabb_max = hi;
+  for (const auto& v : obstacle.hull.vertices) {
+    obstacle.aabb_min = obstacle.aabb_min.cwiseMin(v);
+    obstacle.aabb_max = obstacle.aabb_max.cwiseMax(v);
+  }
+
+  // Footprint: per x line of the corner lattice, only the two y ends can be 2D hull vertices.
+  std::map<std::int64_t, Range> along_y;
+  for (const auto& c : cells) {
+    for (int dx = 0; dx < 2; ++dx) {
+      auto [it, inserted] = along_y.try_emplace(c[0] + dx, c[1], c[1] + 1);
+      if (!inserted) {
+        it->second.first = std::min(it->second.first, c[1]);
+        it->second.second = std::max(it->second.second, c[1] + 1);
+      }
+    }
+  }
+  std::vector<Eigen::Vector2d> flat;
+  for (const auto& [x, range] : along_y) {
+    flat.push_back(cornerPoint({x, range.first, 0}).head<2>());
+    flat.push_back(cornerPoint({x, range.second, 0}).head<2>());
+  }
+  obstacle.footprint.polygon = core::convexHull2d(std::move(flat));
+  obstacle.footprint.z_min = obstacle.aabb_min.z();
+  obstacle.footprint.z_max = obstacle.aabb_max.z();
+  return obstacle;
+}
+
+}  // namespace detail
+
+std::vector<Obstacle> buildObstacles(const std::vector<Eigen::Vector3d>& centers,
+                                     const std::vector<std::uint32_t>& weights, const std::vector<std::int32_t>& labels,
+                                     double voxel_size) {
+  if (!(voxel_size > 0) || !std::isfinite(voxel_size))
+    throw Error::inParameter("voxel_size", "must be positive, got " + std::to_string(voxel_size));
+  if (labels.size() != centers.size())
+    throw Error("buildObstacles: " + std::to_string(labels.size()) + " labels for " + std::to_string(centers.size()) +
+                " voxels");
+  if (!weights.empty() && weights.size() != centers.size())
+    throw Error("buildObstacles: " + std::to_string(weights.size()) + " weights for " + std::to_string(centers.size()) +
+                " voxels");
+  std::map<std::int32_t, std::vector<std::size_t>> clusters;
+  for (std::size_t i = 0; i < centers.size(); ++i) {
+    if (labels[i] == clustering::kNoise) continue;
+    if (labels[i] < 0) throw Error("buildObstacles: invalid label " + std::to_string(labels[i]));
+    if (!centers[i].allFinite()) throw Error("buildObstacles: non-finite voxel centre at index " + std::to_string(i));
+    clusters[labels[i]].push_back(i);
+  }
+  std::vector<std::pair<std::int32_t, std::vector<std::size_t>>> work(clusters.begin(), clusters.end());
+  std::vector<Obstacle> obstacles(work.size());
+  tbb::parallel_for(std::size_t(0), work.size(), [&](std::size_t k) {
+    obstacles[k] = detail::wrapCluster(work[k].first, work[k].second, centers, weights, voxel_size);
+  });
+  return obstacles;
+}
+
+}  // namespace hullmap::hulls

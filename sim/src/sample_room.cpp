@@ -1,0 +1,470 @@
+// The realistic room of generateScene (SceneLayout::kRoom): walls, floor, furniture that is not
+// convex, sparse ORB-SLAM-like points, the first camera's frame at a monocular scale.
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include <tbb/parallel_for.h>
+
+#include "hullmap/core/error.hpp"
+#include "hullmap/sim/sample_scene.hpp"
+#include "scene_random.hpp"
+
+namespace hullmap::sim::detail {
+namespace {
+
+constexpr double kWallThickness = 0.1;  // the truth's walls and floor are 10 cm thick, outside the room
+
+SceneObstacle box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  SceneObstacle o;
+  o.shape = SceneObstacle::Shape::kBox;
+  o.center = 0.5 * (lo + hi);
+  o.size = hi - lo;
+  return o;
+}
+
+// A visible surface patch: a rectangle c + u a + v b (u, v in [-1, 1]), a cylinder's side or its
+// top disc. Points on it that fall on or inside another piece of furniture's part are drawn again:
+// faces where parts touch, the floor under furniture, a leg's top under the table top.
+struct Patch {
+  enum class Type { kRect, kCylinderSide, kDisc } type = Type::kRect;
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  Eigen::Vector3d a = Eigen::Vector3d::Zero();  // rect half-axis; cylinder: (radius, half height, 0)
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  double area = 0.0;
+  std::size_t part = 0;  // index into the flat parts list (itself is never a rejecter)
+};
+
+void addBoxFaces(const SceneObstacle& o, std::size_t part, bool top, std::vector<Patch>& patches) {
+  const Eigen::Vector3d h = 0.5 * o.size;
+  auto rect = [&](const Eigen::Vector3d& c, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    Patch p;
+    p.c = c;
+    p.a = a;
+    p.b = b;
+    p.area = 4.0 * a.norm() * b.norm();
+    p.part = part;
+    if (p.area > 0.0) patches.push_back(p);
+  };
+  const Eigen::Vector3d x(h.x(), 0, 0), y(0, h.y(), 0), z(0, 0, h.z());
+  if (top) rect(o.center + z, x, y);
+  rect(o.center + x, y, z);
+  rect(o.center - x, y, z);
+  rect(o.center + y, x, z);
+  rect(o.center - y, x, z);
+}
+
+void addCylinder(const SceneObstacle& o, std::size_t part, std::vector<Patch>& patches) {
+  const double r = 0.5 * o.size.x(), hz = 0.5 * o.size.z();
+  Patch side;
+  side.type = Patch::Type::kCylinderSide;
+  side.c = o.center;
+  side.a = Eigen::Vector3d(r, hz, 0);
+  side.area = 2.0 * kPi * r * 2.0 * hz;
+  side.part = part;
+  patches.push_back(side);
+  Patch disc = side;
+  disc.type = Patch::Type::kDisc;
+  disc.c = o.center + Eigen::Vector3d(0, 0, hz);
+  disc.area = kPi * r * r;
+  patches.push_back(disc);
+}
+
+Eigen::Vector3d samplePatch(const Patch& p, bool on_edge, SceneRandom& rng) {
+  switch (p.type) {
+    case Patch::Type::kRect: {
+      double u = rng.uniform(-1.0, 1.0), v = rng.uniform(-1.0, 1.0);
+      if (on_edge) {
+        // One of the four edges, by length.
+        const double la = p.a.norm(), lb = p.b.norm();
+        if (rng.uniform() * (la + lb) < la)
+          v = rng.uniform() < 0.5 ? -1.0 : 1.0;
+        else
+          u = rng.uniform() < 0.5 ? -1.0 : 1.0;
+      }
+      return p.c + u * p.a + v * p.b;
+    }
+    case Patch::Type::kCylinderSide: {
+      const double angle = 2.0 * kPi * rng.uniform();
+      const double z = on_edge ? p.a.y() : rng.uniform(-p.a.y(), p.a.y());
+      return p.c + Eigen::Vector3d(p.a.x() * std::cos(angle), p.a.x() * std::sin(angle), z);
+    }
+    case Patch::Type::kDisc:
+    default: {
+      const double angle = 2.0 * kPi * rng.uniform();
+      const double r = on_edge ? p.a.x() : p.a.x() * std::sqrt(rng.uniform());
+      return p.c + Eigen::Vector3d(r * std::cos(angle), r * std::sin(angle), 0.0);
+    }
+  }
+}
+
+// On or inside the part (1e-9 m slack).
+bool covers(const SceneObstacle& o, const Eigen::Vector3d& q) {
+  const Eigen::Vector3d d = q - o.center;
+  const Eigen::Vector3d h = 0.5 * o.size;
+  if (o.shape == SceneObstacle::Shape::kBox) return (d.cwiseAbs() - h).maxCoeff() <= 1e-9;
+  return std::hypot(d.x(), d.y()) <= h.x() + 1e-9 && std::abs(d.z()) <= h.z() + 1e-9;
+}
+
+// Footprint (x, y) bounds of an object, for the placement gaps.
+struct Footprint {
+  Eigen::Vector2d lo, hi;
+};
+
+Footprint footprint(const SceneObject& object) {
+  Footprint f{Eigen::Vector2d::Constant(1e300), Eigen::Vector2d::Constant(-1e300)};
+  for (const auto& p : object.parts) {
+    f.lo = f.lo.cwiseMin((p.center - 0.5 * p.size).head<2>());
+    f.hi = f.hi.cwiseMax((p.center + 0.5 * p.size).head<2>());
+  }
+  return f;
+}
+
+double gap(const Footprint& a, const Footprint& b) {
+  const Eigen::Vector2d d = (a.lo - b.hi).cwiseMax(b.lo - a.hi);
+  return d.maxCoeff();
+}
+
+// A piece of furniture with its footprint's lower corner at the origin, standing on z = 0.
+SceneObject furniture(const SceneParams& p, SceneRandom& rng) {
+  SceneObject f;
+  const double max_height = std::min(2.2, p.room_height - 0.3);
+  const double pick = rng.uniform();
+  if (pick < 0.3) {
+    f.kind = SceneObject::Kind::kLShelf;
+    const double la = rng.uniform(1.0, 1.8), lb = rng.uniform(0.8, 1.5), d = rng.uniform(0.3, 0.45);
+    const double h = rng.uniform(1.2, max_height);
+    // Arm A along x, arm B along y starting where A ends: the two boxes touch, never overlap.
+    f.parts.push_back(box({0, 0, 0}, {la, d, h}));
+    f.parts.push_back(box({0, d, 0}, {d, d + lb, h}));
+  } else if (pick < 0.6) {
+    f.kind = SceneObject::Kind::kTable;
+    const double w = rng.uniform(0.8, 1.6), l = rng.uniform(0.6, 1.0), top = rng.uniform(0.72, 0.78);
+    const double leg = 0.05, inset = 0.05, thick = 0.04;
+    f.parts.push_back(box({0, 0, top - thick}, {w, l, top}));
+    for (int i = 0; i < 4; ++i) {
+      const double x = (i & 1) ? w - inset - leg : inset;
+      const double y = (i & 2) ? l - inset - leg : inset;
+      f.parts.push_back(box({x, y, 0}, {x + leg, y + leg, top - thick}));
+    }
+  } else if (pick < 0.8) {
+    f.kind = SceneObject::Kind::kBox;
+    f.parts.push_back(box({0, 0, 0}, {rng.uniform(0.4, 1.2), rng.uniform(0.4, 1.2), rng.uniform(0.6, max_height)}));
+  } else {
+    f.kind = SceneObject::Kind::kCylinder;
+    SceneObstacle c;
+    c.shape = SceneObstacle::Shape::kCylinder;
+    const double d = rng.uniform(0.3, 0.8), h = rng.uniform(0.6, max_height);
+    c.size = Eigen::Vector3d(d, d, h);
+    c.center = Eigen::Vector3d(0.5 * d, 0.5 * d, 0.5 * h);
+    f.parts.push_back(c);
+  }
+  // A quarter turn half of the time (about the footprint's corner, then back into x, y >= 0).
+  if (rng.uniform() < 0.5) {
+    for (auto& part : f.parts) {
+      part.center = Eigen::Vector3d(-part.center.y(), part.center.x(), part.center.z());
+      std::swap(part.size.x(), part.size.y());
+    }
+    const Footprint fp = footprint(f);
+    for (auto& part : f.parts) part.center.head<2>() -= fp.lo;
+  }
+  return f;
+}
+
+// The camera loop's ellipse (semi-axes lx, ly) sampled every 0.25 degrees, for the placement gaps.
+std::vector<Eigen::Vector2d> loopSamples(double lx, double ly) {
+  std::vector<Eigen::Vector2d> samples(1440);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const double a = 2.0 * kPi * static_cast<double>(i) / static_cast<double>(samples.size());
+    samples[i] = Eigen::Vector2d(lx * std::cos(a), ly * std::sin(a));
+  }
+  return samples;
+}
+
+// Distance from a footprint to the nearest sample of the loop.
+double loopGap(const Footprint& f, const std::vector<Eigen::Vector2d>& loop) {
+  double best = 1e300;
+  for (const auto& q : loop) best = std::min(best, (f.lo - q).cwiseMax(q - f.hi).cwiseMax(0.0).norm());
+  return best;
+}
+
+// FurniturePlacement::kAnywhere: the local footprint (lower corner at the origin, `extent`) moved to
+// a random place in the room of half sides (hx, hy): against a wall with chance `wall_fraction` (its
+// back 3 to 10 cm from the wall's face, anywhere along it), else kSceneObstacleGap from every wall.
+// Returns the shift, or nothing when the piece does not fit.
+std::optional<Eigen::Vector2d> anywhereShift(const Eigen::Vector2d& extent, double hx, double hy, double wall_fraction,
+                                             SceneRandom& rng) {
+  const double g = kSceneObstacleGap;
+  if (rng.uniform() < wall_fraction) {
+    const std::size_t wall = rng.index(4);  // -x, +x, -y, +y
+    const double back = rng.uniform(0.03, 0.10);
+    // `across`: the axis normal to the wall's face; `along`: the axis along it.
+    const int across = wall < 2 ? 0 : 1, along = 1 - across;
+    const Eigen::Vector2d half(hx, hy);
+    if (extent[along] > 2.0 * half[along] - 0.06 || extent[across] > 2.0 * half[across] - back) return std::nullopt;
+    Eigen::Vector2d shift;
+    shift[along] = rng.uniform(-half[along] + 0.03, half[along] - 0.03 - extent[along]);
+    shift[across] = wall % 2 == 0 ? -half[across] + back : half[across] - back - extent[across];
+    return shift;
+  }
+  if (extent.x() > 2.0 * (hx - g) || extent.y() > 2.0 * (hy - g)) return std::nullopt;
+  // One draw a statement, y first (the order maps/ was made in): the arguments of one call are not
+  // sequenced, and gcc and clang draw them in opposite orders.
+  const double y = rng.uniform(-hy + g, hy - g - extent.y());
+  const double x = rng.uniform(-hx + g, hx - g - extent.x());
+  return Eigen::Vector2d(x, y);
+}
+
+// The room's measures, which every step below reads.
+struct Room {
+  double half = 0.0, half_y = 0.0;    // half the room's extent in x and y
+  double height = 0.0;                // the walls' height
+  double loop_x = 0.0, loop_y = 0.0;  // the camera loop's half axes
+  bool circle = false;                // the loop is a circle
+};
+
+// Floor and walls (their inner faces are the room's boundary).
+void addShell(const Room& room, Scene& scene) {
+  const double t = kWallThickness, half = room.half, half_y = room.half_y, zh = room.height;
+  SceneObject floor{SceneObject::Kind::kFloor, {box({-half - t, -half_y - t, -t}, {half + t, half_y + t, 0})}};
+  scene.objects.push_back(floor);
+  scene.objects.push_back({SceneObject::Kind::kWall, {box({-half - t, -half_y - t, 0}, {-half, half_y + t, zh})}});
+  scene.objects.push_back({SceneObject::Kind::kWall, {box({half, -half_y - t, 0}, {half + t, half_y + t, zh})}});
+  scene.objects.push_back({SceneObject::Kind::kWall, {box({-half, -half_y - t, 0}, {half, -half_y, zh})}});
+  scene.objects.push_back({SceneObject::Kind::kWall, {box({-half, half_y, 0}, {half, half_y + t, zh})}});
+}
+
+// Where a piece of furniture of `extent` goes inside the camera loop (its lower corner's shift), or
+// nothing when this draw does not fit.
+std::optional<Eigen::Vector2d> insideLoopShift(const Eigen::Vector2d& extent, const Room& room, SceneRandom& rng) {
+  if (room.circle) {
+    const double reach = room.loop_x - kSceneObstacleGap - 0.5 * extent.norm();
+    if (reach <= 0.0) return std::nullopt;
+    const double centre_y = rng.uniform(-reach, reach);  // y first, as in anywhereShift
+    const Eigen::Vector2d centre(rng.uniform(-reach, reach), centre_y);
+    if (centre.norm() > reach) return std::nullopt;
+    return Eigen::Vector2d(centre - 0.5 * extent);
+  }
+  // Inside the ellipse: the footprint grown by the gap has its corners inside it.
+  const double loop_x = room.loop_x, loop_y = room.loop_y;
+  const double rx = loop_x - kSceneObstacleGap - 0.5 * extent.x(), ry = loop_y - kSceneObstacleGap - 0.5 * extent.y();
+  if (rx <= 0.0 || ry <= 0.0) return std::nullopt;
+  const double centre_y = rng.uniform(-ry, ry);  // y first, as in anywhereShift
+  const Eigen::Vector2d centre(rng.uniform(-rx, rx), centre_y);
+  const Eigen::Vector2d h = 0.5 * extent + Eigen::Vector2d::Constant(kSceneObstacleGap);
+  for (int c = 0; c < 4; ++c) {
+    const Eigen::Vector2d q = centre + Eigen::Vector2d((c & 1) ? h.x() : -h.x(), (c & 2) ? h.y() : -h.y());
+    if ((q.x() / loop_x) * (q.x() / loop_x) + (q.y() / loop_y) * (q.y() / loop_y) > 1.0) return std::nullopt;
+  }
+  return Eigen::Vector2d(centre - 0.5 * extent);
+}
+
+// Furniture kSceneObstacleGap apart from each other and from the camera loop: inside the loop, or
+// (kAnywhere) anywhere in the room. Throws when a piece finds no place in 10000 draws.
+void addFurniture(const SceneParams& p, const Room& room, SceneRandom& rng, Scene& scene) {
+  const std::vector<Eigen::Vector2d> loop = room.circle && p.placement == FurniturePlacement::kInsideLoop
+                                                ? std::vector<Eigen::Vector2d>{}
+                                                : loopSamples(room.loop_x, room.loop_y);
+  // The samples are at most 2 pi max(lx, ly) / 1440 apart: the gap to the curve is within half that.
+  const double loop_slack = kPi * std::max(room.loop_x, room.loop_y) / 1440.0;
+  std::vector<Footprint> placed;
+  for (std::size_t n = 0; n < p.obstacles; ++n) {
+    bool done = false;
+    for (int attempt = 0; attempt < 10000 && !done; ++attempt) {
+      SceneObject f = furniture(p, rng);
+      const Footprint local = footprint(f);
+      const Eigen::Vector2d extent = local.hi - local.lo;
+      const auto shift = p.placement == FurniturePlacement::kAnywhere
+                             ? anywhereShift(extent, room.half, room.half_y, p.wall_fraction, rng)
+                             : insideLoopShift(extent, room, rng);
+      if (!shift) continue;
+      for (auto& part : f.parts) part.center.head<2>() += *shift;
+      const Footprint fp = footprint(f);
+      if (!loop.empty() && p.placement == FurniturePlacement::kAnywhere &&
+          loopGap(fp, loop) < kSceneObstacleGap + loop_slack)
+        continue;
+      done = std::all_of(placed.begin(), placed.end(),
+                         [&fp](const Footprint& other) { return gap(fp, other) >= kSceneObstacleGap; });
+      if (done) {
+        placed.push_back(fp);
+        scene.objects.push_back(f);
+      }
+    }
+    if (!done) {
+      throw Error("scene parameters: cannot place " + std::to_string(p.obstacles) + " pieces of furniture " +
+                  std::to_string(kSceneObstacleGap) + " m apart in a room of " + std::to_string(p.room_size) + " x " +
+                  std::to_string(2.0 * room.half_y) + " m (obstacles too many for room_size)");
+    }
+  }
+}
+
+// Visible patches: the floor's top, the walls' inner faces, furniture's tops and sides.
+std::vector<Patch> visiblePatches(const Scene& scene, const Room& room) {
+  std::vector<Patch> patches;
+  std::size_t part = 0;
+  for (const auto& object : scene.objects) {
+    for (const auto& o : object.parts) {
+      if (object.kind == SceneObject::Kind::kFloor) {
+        Patch top;
+        top.c = Eigen::Vector3d(0, 0, 0);
+        top.a = Eigen::Vector3d(room.half, 0, 0);
+        top.b = Eigen::Vector3d(0, room.half_y, 0);
+        top.area = 4.0 * room.half * room.half_y;
+        top.part = part;
+        patches.push_back(top);
+      } else if (object.kind == SceneObject::Kind::kWall) {
+        // The face toward the room's centre.
+        const Eigen::Vector3d h = 0.5 * o.size;
+        Patch face;
+        face.part = part;
+        if (o.size.x() < o.size.y()) {
+          const double x = o.center.x() > 0 ? room.half : -room.half;
+          face.c = Eigen::Vector3d(x, 0, 0.5 * room.height);
+          face.a = Eigen::Vector3d(0, room.half_y, 0);
+        } else {
+          const double y = o.center.y() > 0 ? room.half_y : -room.half_y;
+          face.c = Eigen::Vector3d(0, y, 0.5 * room.height);
+          face.a = Eigen::Vector3d(room.half, 0, 0);
+        }
+        face.b = Eigen::Vector3d(0, 0, h.z());
+        face.area = 4.0 * face.a.norm() * face.b.norm();
+        patches.push_back(face);
+      } else if (o.shape == SceneObstacle::Shape::kBox) {
+        addBoxFaces(o, part, true, patches);
+      } else {
+        addCylinder(o, part, patches);
+      }
+      ++part;
+    }
+  }
+  return patches;
+}
+
+// The points, in chunks of kChunk drawn in parallel from seeds of their own: on the visible patches
+// (redrawn where furniture hides them), with noise; outliers in the room; gross outliers far away.
+// Then shuffled with `rng`. Fills scene.obstacles (the flat parts list) too.
+void samplePoints(const SceneParams& p, const Room& room, SceneRandom& rng, Scene& scene) {
+  // Only furniture hides surfaces (a wall's foot on the floor is a visible edge, as is a box's).
+  std::vector<bool> hides;
+  for (const auto& object : scene.objects) {
+    for (const auto& part : object.parts) {
+      scene.obstacles.push_back(part);
+      hides.push_back(object.kind != SceneObject::Kind::kFloor && object.kind != SceneObject::Kind::kWall);
+    }
+  }
+  const std::vector<Patch> patches = visiblePatches(scene, room);
+  std::vector<double> cumulative;
+  double area = 0.0;
+  for (const auto& patch : patches) cumulative.push_back(area += patch.area);
+
+  const auto surface = static_cast<std::size_t>(std::llround(p.density * area));
+  const auto outliers = static_cast<std::size_t>(
+      std::llround(p.outlier_fraction / std::max(1e-12, 1.0 - p.outlier_fraction) * static_cast<double>(surface)));
+  const std::size_t gross = p.gross_outliers;
+  const std::size_t n = surface + outliers + gross;
+  scene.points.resize(n);
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
+    SceneRandom local(splitMix64(p.seed ^ splitMix64(chunk + 1)));
+    const std::size_t end = std::min(n, (chunk + 1) * kChunk);
+    for (std::size_t i = chunk * kChunk; i < end; ++i) {
+      Eigen::Vector3d& q = scene.points[i];
+      if (i < surface) {
+        while (true) {
+          const double x = local.uniform() * area;
+          const auto k = static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end() - 1, x) -
+                                                  cumulative.begin());
+          const Patch& patch = patches[k];
+          q = samplePatch(patch, local.uniform() < p.edge_fraction, local);
+          bool hidden = false;
+          for (std::size_t j = 0; j < scene.obstacles.size() && !hidden; ++j) {
+            hidden = hides[j] && j != patch.part && covers(scene.obstacles[j], q);
+          }
+          if (!hidden) break;
+        }
+        q += p.noise_sigma * local.normal3();
+      } else if (i < surface + outliers) {
+        const double z = local.uniform(0.0, room.height);  // z, y, x: as normal3()
+        const double y = local.uniform(-room.half_y, room.half_y);
+        q = Eigen::Vector3d(local.uniform(-room.half, room.half), y, z);
+      } else {
+        const Eigen::Vector3d direction = local.unitVector();  // then the distance: as normal3()
+        q = local.uniform(1e5, 1e6) * direction;
+      }
+    }
+  });
+  for (std::size_t i = n; i > 1; --i) std::swap(scene.points[i - 1], scene.points[rng.index(i)]);
+}
+
+// Keyframes: a loop at about kCameraHeight, each camera looking at the room's axis, pitched down.
+std::vector<io::Keyframe> cameraLoop(const SceneParams& p, const Room& room) {
+  const double pitch = p.camera_pitch_deg * kPi / 180.0;
+  std::vector<io::Keyframe> keyframes(p.keyframes);
+  for (std::size_t i = 0; i < p.keyframes; ++i) {
+    const double a = 2.0 * kPi * static_cast<double>(i) / static_cast<double>(p.keyframes);
+    io::Keyframe& k = keyframes[i];
+    k.stamp = 1.0 + 0.5 * static_cast<double>(i);
+    k.position =
+        Eigen::Vector3d(room.loop_x * std::cos(a), room.loop_y * std::sin(a), kCameraHeight + 0.05 * std::sin(3.0 * a));
+    // Toward the room's vertical axis.
+    const Eigen::Vector3d inward = room.circle ? Eigen::Vector3d(-std::cos(a), -std::sin(a), 0.0)
+                                               : Eigen::Vector3d(-k.position.x(), -k.position.y(), 0.0).normalized();
+    const Eigen::Vector3d forward = std::cos(pitch) * inward - std::sin(pitch) * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
+    const Eigen::Vector3d down = forward.cross(right);
+    Eigen::Matrix3d r;
+    r.col(0) = right;
+    r.col(1) = down;
+    r.col(2) = forward;
+    k.orientation = Eigen::Quaterniond(r).normalized();
+  }
+  return keyframes;
+}
+
+// The output frame: the first camera's, scaled (p_out = s R0^T (p - t0)), when p.orbslam_frame; the
+// points and keyframes moved into it (scene.reference stays in the room's frame).
+void toOutputFrame(const SceneParams& p, Scene& scene) {
+  if (p.orbslam_frame) {
+    const io::Keyframe& first = scene.reference.front();
+    scene.output_scale = p.monocular_scale;
+    scene.output_rotation = first.orientation.toRotationMatrix().transpose();
+    scene.output_translation = -p.monocular_scale * (scene.output_rotation * first.position);
+  }
+  const double s = scene.output_scale;
+  const Eigen::Matrix3d& r = scene.output_rotation;
+  const Eigen::Vector3d& tr = scene.output_translation;
+  const std::size_t n = scene.points.size(), chunks = (n + kChunk - 1) / kChunk;
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
+    const std::size_t end = std::min(n, (chunk + 1) * kChunk);
+    for (std::size_t i = chunk * kChunk; i < end; ++i) scene.points[i] = s * (r * scene.points[i]) + tr;
+  });
+  const Eigen::Quaterniond rq(r);
+  scene.keyframes = scene.reference;
+  for (io::Keyframe& k : scene.keyframes) {
+    k.position = s * (r * k.position) + tr;
+    k.orientation = (rq * k.orientation).normalized();
+  }
+}
+
+}  // namespace
+
+Scene generateRoomScene(const SceneParams& p) {
+  SceneRandom rng(p.seed);
+  Room room;
+  room.half = 0.5 * p.room_size;
+  room.half_y = 0.5 * (p.room_width > 0.0 ? p.room_width : p.room_size);
+  room.height = p.room_height;
+  room.loop_x = p.loop_fraction * p.room_size;
+  room.loop_y = p.loop_fraction * 2.0 * room.half_y;
+  room.circle = room.loop_x == room.loop_y;
+  Scene scene;
+  addShell(room, scene);
+  addFurniture(p, room, rng, scene);
+  samplePoints(p, room, rng, scene);
+  scene.reference = cameraLoop(p, room);
+  toOutputFrame(p, scene);
+  return scene;
+}
+
+}  // namespace hullmap::sim::detail

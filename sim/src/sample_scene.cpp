@@ -1,0 +1,425 @@
+#include "hullmap/sim/sample_scene.hpp"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <ostream>
+#include <random>
+
+#include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
+
+#include "hullmap/core/atomic_file.hpp"
+#include "hullmap/core/error.hpp"
+#include "scene_random.hpp"
+
+namespace hullmap::sim {
+namespace {
+
+using core::splitMix64;
+using detail::kCameraHeight;
+using detail::kChunk;
+using detail::SceneRandom;
+
+// Samples the surface of one obstacle: half the points near edges, half on visible faces.
+class SurfaceSampler {
+ public:
+  explicit SurfaceSampler(const SceneObstacle& o) : o_(o) {
+    const Eigen::Vector3d& s = o.size;
+    if (o.shape == SceneObstacle::Shape::kBox) {
+      face_weights_ = {s.x() * s.y(), s.x() * s.z(), s.x() * s.z(), s.y() * s.z(), s.y() * s.z()};
+      edge_weights_ = {s.x(), s.x(), s.x(), s.x(), s.y(), s.y(), s.y(), s.y(), s.z(), s.z(), s.z(), s.z()};
+    } else {
+      const double r = 0.5 * s.x();
+      face_weights_ = {kPi * r * r, 2.0 * kPi * r * s.z()};
+      edge_weights_ = {1.0, 1.0};
+    }
+    area_ = 0.0;
+    for (double w : face_weights_) area_ += w;
+  }
+
+  double area() const { return area_; }
+
+  Eigen::Vector3d sample(SceneRandom& rng) const {
+    const Eigen::Vector3d h = 0.5 * o_.size;
+    const Eigen::Vector3d& c = o_.center;
+    const bool on_edge = rng.uniform() < 0.5;
+    const std::size_t i = pick(on_edge ? edge_weights_ : face_weights_, rng);
+    if (o_.shape == SceneObstacle::Shape::kCylinder) {
+      const double a = 2.0 * kPi * rng.uniform();
+      const Eigen::Vector3d radial(std::cos(a), std::sin(a), 0.0);
+      if (on_edge) return c + h.x() * radial + Eigen::Vector3d(0, 0, i == 0 ? h.z() : -h.z());
+      if (i == 0) return c + h.x() * std::sqrt(rng.uniform()) * radial + Eigen::Vector3d(0, 0, h.z());
+      return c + h.x() * radial + Eigen::Vector3d(0, 0, rng.uniform(-h.z(), h.z()));
+    }
+    const double u = rng.uniform(-1.0, 1.0);
+    const double v = rng.uniform(-1.0, 1.0);
+    if (on_edge) {
+      // Edges 0-3 along x, 4-7 along y, 8-11 along z; the two low bits pick the sides.
+      const double s1 = (i & 1) ? 1.0 : -1.0;
+      const double s2 = (i & 2) ? 1.0 : -1.0;
+      if (i < 4) return c + Eigen::Vector3d(u * h.x(), s1 * h.y(), s2 * h.z());
+      if (i < 8) return c + Eigen::Vector3d(s1 * h.x(), u * h.y(), s2 * h.z());
+      return c + Eigen::Vector3d(s1 * h.x(), s2 * h.y(), u * h.z());
+    }
+    switch (i) {
+      case 0:
+        return c + Eigen::Vector3d(u * h.x(), v * h.y(), h.z());
+      case 1:
+        return c + Eigen::Vector3d(u * h.x(), -h.y(), v * h.z());
+      case 2:
+        return c + Eigen::Vector3d(u * h.x(), h.y(), v * h.z());
+      case 3:
+        return c + Eigen::Vector3d(-h.x(), u * h.y(), v * h.z());
+      default:
+        return c + Eigen::Vector3d(h.x(), u * h.y(), v * h.z());
+    }
+  }
+
+ private:
+  static std::size_t pick(const std::vector<double>& weights, SceneRandom& rng) {
+    double total = 0.0;
+    for (double w : weights) total += w;
+    double x = rng.uniform() * total;
+    for (std::size_t i = 0; i + 1 < weights.size(); ++i) {
+      if (x < weights[i]) return i;
+      x -= weights[i];
+    }
+    return weights.size() - 1;
+  }
+
+  SceneObstacle o_;
+  std::vector<double> face_weights_;
+  std::vector<double> edge_weights_;
+  double area_ = 0.0;
+};
+
+double footprintGap(const SceneObstacle& a, const SceneObstacle& b) {
+  const double dx = std::abs(a.center.x() - b.center.x()) - 0.5 * (a.size.x() + b.size.x());
+  const double dy = std::abs(a.center.y() - b.center.y()) - 0.5 * (a.size.y() + b.size.y());
+  return std::max(dx, dy);
+}
+
+void checkParams(const SceneParams& p) {
+  auto require = [](bool ok, const std::string& message) {
+    if (!ok) throw Error("scene parameters: " + message);
+  };
+  require(std::isfinite(p.room_size) && p.room_size >= 4.0, "room_size must be at least 4 m");
+  require(std::isfinite(p.room_height) && p.room_height >= 1.5, "room_height must be at least 1.5 m");
+  require(std::isfinite(p.noise_sigma) && p.noise_sigma >= 0.0, "noise_sigma must be >= 0");
+  require(std::isfinite(p.outlier_fraction) && p.outlier_fraction >= 0.0 && p.outlier_fraction <= 1.0,
+          "outlier_fraction must be in [0, 1]");
+  require(p.gross_outliers <= p.points, "gross_outliers must not exceed points");
+  require(p.keyframes >= 1, "keyframes must be at least 1");
+  if (p.layout == SceneLayout::kObstacles) {
+    require(p.obstacles >= 1, "obstacles must be at least 1");
+  } else {
+    require(p.keyframes >= 3, "keyframes (--keyframes) must be at least 3 in a room (to align the trajectory)");
+    require(std::isfinite(p.density) && p.density > 0.0, "density (--density) must be > 0 points per m^2");
+    require(p.room_width == 0.0 || (std::isfinite(p.room_width) && p.room_width >= 4.0),
+            "room_width (--room-width) must be 0 (square) or at least 4 m");
+    require(std::isfinite(p.loop_fraction) && p.loop_fraction > 0.0 && p.loop_fraction < 0.5,
+            "loop_fraction (--loop) must be in (0, 0.5)");
+    require(std::isfinite(p.wall_fraction) && p.wall_fraction >= 0.0 && p.wall_fraction <= 1.0,
+            "wall_fraction (--wall-fraction) must be in [0, 1]");
+    const double width = p.room_width > 0.0 ? p.room_width : p.room_size;
+    require(p.density * p.room_size * std::max(width, p.room_size) <= 1e9,
+            "density (--density) x room area must be at most 1e9 points");
+    require(std::isfinite(p.edge_fraction) && p.edge_fraction >= 0.0 && p.edge_fraction <= 1.0,
+            "edge_fraction (--edge-fraction) must be in [0, 1]");
+    require(std::isfinite(p.monocular_scale) && p.monocular_scale > 0.0, "monocular_scale (--scale) must be > 0");
+    require(std::isfinite(p.camera_pitch_deg) && p.camera_pitch_deg >= 0.0 && p.camera_pitch_deg <= 80.0,
+            "camera_pitch_deg (--pitch) must be in [0, 80] degrees");
+    require(p.outlier_fraction < 1.0, "outlier_fraction (--outliers) must be < 1 in a room");
+  }
+}
+
+std::vector<SceneObstacle> placeObstacles(const SceneParams& p, double loop_radius, SceneRandom& rng) {
+  std::vector<SceneObstacle> obstacles;
+  const double max_height = std::min(2.5, p.room_height - 0.2);
+  for (std::size_t n = 0; n < p.obstacles; ++n) {
+    bool placed = false;
+    for (int attempt = 0; attempt < 10000 && !placed; ++attempt) {
+      SceneObstacle o;
+      o.shape = rng.uniform() < 0.5 ? SceneObstacle::Shape::kBox : SceneObstacle::Shape::kCylinder;
+      const double height = rng.uniform(0.6, max_height);
+      if (o.shape == SceneObstacle::Shape::kBox) {
+        // One draw a statement, y first (the order maps/ was made in): the arguments of one call are
+        // not sequenced, and gcc and clang draw them in opposite orders.
+        const double size_y = rng.uniform(0.4, 1.4);
+        const double size_x = rng.uniform(0.4, 1.4);
+        o.size = Eigen::Vector3d(size_x, size_y, height);
+      } else {
+        const double d = rng.uniform(0.3, 1.0);
+        o.size = Eigen::Vector3d(d, d, height);
+      }
+      const double reach = loop_radius - kSceneObstacleGap - 0.5 * o.size.head<2>().norm();
+      if (reach <= 0.0) continue;
+      const double center_y = rng.uniform(-reach, reach);
+      const double center_x = rng.uniform(-reach, reach);
+      o.center = Eigen::Vector3d(center_x, center_y, 0.5 * height);
+      if (o.center.head<2>().norm() > reach) continue;
+      placed = std::all_of(obstacles.begin(), obstacles.end(),
+                           [&o](const SceneObstacle& other) { return footprintGap(o, other) >= kSceneObstacleGap; });
+      if (placed) obstacles.push_back(o);
+    }
+    if (!placed) {
+      throw Error("scene parameters: cannot place " + std::to_string(p.obstacles) + " obstacles " +
+                  std::to_string(kSceneObstacleGap) + " m apart in a room of " + std::to_string(p.room_size) +
+                  " m (obstacles too many for room_size)");
+    }
+  }
+  return obstacles;
+}
+
+std::vector<io::Keyframe> cameraLoop(const SceneParams& p, double loop_radius) {
+  std::vector<io::Keyframe> keyframes(p.keyframes);
+  for (std::size_t i = 0; i < p.keyframes; ++i) {
+    const double a = 2.0 * kPi * static_cast<double>(i) / static_cast<double>(p.keyframes);
+    io::Keyframe& k = keyframes[i];
+    k.stamp = 1.0 + 0.5 * static_cast<double>(i);
+    k.position =
+        Eigen::Vector3d(loop_radius * std::cos(a), loop_radius * std::sin(a), kCameraHeight + 0.05 * std::sin(3.0 * a));
+    // Camera axes in the map: z forward (toward the room's axis, slightly down), x right, y down.
+    const Eigen::Vector3d forward = Eigen::Vector3d(-std::cos(a), -std::sin(a), -0.15).normalized();
+    const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
+    const Eigen::Vector3d down = forward.cross(right);
+    Eigen::Matrix3d r;
+    r.col(0) = right;
+    r.col(1) = down;
+    r.col(2) = forward;
+    k.orientation = Eigen::Quaterniond(r).normalized();
+  }
+  return keyframes;
+}
+
+// Appends `x y z\n` (fixed, 6 decimals) to `out`.
+void appendXyz(std::string& out, const Eigen::Vector3d& p) {
+  char buf[128];
+  char* end = buf;
+  for (int i = 0; i < 3; ++i) {
+    end = std::to_chars(end, buf + sizeof(buf), p[i], std::chars_format::fixed, 6).ptr;
+    *end++ = i < 2 ? ' ' : '\n';
+  }
+  out.append(buf, end);
+}
+
+}  // namespace
+
+Eigen::Matrix3d mapToOrbSlamRotation() {
+  Eigen::Matrix3d m;
+  m << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  return m;
+}
+
+std::string toString(SceneObject::Kind kind) {
+  switch (kind) {
+    case SceneObject::Kind::kBox:
+      return "box";
+    case SceneObject::Kind::kCylinder:
+      return "cylinder";
+    case SceneObject::Kind::kLShelf:
+      return "l_shelf";
+    case SceneObject::Kind::kTable:
+      return "table";
+    case SceneObject::Kind::kWall:
+      return "wall";
+    case SceneObject::Kind::kFloor:
+      return "floor";
+  }
+  return "box";
+}
+
+Scene generateScene(const SceneParams& p) {
+  checkParams(p);
+  if (p.layout == SceneLayout::kRoom) return detail::generateRoomScene(p);
+  SceneRandom rng(p.seed);
+  const double loop_radius = 0.4 * p.room_size;
+
+  Scene scene;
+  scene.obstacles = placeObstacles(p, loop_radius, rng);
+  scene.keyframes = cameraLoop(p, loop_radius);
+
+  std::vector<SurfaceSampler> samplers;
+  std::vector<double> cumulative_area;
+  double total_area = 0.0;
+  for (const auto& o : scene.obstacles) {
+    samplers.emplace_back(o);
+    total_area += samplers.back().area();
+    cumulative_area.push_back(total_area);
+  }
+
+  const std::size_t n = p.points;
+  const std::size_t gross = p.gross_outliers;
+  const std::size_t outliers =
+      std::min(n - gross, static_cast<std::size_t>(std::llround(p.outlier_fraction * static_cast<double>(n))));
+  const std::size_t surface = n - gross - outliers;
+  const double half = 0.5 * p.room_size;
+
+  // Fixed chunks with their own seeds: the same points whatever the thread count.
+  scene.points.resize(n);
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
+    SceneRandom local(splitMix64(p.seed ^ splitMix64(chunk + 1)));
+    const std::size_t end = std::min(n, (chunk + 1) * kChunk);
+    for (std::size_t i = chunk * kChunk; i < end; ++i) {
+      Eigen::Vector3d& q = scene.points[i];
+      if (i < surface) {
+        const double x = local.uniform() * total_area;
+        const std::size_t o = static_cast<std::size_t>(
+            std::upper_bound(cumulative_area.begin(), cumulative_area.end() - 1, x) - cumulative_area.begin());
+        q = samplers[o].sample(local);
+        q += p.noise_sigma * local.normal3();
+      } else if (i < surface + outliers) {
+        const double z = local.uniform(0.0, p.room_height);  // z, y, x: as normal3()
+        const double y = local.uniform(-half, half);
+        q = Eigen::Vector3d(local.uniform(-half, half), y, z);
+      } else {
+        const Eigen::Vector3d direction = local.unitVector();  // then the distance: as normal3()
+        q = local.uniform(1e5, 1e6) * direction;
+      }
+    }
+  });
+
+  // ORB-SLAM's map points come in no spatial order; neither do ours.
+  for (std::size_t i = n; i > 1; --i) std::swap(scene.points[i - 1], scene.points[rng.index(i)]);
+
+  if (p.orbslam_frame) {
+    const Eigen::Matrix3d m = mapToOrbSlamRotation();
+    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
+      const std::size_t end = std::min(n, (chunk + 1) * kChunk);
+      for (std::size_t i = chunk * kChunk; i < end; ++i) scene.points[i] = m * scene.points[i];
+    });
+    const Eigen::Quaterniond mq(m);
+    for (io::Keyframe& k : scene.keyframes) {
+      k.position = m * k.position;
+      k.orientation = (mq * k.orientation).normalized();
+    }
+  }
+  return scene;
+}
+
+void writeScene(const Scene& scene, const SceneParams& params, const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw Error(dir + ": cannot create directory: " + ec.message());
+  const fs::path base(dir);
+
+  core::writeFileAtomically((base / "map_points.txt").string(), [&scene](std::ostream& out) {
+    constexpr std::size_t kBlock = 1 << 20;
+    constexpr std::size_t kPart = 1 << 15;
+    const std::size_t n = scene.points.size();
+    std::vector<std::string> parts(kBlock / kPart);
+    for (std::size_t block = 0; block < n; block += kBlock) {
+      const std::size_t block_end = std::min(n, block + kBlock);
+      const std::size_t count = (block_end - block + kPart - 1) / kPart;
+      tbb::parallel_for(std::size_t{0}, count, [&](std::size_t part) {
+        std::string& text = parts[part];
+        text.clear();
+        const std::size_t end = std::min(block_end, block + (part + 1) * kPart);
+        for (std::size_t i = block + part * kPart; i < end; ++i) appendXyz(text, scene.points[i]);
+      });
+      for (std::size_t part = 0; part < count; ++part) out.write(parts[part].data(), parts[part].size());
+    }
+  });
+
+  core::writeFileAtomically((base / "KeyFrameTrajectory.txt").string(), [&scene](std::ostream& out) {
+    char line[512];
+    for (const io::Keyframe& k : scene.keyframes) {
+      const Eigen::Quaterniond& q = k.orientation;
+      std::snprintf(line, sizeof(line), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", k.stamp, k.position.x(),
+                    k.position.y(), k.position.z(), q.x(), q.y(), q.z(), q.w());
+      out << line;
+    }
+  });
+
+  auto primitive = [](const SceneObstacle& o) {
+    return nlohmann::json{{"shape", o.shape == SceneObstacle::Shape::kBox ? "box" : "cylinder"},
+                          {"center", {o.center.x(), o.center.y(), o.center.z()}},
+                          {"size", {o.size.x(), o.size.y(), o.size.z()}}};
+  };
+  if (params.layout == SceneLayout::kRoom) {
+    core::writeFileAtomically((base / "reference_trajectory.txt").string(), [&scene](std::ostream& out) {
+      char line[512];
+      for (const io::Keyframe& k : scene.reference) {
+        const Eigen::Quaterniond& q = k.orientation;
+        std::snprintf(line, sizeof(line), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", k.stamp, k.position.x(),
+                      k.position.y(), k.position.z(), q.x(), q.y(), q.z(), q.w());
+        out << line;
+      }
+    });
+  }
+
+  core::writeFileAtomically((base / "ground_truth.json").string(), [&scene, &params, &primitive](std::ostream& out) {
+    nlohmann::json j;
+    j["frame"] = "z-up map";
+    j["units"] = "metres";
+    if (params.layout == SceneLayout::kObstacles) {
+      j["points_frame"] = params.orbslam_frame ? "orbslam (y down): read with --up -y" : "z-up map";
+      j["params"] = {{"seed", params.seed},
+                     {"points", params.points},
+                     {"obstacles", params.obstacles},
+                     {"room_size", params.room_size},
+                     {"room_height", params.room_height},
+                     {"noise_sigma", params.noise_sigma},
+                     {"outlier_fraction", params.outlier_fraction},
+                     {"gross_outliers", params.gross_outliers},
+                     {"keyframes", params.keyframes}};
+      nlohmann::json list = nlohmann::json::array();
+      for (const SceneObstacle& o : scene.obstacles) list.push_back(primitive(o));
+      j["obstacles"] = list;
+      out << j.dump(2) << '\n';
+      return;
+    }
+    j["layout"] = "room";
+    j["points_frame"] = params.orbslam_frame
+                            ? "orbslam: the first keyframe's camera frame (x right, y down, z forward), "
+                              "monocular scale; align with reference_trajectory.txt"
+                            : "z-up map";
+    const Eigen::Matrix3d& r = scene.output_rotation;
+    j["output_from_map"] = {
+        {"scale", scene.output_scale},
+        {"rotation", {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}}},
+        {"translation", {scene.output_translation.x(), scene.output_translation.y(), scene.output_translation.z()}}};
+    j["params"] = {{"seed", params.seed},
+                   {"layout", "room"},
+                   {"points", scene.points.size()},
+                   {"furniture", params.obstacles},
+                   {"room_size", params.room_size},
+                   {"room_width", params.room_width > 0.0 ? params.room_width : params.room_size},
+                   {"room_height", params.room_height},
+                   {"loop_fraction", params.loop_fraction},
+                   {"placement", params.placement == FurniturePlacement::kAnywhere ? "anywhere" : "inside_loop"},
+                   {"wall_fraction", params.wall_fraction},
+                   {"density", params.density},
+                   {"edge_fraction", params.edge_fraction},
+                   {"noise_sigma", params.noise_sigma},
+                   {"outlier_fraction", params.outlier_fraction},
+                   {"gross_outliers", params.gross_outliers},
+                   {"keyframes", params.keyframes},
+                   {"monocular_scale", params.orbslam_frame ? params.monocular_scale : 1.0},
+                   {"camera_pitch_deg", params.camera_pitch_deg}};
+    nlohmann::json list = nlohmann::json::array();
+    for (const SceneObject& object : scene.objects) {
+      nlohmann::json entry;
+      if (object.parts.size() == 1) {
+        entry = primitive(object.parts.front());
+      } else {
+        entry["shape"] = "union";
+        nlohmann::json parts = nlohmann::json::array();
+        for (const SceneObstacle& o : object.parts) parts.push_back(primitive(o));
+        entry["parts"] = parts;
+      }
+      entry["kind"] = toString(object.kind);
+      list.push_back(entry);
+    }
+    j["obstacles"] = list;
+    out << j.dump(2) << '\n';
+  });
+}
+
+}  // namespace hullmap::sim

@@ -1,0 +1,71 @@
+#pragma once
+
+// Portable random numbers for the scene generators (sample_scene.cpp, sample_room.cpp). Not installed.
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+
+#include <Eigen/Core>
+
+#include "hullmap/core/constants.hpp"
+#include "hullmap/core/random.hpp"
+#include "hullmap/sim/sample_scene.hpp"
+
+namespace hullmap::sim::detail {
+
+inline constexpr double kCameraHeight = 1.2;
+inline constexpr std::size_t kChunk = 65536;  // points per independently seeded generator
+
+using core::splitMix64;
+
+// Portable random numbers: the same bits give the same values with any standard library.
+class SceneRandom {
+ public:
+  explicit SceneRandom(std::uint64_t seed) : engine_(seed) {}
+
+  double uniform() { return core::unitInterval(engine_()); }
+  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+  std::size_t index(std::size_t n) {
+    return static_cast<std::size_t>((static_cast<unsigned __int128>(engine_()) * n) >> 64);
+  }
+  // Box-Muller, both values used.
+  double normal() {
+    if (has_spare_) {
+      has_spare_ = false;
+      return spare_;
+    }
+    double u = 0.0;
+    do u = uniform();
+    while (u <= 0.0);
+    const double r = std::sqrt(-2.0 * std::log(u));
+    const double a = 2.0 * kPi * uniform();
+    spare_ = r * std::sin(a);
+    has_spare_ = true;
+    return r * std::cos(a);
+  }
+  // Three normal values, drawn one statement at a time, z first (the order maps/ was made in): the
+  // arguments of one call are not sequenced, and gcc and clang draw them in opposite orders.
+  Eigen::Vector3d normal3() {
+    const double z = normal();
+    const double y = normal();
+    const double x = normal();
+    return {x, y, z};
+  }
+  Eigen::Vector3d unitVector() {
+    Eigen::Vector3d v;
+    do v = normal3();
+    while (v.norm() < 1e-9);
+    return v.normalized();
+  }
+
+ private:
+  std::mt19937_64 engine_;
+  bool has_spare_ = false;
+  double spare_ = 0.0;
+};
+
+/// The kRoom layout of generateScene (sample_room.cpp); parameters already checked.
+Scene generateRoomScene(const SceneParams& params);
+
+}  // namespace hullmap::sim::detail
