@@ -10,24 +10,10 @@
 #include "hullmap/collision/fcl_obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
+#include "checker_fixtures.hpp"
 
 namespace hullmap::collision {
 namespace {
-
-using test::V3;
-
-struct Scene {
-  std::vector<hulls::Obstacle> obstacles;
-  test::VoxelBlobs voxels;
-};
-
-Scene randomScene(std::uint32_t seed, int clusters, double size) {
-  std::mt19937 rng(seed);
-  Scene s;
-  s.voxels = test::randomBlobs(rng, clusters, 150, size, 30);
-  s.obstacles = hulls::buildObstacles(s.voxels.centers, s.voxels.weights, s.voxels.labels, size);
-  return s;
-}
 
 // A planner's own FCL query names the obstacle it met by the obstacle's id, as HullChecker does.
 TEST(FclObstacles, CallbacksNameTheObstacleByItsId) {
@@ -58,13 +44,6 @@ TEST(FclObstacles, CallbacksNameTheObstacleByItsId) {
   EXPECT_EQ(query.ids, std::vector<int>{3});
   const HullChecker checker(obstacles);
   EXPECT_EQ(checker.check({V3(5.1, -1, 1), V3(5.1, 1, 1)}, 0.1).obstacle, 3);
-}
-
-Segment randomSegment(std::mt19937& rng, double extent, double max_length) {
-  std::uniform_real_distribution<double> u(-1, 1);
-  const V3 a(u(rng) * extent, u(rng) * extent, (u(rng) + 1) * 0.6 * extent);
-  const V3 d(u(rng), u(rng), u(rng));
-  return {a, a + d * max_length * (u(rng) + 1) / 2};
 }
 
 TEST(HullChecker, BatchEqualsOneByOneAndPathsReportFirstContact) {

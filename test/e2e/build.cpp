@@ -19,28 +19,9 @@
 #include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "run_hullmap.hpp"
+#include "build_fixtures.hpp"
 
-namespace fs = std::filesystem;
 using hullmap::test::expectOneLineError;
-using hullmap::test::freshDir;
-using hullmap::test::lineCount;
-using hullmap::test::readJson;
-using hullmap::test::runHullmap;
-using hullmap::test::slurp;
-using hullmap::test::writeText;
-
-namespace {
-
-/// A small generated scene (ORB-SLAM frame) written to `dir`.
-fs::path sampleScene(const fs::path& dir, std::size_t points = 6000) {
-  hullmap::sim::SceneParams params;
-  params.points = points;
-  params.seed = 7;
-  hullmap::sim::writeScene(hullmap::sim::generateScene(params), params, dir.string());
-  return dir;
-}
-
-}  // namespace
 
 TEST(CliBuild, SampleSceneEndToEndAccountsForEveryPoint) {
   const auto dir = freshDir("cli_build_sample");

@@ -19,34 +19,12 @@
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/pipeline/report.hpp"
 #include "run_hullmap.hpp"
+#include "build_stages_fixtures.hpp"
 
 namespace {
 
-using V3 = Eigen::Vector3d;
 namespace pipeline = hullmap::pipeline;
 namespace mapper = hullmap::mapper;
-
-/// A realistic room (by default 6 m, 4 pieces of furniture, 60 points per m^2) written as
-/// `generate --layout room`.
-struct Room {
-  hullmap::sim::SceneParams params;
-  hullmap::sim::Scene scene;
-  std::filesystem::path dir;
-};
-
-Room writeRoom(const std::string& name, std::uint64_t seed, double room_size = 6.0, std::size_t obstacles = 4,
-               double density = 60.0) {
-  Room room;
-  room.params.layout = hullmap::sim::SceneLayout::kRoom;
-  room.params.seed = seed;
-  room.params.room_size = room_size;
-  room.params.obstacles = obstacles;
-  room.params.density = density;
-  room.scene = hullmap::sim::generateScene(room.params);
-  room.dir = hullmap::test::freshDir(name);
-  hullmap::sim::writeScene(room.scene, room.params, room.dir.string());
-  return room;
-}
 
 TEST(PipelineStages, BadInputsNameTheOptionInOneLine) {
   using hullmap::test::runHullmap;

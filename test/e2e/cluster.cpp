@@ -17,33 +17,10 @@
 #include "hullmap/core/error.hpp"
 #include "run_hullmap.hpp"
 #include "metric_distance.hpp"
+#include "dbscan_fixtures.hpp"
 
 namespace hullmap::clustering {
 namespace {
-
-using Points = std::vector<Eigen::Vector3d>;
-using Weights = std::vector<std::uint32_t>;
-
-using hullmap::test::squaredDistance;
-
-/// Gaussian blobs plus uniform background, in a box of side `extent`.
-Points blobs(std::uint32_t seed, std::size_t n, double extent, int blob_count, double sigma) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> uniform(0.0, extent);
-  std::normal_distribution<double> gauss(0.0, sigma);
-  std::vector<Eigen::Vector3d> centers;
-  for (int b = 0; b < blob_count; ++b) centers.emplace_back(uniform(rng), uniform(rng), uniform(rng));
-  Points points;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (i % 5 == 4 || centers.empty()) {
-      points.emplace_back(uniform(rng), uniform(rng), uniform(rng));
-    } else {
-      const Eigen::Vector3d& c = centers[i % centers.size()];
-      points.emplace_back(c.x() + gauss(rng), c.y() + gauss(rng), c.z() + gauss(rng));
-    }
-  }
-  return points;
-}
 
 // ---- scikit-learn on real SLAM maps ----
 

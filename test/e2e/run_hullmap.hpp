@@ -18,15 +18,14 @@ struct CommandResult {
   std::string err;
 };
 
-/// Runs the hullmap binary with `args` (already shell-quoted where needed), capturing both streams.
-inline CommandResult runHullmap(const std::string& args) {
+/// Runs `command` (a shell command line without output redirections), capturing both streams.
+inline CommandResult runShell(const std::string& command) {
   static int counter = 0;
   const auto dir = std::filesystem::path(HULLMAP_TEST_TMP) / "cmd";
   std::filesystem::create_directories(dir);
   const std::string stem = (dir / ("run" + std::to_string(::getpid()) + "_" + std::to_string(counter++))).string();
-  const std::string command =
-      std::string("'") + HULLMAP_BINARY + "' " + args + " >" + stem + ".out 2>" + stem + ".err </dev/null";
-  const int raw = std::system(command.c_str());
+  const std::string line = command + " >" + stem + ".out 2>" + stem + ".err";
+  const int raw = std::system(line.c_str());
   CommandResult r;
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
   r.out = slurp(stem + ".out");
@@ -34,21 +33,15 @@ inline CommandResult runHullmap(const std::string& args) {
   return r;
 }
 
+/// Runs the hullmap binary with `args` (already shell-quoted where needed), capturing both streams.
+inline CommandResult runHullmap(const std::string& args) {
+  return runShell(std::string("'") + HULLMAP_BINARY + "' " + args + " </dev/null");
+}
+
 /// Runs the hullmap binary with `args` from the working directory `cwd`, standard input from `input`.
 inline CommandResult runHullmapIn(const std::filesystem::path& cwd, const std::string& args,
                                   const std::string& input = "/dev/null") {
-  static int counter = 0;
-  const auto dir = std::filesystem::path(HULLMAP_TEST_TMP) / "cmd";
-  std::filesystem::create_directories(dir);
-  const std::string stem = (dir / ("in" + std::to_string(::getpid()) + "_" + std::to_string(counter++))).string();
-  const std::string command = "cd '" + cwd.string() + "' && '" + std::string(HULLMAP_BINARY) + "' " + args + " >" +
-                              stem + ".out 2>" + stem + ".err <'" + input + "'";
-  const int raw = std::system(command.c_str());
-  CommandResult r;
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  r.out = slurp(stem + ".out");
-  r.err = slurp(stem + ".err");
-  return r;
+  return runShell("cd '" + cwd.string() + "' && '" + std::string(HULLMAP_BINARY) + "' " + args + " <'" + input + "'");
 }
 
 /// A run that failed as bad input does: exit 2, one line on stderr, "hullmap: error: ", holding `needle`.

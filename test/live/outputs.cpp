@@ -9,41 +9,10 @@
 #include "hullmap/core/convex_hull_2d.hpp"
 #include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/live/outputs.hpp"
+#include "polygon_oracle.hpp"
 
 namespace hullmap::live {
 namespace {
-
-// Exact oracle: a convex polygon and a closed square meet iff a vertex of one lies in the other or
-// two of their edges cross.
-bool segmentsMeet(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
-                  const Eigen::Vector2d& d) {
-  const auto cross = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); };
-  const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a), d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
-  return ((d1 > 0) != (d2 > 0) || d1 == 0 || d2 == 0) && ((d3 > 0) != (d4 > 0) || d3 == 0 || d4 == 0) &&
-         std::max(a.x(), b.x()) >= std::min(c.x(), d.x()) && std::max(c.x(), d.x()) >= std::min(a.x(), b.x()) &&
-         std::max(a.y(), b.y()) >= std::min(c.y(), d.y()) && std::max(c.y(), d.y()) >= std::min(a.y(), b.y());
-}
-
-bool insideConvex(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Eigen::Vector2d e = poly[(i + 1) % poly.size()] - poly[i];
-    const Eigen::Vector2d q = p - poly[i];
-    if (e.x() * q.y() - e.y() * q.x() < 0) return false;
-  }
-  return true;
-}
-
-bool meetsOracle(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
-  const std::vector<Eigen::Vector2d> square{lo, {hi.x(), lo.y()}, hi, {lo.x(), hi.y()}};
-  for (const auto& v : poly)
-    if (v.x() >= lo.x() && v.x() <= hi.x() && v.y() >= lo.y() && v.y() <= hi.y()) return true;
-  for (const auto& c : square)
-    if (insideConvex(poly, c)) return true;
-  for (std::size_t i = 0; i < poly.size(); ++i)
-    for (std::size_t j = 0; j < 4; ++j)
-      if (segmentsMeet(poly[i], poly[(i + 1) % poly.size()], square[j], square[(j + 1) % 4])) return true;
-  return false;
-}
 
 TEST(LiveProjectedGrid, MarksExactlyTheCellsThatTheFootprintsInTheBandTouch) {
   std::mt19937 rng(11);
@@ -73,7 +42,7 @@ TEST(LiveProjectedGrid, MarksExactlyTheCellsThatTheFootprintsInTheBandTouch) {
         bool expected = false;
         for (const auto& o : obstacles) {
           if (o.footprint.z_max >= 1.2 && o.footprint.z_min <= 3.1)  // obstacles 1, 2, 3
-            expected = expected || meetsOracle(o.footprint.polygon, lo, hi);
+            expected = expected || test::meetsOracle(o.footprint.polygon, lo, hi);
         }
         EXPECT_EQ(grid.data[r * grid.width + c], expected ? 100 : 0) << "cell " << r << "," << c;
         occupied += expected;

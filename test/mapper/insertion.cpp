@@ -11,26 +11,10 @@
 #include "hullmap/sim/sample_scene.hpp"
 #include "octree_oracle.hpp"
 #include "test_support.hpp"
+#include "insertion_fixtures.hpp"
 
 namespace hullmap::mapper {
 namespace {
-
-using namespace hullmap::io;
-using namespace hullmap::sim;
-
-using test::sameTree;
-
-void expectSameAsOctomap(const Points& points, const Point& origin, double resolution, double max_range, int repeats) {
-  octomap::OcTree expected(resolution);
-  octomap::OcTree actual(resolution);
-  const octomap::Pointcloud cloud = test::toCloud(points);
-  for (int r = 0; r < repeats; ++r) {
-    expected.insertPointCloud(cloud, test::toPoint3d(origin), max_range);
-    insertScan(actual, points, origin, max_range);
-    ASSERT_TRUE(sameTree(expected, actual))
-        << "resolution " << resolution << ", max_range " << max_range << ", insertion " << r + 1;
-  }
-}
 
 // Voxels of a few bricks marked free and occupied by a pattern, in `threads` BrickSets (a voxel
 // in one or several of them), applied as one scan update `repeats` times against octomap's

@@ -20,20 +20,10 @@
 #include "hullmap/pipeline/report.hpp"
 #include "octree_oracle.hpp"
 #include "test_support.hpp"
+#include "frames_fixtures.hpp"
 
 namespace hullmap::pipeline {
 namespace {
-
-using V3 = Eigen::Vector3d;
-
-std::string sample(const std::string& name) { return std::string(HULLMAP_SOURCE_DIR) + "/maps/" + name; }
-
-AlignSettings alignTo(const std::string& reference, io::ReferenceFormat format = io::ReferenceFormat::kTum) {
-  AlignSettings align;
-  align.reference = reference;
-  align.format = format;
-  return align;
-}
 
 TEST(PipelineFrames, WhetherTheMapIsLevelled) {
   BuildParams params;

@@ -10,31 +10,10 @@
 #include "hullmap/collision/fcl_obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
+#include "checker_fixtures.hpp"
 
 namespace hullmap::collision {
 namespace {
-
-using test::V3;
-
-struct Scene {
-  std::vector<hulls::Obstacle> obstacles;
-  test::VoxelBlobs voxels;
-};
-
-Scene randomScene(std::uint32_t seed, int clusters, double size) {
-  std::mt19937 rng(seed);
-  Scene s;
-  s.voxels = test::randomBlobs(rng, clusters, 150, size, 30);
-  s.obstacles = hulls::buildObstacles(s.voxels.centers, s.voxels.weights, s.voxels.labels, size);
-  return s;
-}
-
-Segment randomSegment(std::mt19937& rng, double extent, double max_length) {
-  std::uniform_real_distribution<double> u(-1, 1);
-  const V3 a(u(rng) * extent, u(rng) * extent, (u(rng) + 1) * 0.6 * extent);
-  const V3 d(u(rng), u(rng), u(rng));
-  return {a, a + d * max_length * (u(rng) + 1) / 2};
-}
 
 TEST(HullChecker, MatchesOracleOverAllObstacles) {
   const Scene scene = randomScene(21, 25, 0.1);

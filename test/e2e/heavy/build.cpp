@@ -19,27 +19,7 @@
 #include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "run_hullmap.hpp"
-
-namespace fs = std::filesystem;
-using hullmap::test::freshDir;
-using hullmap::test::lineCount;
-using hullmap::test::readJson;
-using hullmap::test::runHullmap;
-using hullmap::test::slurp;
-using hullmap::test::writeText;
-
-namespace {
-
-/// A small generated scene (ORB-SLAM frame) written to `dir`.
-fs::path sampleScene(const fs::path& dir, std::size_t points = 6000) {
-  hullmap::sim::SceneParams params;
-  params.points = points;
-  params.seed = 7;
-  hullmap::sim::writeScene(hullmap::sim::generateScene(params), params, dir.string());
-  return dir;
-}
-
-}  // namespace
+#include "build_fixtures.hpp"
 
 // A run killed at any stage (SIGKILL: no handler runs) leaves OUT/ as the previous run left it, never
 // half-written or missing; the next run sweeps away the staging directory the killed one left

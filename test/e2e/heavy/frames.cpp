@@ -13,31 +13,9 @@
 #include "hullmap/mapper/align.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "run_hullmap.hpp"
+#include "frames_fixtures.hpp"
 
 namespace {
-
-namespace fs = std::filesystem;
-using hullmap::test::freshDir;
-using hullmap::test::readJson;
-using hullmap::test::runHullmap;
-using hullmap::test::slurp;
-using hullmap::test::writeText;
-using V3 = Eigen::Vector3d;
-
-std::string sample(const std::string& name) { return std::string(HULLMAP_SOURCE_DIR) + "/maps/" + name; }
-
-hullmap::mapper::Similarity inputToOutput(const fs::path& out) {
-  return hullmap::pipeline::similarityFromJson(readJson(out / "report.json")["input_to_output"], "report.json",
-                                               "input_to_output");
-}
-
-std::vector<nlohmann::json> jsonLines(const std::string& text) {
-  std::vector<nlohmann::json> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty()) lines.push_back(nlohmann::json::parse(line));
-  return lines;
-}
 
 /// maps/room built at the defaults (aligned, floor found at z = 0), once for the tests here.
 const fs::path& roomBuild() {

@@ -19,27 +19,9 @@
 #include "hullmap/io/readers.hpp"
 #include "read_outcome.hpp"
 #include "test_support.hpp"
+#include "fuzz_regressions_fixtures.hpp"
 
 namespace {
-
-namespace fs = std::filesystem;
-using hullmap::Error;
-using namespace hullmap::mapper;
-using namespace hullmap::io;
-
-const fs::path kCorpus = fs::path(HULLMAP_SOURCE_DIR) / "test" / "fuzz" / "corpus";
-
-/// The points make_corpus.py writes (POINTS there).
-const std::vector<Point> kSeedPoints = {{0.0, 0.0, 1.0},    {0.1, -0.05, 1.01}, {0.2, -0.1, 1.02},
-                                        {-1.5, 2.25, 3e-3}, {12.0, -7.5, 0.5},  {0.0, 0.0, 0.0}};
-
-using hullmap::test::errorOf;
-
-std::string writeFile(const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  return path.string();
-}
 
 // ---------------------------------------------------------------------------------------------
 // The seed corpus holds what make_corpus.py wrote
@@ -80,9 +62,5 @@ TEST(MapperFuzzCorpus, EverySeedAndItsPrefixesStreamAsTheyParse) {
 
 // ---------------------------------------------------------------------------------------------
 // The messages docs/RELIABILITY.md quotes, exactly
-
-const std::string kPlyHead =
-    "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
-    "property float y\nproperty float z\nend_header\n";
 
 }  // namespace

@@ -20,42 +20,11 @@
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "hullmap/plot/svg_plot.hpp"
 #include "test_support.hpp"
+#include "plot_fixtures.hpp"
 
 namespace {
 
-using hullmap::plot::clusterColour;
-using hullmap::plot::MapPlot;
-using hullmap::plot::PlotView;
-using hullmap::plot::toHex;
-namespace fs = std::filesystem;
-
 // ---------------------------------------------------------------- helpers
-
-bool havePython() { return fs::exists(HULLMAP_PYTHON3); }
-
-// Runs `python3 script args`, returns stdout; status in `status`.
-std::string runPython(const std::string& script, const std::string& args, int& status) {
-  const auto dir = hullmap::test::freshDir("plot_py_" + std::to_string(std::hash<std::string>{}(script)));
-  const auto file = dir / "script.py";
-  std::ofstream(file) << script;
-  const std::string command = std::string("'") + HULLMAP_PYTHON3 + "' '" + file.string() + "' " + args + " 2>&1";
-  std::string out;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (!pipe) {
-    status = -1;
-    return out;
-  }
-  std::array<char, 4096> buf{};
-  std::size_t n = 0;
-  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
-  const int raw = ::pclose(pipe);
-  status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return out;
-}
-
-struct XmlElement {
-  std::string cls, id, label, fill;
-};
 
 // Decodes a PNG with the Python standard library only (zlib + the five PNG filters) and prints
 // "width height non_white count_of_each_colour..." for the colours given as rrggbb arguments.
@@ -109,45 +78,6 @@ for line in rows:
                 counts[k] += 1
 print(w, h, non_white, *counts)
 )PY";
-
-// A room of voxels: `k` box-shaped clusters of stacked voxels plus scattered noise voxels and two
-// far outliers. Labels as DBSCAN would give them.
-struct Scene {
-  MapPlot plot;
-  std::vector<std::uint32_t> weights;
-};
-
-Scene makeScene(int clusters, double vs, std::uint64_t seed) {
-  Scene s;
-  s.plot.voxel_size = vs;
-  std::mt19937_64 rng(seed);
-  const auto centre = [vs](int i) { return (i + 0.5) * vs; };
-  for (int c = 0; c < clusters; ++c) {
-    const int x0 = 4 + (c % 8) * 14, y0 = 4 + (c / 8) * 14;
-    const int w = 4 + c % 5, d = 3 + c % 4, h = 2 + c % 3;
-    for (int i = 0; i < w; ++i)
-      for (int j = 0; j < d; ++j)
-        for (int k = 0; k < h; ++k) {
-          s.plot.centers.emplace_back(centre(x0 + i), centre(y0 + j), centre(k));
-          s.plot.labels.push_back(c);
-        }
-  }
-  std::uniform_int_distribution<int> cell(0, 8 * 14 + 4);
-  std::uniform_int_distribution<int> level(0, 10);
-  for (int n = 0; n < 60; ++n) {
-    s.plot.centers.emplace_back(centre(cell(rng)), centre(cell(rng) % (((clusters + 7) / 8) * 14 + 4)),
-                                centre(level(rng)));
-    s.plot.labels.push_back(hullmap::clustering::kNoise);
-  }
-  s.plot.centers.emplace_back(centre(40000), centre(3), centre(1));  // gross outliers
-  s.plot.labels.push_back(hullmap::clustering::kNoise);
-  s.plot.centers.emplace_back(centre(-30000), centre(-30000), centre(1));
-  s.plot.labels.push_back(hullmap::clustering::kNoise);
-  s.weights.assign(s.plot.centers.size(), 1);
-  s.plot.obstacles = hullmap::hulls::buildObstacles(s.plot.centers, s.weights, s.plot.labels, vs);
-  s.plot.caption = {"eps = 0.1, minPts = 10, resolution = " + std::to_string(vs)};
-  return s;
-}
 
 // ---------------------------------------------------------------- palette
 
