@@ -1,0 +1,253 @@
+// The ground truth a build is scored against: its shapes' signed distance, and the readers of
+// maps/'s ground_truth.json and of OBJ meshes.
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include "hullmap/core/constants.hpp"
+#include "hullmap/core/error.hpp"
+#include "hullmap/sim/evaluate.hpp"
+
+namespace hullmap::sim {
+namespace {
+
+using V3 = Eigen::Vector3d;
+
+/// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
+V3 closestOnTriangle(const V3& p, const V3& a, const V3& b, const V3& c) {
+  const V3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const V3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
+  const V3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+/// Signed distance of a 2D or 3D axis-aligned box of half extents h centred at the origin.
+template <class V>
+double boxDistance(const V& q_abs_minus_h) {
+  const double outside = q_abs_minus_h.cwiseMax(0.0).norm();
+  const double inside = std::min(q_abs_minus_h.maxCoeff(), 0.0);
+  return outside + inside;
+}
+
+void finishShape(TruthShape& s) {
+  if (s.kind == TruthShape::Kind::kUnion) {
+    s.aabb_min = V3::Constant(kInf);
+    s.aabb_max = V3::Constant(-kInf);
+    for (const auto& part : s.parts) {
+      s.aabb_min = s.aabb_min.cwiseMin(part.aabb_min);
+      s.aabb_max = s.aabb_max.cwiseMax(part.aabb_max);
+    }
+    return;
+  }
+  if (s.kind == TruthShape::Kind::kMesh) {
+    s.aabb_min = V3::Constant(kInf);
+    s.aabb_max = V3::Constant(-kInf);
+    for (const auto& t : s.triangles)
+      for (const auto& v : t) {
+        s.aabb_min = s.aabb_min.cwiseMin(v);
+        s.aabb_max = s.aabb_max.cwiseMax(v);
+      }
+    return;
+  }
+  V3 half = 0.5 * s.size;
+  if (s.kind == TruthShape::Kind::kBox) {
+    const double c = std::abs(std::cos(s.yaw)), n = std::abs(std::sin(s.yaw));
+    half = V3(c * half.x() + n * half.y(), n * half.x() + c * half.y(), half.z());
+  }
+  s.aabb_min = s.center - half;
+  s.aabb_max = s.center + half;
+}
+
+GroundTruth readJsonTruth(const std::string& path, std::istream& in) {
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw Error(path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+  }
+  const auto fail = [&](const std::string& where, const std::string& what) -> void {
+    throw Error(path + ": " + where + ": " + what);
+  };
+  if (!doc.is_object() || !doc.contains("obstacles") || !doc["obstacles"].is_array())
+    fail("top level", "expected an object with an \"obstacles\" array");
+  const auto vec3 = [&](const nlohmann::json& j, const std::string& where) {
+    if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
+      fail(where, "expected [x, y, z]");
+    const V3 v(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+    if (!v.allFinite()) fail(where, "non-finite number");
+    return v;
+  };
+  GroundTruth truth;
+  const auto& list = doc["obstacles"];
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const std::string at = "obstacles[" + std::to_string(k) + "]";
+    const auto& j = list[k];
+    if (!j.is_object()) fail(at, "expected an object");
+    const auto primitive = [&](const nlohmann::json& j, const std::string& at) {
+      TruthShape s;
+      const std::string shape = j.contains("shape") && j["shape"].is_string() ? j["shape"].get<std::string>() : "";
+      if (shape == "box") {
+        s.kind = TruthShape::Kind::kBox;
+      } else if (shape == "cylinder") {
+        s.kind = TruthShape::Kind::kCylinder;
+      } else {
+        fail(at + ".shape", "expected \"box\" or \"cylinder\"");
+      }
+      if (!j.contains("center")) fail(at, "missing \"center\"");
+      if (!j.contains("size")) fail(at, "missing \"size\"");
+      s.center = vec3(j["center"], at + ".center");
+      s.size = vec3(j["size"], at + ".size");
+      if (!(s.size.array() > 0).all()) fail(at + ".size", "extents must be positive");
+      if (j.contains("yaw")) {
+        if (!j["yaw"].is_number() || !std::isfinite(j["yaw"].get<double>())) fail(at + ".yaw", "expected a number");
+        s.yaw = j["yaw"].get<double>();
+      }
+      s.label = shape;
+      finishShape(s);
+      return s;
+    };
+    TruthShape s;
+    if (j.contains("shape") && j["shape"] == "union") {
+      if (!j.contains("parts") || !j["parts"].is_array() || j["parts"].empty())
+        fail(at + ".parts", "a union needs a non-empty \"parts\" array");
+      s.kind = TruthShape::Kind::kUnion;
+      for (std::size_t p = 0; p < j["parts"].size(); ++p)
+        s.parts.push_back(primitive(j["parts"][p], at + ".parts[" + std::to_string(p) + "]"));
+      s.label = "union";
+    } else {
+      s = primitive(j, at);
+    }
+    const std::string shape = j.contains("kind") && j["kind"].is_string() ? j["kind"].get<std::string>() : s.label;
+    s.surface = shape == "floor" || shape == "ceiling";
+    s.label = shape + " " + std::to_string(k);
+    finishShape(s);
+    truth.shapes.push_back(std::move(s));
+  }
+  return truth;
+}
+
+GroundTruth readObjTruth(const std::string& path, std::istream& in) {
+  std::vector<V3> vertices;
+  GroundTruth truth;
+  TruthShape current;
+  current.kind = TruthShape::Kind::kMesh;
+  current.label = "mesh";
+  const auto flush = [&] {
+    if (!current.triangles.empty()) {
+      finishShape(current);
+      truth.shapes.push_back(current);
+    }
+    current.triangles.clear();
+  };
+  std::string line;
+  for (std::size_t number = 1; std::getline(in, line); ++number) {
+    std::istringstream s(line);
+    std::string tag;
+    if (!(s >> tag) || tag[0] == '#') continue;
+    const std::string where = path + ":" + std::to_string(number);
+    if (tag == "v") {
+      V3 v;
+      if (!(s >> v.x() >> v.y() >> v.z()) || !v.allFinite()) throw Error(where + ": expected v x y z");
+      vertices.push_back(v);
+    } else if (tag == "o" || tag == "g") {
+      flush();
+      std::string name;
+      std::getline(s >> std::ws, name);
+      current.label = name.empty() ? "mesh" : name;
+    } else if (tag == "f") {
+      std::vector<std::size_t> ring;
+      for (std::string item; s >> item;) {
+        long index = 0;
+        try {
+          index = std::stol(item.substr(0, item.find('/')));
+        } catch (const std::exception&) {
+          throw Error(where + ": bad face index \"" + item + "\"");
+        }
+        if (index < 0) index += long(vertices.size()) + 1;  // OBJ's relative indices
+        if (index < 1 || index > long(vertices.size()))
+          throw Error(where + ": face index " + item + " out of range (1.." + std::to_string(vertices.size()) + ")");
+        ring.push_back(std::size_t(index - 1));
+      }
+      if (ring.size() < 3) throw Error(where + ": a face needs at least 3 vertices");
+      for (std::size_t k = 1; k + 1 < ring.size(); ++k)
+        current.triangles.push_back({vertices[ring[0]], vertices[ring[k]], vertices[ring[k + 1]]});
+    }
+  }
+  flush();
+  if (truth.shapes.empty()) throw Error(path + ": no faces");
+  return truth;
+}
+
+}  // namespace
+
+double TruthShape::signedDistance(const V3& p) const {
+  switch (kind) {
+    case Kind::kBox: {
+      const V3 d = p - center;
+      const double c = std::cos(yaw), s = std::sin(yaw);
+      const V3 local(c * d.x() + s * d.y(), -s * d.x() + c * d.y(), d.z());
+      return boxDistance<V3>(local.cwiseAbs() - 0.5 * size);
+    }
+    case Kind::kCylinder: {
+      const V3 d = p - center;
+      const Eigen::Vector2d q(std::hypot(d.x(), d.y()) - 0.5 * size.x(), std::abs(d.z()) - 0.5 * size.z());
+      return boxDistance<Eigen::Vector2d>(q);
+    }
+    case Kind::kUnion: {
+      double best = kInf;
+      for (const auto& part : parts) best = std::min(best, part.signedDistance(p));
+      return best;
+    }
+    case Kind::kMesh: {
+      double best = kInf;
+      double winding = 0.0;
+      for (const auto& t : triangles) {
+        best = std::min(best, (p - closestOnTriangle(p, t[0], t[1], t[2])).norm());
+        // Solid angle of the triangle seen from p (Van Oosterom and Strackee 1983).
+        const V3 a = t[0] - p, b = t[1] - p, c = t[2] - p;
+        const double la = a.norm(), lb = b.norm(), lc = c.norm();
+        const double num = a.dot(b.cross(c));
+        const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+        winding += 2.0 * std::atan2(num, den);
+      }
+      winding /= 4.0 * kPi;
+      return std::abs(winding) >= 0.5 ? -best : best;
+    }
+  }
+  return kInf;
+}
+
+double GroundTruth::signedDistance(const V3& p) const {
+  double best = kInf;
+  for (const auto& s : shapes) best = std::min(best, s.signedDistance(p));
+  return best;
+}
+
+GroundTruth readGroundTruth(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open");
+  std::string lower = path;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (lower.size() >= 4 && lower.compare(lower.size() - 4, 4, ".obj") == 0) return readObjTruth(path, in);
+  return readJsonTruth(path, in);
+}
+
+}  // namespace hullmap::sim
