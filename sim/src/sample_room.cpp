@@ -411,13 +411,7 @@ std::vector<io::Keyframe> cameraLoop(const SceneParams& p, const Room& room) {
     const Eigen::Vector3d inward = room.circle ? Eigen::Vector3d(-std::cos(a), -std::sin(a), 0.0)
                                                : Eigen::Vector3d(-k.position.x(), -k.position.y(), 0.0).normalized();
     const Eigen::Vector3d forward = std::cos(pitch) * inward - std::sin(pitch) * Eigen::Vector3d::UnitZ();
-    const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
-    const Eigen::Vector3d down = forward.cross(right);
-    Eigen::Matrix3d r;
-    r.col(0) = right;
-    r.col(1) = down;
-    r.col(2) = forward;
-    k.orientation = Eigen::Quaterniond(r).normalized();
+    k.orientation = cameraLookingAlong(forward);
   }
   return keyframes;
 }

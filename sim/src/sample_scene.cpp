@@ -185,13 +185,7 @@ std::vector<io::Keyframe> cameraLoop(const SceneParams& p, double loop_radius) {
         Eigen::Vector3d(loop_radius * std::cos(a), loop_radius * std::sin(a), kCameraHeight + 0.05 * std::sin(3.0 * a));
     // Camera axes in the map: z forward (toward the room's axis, slightly down), x right, y down.
     const Eigen::Vector3d forward = Eigen::Vector3d(-std::cos(a), -std::sin(a), -0.15).normalized();
-    const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
-    const Eigen::Vector3d down = forward.cross(right);
-    Eigen::Matrix3d r;
-    r.col(0) = right;
-    r.col(1) = down;
-    r.col(2) = forward;
-    k.orientation = Eigen::Quaterniond(r).normalized();
+    k.orientation = detail::cameraLookingAlong(forward);
   }
   return keyframes;
 }

@@ -7,6 +7,7 @@
 #include <random>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "hullmap/core/constants.hpp"
 #include "hullmap/core/random.hpp"
@@ -67,5 +68,17 @@ class SceneRandom {
 
 /// The kRoom layout of generateScene (sample_room.cpp); parameters already checked.
 Scene generateRoomScene(const SceneParams& params);
+
+/// A camera's orientation in the map (ORB-SLAM's camera axes: z forward, x right, y down) looking
+/// along `forward` (unit, not vertical), with no roll.
+inline Eigen::Quaterniond cameraLookingAlong(const Eigen::Vector3d& forward) {
+  const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
+  const Eigen::Vector3d down = forward.cross(right);
+  Eigen::Matrix3d r;
+  r.col(0) = right;
+  r.col(1) = down;
+  r.col(2) = forward;
+  return Eigen::Quaterniond(r).normalized();
+}
 
 }  // namespace hullmap::sim::detail
