@@ -15,19 +15,44 @@ constexpr double kPow10[] = {1e0, 1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,
                              1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17};
 
 int digitCount(std::uint64_t m) {
+  static constexpr std::uint64_t kPowers[] = {10ull,
+                                              100ull,
+                                              1000ull,
+                                              10000ull,
+                                              100000ull,
+                                              1000000ull,
+                                              10000000ull,
+                                              100000000ull,
+                                              1000000000ull,
+                                              10000000000ull,
+                                              100000000000ull,
+                                              1000000000000ull,
+                                              10000000000000ull,
+                                              100000000000000ull,
+                                              1000000000000000ull,
+                                              10000000000000000ull,
+                                              100000000000000000ull,
+                                              1000000000000000000ull,
+                                              10000000000000000000ull};
   int n = 1;
-  while (m >= 10) {
-    m /= 10;
-    ++n;
-  }
+  while (n < 20 && m >= kPowers[n - 1]) ++n;
   return n;
 }
 
+/// The n digits of m (m < 10^n), written two at a time from a table of the pairs 00..99.
 char* writeDigits(char* first, std::uint64_t m, int n) {
-  for (int i = n - 1; i >= 0; --i) {
-    first[i] = char('0' + m % 10);
-    m /= 10;
+  static constexpr char kPairs[] =
+      "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+      "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+      "8081828384858687888990919293949596979899";
+  int i = n;
+  while (i >= 2) {
+    const std::size_t pair = std::size_t(m % 100) * 2;
+    m /= 100;
+    first[--i] = kPairs[pair + 1];
+    first[--i] = kPairs[pair];
   }
+  if (i == 1) first[0] = char('0' + m);
   return first + n;
 }
 
