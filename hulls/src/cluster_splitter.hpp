@@ -96,6 +96,12 @@ class ClusterSplitter {
   Check checkPart(const Members& part, bool need_split_point = true, const FacetHull* hull = nullptr,
                   bool faces = false) const;
 
+  /// Whether one of a few probe cells of the hull (`columns`: per column of the box lo..hi, the k
+  /// range whose cubes meet it) is farther than max(T, G) from every site (the cells, and the
+  /// enclosed cells of the box): then the check fails for certain. False says nothing.
+  bool farHullCell(const std::vector<LatticePoint>& cells, const LatticePoint& lo, const LatticePoint& hi,
+                   const std::vector<std::pair<std::int64_t, std::int64_t>>& columns) const;
+
   /// The cells the whole cluster encloses (enclosedCells over its box, closed below when its
   /// lowest cell is within two voxels of the floor); none when its box is over max_check_cells.
   void findEnclosed(const Members& all);
@@ -235,6 +241,7 @@ class ClusterSplitter {
   double t2_;           ///< T^2, cells^2 (with a relative 1e-12 for rounding)
   double g2_;           ///< G^2 >= T^2: the bound of a flat part
   std::int64_t reach_;  ///< floor(max(T, G))
+  std::int64_t cap2_;   ///< floor(max(T, G)^2): the largest integer squared distance within max(T, G)
   std::vector<std::pair<LatticePoint, float>>
       ball_;  ///< offsets within max(T, G) and the cluster's box (squared length, cells^2), nearest first
   std::size_t whole_ball_size_ = 0;  ///< offsets within max(T, G), unclipped

@@ -1,8 +1,9 @@
 // Felzenszwalb and Huttenlocher's exact squared Euclidean distance transform (Theory of Computing
 // 8, 2012), one pass per axis.
-#include "distance_transform.hpp"
+#include "hullmap/hulls/detail/distance_transform.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstddef>
 #include <limits>
 #include <vector>
@@ -10,33 +11,47 @@
 namespace hullmap::hulls::detail {
 namespace {
 
-/// Squared Euclidean distance transform along one line (Felzenszwalb and Huttenlocher 2012).
-void distanceTransform1d(std::vector<double>& f, std::vector<double>& out, std::vector<int>& v,
-                         std::vector<double>& z) {
-  const int n = int(f.size());
+/// Squared Euclidean distance transform along one line (Felzenszwalb and Huttenlocher 2012) in
+/// integers: `f` holds squared distances (integers) or kFar, at least one of them finite; `out`
+/// gets the lower envelope of the parabolas (q - r)^2 + f[r] of the finite ones. The parabolas'
+/// crossings are kept as fractions num / den (den > 0) and compared by cross-multiplication in 128
+/// bits, so no division rounds; the envelope, and its values at the integers, are exact.
+void distanceTransform1d(const std::vector<double>& f, std::vector<double>& out, std::vector<std::int64_t>& v,
+                         std::vector<std::int64_t>& num, std::vector<std::int64_t>& den) {
+  constexpr double kFar = 1e20;
+  const std::int64_t n = std::int64_t(f.size());
   v.resize(std::size_t(n));
-  z.resize(std::size_t(n) + 1);
-  int k = 0;
-  v[0] = 0;
-  z[0] = -std::numeric_limits<double>::infinity();
-  z[1] = std::numeric_limits<double>::infinity();
-  const auto meet = [&](int q, int r) {
-    return ((f[std::size_t(q)] + double(q) * q) - (f[std::size_t(r)] + double(r) * r)) / (2.0 * q - 2.0 * r);
-  };
-  for (int q = 1; q < n; ++q) {
-    double s = meet(q, v[std::size_t(k)]);
-    while (k > 0 && s <= z[std::size_t(k)]) s = meet(q, v[std::size_t(--k)]);
+  num.resize(std::size_t(n));
+  den.resize(std::size_t(n));
+  // The crossing of the parabolas from q and r (r < q): ((f[q] + q^2) - (f[r] + r^2)) / (2q - 2r).
+  const auto height = [&](std::int64_t q) { return std::int64_t(f[std::size_t(q)]) + q * q; };
+  std::int64_t k = -1;  // the envelope's parabolas v[0..k]; parabola k starts at num[k] / den[k] (k > 0)
+  for (std::int64_t q = 0; q < n; ++q) {
+    if (f[std::size_t(q)] >= kFar) continue;
+    std::int64_t a = 0, b = 1;
+    while (k >= 0) {
+      const std::int64_t r = v[std::size_t(k)];
+      a = height(q) - height(r);
+      b = 2 * (q - r);
+      // Parabola k is hidden when the new one crosses it at or before where k starts.
+      if (k > 0 && __int128(a) * den[std::size_t(k)] <= __int128(num[std::size_t(k)]) * b) {
+        --k;
+        continue;
+      }
+      break;
+    }
     ++k;
     v[std::size_t(k)] = q;
-    z[std::size_t(k)] = s;
-    z[std::size_t(k) + 1] = std::numeric_limits<double>::infinity();
+    num[std::size_t(k)] = a;
+    den[std::size_t(k)] = b;
   }
   out.resize(std::size_t(n));
-  k = 0;
-  for (int q = 0; q < n; ++q) {
-    while (z[std::size_t(k) + 1] < q) ++k;
-    const double d = q - v[std::size_t(k)];
-    out[std::size_t(q)] = d * d + f[std::size_t(v[std::size_t(k)])];
+  std::int64_t j = 0;
+  for (std::int64_t q = 0; q < n; ++q) {
+    // The next parabola starts before q: num / den < q.
+    while (j < k && num[std::size_t(j) + 1] < __int128(q) * den[std::size_t(j) + 1]) ++j;
+    const std::int64_t r = v[std::size_t(j)], d = q - r;
+    out[std::size_t(q)] = double(d * d) + f[std::size_t(r)];
   }
 }
 
@@ -48,8 +63,8 @@ void distanceTransform1d(std::vector<double>& f, std::vector<double>& out, std::
 void exactTransform(std::vector<float>& d2, const std::array<std::int64_t, 3>& dims) {
   constexpr double kFar = 1e20;
   const std::array<std::int64_t, 3> stride{1, dims[0], dims[0] * dims[1]};
-  std::vector<double> f, out, z;
-  std::vector<int> v;
+  std::vector<double> f, out;
+  std::vector<std::int64_t> v, num, den;
   for (int axis = 0; axis < 3; ++axis) {
     const std::size_t a = std::size_t(axis), b = std::size_t((axis + 1) % 3), c = std::size_t((axis + 2) % 3);
     const std::int64_t n = dims[a], s = stride[a];
@@ -84,10 +99,64 @@ void exactTransform(std::vector<float>& d2, const std::array<std::int64_t, 3>& d
           continue;
         }
         for (std::int64_t q = 0; q < n; ++q) f[std::size_t(q)] = d2[std::size_t(base + q * s)];
-        distanceTransform1d(f, out, v, z);
+        distanceTransform1d(f, out, v, num, den);
         for (std::int64_t q = 0; q < n; ++q) d2[std::size_t(base + q * s)] = float(std::min(out[std::size_t(q)], kFar));
       }
   }
+}
+
+void boundedTransform(std::vector<float>& d2, const std::array<std::int64_t, 3>& dims, std::int64_t cap2) {
+  constexpr float kFar = 1e20f;
+  std::int64_t reach = 0;
+  while ((reach + 1) * (reach + 1) <= cap2) ++reach;
+  const std::int64_t nx = dims[0], ny = dims[1], nz = dims[2];
+  // x: the squared distance to the nearest site of the row, when it is at most `reach` cells away
+  // (the input is 0 at the sites and kFar elsewhere, so the sites stay recognisable in place).
+  for (std::int64_t row = 0; row < ny * nz; ++row) {
+    float* line = d2.data() + row * nx;
+    std::int64_t site = -reach - 1;  // the nearest site at or before i
+    for (std::int64_t i = 0; i < nx; ++i) {
+      if (line[i] == 0.0f) {
+        site = i;
+      } else if (i - site <= reach) {
+        line[i] = float((i - site) * (i - site));
+      }
+    }
+    if (site < 0) continue;  // no site in the row
+    site = nx + reach + 1;   // the nearest site at or after i
+    for (std::int64_t i = nx - 1; i >= 0; --i) {
+      if (line[i] == 0.0f) {
+        site = i;
+      } else if (site - i <= reach) {
+        line[i] = std::min(line[i], float((site - i) * (site - i)));
+      }
+    }
+  }
+  // y, then z: the least over the rows `o` cells away of their value plus o^2 (kFar + o^2 is kFar).
+  const auto pass = [&](std::int64_t lines, std::int64_t count, std::int64_t stride, std::int64_t blocks,
+                        std::int64_t block_stride) {
+    std::vector<float> in(std::size_t(lines * stride));
+    for (std::int64_t b = 0; b < blocks; ++b) {
+      float* base = d2.data() + b * block_stride;
+      std::copy(base, base + lines * stride, in.begin());
+      for (std::int64_t q = 0; q < lines; ++q) {
+        float* out = base + q * stride;
+        for (std::int64_t o = 1; o <= reach; ++o) {
+          const float w = float(o * o);
+          for (const std::int64_t from : {q - o, q + o}) {
+            if (from < 0 || from >= lines) continue;
+            const float* src = in.data() + from * stride;
+            for (std::int64_t x = 0; x < count; ++x) out[x] = std::min(out[x], src[x] + w);
+          }
+        }
+      }
+    }
+  };
+  pass(ny, nx, nx, nz, nx * ny);     // per z plane: its ny rows of nx cells
+  pass(nz, nx * ny, nx * ny, 1, 0);  // the whole box: nz planes of nx * ny cells
+  const float cap = float(cap2);
+  for (float& x : d2)
+    if (x > cap) x = kFar;
 }
 
 }  // namespace hullmap::hulls::detail

@@ -15,7 +15,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_for_each.h>
 
-#include "distance_transform.hpp"
+#include "hullmap/hulls/detail/distance_transform.hpp"
 
 namespace hullmap::hulls::detail {
 namespace {
@@ -27,16 +27,25 @@ std::vector<std::pair<std::int64_t, std::int64_t>> hullColumns(const FacetHull& 
                                                                const LatticePoint& hi) {
   const std::int64_t nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1;
   std::vector<std::pair<std::int64_t, std::int64_t>> columns(std::size_t(nx * ny));
+  // Per plane, d less the cube's lowest offset: a cube (i, j, k) meets the plane's side when
+  // n0 i + n1 j + n2 k <= rest0.
+  std::vector<std::int64_t> rest0;
+  rest0.reserve(hull.planes.size());
+  for (const auto& p : hull.planes)
+    rest0.push_back(p.d - std::min<std::int64_t>(p.n[0], 0) - std::min<std::int64_t>(p.n[1], 0) -
+                    std::min<std::int64_t>(p.n[2], 0));
   for (std::int64_t j = lo[1]; j <= hi[1]; ++j) {
     for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
       std::int64_t k0 = lo[2], k1 = hi[2];
-      for (const auto& p : hull.planes) {
-        const std::int64_t rest = p.d - (p.n[0] * i + std::min<std::int64_t>(p.n[0], 0) + p.n[1] * j +
-                                         std::min<std::int64_t>(p.n[1], 0) + std::min<std::int64_t>(p.n[2], 0));
+      for (std::size_t q = 0; q < hull.planes.size(); ++q) {
+        const Plane& p = hull.planes[q];
+        const std::int64_t rest = rest0[q] - (p.n[0] * i + p.n[1] * j);
+        // Divide only when the bound tightens: floor(rest / n2) < k1 exactly when rest < k1 n2
+        // (n2 > 0), and ceil(rest / n2) > k0 exactly when rest < k0 n2 (n2 < 0).
         if (p.n[2] > 0) {
-          k1 = std::min(k1, floorDiv(rest, p.n[2]));
+          if (rest < k1 * p.n[2]) k1 = floorDiv(rest, p.n[2]);
         } else if (p.n[2] < 0) {
-          k0 = std::max(k0, ceilDiv(rest, p.n[2]));
+          if (rest < k0 * p.n[2]) k0 = ceilDiv(rest, p.n[2]);
         } else if (rest < 0) {
           k1 = k0 - 1;
         }
@@ -73,6 +82,7 @@ ClusterSplitter::ClusterSplitter(std::vector<LatticePoint> cells, double t_cells
       t2_(t_cells * t_cells * (1.0 + 1e-12)),
       g2_(std::max(g_cells, t_cells) * std::max(g_cells, t_cells) * (1.0 + 1e-12)),
       reach_(std::int64_t(std::floor(std::max(g_cells, t_cells)))),
+      cap2_(std::int64_t(std::floor(g2_))),
       max_check_cells_(max_check_cells),
       keyframes_(std::move(keyframes)) {
   // Offsets longer on an axis than the cluster's box is wide lead from any point of the box out of
@@ -124,37 +134,45 @@ Check ClusterSplitter::checkPart(const Members& part, bool need_split_point, con
     check.too_big = true;
     return check;
   }
-  // Squared distance (cells^2) from each cell centre of the box to the nearest occupied centre.
-  constexpr double kFar = 1e20;
-  const std::size_t box_cells = std::size_t(nx * ny * nz);
-  std::vector<float> d2(box_cells, float(kFar));
-  const auto at = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
-    return std::size_t(((k - lo[2]) * ny + (j - lo[1])) * nx + (i - lo[0]));
-  };
   // The sites: the part's cells, and the cells of its box that its cluster encloses (the inside
   // of a closed shell is no free space for a hull to swallow).
-  const auto seed = [&] {
-    std::fill(d2.begin(), d2.end(), float(kFar));
-    for (const auto& c : cells) d2[at(c[0], c[1], c[2])] = 0.0f;
-    std::size_t filled = 0;
-    if (enclosed_count_ == 0) return filled;
+  const auto each_enclosed = [&](auto&& visit) {
+    if (enclosed_count_ == 0) return;
     for (std::int64_t k = std::max(lo[2], enc_lo_[2]); k <= std::min(hi[2], enc_hi_[2]); ++k)
       for (std::int64_t j = std::max(lo[1], enc_lo_[1]); j <= std::min(hi[1], enc_hi_[1]); ++j)
         for (std::int64_t i = std::max(lo[0], enc_lo_[0]); i <= std::min(hi[0], enc_hi_[0]); ++i)
-          if (enclosed_[encAt(i, j, k)]) {
-            d2[at(i, j, k)] = 0.0f;
-            ++filled;
-          }
-    return filled;
+          if (enclosed_[encAt(i, j, k)]) visit(i, j, k);
   };
-  check.filled = seed() > 0;
-  const std::array<std::int64_t, 3> dims{nx, ny, nz};
-  // The exact transform over the whole box (Felzenszwalb-Huttenlocher, one pass per axis).
-  const auto transform = [&] { exactTransform(d2, dims); };
+  each_enclosed([&](std::int64_t, std::int64_t, std::int64_t) { check.filled = true; });
+  const std::size_t box_cells = std::size_t(nx * ny * nz);
   // Distances up to max(T, G) are all a passing check needs (and a failing one when no split point is
   // wanted): on a sparse part, the ball of radius T around each of its cells costs less than the
   // transform. Values within T are the same exact integers; beyond max(T, G) they stay kFar.
   const bool bounded = !check.filled && part.size() * whole_ball_size_ < 8 * box_cells;
+  // Cells whose cube meets the hull.
+  const std::vector<std::pair<std::int64_t, std::int64_t>> columns = hullColumns(check.hull, lo, hi);
+  // A hull cell farther than max(T, G) from every site fails the check whatever else the distances
+  // say: a check that wants no split point then needs no transform, one that does the exact one.
+  const bool fails = !bounded && farHullCell(cells, lo, hi, columns);
+  if (fails && !need_split_point) {
+    check.ok = false;
+    return check;
+  }
+  // Squared distance (cells^2) from each cell centre of the box to the nearest site's centre.
+  constexpr double kFar = 1e20;
+  std::vector<float> d2(box_cells, float(kFar));
+  const auto at = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+    return std::size_t(((k - lo[2]) * ny + (j - lo[1])) * nx + (i - lo[0]));
+  };
+  const auto seed = [&] {
+    std::fill(d2.begin(), d2.end(), float(kFar));
+    for (const auto& c : cells) d2[at(c[0], c[1], c[2])] = 0.0f;
+    each_enclosed([&](std::int64_t i, std::int64_t j, std::int64_t k) { d2[at(i, j, k)] = 0.0f; });
+  };
+  seed();
+  const std::array<std::int64_t, 3> dims{nx, ny, nz};
+  // The exact transform over the whole box (Felzenszwalb-Huttenlocher, one pass per axis).
+  const auto transform = [&] { exactTransform(d2, dims); };
   if (bounded) {
     for (const auto& c : cells)
       for (const auto& [o, o2] : ball_) {
@@ -163,11 +181,11 @@ Check ClusterSplitter::checkPart(const Members& part, bool need_split_point, con
         float& d = d2[at(i, j, k)];
         d = std::min(d, o2);
       }
-  } else {
+  } else if (fails) {
     transform();
+  } else {
+    boundedTransform(d2, dims, cap2_);  // the same values, by passes over the box
   }
-  // Cells whose cube meets the hull.
-  const std::vector<std::pair<std::int64_t, std::int64_t>> columns = hullColumns(check.hull, lo, hi);
   constexpr std::int64_t kBeyond = std::numeric_limits<std::int64_t>::max();
   std::int64_t worst = -1;
   LatticePoint worst_cell{0, 0, 0};
@@ -230,6 +248,33 @@ Check ClusterSplitter::checkPart(const Members& part, bool need_split_point, con
   return check;
 }
 
+bool ClusterSplitter::farHullCell(const std::vector<LatticePoint>& cells, const LatticePoint& lo,
+                                  const LatticePoint& hi,
+                                  const std::vector<std::pair<std::int64_t, std::int64_t>>& columns) const {
+  const std::int64_t nx = hi[0] - lo[0] + 1;
+  const auto far = [&](const LatticePoint& c) {
+    for (const auto& s : cells) {
+      const std::int64_t di = s[0] - c[0], dj = s[1] - c[1], dk = s[2] - c[2];
+      if (double(di * di + dj * dj + dk * dk) <= rho2_) return false;
+    }
+    if (enclosed_count_ > 0)
+      for (const auto& [o, o2] : ball_) {
+        const LatticePoint p{c[0] + o[0], c[1] + o[1], c[2] + o[2]};
+        const bool in_box =
+            p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1] && p[2] >= lo[2] && p[2] <= hi[2];
+        if (in_box && isEnclosed(p)) return false;
+      }
+    return true;
+  };
+  // The probes: the middle hull cell of the box's centre column and of its four quarter columns.
+  for (const auto& [qi, qj] : {std::pair{2, 2}, {1, 1}, {3, 1}, {1, 3}, {3, 3}}) {
+    const std::int64_t i = lo[0] + (hi[0] - lo[0]) * qi / 4, j = lo[1] + (hi[1] - lo[1]) * qj / 4;
+    const auto [k0, k1] = columns[std::size_t((j - lo[1]) * nx + (i - lo[0]))];
+    if (k1 >= k0 && far({i, j, k0 + (k1 - k0) / 2})) return true;
+  }
+  return false;
+}
+
 void ClusterSplitter::findEnclosed(const Members& all) {
   LatticePoint lo, hi;
   box(all, lo, hi);
@@ -238,7 +283,7 @@ void ClusterSplitter::findEnclosed(const Members& all) {
   if (double(nx + 2 * m) * double(ny + 2 * m) * double(nz + 2 * m) > double(max_check_cells_)) return;
   std::vector<float> d2(std::size_t(nx * ny * nz), 1e20f);
   for (const auto& c : cells_) d2[std::size_t(((c[2] - lo[2]) * ny + (c[1] - lo[1])) * nx + (c[0] - lo[0]))] = 0.0f;
-  exactTransform(d2, {nx, ny, nz});
+  boundedTransform(d2, {nx, ny, nz}, cap2_);  // only "within rho" is asked of it
   const bool closed_below = floor_k_ && double(lo[2]) <= *floor_k_ + 2.0;
   enclosed_ = enclosedCells(d2, nx, ny, nz, closed_below);
   enclosed_count_ = std::size_t(std::count(enclosed_.begin(), enclosed_.end(), char(1)));
@@ -299,7 +344,7 @@ std::vector<char> ClusterSplitter::enclosedCells(const std::vector<float>& d2, s
   // Distance to the reached cells (the blocked bottom layer is no reached cell: the floor).
   std::vector<float> outside(state.size());
   for (std::size_t x = 0; x < state.size(); ++x) outside[x] = state[x] == 2 ? 0.0f : 1e20f;
-  exactTransform(outside, {px, py, pz});
+  boundedTransform(outside, {px, py, pz}, cap2_);  // only "farther than rho" is asked of it
   std::vector<char> enclosed(std::size_t(nx * ny * nz), 0);
   for (std::int64_t k = 0; k < nz; ++k)
     for (std::int64_t j = 0; j < ny; ++j)

@@ -18,7 +18,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_for_each.h>
 
-#include "distance_transform.hpp"
+#include "hullmap/hulls/detail/distance_transform.hpp"
 
 namespace hullmap::hulls::detail {
 namespace {
