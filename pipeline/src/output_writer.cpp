@@ -20,6 +20,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <tbb/parallel_invoke.h>
+
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/pipeline/output_dir.hpp"
@@ -108,19 +110,23 @@ void write(const BuildResult& result, const fs::path& dir, const WriteOptions& o
   try {
     const StagingLock lock(staging);
     runStage("write");
-    mapper::writeMap(result.map, (staging / "map.bt").string());
-    if (result.params.write_ot) mapper::writeMap(result.map, (staging / "map.ot").string());
-    runStage("wrote_map");
-    writeVoxelsCsv(staging / "voxels.csv", result.voxels, result.clusters);
-    runStage("wrote_voxels");
     const nlohmann::json report = reportJson(result, options.spelling);
     ObstaclesMeta meta;
     meta.frame = outputFrame(result);
     meta.parameters = report["parameters"];
     meta.surfaces = result.surfaces;
     meta.input_to_output = result.report.input_to_output;
-    writeObstaclesJson((staging / "obstacles.json").string(), result.obstacles, meta);
-    writeObstaclesObj((staging / "obstacles.obj").string(), result.obstacles);
+    // The files are independent: written side by side (voxels.csv and obstacles.json take longest).
+    tbb::parallel_invoke(
+        [&] {
+          mapper::writeMap(result.map, (staging / "map.bt").string());
+          if (result.params.write_ot) mapper::writeMap(result.map, (staging / "map.ot").string());
+        },
+        [&] { writeVoxelsCsv(staging / "voxels.csv", result.voxels, result.clusters); },
+        [&] { writeObstaclesJson((staging / "obstacles.json").string(), result.obstacles, meta); },
+        [&] { writeObstaclesObj((staging / "obstacles.obj").string(), result.obstacles); });
+    runStage("wrote_map");
+    runStage("wrote_voxels");
     runStage("wrote_obstacles");
     core::writeFileAtomically((staging / "report.json").string(),
                               [&](std::ostream& os) { os << report.dump(2) << '\n'; });

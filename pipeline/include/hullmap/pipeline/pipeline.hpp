@@ -291,9 +291,11 @@ io::PointSet readInputPoints(const std::vector<std::string>& inputs);
 namespace detail {
 /// Test-only: when set, build() and write() call it at the start of each stage with the stage's
 /// name: "read", "frame_and_filters", "octree", "dbscan", "obstacles", then write()'s "write" (staging
-/// directory made and locked), "wrote_map", "wrote_voxels", "wrote_obstacles" and "move_into_place"
-/// (every file written, the directory not yet in place); a test stops the run there (throw, or kill the process) to see
-/// what a run interrupted at that stage leaves behind. Not thread-safe; nullptr (the default) does nothing.
+/// directory made and locked), "wrote_map", "wrote_voxels", "wrote_obstacles" (called one after the
+/// other once map.bt, voxels.csv and the obstacle files, written side by side, are all written) and
+/// "move_into_place" (every file written, the directory not yet in place); a test stops the run there (throw, or kill
+/// the process) to see what a run interrupted at that stage leaves behind. Not thread-safe; nullptr (the default) does
+/// nothing.
 extern void (*stage_hook)(const char* stage);
 
 /// The build's rims step, exposed for its tests. After DBSCAN, each floor voxel (kFloorLabel) joins
