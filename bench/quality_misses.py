@@ -38,7 +38,7 @@ def cylinder_distance(p, center, size):
 
 
 def signed_distance(shape, p):
-    """As TruthShape::signedDistance (sim/src/evaluate.cpp)."""
+    """As TruthShape::signedDistance (sim/src/ground_truth.cpp)."""
     if shape["shape"] == "union":
         return np.min([signed_distance(part, p) for part in shape["parts"]], axis=0)
     if shape["shape"] == "box":

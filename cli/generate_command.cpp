@@ -76,11 +76,11 @@ void addGenerateCommand(CLI::App& app, int& status) {
     sim::writeScene(scene, *params, *dir);
     if (params->layout == sim::SceneLayout::kRoom) {
       std::cout << "wrote " << scene.points.size() << " points, " << scene.keyframes.size() << " keyframes, "
-                << scene.objects.size() << " objects (floor, 4 walls, " << params->obstacles
+                << scene.truth.shapes.size() << " objects (floor, 4 walls, " << params->obstacles
                 << " pieces of furniture) and reference_trajectory.txt to " << *dir << "\n";
     } else {
       std::cout << "wrote " << scene.points.size() << " points, " << scene.keyframes.size() << " keyframes, "
-                << scene.obstacles.size() << " obstacles to " << *dir << "\n";
+                << scene.truth.shapes.size() << " obstacles to " << *dir << "\n";
     }
     status = 0;
   });

@@ -9,7 +9,7 @@
 
 #include "commands.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/sim/evaluate.hpp"
+#include "hullmap/sim/ground_truth.hpp"
 #include "hullmap/planning/roadmap_json.hpp"
 #include "hullmap/view/html_view.hpp"
 #include "option_checks.hpp"

@@ -93,7 +93,7 @@ std::vector<HullPlanes> hullsOf(const std::vector<hulls::Obstacle>& obstacles) {
 /// The point of a box or cylinder shape nearest p (p itself inside).
 V3 project(const TruthShape& s, const V3& p) {
   const V3 d = p - s.center;
-  if (s.kind == TruthShape::Kind::kBox) {
+  if (s.shape == TruthShape::Shape::kBox) {
     const double c = std::cos(s.yaw), n = std::sin(s.yaw);
     V3 local(c * d.x() + n * d.y(), -n * d.x() + c * d.y(), d.z());
     local = local.cwiseMax(-0.5 * s.size).cwiseMin(0.5 * s.size);
@@ -150,16 +150,16 @@ double convexDistance(const std::vector<V3>& vertices, const TruthShape& s) {
 /// Distance from a hull to a true shape: exact for boxes, cylinders and their unions
 /// (convexDistance); for a mesh the least over the hull's vertices and `samples` (points in it).
 double hullDistance(const std::vector<V3>& vertices, const std::vector<V3>& samples, const TruthShape& s) {
-  switch (s.kind) {
-    case TruthShape::Kind::kBox:
-    case TruthShape::Kind::kCylinder:
+  switch (s.shape) {
+    case TruthShape::Shape::kBox:
+    case TruthShape::Shape::kCylinder:
       return convexDistance(vertices, s);
-    case TruthShape::Kind::kUnion: {
+    case TruthShape::Shape::kUnion: {
       double best = kInf;
       for (const auto& part : s.parts) best = std::min(best, convexDistance(vertices, part));
       return best;
     }
-    case TruthShape::Kind::kMesh: {
+    case TruthShape::Shape::kMesh: {
       double best = kInf;
       for (const V3& p : vertices) best = std::min(best, s.signedDistance(p));
       for (const V3& p : samples) best = std::min(best, s.signedDistance(p));
@@ -304,7 +304,7 @@ std::optional<SampledSegments> sampleSegments(const GroundTruth& truth, const Ev
   double above = -kInf, below = kInf;
   for (const auto& s : truth.shapes) {
     if (!s.surface) continue;
-    if (s.label.rfind("floor", 0) == 0)
+    if (s.kind == "floor")
       above = std::max(above, s.aabb_max.z() + free_distance);
     else
       below = std::min(below, s.aabb_min.z() - free_distance);

@@ -1,9 +1,10 @@
-// The ground truth a build is scored against: its shapes' signed distance, and the readers of
-// maps/'s ground_truth.json and of OBJ meshes.
+// The ground truth (the scene generator's and the one a build is scored against): its shapes, their
+// signed distance, and its JSON both ways (maps/'s ground_truth.json), with the reader of OBJ meshes.
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include <Eigen/Geometry>
@@ -11,7 +12,7 @@
 
 #include "hullmap/core/constants.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/sim/evaluate.hpp"
+#include "hullmap/sim/ground_truth.hpp"
 
 namespace hullmap::sim {
 namespace {
@@ -47,33 +48,39 @@ double boxDistance(const V& q_abs_minus_h) {
   return outside + inside;
 }
 
-void finishShape(TruthShape& s) {
-  if (s.kind == TruthShape::Kind::kUnion) {
-    s.aabb_min = V3::Constant(kInf);
-    s.aabb_max = V3::Constant(-kInf);
-    for (const auto& part : s.parts) {
-      s.aabb_min = s.aabb_min.cwiseMin(part.aabb_min);
-      s.aabb_max = s.aabb_max.cwiseMax(part.aabb_max);
-    }
-    return;
-  }
-  if (s.kind == TruthShape::Kind::kMesh) {
-    s.aabb_min = V3::Constant(kInf);
-    s.aabb_max = V3::Constant(-kInf);
-    for (const auto& t : s.triangles)
-      for (const auto& v : t) {
-        s.aabb_min = s.aabb_min.cwiseMin(v);
-        s.aabb_max = s.aabb_max.cwiseMax(v);
-      }
-    return;
-  }
+/// A floor or a ceiling: a bound of the map.
+bool isSurface(const std::string& kind) { return kind == "floor" || kind == "ceiling"; }
+
+/// The aabb of a box or cylinder: its centre -/+ its half extents (a turned box's, about z).
+void setPrimitiveAabb(TruthShape& s) {
   V3 half = 0.5 * s.size;
-  if (s.kind == TruthShape::Kind::kBox) {
+  if (s.shape == TruthShape::Shape::kBox) {
     const double c = std::abs(std::cos(s.yaw)), n = std::abs(std::sin(s.yaw));
     half = V3(c * half.x() + n * half.y(), n * half.x() + c * half.y(), half.z());
   }
   s.aabb_min = s.center - half;
   s.aabb_max = s.center + half;
+}
+
+/// A shape of `kind`, labelled so, a surface when its kind is floor or ceiling.
+TruthShape ofKind(TruthShape::Shape shape, const std::string& kind) {
+  TruthShape s;
+  s.shape = shape;
+  s.kind = kind;
+  s.label = kind;
+  s.surface = isSurface(kind);
+  return s;
+}
+
+/// A box or cylinder as ground_truth.json writes it ("yaw" only when turned).
+nlohmann::json primitiveToJson(const TruthShape& s) {
+  if (s.shape != TruthShape::Shape::kBox && s.shape != TruthShape::Shape::kCylinder)
+    throw Error("ground truth: " + s.label + ": a union's part must be a box or a cylinder");
+  nlohmann::json j{{"shape", s.shape == TruthShape::Shape::kBox ? "box" : "cylinder"},
+                   {"center", {s.center.x(), s.center.y(), s.center.z()}},
+                   {"size", {s.size.x(), s.size.y(), s.size.z()}}};
+  if (s.yaw != 0.0) j["yaw"] = s.yaw;
+  return j;
 }
 
 GroundTruth readJsonTruth(const std::string& path, std::istream& in) {
@@ -101,45 +108,35 @@ GroundTruth readJsonTruth(const std::string& path, std::istream& in) {
     const std::string at = "obstacles[" + std::to_string(k) + "]";
     const auto& j = list[k];
     if (!j.is_object()) fail(at, "expected an object");
-    const auto primitive = [&](const nlohmann::json& j, const std::string& at) {
-      TruthShape s;
+    // A box or cylinder of `kind` (without one, of its shape's name).
+    const auto primitive = [&](const nlohmann::json& j, const std::string& at, const std::optional<std::string>& kind) {
       const std::string shape = j.contains("shape") && j["shape"].is_string() ? j["shape"].get<std::string>() : "";
-      if (shape == "box") {
-        s.kind = TruthShape::Kind::kBox;
-      } else if (shape == "cylinder") {
-        s.kind = TruthShape::Kind::kCylinder;
-      } else {
-        fail(at + ".shape", "expected \"box\" or \"cylinder\"");
-      }
+      if (shape != "box" && shape != "cylinder") fail(at + ".shape", "expected \"box\" or \"cylinder\"");
       if (!j.contains("center")) fail(at, "missing \"center\"");
       if (!j.contains("size")) fail(at, "missing \"size\"");
-      s.center = vec3(j["center"], at + ".center");
-      s.size = vec3(j["size"], at + ".size");
-      if (!(s.size.array() > 0).all()) fail(at + ".size", "extents must be positive");
+      const V3 center = vec3(j["center"], at + ".center");
+      const V3 size = vec3(j["size"], at + ".size");
+      if (!(size.array() > 0).all()) fail(at + ".size", "extents must be positive");
+      double yaw = 0.0;
       if (j.contains("yaw")) {
         if (!j["yaw"].is_number() || !std::isfinite(j["yaw"].get<double>())) fail(at + ".yaw", "expected a number");
-        s.yaw = j["yaw"].get<double>();
+        yaw = j["yaw"].get<double>();
       }
-      s.label = shape;
-      finishShape(s);
-      return s;
+      const std::string named = kind.value_or(shape);
+      return shape == "box" ? TruthShape::box(center, size, named, yaw) : TruthShape::cylinder(center, size, named);
     };
-    TruthShape s;
+    std::optional<std::string> kind;
+    if (j.contains("kind") && j["kind"].is_string()) kind = j["kind"].get<std::string>();
     if (j.contains("shape") && j["shape"] == "union") {
       if (!j.contains("parts") || !j["parts"].is_array() || j["parts"].empty())
         fail(at + ".parts", "a union needs a non-empty \"parts\" array");
-      s.kind = TruthShape::Kind::kUnion;
+      std::vector<TruthShape> parts;
       for (std::size_t p = 0; p < j["parts"].size(); ++p)
-        s.parts.push_back(primitive(j["parts"][p], at + ".parts[" + std::to_string(p) + "]"));
-      s.label = "union";
+        parts.push_back(primitive(j["parts"][p], at + ".parts[" + std::to_string(p) + "]", std::nullopt));
+      truth.add(TruthShape::unionOf(kind.value_or("union"), std::move(parts)));
     } else {
-      s = primitive(j, at);
+      truth.add(primitive(j, at, kind));
     }
-    const std::string shape = j.contains("kind") && j["kind"].is_string() ? j["kind"].get<std::string>() : s.label;
-    s.surface = shape == "floor" || shape == "ceiling";
-    s.label = shape + " " + std::to_string(k);
-    finishShape(s);
-    truth.shapes.push_back(std::move(s));
   }
   return truth;
 }
@@ -147,15 +144,11 @@ GroundTruth readJsonTruth(const std::string& path, std::istream& in) {
 GroundTruth readObjTruth(const std::string& path, std::istream& in) {
   std::vector<V3> vertices;
   GroundTruth truth;
-  TruthShape current;
-  current.kind = TruthShape::Kind::kMesh;
-  current.label = "mesh";
+  std::string label = "mesh";
+  std::vector<std::array<V3, 3>> triangles;
   const auto flush = [&] {
-    if (!current.triangles.empty()) {
-      finishShape(current);
-      truth.shapes.push_back(current);
-    }
-    current.triangles.clear();
+    if (!triangles.empty()) truth.shapes.push_back(TruthShape::mesh(label, std::move(triangles)));
+    triangles.clear();
   };
   std::string line;
   for (std::size_t number = 1; std::getline(in, line); ++number) {
@@ -171,7 +164,7 @@ GroundTruth readObjTruth(const std::string& path, std::istream& in) {
       flush();
       std::string name;
       std::getline(s >> std::ws, name);
-      current.label = name.empty() ? "mesh" : name;
+      label = name.empty() ? "mesh" : name;
     } else if (tag == "f") {
       std::vector<std::size_t> ring;
       for (std::string item; s >> item;) {
@@ -188,7 +181,7 @@ GroundTruth readObjTruth(const std::string& path, std::istream& in) {
       }
       if (ring.size() < 3) throw Error(where + ": a face needs at least 3 vertices");
       for (std::size_t k = 1; k + 1 < ring.size(); ++k)
-        current.triangles.push_back({vertices[ring[0]], vertices[ring[k]], vertices[ring[k + 1]]});
+        triangles.push_back({vertices[ring[0]], vertices[ring[k]], vertices[ring[k + 1]]});
     }
   }
   flush();
@@ -198,25 +191,72 @@ GroundTruth readObjTruth(const std::string& path, std::istream& in) {
 
 }  // namespace
 
+TruthShape TruthShape::box(const V3& center, const V3& size, const std::string& kind, double yaw) {
+  TruthShape s = ofKind(Shape::kBox, kind);
+  s.center = center;
+  s.size = size;
+  s.yaw = yaw;
+  setPrimitiveAabb(s);
+  return s;
+}
+
+TruthShape TruthShape::cylinder(const V3& center, const V3& size, const std::string& kind) {
+  TruthShape s = ofKind(Shape::kCylinder, kind);
+  s.center = center;
+  s.size = size;
+  setPrimitiveAabb(s);
+  return s;
+}
+
+TruthShape TruthShape::unionOf(const std::string& kind, std::vector<TruthShape> parts) {
+  TruthShape s = ofKind(Shape::kUnion, kind);
+  s.parts = std::move(parts);
+  s.aabb_min = V3::Constant(kInf);
+  s.aabb_max = V3::Constant(-kInf);
+  for (const auto& part : s.parts) {
+    s.aabb_min = s.aabb_min.cwiseMin(part.aabb_min);
+    s.aabb_max = s.aabb_max.cwiseMax(part.aabb_max);
+  }
+  return s;
+}
+
+TruthShape TruthShape::mesh(const std::string& label, std::vector<std::array<V3, 3>> triangles) {
+  TruthShape s = ofKind(Shape::kMesh, "mesh");
+  s.label = label;
+  s.triangles = std::move(triangles);
+  s.aabb_min = V3::Constant(kInf);
+  s.aabb_max = V3::Constant(-kInf);
+  for (const auto& t : s.triangles)
+    for (const auto& v : t) {
+      s.aabb_min = s.aabb_min.cwiseMin(v);
+      s.aabb_max = s.aabb_max.cwiseMax(v);
+    }
+  return s;
+}
+
+TruthShapeRange TruthShape::primitives() const {
+  return shape == Shape::kUnion ? TruthShapeRange(parts.data(), parts.size()) : TruthShapeRange(this, 1);
+}
+
 double TruthShape::signedDistance(const V3& p) const {
-  switch (kind) {
-    case Kind::kBox: {
+  switch (shape) {
+    case Shape::kBox: {
       const V3 d = p - center;
       const double c = std::cos(yaw), s = std::sin(yaw);
       const V3 local(c * d.x() + s * d.y(), -s * d.x() + c * d.y(), d.z());
       return boxDistance<V3>(local.cwiseAbs() - 0.5 * size);
     }
-    case Kind::kCylinder: {
+    case Shape::kCylinder: {
       const V3 d = p - center;
       const Eigen::Vector2d q(std::hypot(d.x(), d.y()) - 0.5 * size.x(), std::abs(d.z()) - 0.5 * size.z());
       return boxDistance<Eigen::Vector2d>(q);
     }
-    case Kind::kUnion: {
+    case Shape::kUnion: {
       double best = kInf;
       for (const auto& part : parts) best = std::min(best, part.signedDistance(p));
       return best;
     }
-    case Kind::kMesh: {
+    case Shape::kMesh: {
       double best = kInf;
       double winding = 0.0;
       for (const auto& t : triangles) {
@@ -235,6 +275,18 @@ double TruthShape::signedDistance(const V3& p) const {
   return kInf;
 }
 
+void GroundTruth::add(TruthShape shape) {
+  shape.label = shape.kind + " " + std::to_string(shapes.size());
+  shapes.push_back(std::move(shape));
+}
+
+std::vector<TruthShape> GroundTruth::primitives() const {
+  std::vector<TruthShape> out;
+  for (const auto& s : shapes)
+    for (const auto& p : s.primitives()) out.push_back(p);
+  return out;
+}
+
 double GroundTruth::signedDistance(const V3& p) const {
   double best = kInf;
   for (const auto& s : shapes) best = std::min(best, s.signedDistance(p));
@@ -248,6 +300,25 @@ GroundTruth readGroundTruth(const std::string& path) {
   std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (lower.size() >= 4 && lower.compare(lower.size() - 4, 4, ".obj") == 0) return readObjTruth(path, in);
   return readJsonTruth(path, in);
+}
+
+nlohmann::json groundTruthToJson(const GroundTruth& truth, bool write_kinds) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const TruthShape& s : truth.shapes) {
+    nlohmann::json entry;
+    if (s.shape == TruthShape::Shape::kMesh) throw Error("ground truth: " + s.label + ": a mesh has no JSON form");
+    if (s.shape == TruthShape::Shape::kUnion) {
+      entry["shape"] = "union";
+      nlohmann::json parts = nlohmann::json::array();
+      for (const TruthShape& part : s.parts) parts.push_back(primitiveToJson(part));
+      entry["parts"] = parts;
+    } else {
+      entry = primitiveToJson(s);
+    }
+    if (write_kinds) entry["kind"] = s.kind;
+    list.push_back(entry);
+  }
+  return list;
 }
 
 }  // namespace hullmap::sim

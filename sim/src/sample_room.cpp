@@ -16,12 +16,33 @@ namespace {
 
 constexpr double kWallThickness = 0.1;  // the truth's walls and floor are 10 cm thick, outside the room
 
-SceneObstacle box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-  SceneObstacle o;
-  o.shape = SceneObstacle::Shape::kBox;
-  o.center = 0.5 * (lo + hi);
-  o.size = hi - lo;
-  return o;
+// The box from corner lo to corner hi, of `kind`.
+TruthShape boxBetween(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const std::string& kind = "box") {
+  return TruthShape::box(0.5 * (lo + hi), hi - lo, kind);
+}
+
+// A box or cylinder as `part` (a primitive of kind box or cylinder), at `center` with `size`.
+TruthShape reshaped(const TruthShape& part, const Eigen::Vector3d& center, const Eigen::Vector3d& size) {
+  return part.shape == TruthShape::Shape::kBox ? TruthShape::box(center, size) : TruthShape::cylinder(center, size);
+}
+
+// A true object of `kind` made of `parts`: their union, or the one part itself.
+TruthShape object(const std::string& kind, std::vector<TruthShape> parts) {
+  if (parts.size() > 1) return TruthShape::unionOf(kind, std::move(parts));
+  const TruthShape& part = parts.front();
+  return part.shape == TruthShape::Shape::kBox ? TruthShape::box(part.center, part.size, kind)
+                                               : TruthShape::cylinder(part.center, part.size, kind);
+}
+
+// `o`'s primitives moved by `shift` in x and y, as an object of o's kind.
+TruthShape shifted(const TruthShape& o, const Eigen::Vector2d& shift) {
+  std::vector<TruthShape> parts;
+  for (const TruthShape& part : o.primitives()) {
+    Eigen::Vector3d center = part.center;
+    center.head<2>() += shift;
+    parts.push_back(reshaped(part, center, part.size));
+  }
+  return object(o.kind, std::move(parts));
 }
 
 // A visible surface patch: a rectangle c + u a + v b (u, v in [-1, 1]), a cylinder's side or its
@@ -36,7 +57,7 @@ struct Patch {
   std::size_t part = 0;  // index into the flat parts list (itself is never a rejecter)
 };
 
-void addBoxFaces(const SceneObstacle& o, std::size_t part, bool top, std::vector<Patch>& patches) {
+void addBoxFaces(const TruthShape& o, std::size_t part, bool top, std::vector<Patch>& patches) {
   const Eigen::Vector3d h = 0.5 * o.size;
   auto rect = [&](const Eigen::Vector3d& c, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     Patch p;
@@ -55,7 +76,7 @@ void addBoxFaces(const SceneObstacle& o, std::size_t part, bool top, std::vector
   rect(o.center - y, x, z);
 }
 
-void addCylinder(const SceneObstacle& o, std::size_t part, std::vector<Patch>& patches) {
+void addCylinder(const TruthShape& o, std::size_t part, std::vector<Patch>& patches) {
   const double r = 0.5 * o.size.x(), hz = 0.5 * o.size.z();
   Patch side;
   side.type = Patch::Type::kCylinderSide;
@@ -100,10 +121,10 @@ Eigen::Vector3d samplePatch(const Patch& p, bool on_edge, SceneRandom& rng) {
 }
 
 // On or inside the part (1e-9 m slack).
-bool covers(const SceneObstacle& o, const Eigen::Vector3d& q) {
+bool covers(const TruthShape& o, const Eigen::Vector3d& q) {
   const Eigen::Vector3d d = q - o.center;
   const Eigen::Vector3d h = 0.5 * o.size;
-  if (o.shape == SceneObstacle::Shape::kBox) return (d.cwiseAbs() - h).maxCoeff() <= 1e-9;
+  if (o.shape == TruthShape::Shape::kBox) return (d.cwiseAbs() - h).maxCoeff() <= 1e-9;
   return std::hypot(d.x(), d.y()) <= h.x() + 1e-9 && std::abs(d.z()) <= h.z() + 1e-9;
 }
 
@@ -112,9 +133,9 @@ struct Footprint {
   Eigen::Vector2d lo, hi;
 };
 
-Footprint footprint(const SceneObject& object) {
+Footprint footprint(const TruthShape& object) {
   Footprint f{Eigen::Vector2d::Constant(1e300), Eigen::Vector2d::Constant(-1e300)};
-  for (const auto& p : object.parts) {
+  for (const auto& p : object.primitives()) {
     f.lo = f.lo.cwiseMin((p.center - 0.5 * p.size).head<2>());
     f.hi = f.hi.cwiseMax((p.center + 0.5 * p.size).head<2>());
   }
@@ -127,49 +148,47 @@ double gap(const Footprint& a, const Footprint& b) {
 }
 
 // A piece of furniture with its footprint's lower corner at the origin, standing on z = 0.
-SceneObject furniture(const SceneParams& p, SceneRandom& rng) {
-  SceneObject f;
+TruthShape furniture(const SceneParams& p, SceneRandom& rng) {
+  std::string kind;
+  std::vector<TruthShape> parts;
   const double max_height = std::min(2.2, p.room_height - 0.3);
   const double pick = rng.uniform();
   if (pick < 0.3) {
-    f.kind = SceneObject::Kind::kLShelf;
+    kind = "l_shelf";
     const double la = rng.uniform(1.0, 1.8), lb = rng.uniform(0.8, 1.5), d = rng.uniform(0.3, 0.45);
     const double h = rng.uniform(1.2, max_height);
     // Arm A along x, arm B along y starting where A ends: the two boxes touch, never overlap.
-    f.parts.push_back(box({0, 0, 0}, {la, d, h}));
-    f.parts.push_back(box({0, d, 0}, {d, d + lb, h}));
+    parts.push_back(boxBetween({0, 0, 0}, {la, d, h}));
+    parts.push_back(boxBetween({0, d, 0}, {d, d + lb, h}));
   } else if (pick < 0.6) {
-    f.kind = SceneObject::Kind::kTable;
+    kind = "table";
     const double w = rng.uniform(0.8, 1.6), l = rng.uniform(0.6, 1.0), top = rng.uniform(0.72, 0.78);
     const double leg = 0.05, inset = 0.05, thick = 0.04;
-    f.parts.push_back(box({0, 0, top - thick}, {w, l, top}));
+    parts.push_back(boxBetween({0, 0, top - thick}, {w, l, top}));
     for (int i = 0; i < 4; ++i) {
       const double x = (i & 1) ? w - inset - leg : inset;
       const double y = (i & 2) ? l - inset - leg : inset;
-      f.parts.push_back(box({x, y, 0}, {x + leg, y + leg, top - thick}));
+      parts.push_back(boxBetween({x, y, 0}, {x + leg, y + leg, top - thick}));
     }
   } else if (pick < 0.8) {
-    f.kind = SceneObject::Kind::kBox;
-    f.parts.push_back(box({0, 0, 0}, {rng.uniform(0.4, 1.2), rng.uniform(0.4, 1.2), rng.uniform(0.6, max_height)}));
+    kind = "box";
+    parts.push_back(
+        boxBetween({0, 0, 0}, {rng.uniform(0.4, 1.2), rng.uniform(0.4, 1.2), rng.uniform(0.6, max_height)}));
   } else {
-    f.kind = SceneObject::Kind::kCylinder;
-    SceneObstacle c;
-    c.shape = SceneObstacle::Shape::kCylinder;
+    kind = "cylinder";
     const double d = rng.uniform(0.3, 0.8), h = rng.uniform(0.6, max_height);
-    c.size = Eigen::Vector3d(d, d, h);
-    c.center = Eigen::Vector3d(0.5 * d, 0.5 * d, 0.5 * h);
-    f.parts.push_back(c);
+    parts.push_back(TruthShape::cylinder(Eigen::Vector3d(0.5 * d, 0.5 * d, 0.5 * h), Eigen::Vector3d(d, d, h)));
   }
   // A quarter turn half of the time (about the footprint's corner, then back into x, y >= 0).
   if (rng.uniform() < 0.5) {
-    for (auto& part : f.parts) {
-      part.center = Eigen::Vector3d(-part.center.y(), part.center.x(), part.center.z());
-      std::swap(part.size.x(), part.size.y());
+    for (TruthShape& part : parts) {
+      const Eigen::Vector3d center(-part.center.y(), part.center.x(), part.center.z());
+      part = reshaped(part, center, Eigen::Vector3d(part.size.y(), part.size.x(), part.size.z()));
     }
-    const Footprint fp = footprint(f);
-    for (auto& part : f.parts) part.center.head<2>() -= fp.lo;
+    const TruthShape turned = object(kind, std::move(parts));
+    return shifted(turned, -footprint(turned).lo);
   }
-  return f;
+  return object(kind, std::move(parts));
 }
 
 // The camera loop's ellipse (semi-axes lx, ly) sampled every 0.25 degrees, for the placement gaps.
@@ -227,12 +246,11 @@ struct Room {
 // Floor and walls (their inner faces are the room's boundary).
 void addShell(const Room& room, Scene& scene) {
   const double t = kWallThickness, half = room.half, half_y = room.half_y, zh = room.height;
-  SceneObject floor{SceneObject::Kind::kFloor, {box({-half - t, -half_y - t, -t}, {half + t, half_y + t, 0})}};
-  scene.objects.push_back(floor);
-  scene.objects.push_back({SceneObject::Kind::kWall, {box({-half - t, -half_y - t, 0}, {-half, half_y + t, zh})}});
-  scene.objects.push_back({SceneObject::Kind::kWall, {box({half, -half_y - t, 0}, {half + t, half_y + t, zh})}});
-  scene.objects.push_back({SceneObject::Kind::kWall, {box({-half, -half_y - t, 0}, {half, -half_y, zh})}});
-  scene.objects.push_back({SceneObject::Kind::kWall, {box({-half, half_y, 0}, {half, half_y + t, zh})}});
+  scene.truth.add(boxBetween({-half - t, -half_y - t, -t}, {half + t, half_y + t, 0}, "floor"));
+  scene.truth.add(boxBetween({-half - t, -half_y - t, 0}, {-half, half_y + t, zh}, "wall"));
+  scene.truth.add(boxBetween({half, -half_y - t, 0}, {half + t, half_y + t, zh}, "wall"));
+  scene.truth.add(boxBetween({-half, -half_y - t, 0}, {half, -half_y, zh}, "wall"));
+  scene.truth.add(boxBetween({-half, half_y, 0}, {half, half_y + t, zh}, "wall"));
 }
 
 // Where a piece of furniture of `extent` goes inside the camera loop (its lower corner's shift), or
@@ -272,14 +290,14 @@ void addFurniture(const SceneParams& p, const Room& room, SceneRandom& rng, Scen
   for (std::size_t n = 0; n < p.obstacles; ++n) {
     bool done = false;
     for (int attempt = 0; attempt < 10000 && !done; ++attempt) {
-      SceneObject f = furniture(p, rng);
+      TruthShape f = furniture(p, rng);
       const Footprint local = footprint(f);
       const Eigen::Vector2d extent = local.hi - local.lo;
       const auto shift = p.placement == FurniturePlacement::kAnywhere
                              ? anywhereShift(extent, room.half, room.half_y, p.wall_fraction, rng)
                              : insideLoopShift(extent, room, rng);
       if (!shift) continue;
-      for (auto& part : f.parts) part.center.head<2>() += *shift;
+      f = shifted(f, *shift);
       const Footprint fp = footprint(f);
       if (!loop.empty() && p.placement == FurniturePlacement::kAnywhere &&
           loopGap(fp, loop) < kSceneObstacleGap + loop_slack)
@@ -288,7 +306,7 @@ void addFurniture(const SceneParams& p, const Room& room, SceneRandom& rng, Scen
                          [&fp](const Footprint& other) { return gap(fp, other) >= kSceneObstacleGap; });
       if (done) {
         placed.push_back(fp);
-        scene.objects.push_back(f);
+        scene.truth.add(f);
       }
     }
     if (!done) {
@@ -303,9 +321,9 @@ void addFurniture(const SceneParams& p, const Room& room, SceneRandom& rng, Scen
 std::vector<Patch> visiblePatches(const Scene& scene, const Room& room) {
   std::vector<Patch> patches;
   std::size_t part = 0;
-  for (const auto& object : scene.objects) {
-    for (const auto& o : object.parts) {
-      if (object.kind == SceneObject::Kind::kFloor) {
+  for (const auto& object : scene.truth.shapes) {
+    for (const auto& o : object.primitives()) {
+      if (object.kind == "floor") {
         Patch top;
         top.c = Eigen::Vector3d(0, 0, 0);
         top.a = Eigen::Vector3d(room.half, 0, 0);
@@ -313,7 +331,7 @@ std::vector<Patch> visiblePatches(const Scene& scene, const Room& room) {
         top.area = 4.0 * room.half * room.half_y;
         top.part = part;
         patches.push_back(top);
-      } else if (object.kind == SceneObject::Kind::kWall) {
+      } else if (object.kind == "wall") {
         // The face toward the room's centre.
         const Eigen::Vector3d h = 0.5 * o.size;
         Patch face;
@@ -330,7 +348,7 @@ std::vector<Patch> visiblePatches(const Scene& scene, const Room& room) {
         face.b = Eigen::Vector3d(0, 0, h.z());
         face.area = 4.0 * face.a.norm() * face.b.norm();
         patches.push_back(face);
-      } else if (o.shape == SceneObstacle::Shape::kBox) {
+      } else if (o.shape == TruthShape::Shape::kBox) {
         addBoxFaces(o, part, true, patches);
       } else {
         addCylinder(o, part, patches);
@@ -343,16 +361,14 @@ std::vector<Patch> visiblePatches(const Scene& scene, const Room& room) {
 
 // The points, in chunks of kChunk drawn in parallel from seeds of their own: on the visible patches
 // (redrawn where furniture hides them), with noise; outliers in the room; gross outliers far away.
-// Then shuffled with `rng`. Fills scene.obstacles (the flat parts list) too.
+// Then shuffled with `rng`.
 void samplePoints(const SceneParams& p, const Room& room, SceneRandom& rng, Scene& scene) {
   // Only furniture hides surfaces (a wall's foot on the floor is a visible edge, as is a box's).
+  const std::vector<TruthShape> parts = scene.truth.primitives();
   std::vector<bool> hides;
-  for (const auto& object : scene.objects) {
-    for (const auto& part : object.parts) {
-      scene.obstacles.push_back(part);
-      hides.push_back(object.kind != SceneObject::Kind::kFloor && object.kind != SceneObject::Kind::kWall);
-    }
-  }
+  for (const auto& object : scene.truth.shapes)
+    for (std::size_t k = 0; k < object.primitives().size(); ++k)
+      hides.push_back(object.kind != "floor" && object.kind != "wall");
   const std::vector<Patch> patches = visiblePatches(scene, room);
   std::vector<double> cumulative;
   double area = 0.0;
@@ -378,8 +394,8 @@ void samplePoints(const SceneParams& p, const Room& room, SceneRandom& rng, Scen
           const Patch& patch = patches[k];
           q = samplePatch(patch, local.uniform() < p.edge_fraction, local);
           bool hidden = false;
-          for (std::size_t j = 0; j < scene.obstacles.size() && !hidden; ++j) {
-            hidden = hides[j] && j != patch.part && covers(scene.obstacles[j], q);
+          for (std::size_t j = 0; j < parts.size() && !hidden; ++j) {
+            hidden = hides[j] && j != patch.part && covers(parts[j], q);
           }
           if (!hidden) break;
         }

@@ -27,9 +27,9 @@ using detail::SceneRandom;
 // Samples the surface of one obstacle: half the points near edges, half on visible faces.
 class SurfaceSampler {
  public:
-  explicit SurfaceSampler(const SceneObstacle& o) : o_(o) {
+  explicit SurfaceSampler(const TruthShape& o) : o_(o) {
     const Eigen::Vector3d& s = o.size;
-    if (o.shape == SceneObstacle::Shape::kBox) {
+    if (o.shape == TruthShape::Shape::kBox) {
       face_weights_ = {s.x() * s.y(), s.x() * s.z(), s.x() * s.z(), s.y() * s.z(), s.y() * s.z()};
       edge_weights_ = {s.x(), s.x(), s.x(), s.x(), s.y(), s.y(), s.y(), s.y(), s.z(), s.z(), s.z(), s.z()};
     } else {
@@ -48,7 +48,7 @@ class SurfaceSampler {
     const Eigen::Vector3d& c = o_.center;
     const bool on_edge = rng.uniform() < 0.5;
     const std::size_t i = pick(on_edge ? edge_weights_ : face_weights_, rng);
-    if (o_.shape == SceneObstacle::Shape::kCylinder) {
+    if (o_.shape == TruthShape::Shape::kCylinder) {
       const double a = 2.0 * kPi * rng.uniform();
       const Eigen::Vector3d radial(std::cos(a), std::sin(a), 0.0);
       if (on_edge) return c + h.x() * radial + Eigen::Vector3d(0, 0, i == 0 ? h.z() : -h.z());
@@ -91,13 +91,13 @@ class SurfaceSampler {
     return weights.size() - 1;
   }
 
-  SceneObstacle o_;
+  TruthShape o_;  // a box or cylinder
   std::vector<double> face_weights_;
   std::vector<double> edge_weights_;
   double area_ = 0.0;
 };
 
-double footprintGap(const SceneObstacle& a, const SceneObstacle& b) {
+double footprintGap(const TruthShape& a, const TruthShape& b) {
   const double dx = std::abs(a.center.x() - b.center.x()) - 0.5 * (a.size.x() + b.size.x());
   const double dy = std::abs(a.center.y() - b.center.y()) - 0.5 * (a.size.y() + b.size.y());
   return std::max(dx, dy);
@@ -137,34 +137,35 @@ void checkParams(const SceneParams& p) {
   }
 }
 
-std::vector<SceneObstacle> placeObstacles(const SceneParams& p, double loop_radius, SceneRandom& rng) {
-  std::vector<SceneObstacle> obstacles;
+GroundTruth placeObstacles(const SceneParams& p, double loop_radius, SceneRandom& rng) {
+  GroundTruth obstacles;
   const double max_height = std::min(2.5, p.room_height - 0.2);
   for (std::size_t n = 0; n < p.obstacles; ++n) {
     bool placed = false;
     for (int attempt = 0; attempt < 10000 && !placed; ++attempt) {
-      SceneObstacle o;
-      o.shape = rng.uniform() < 0.5 ? SceneObstacle::Shape::kBox : SceneObstacle::Shape::kCylinder;
+      const bool box = rng.uniform() < 0.5;
       const double height = rng.uniform(0.6, max_height);
-      if (o.shape == SceneObstacle::Shape::kBox) {
+      Eigen::Vector3d size;
+      if (box) {
         // One draw a statement, y first (the order maps/ was made in): the arguments of one call are
         // not sequenced, and gcc and clang draw them in opposite orders.
         const double size_y = rng.uniform(0.4, 1.4);
         const double size_x = rng.uniform(0.4, 1.4);
-        o.size = Eigen::Vector3d(size_x, size_y, height);
+        size = Eigen::Vector3d(size_x, size_y, height);
       } else {
         const double d = rng.uniform(0.3, 1.0);
-        o.size = Eigen::Vector3d(d, d, height);
+        size = Eigen::Vector3d(d, d, height);
       }
-      const double reach = loop_radius - kSceneObstacleGap - 0.5 * o.size.head<2>().norm();
+      const double reach = loop_radius - kSceneObstacleGap - 0.5 * size.head<2>().norm();
       if (reach <= 0.0) continue;
       const double center_y = rng.uniform(-reach, reach);
       const double center_x = rng.uniform(-reach, reach);
-      o.center = Eigen::Vector3d(center_x, center_y, 0.5 * height);
-      if (o.center.head<2>().norm() > reach) continue;
-      placed = std::all_of(obstacles.begin(), obstacles.end(),
-                           [&o](const SceneObstacle& other) { return footprintGap(o, other) >= kSceneObstacleGap; });
-      if (placed) obstacles.push_back(o);
+      const Eigen::Vector3d center(center_x, center_y, 0.5 * height);
+      if (center.head<2>().norm() > reach) continue;
+      const TruthShape o = box ? TruthShape::box(center, size) : TruthShape::cylinder(center, size);
+      placed = std::all_of(obstacles.shapes.begin(), obstacles.shapes.end(),
+                           [&o](const TruthShape& other) { return footprintGap(o, other) >= kSceneObstacleGap; });
+      if (placed) obstacles.add(o);
     }
     if (!placed) {
       throw Error("scene parameters: cannot place " + std::to_string(p.obstacles) + " obstacles " +
@@ -209,24 +210,6 @@ Eigen::Matrix3d mapToOrbSlamRotation() {
   return m;
 }
 
-std::string toString(SceneObject::Kind kind) {
-  switch (kind) {
-    case SceneObject::Kind::kBox:
-      return "box";
-    case SceneObject::Kind::kCylinder:
-      return "cylinder";
-    case SceneObject::Kind::kLShelf:
-      return "l_shelf";
-    case SceneObject::Kind::kTable:
-      return "table";
-    case SceneObject::Kind::kWall:
-      return "wall";
-    case SceneObject::Kind::kFloor:
-      return "floor";
-  }
-  return "box";
-}
-
 Scene generateScene(const SceneParams& p) {
   checkParams(p);
   if (p.layout == SceneLayout::kRoom) return detail::generateRoomScene(p);
@@ -234,13 +217,13 @@ Scene generateScene(const SceneParams& p) {
   const double loop_radius = 0.4 * p.room_size;
 
   Scene scene;
-  scene.obstacles = placeObstacles(p, loop_radius, rng);
+  scene.truth = placeObstacles(p, loop_radius, rng);
   scene.keyframes = cameraLoop(p, loop_radius);
 
   std::vector<SurfaceSampler> samplers;
   std::vector<double> cumulative_area;
   double total_area = 0.0;
-  for (const auto& o : scene.obstacles) {
+  for (const auto& o : scene.truth.shapes) {
     samplers.emplace_back(o);
     total_area += samplers.back().area();
     cumulative_area.push_back(total_area);
@@ -331,11 +314,6 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
     }
   });
 
-  auto primitive = [](const SceneObstacle& o) {
-    return nlohmann::json{{"shape", o.shape == SceneObstacle::Shape::kBox ? "box" : "cylinder"},
-                          {"center", {o.center.x(), o.center.y(), o.center.z()}},
-                          {"size", {o.size.x(), o.size.y(), o.size.z()}}};
-  };
   if (params.layout == SceneLayout::kRoom) {
     core::writeFileAtomically((base / "reference_trajectory.txt").string(), [&scene](std::ostream& out) {
       char line[512];
@@ -348,7 +326,7 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
     });
   }
 
-  core::writeFileAtomically((base / "ground_truth.json").string(), [&scene, &params, &primitive](std::ostream& out) {
+  core::writeFileAtomically((base / "ground_truth.json").string(), [&scene, &params](std::ostream& out) {
     nlohmann::json j;
     j["frame"] = "z-up map";
     j["units"] = "metres";
@@ -363,9 +341,7 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
                      {"outlier_fraction", params.outlier_fraction},
                      {"gross_outliers", params.gross_outliers},
                      {"keyframes", params.keyframes}};
-      nlohmann::json list = nlohmann::json::array();
-      for (const SceneObstacle& o : scene.obstacles) list.push_back(primitive(o));
-      j["obstacles"] = list;
+      j["obstacles"] = groundTruthToJson(scene.truth, false);  // plain boxes and cylinders, no "kind"
       out << j.dump(2) << '\n';
       return;
     }
@@ -397,21 +373,7 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
                    {"keyframes", params.keyframes},
                    {"monocular_scale", params.orbslam_frame ? params.monocular_scale : 1.0},
                    {"camera_pitch_deg", params.camera_pitch_deg}};
-    nlohmann::json list = nlohmann::json::array();
-    for (const SceneObject& object : scene.objects) {
-      nlohmann::json entry;
-      if (object.parts.size() == 1) {
-        entry = primitive(object.parts.front());
-      } else {
-        entry["shape"] = "union";
-        nlohmann::json parts = nlohmann::json::array();
-        for (const SceneObstacle& o : object.parts) parts.push_back(primitive(o));
-        entry["parts"] = parts;
-      }
-      entry["kind"] = toString(object.kind);
-      list.push_back(entry);
-    }
-    j["obstacles"] = list;
+    j["obstacles"] = groundTruthToJson(scene.truth, true);
     out << j.dump(2) << '\n';
   });
 }

@@ -25,7 +25,7 @@ namespace {
 using hullmap::test::errorOf;
 using namespace hullmap::clustering;
 using hullmap::io::Points;
-using hullmap::sim::SceneObstacle;
+using hullmap::sim::TruthShape;
 
 struct Voxels {
   std::vector<Eigen::Vector3d> centres;
@@ -48,10 +48,10 @@ Voxels voxelize(const Points& points, double res) {
   return v;
 }
 
-double surfaceDistance(const SceneObstacle& o, const Eigen::Vector3d& p) {
+double surfaceDistance(const TruthShape& o, const Eigen::Vector3d& p) {
   const Eigen::Vector3d h = 0.5 * o.size;
   const Eigen::Vector3d d = p - o.center;
-  if (o.shape == SceneObstacle::Shape::kBox) {
+  if (o.shape == TruthShape::Shape::kBox) {
     const Eigen::Vector3d q = d.cwiseAbs() - h;
     return std::abs(q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0));
   }
@@ -155,8 +155,8 @@ TEST(ClusteringAutoParams, GeneratedScenesClusterWithLittleNoiseAndNoMerges) {
     std::size_t on_obstacle = 0, on_obstacle_noise = 0;
     std::map<std::int32_t, std::set<std::size_t>> touched;  // cluster -> true obstacles
     for (std::size_t i = 0; i < v.centres.size(); ++i) {
-      for (std::size_t o = 0; o < scene.obstacles.size(); ++o) {
-        if (surfaceDistance(scene.obstacles[o], v.centres[i]) <= 0.06) {
+      for (std::size_t o = 0; o < scene.truth.shapes.size(); ++o) {
+        if (surfaceDistance(scene.truth.shapes[o], v.centres[i]) <= 0.06) {
           ++on_obstacle;
           if (r.labels[i] == kNoise)
             ++on_obstacle_noise;
@@ -173,7 +173,7 @@ TEST(ClusteringAutoParams, GeneratedScenesClusterWithLittleNoiseAndNoMerges) {
               << " on obstacles, obstacle-voxel noise " << noise_share << ", merged " << merged << "\n";
     EXPECT_EQ(merged, 0u);
     EXPECT_LT(noise_share, 0.05);
-    EXPECT_LE(touched.size(), 2 * scene.obstacles.size());
+    EXPECT_LE(touched.size(), 2 * scene.truth.shapes.size());
   }
 }
 
@@ -209,9 +209,10 @@ TEST(ClusteringAutoParams, RealisticRoomsClusterIntoWallsAndFurniture) {
     std::size_t on_object = 0, noise = 0;
     std::map<std::int32_t, std::set<std::size_t>> touched;
     for (std::size_t i = 0; i < v.centres.size(); ++i) {
-      for (std::size_t o = 1; o < scene.objects.size(); ++o) {
+      for (std::size_t o = 1; o < scene.truth.shapes.size(); ++o) {
         bool hit = false;
-        for (const auto& part : scene.objects[o].parts) hit = hit || surfaceDistance(part, v.centres[i]) <= 0.06;
+        for (const auto& part : scene.truth.shapes[o].primitives())
+          hit = hit || surfaceDistance(part, v.centres[i]) <= 0.06;
         if (!hit) continue;
         ++on_object;
         if (r.labels[i] == kNoise)
@@ -228,7 +229,7 @@ TEST(ClusteringAutoParams, RealisticRoomsClusterIntoWallsAndFurniture) {
     }
     for (const auto& [o, count] : fragments) {
       if (count > 1)
-        std::cout << "  object " << o << " (" << toString(scene.objects[o].kind) << ") in " << count << " clusters\n";
+        std::cout << "  object " << o << " (" << scene.truth.shapes[o].kind << ") in " << count << " clusters\n";
     }
     const double noise_share = static_cast<double>(noise) / static_cast<double>(on_object);
     std::cout << "room " << density << " points/m^2, " << v.centres.size() << " voxels: eps " << a.eps << " minPts "

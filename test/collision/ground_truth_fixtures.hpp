@@ -17,21 +17,21 @@ namespace hullmap::collision {
 
 namespace {
 using V3 = Eigen::Vector3d;
-using sim::SceneObstacle;
+using sim::TruthShape;
 
 /// Distance from p to the obstacle's solid (0 inside).
-inline double distanceToSolid(const SceneObstacle& o, const V3& p) {
+inline double distanceToSolid(const TruthShape& o, const V3& p) {
   const V3 half = 0.5 * o.size;
-  if (o.shape == SceneObstacle::Shape::kBox) return ((p - o.center).cwiseAbs() - half).cwiseMax(0.0).norm();
+  if (o.shape == TruthShape::Shape::kBox) return ((p - o.center).cwiseAbs() - half).cwiseMax(0.0).norm();
   const double radial = std::max(0.0, std::hypot(p.x() - o.center.x(), p.y() - o.center.y()) - half.x());
   const double vertical = std::max(0.0, std::abs(p.z() - o.center.z()) - half.z());
   return std::hypot(radial, vertical);
 }
 
 /// A point of the inner part of the solid (the middle 60 % of each extent, or of the radius).
-inline V3 innerPoint(const SceneObstacle& o, std::mt19937& rng) {
+inline V3 innerPoint(const TruthShape& o, std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-0.3, 0.3);
-  if (o.shape == SceneObstacle::Shape::kBox) return o.center + V3(u(rng), u(rng), u(rng)).cwiseProduct(o.size);
+  if (o.shape == TruthShape::Shape::kBox) return o.center + V3(u(rng), u(rng), u(rng)).cwiseProduct(o.size);
   const double angle = (u(rng) + 0.3) / 0.6 * 2 * M_PI;
   const double r = std::sqrt((u(rng) + 0.3) / 0.6) * 0.3 * o.size.x();
   return o.center + V3(r * std::cos(angle), r * std::sin(angle), u(rng) * o.size.z());
@@ -72,8 +72,9 @@ inline int expectNoPathThroughAnObstacleIsClear(const Built& b, const std::vecto
   std::uniform_real_distribution<double> u(-1, 1);
   int observed = 0, clear = 0, late = 0;
   std::string first_clear;
-  for (std::size_t k = 0; k < b.scene.obstacles.size(); ++k) {
-    const SceneObstacle& o = b.scene.obstacles[k];
+  const std::vector<TruthShape> truth = b.scene.truth.primitives();
+  for (std::size_t k = 0; k < truth.size(); ++k) {
+    const TruthShape& o = truth[k];
     bool seen = false;
     for (std::size_t i = 0; i < b.result.voxels.size() && !seen; ++i)
       seen = b.result.clusters.labels[i] >= 0 && distanceToSolid(o, b.result.voxels[i].center) <= voxel;

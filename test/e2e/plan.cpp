@@ -88,11 +88,11 @@ TEST(CliPlan, PathKeepsTheRadiusFromTheTruthAndCheckAcceptsIt) {
   ASSERT_GE(rows.size(), 2u);
   EXPECT_EQ(rows.front(), (std::vector<double>{-4, -4, 1}));
   EXPECT_EQ(rows.back(), (std::vector<double>{4, 4, 1}));
+  const auto truth = scene.truth.primitives();
   for (std::size_t k = 1; k < rows.size(); ++k) {
     const Eigen::Vector3d a(rows[k - 1][0], rows[k - 1][1], rows[k - 1][2]), b(rows[k][0], rows[k][1], rows[k][2]);
     for (int s = 0; s <= 200; ++s)
-      for (const auto& o : scene.obstacles)
-        ASSERT_GE(hullmap::test::distanceToSolid(o, a + (b - a) * (s / 200.0)), 0.3);
+      for (const auto& o : truth) ASSERT_GE(hullmap::test::distanceToSolid(o, a + (b - a) * (s / 200.0)), 0.3);
   }
   // Without -o the waypoints go to stdout.
   const auto printed = runHullmap("plan " + out + " --from -4,-4,1 --to 4,4,1 --radius 0.3");
@@ -228,9 +228,10 @@ TEST(CliPlan, FleetWritesTimedPathsApartAndNamesTheUnrouted) {
     for (const auto& row : rows) ASSERT_EQ(row.size(), 4u);
     end = std::max(end, rows.back()[0]);
   }
+  const auto truth = scene.truth.primitives();
   for (double t = 0; t <= end; t += 0.002)
     for (std::size_t i = 0; i < timed.size(); ++i) {
-      for (const auto& o : scene.obstacles) ASSERT_GE(hullmap::test::distanceToSolid(o, at(timed[i], t)), 0.3 - 1e-9);
+      for (const auto& o : truth) ASSERT_GE(hullmap::test::distanceToSolid(o, at(timed[i], t)), 0.3 - 1e-9);
       for (std::size_t j = i + 1; j < timed.size(); ++j)
         ASSERT_GE((at(timed[i], t) - at(timed[j], t)).norm(), 0.6 - 1e-9);
     }

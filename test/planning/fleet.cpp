@@ -30,6 +30,7 @@ double sampledSeparation(const std::vector<TimedPath>& paths) {
 
 void expectSafeFleet(const sim::Scene& scene, const std::vector<planning::FleetTask>& tasks,
                      const planning::FleetResult& result, const planning::FleetParams& params) {
+  const std::vector<sim::TruthShape> truth = scene.truth.primitives();
   std::vector<TimedPath> routed;
   for (std::size_t i = 0; i < tasks.size(); ++i) {
     if (!result.paths[i]) continue;
@@ -45,7 +46,7 @@ void expectSafeFleet(const sim::Scene& scene, const std::vector<planning::FleetT
           std::max(1, static_cast<int>(std::ceil((path[k].position - path[k - 1].position).norm() / 0.01)));
       for (int s = 0; s <= steps; ++s) {
         const Vector3d p = path[k - 1].position + (path[k].position - path[k - 1].position) * (double(s) / steps);
-        for (const auto& o : scene.obstacles)
+        for (const auto& o : truth)
           ASSERT_GE(test::distanceToSolid(o, p), params.radius - 1e-9) << "drone " << i << " at " << p.transpose();
       }
     }
@@ -91,8 +92,8 @@ TEST(Fleet, RoutesDronesInTheSampleSceneApartAndClearOfTheTruth) {
 TEST(Fleet, HeadOnSwapInACorridorWaitsOrDetoursAndNamesTheUnroutable) {
   // Two drones swap ends of a 1 m wide corridor with a wide hall at each end.
   sim::Scene scene;
-  scene.obstacles.push_back({sim::SceneObstacle::Shape::kBox, Vector3d(0, 1.5, 1.5), Vector3d(4, 2, 3)});
-  scene.obstacles.push_back({sim::SceneObstacle::Shape::kBox, Vector3d(0, -1.5, 1.5), Vector3d(4, 2, 3)});
+  scene.truth.add(sim::TruthShape::box(Vector3d(0, 1.5, 1.5), Vector3d(4, 2, 3)));
+  scene.truth.add(sim::TruthShape::box(Vector3d(0, -1.5, 1.5), Vector3d(4, 2, 3)));
   const auto obstacles = test::truthObstacles(scene);
   planning::FleetParams params;
   params.radius = 0.2;

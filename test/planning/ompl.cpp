@@ -6,20 +6,18 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/sim/sample_scene.hpp"
+#include "hullmap/sim/ground_truth.hpp"
 #include "hullmap/planning/ompl_planner.hpp"
 #include "planning_support.hpp"
 
 namespace hp = hullmap::planning;
-using hullmap::sim::SceneObstacle;
+using hullmap::sim::TruthShape;
 
 namespace {
 
-SceneObstacle box(const Eigen::Vector3d& center, const Eigen::Vector3d& size) {
-  return {SceneObstacle::Shape::kBox, center, size};
-}
+TruthShape box(const Eigen::Vector3d& center, const Eigen::Vector3d& size) { return TruthShape::box(center, size); }
 
-hullmap::hulls::Obstacle prismOf(int id, const SceneObstacle& b) {
+hullmap::hulls::Obstacle prismOf(int id, const TruthShape& b) {
   const Eigen::Vector2d c = b.center.head<2>(), h = 0.5 * b.size.head<2>();
   return hullmap::test::prism(id,
                               {c - h, c + Eigen::Vector2d(h.x(), -h.y()), c + h, c + Eigen::Vector2d(-h.x(), h.y())},
@@ -27,7 +25,7 @@ hullmap::hulls::Obstacle prismOf(int id, const SceneObstacle& b) {
 }
 
 /// Smallest distance from the path, sampled every `step` metres, to the boxes.
-double minDistance(const std::vector<Eigen::Vector3d>& path, const std::vector<SceneObstacle>& boxes, double step) {
+double minDistance(const std::vector<Eigen::Vector3d>& path, const std::vector<TruthShape>& boxes, double step) {
   double best = 1e300;
   for (std::size_t k = 1; k < path.size(); ++k) {
     const int n = std::max(1, static_cast<int>(std::ceil((path[k] - path[k - 1]).norm() / step)));
@@ -44,7 +42,7 @@ double minDistance(const std::vector<Eigen::Vector3d>& path, const std::vector<S
 TEST(PlanningOmpl, PathsRoundAThinWallKeepTheRadiusFromTheTruth) {
   // A 1 cm plate across the way, 4 m wide and 3 m tall, and a post beside it: OMPL's discrete
   // validator steps over the plate; the capsule sweep cannot.
-  const std::vector<SceneObstacle> truth{box({0, 0, 1.5}, {0.01, 4, 3}), box({-1, 2.5, 1}, {0.4, 0.4, 2})};
+  const std::vector<TruthShape> truth{box({0, 0, 1.5}, {0.01, 4, 3}), box({-1, 2.5, 1}, {0.4, 0.4, 2})};
   const std::vector<hullmap::hulls::Obstacle> obstacles{prismOf(0, truth[0]), prismOf(1, truth[1])};
   hp::PlanRequest request;
   request.start = {-2, 0, 1};
@@ -73,7 +71,7 @@ TEST(PlanningOmpl, PathsRoundAThinWallKeepTheRadiusFromTheTruth) {
 }
 
 TEST(PlanningOmpl, DefaultBoxHoldsObstaclesStartAndGoal) {
-  const SceneObstacle b = box({3, 4, 1}, {2, 2, 2});
+  const TruthShape b = box({3, 4, 1}, {2, 2, 2});
   hp::PlanRequest request;
   request.start = {-1, 0, 0.5};
   request.goal = {1, 1, 1};

@@ -27,9 +27,10 @@ struct GridOracle {
   GridOracle(const sim::Scene& scene, double room, double z, double clearance, double cell_size)
       : cell(cell_size), x0(-room / 2), y0(-room / 2), n(static_cast<int>(std::ceil(room / cell_size))) {
     free.assign(static_cast<std::size_t>(n) * n, 1);
+    const std::vector<sim::TruthShape> truth = scene.truth.primitives();
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j)
-        for (const auto& o : scene.obstacles)
+        for (const auto& o : truth)
           if (test::distanceToSolid(o, center(i, j, z)) < clearance) free[index(i, j)] = 0;
   }
   std::size_t index(int i, int j) const { return static_cast<std::size_t>(i) * n + j; }
@@ -73,12 +74,13 @@ struct GridOracle {
 
 /// Smallest distance from the densely sampled path (1 cm) to the true solids.
 double pathClearance(const sim::Scene& scene, const std::vector<Vector3d>& path) {
+  const std::vector<sim::TruthShape> truth = scene.truth.primitives();
   double best = 1e300;
   for (std::size_t k = 1; k < path.size(); ++k) {
     const int steps = std::max(1, static_cast<int>(std::ceil((path[k] - path[k - 1]).norm() / 0.01)));
     for (int s = 0; s <= steps; ++s) {
       const Vector3d p = path[k - 1] + (path[k] - path[k - 1]) * (static_cast<double>(s) / steps);
-      for (const auto& o : scene.obstacles) best = std::min(best, test::distanceToSolid(o, p));
+      for (const auto& o : truth) best = std::min(best, test::distanceToSolid(o, p));
     }
   }
   return best;

@@ -24,12 +24,8 @@ namespace {
 
 using V3 = Eigen::Vector3d;
 
-TruthShape box(const V3& center, const V3& size, double yaw = 0.0) {
-  TruthShape s;
-  s.kind = TruthShape::Kind::kBox;
-  s.center = center;
-  s.size = size;
-  s.yaw = yaw;
+TruthShape box(const V3& center, const V3& size, double yaw = 0.0, const std::string& kind = "box") {
+  TruthShape s = TruthShape::box(center, size, kind, yaw);
   s.aabb_min = center - size;  // loose is fine for these tests
   s.aabb_max = center + size;
   return s;
@@ -82,10 +78,7 @@ TEST(TruthGeometry, BoxMatchesBruteForce) {
 }
 
 TEST(TruthGeometry, CylinderMatchesBruteForce) {
-  TruthShape cyl;
-  cyl.kind = TruthShape::Kind::kCylinder;
-  cyl.center = V3(0.1, 0.0, -0.1);
-  cyl.size = V3(1.2, 1.2, 1.0);
+  const TruthShape cyl = TruthShape::cylinder(V3(0.1, 0.0, -0.1), V3(1.2, 1.2, 1.0));
   expectMatchesOracle(
       cyl,
       [&](const V3& p) {
@@ -155,7 +148,8 @@ TEST(TruthGeometry, UnionIsExactOutsideAndInsideWhereItsPartsAre) {
   const GroundTruth truth = readGroundTruth((dir / "l.json").string());
   ASSERT_EQ(truth.shapes.size(), 1u);
   const TruthShape& l = truth.shapes[0];
-  EXPECT_EQ(l.kind, TruthShape::Kind::kUnion);
+  EXPECT_EQ(l.shape, TruthShape::Shape::kUnion);
+  EXPECT_EQ(l.kind, "l_shelf");
   EXPECT_EQ(l.label, "l_shelf 0");
   EXPECT_TRUE(l.aabb_min.isApprox(V3(-1, -0.5, -0.5)));
   EXPECT_TRUE(l.aabb_max.isApprox(V3(1, 1.5, 0.5)));
@@ -202,8 +196,8 @@ TEST(Evaluate, SegmentsStayAboveATrueFloor) {
   params.segments = 6000;
   const Evaluation everywhere = evaluate(obstacles, truth, {}, {}, params);
   EXPECT_GT(everywhere.missed, 0u);
-  truth.shapes[0].surface = true;
-  truth.shapes[0].label = "floor 0";
+  truth.shapes[0] = box(V3(0.5, 0.5, -0.05), V3(2, 2, 0.1), 0.0, "floor");
+  ASSERT_TRUE(truth.shapes[0].surface);
   const Evaluation above = evaluate(obstacles, truth, {}, {}, params);
   EXPECT_EQ(above.segments, 6000u);
   EXPECT_GE(above.deep, 5u);
@@ -263,10 +257,7 @@ TEST(Evaluate, FalsePartsAtAToleranceWithTheirDistanceMatchBruteForce) {
   // within 5 mm * sqrt(3) / 2 of the nearest point).
   GroundTruth truth;
   truth.shapes.push_back(box(V3(0.0, 0.0, 0.5), V3(1.0, 0.6, 1.0), 0.4));
-  TruthShape cyl;
-  cyl.kind = TruthShape::Kind::kCylinder;
-  cyl.center = V3(1.6, 0.2, 0.4);
-  cyl.size = V3(0.5, 0.5, 0.8);
+  TruthShape cyl = TruthShape::cylinder(V3(1.6, 0.2, 0.4), V3(0.5, 0.5, 0.8));
   cyl.aabb_min = cyl.center - cyl.size;
   cyl.aabb_max = cyl.center + cyl.size;
   truth.shapes.push_back(cyl);

@@ -27,10 +27,10 @@ using namespace hullmap::mapper;
 using hullmap::kPi;
 
 // Signed distance to a primitive's solid (negative inside): the oracle for "on a surface".
-double signedDistance(const SceneObstacle& o, const Eigen::Vector3d& p) {
+double signedDistance(const TruthShape& o, const Eigen::Vector3d& p) {
   const Eigen::Vector3d h = 0.5 * o.size;
   const Eigen::Vector3d d = p - o.center;
-  if (o.shape == SceneObstacle::Shape::kBox) {
+  if (o.shape == TruthShape::Shape::kBox) {
     const Eigen::Vector3d q = d.cwiseAbs() - h;
     return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
   }
@@ -57,9 +57,13 @@ TEST(MapperRoomScene, PointsLieOnVisibleSurfacesAtTheAskedDensity) {
   p.outlier_fraction = 0.0;
   p.gross_outliers = 0;
   const Scene s = generateScene(p);
-  ASSERT_EQ(s.objects.size(), 5 + p.obstacles);
-  EXPECT_EQ(s.objects[0].kind, SceneObject::Kind::kFloor);
-  for (int i = 1; i <= 4; ++i) EXPECT_EQ(s.objects[i].kind, SceneObject::Kind::kWall);
+  const std::vector<TruthShape>& objects = s.truth.shapes;
+  ASSERT_EQ(objects.size(), 5 + p.obstacles);
+  EXPECT_EQ(objects[0].kind, "floor");
+  EXPECT_TRUE(objects[0].surface);
+  for (int i = 1; i <= 4; ++i) EXPECT_EQ(objects[i].kind, "wall");
+  for (std::size_t i = 0; i < objects.size(); ++i)
+    EXPECT_EQ(objects[i].label, objects[i].kind + " " + std::to_string(i));
 
   // Visible surface: floor + 4 walls (inner faces) + furniture; the points are density x that.
   const double walls = p.room_size * p.room_size + 4 * p.room_size * p.room_height;
@@ -70,8 +74,8 @@ TEST(MapperRoomScene, PointsLieOnVisibleSurfacesAtTheAskedDensity) {
     const Eigen::Vector3d q = toMap(s, q0);
     double nearest = 1e300;
     std::size_t which = 0;
-    for (std::size_t o = 0; o < s.objects.size(); ++o) {
-      for (const auto& part : s.objects[o].parts) {
+    for (std::size_t o = 0; o < objects.size(); ++o) {
+      for (const auto& part : objects[o].primitives()) {
         const double d = signedDistance(part, q);
         // Never deep inside a solid (noise is 1 cm).
         ASSERT_GT(d, -0.06) << q.transpose();
@@ -99,9 +103,9 @@ TEST(MapperRoomScene, FurnitureIsNotConvexAndKeepsItsGaps) {
     SceneParams q = p;
     q.seed = seed;
     const Scene s = generateScene(q);
-    for (std::size_t i = 5; i < s.objects.size(); ++i) {
-      const auto& f = s.objects[i];
-      if (f.kind == SceneObject::Kind::kLShelf) {
+    for (std::size_t i = 5; i < s.truth.shapes.size(); ++i) {
+      const auto& f = s.truth.shapes[i];
+      if (f.kind == "l_shelf") {
         ++shelves;
         ASSERT_EQ(f.parts.size(), 2u);
         // Two arms that touch and do not overlap: an L, not a box.
@@ -113,7 +117,7 @@ TEST(MapperRoomScene, FurnitureIsNotConvexAndKeepsItsGaps) {
         EXPECT_NEAR(std::min(overlap.x(), overlap.y()), 0.0, 1e-9);
         EXPECT_GT(std::max(overlap.x(), overlap.y()), 0.25);
       }
-      if (f.kind == SceneObject::Kind::kTable) {
+      if (f.kind == "table") {
         ++tables;
         ASSERT_EQ(f.parts.size(), 5u);
         const auto& top = f.parts[0];
@@ -125,11 +129,11 @@ TEST(MapperRoomScene, FurnitureIsNotConvexAndKeepsItsGaps) {
       // Footprints kSceneObstacleGap apart.
       for (std::size_t j = 5; j < i; ++j) {
         Eigen::Vector2d alo(1e300, 1e300), ahi(-1e300, -1e300), blo = alo, bhi = ahi;
-        for (const auto& a : f.parts) {
+        for (const auto& a : f.primitives()) {
           alo = alo.cwiseMin((a.center - 0.5 * a.size).head<2>());
           ahi = ahi.cwiseMax((a.center + 0.5 * a.size).head<2>());
         }
-        for (const auto& b : s.objects[j].parts) {
+        for (const auto& b : s.truth.shapes[j].primitives()) {
           blo = blo.cwiseMin((b.center - 0.5 * b.size).head<2>());
           bhi = bhi.cwiseMax((b.center + 0.5 * b.size).head<2>());
         }
@@ -137,7 +141,7 @@ TEST(MapperRoomScene, FurnitureIsNotConvexAndKeepsItsGaps) {
         EXPECT_GE(gap, kSceneObstacleGap - 1e-9);
       }
       // Inside the room, clear of its walls.
-      for (const auto& part : f.parts) {
+      for (const auto& part : f.primitives()) {
         EXPECT_LT((part.center.head<2>().cwiseAbs() + 0.5 * part.size.head<2>()).maxCoeff(),
                   0.5 * p.room_size - kSceneObstacleGap);
       }
@@ -204,16 +208,17 @@ TEST(MapperRoomScene, WritesTheReferenceTrajectoryAndTheTruth) {
   std::ifstream in(dir / "ground_truth.json");
   const auto j = nlohmann::json::parse(in);
   EXPECT_EQ(j.at("layout"), "room");
-  ASSERT_EQ(j.at("obstacles").size(), s.objects.size());
-  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+  ASSERT_EQ(j.at("obstacles").size(), s.truth.shapes.size());
+  for (std::size_t i = 0; i < s.truth.shapes.size(); ++i) {
     const auto& o = j.at("obstacles")[i];
-    EXPECT_EQ(o.at("kind"), toString(s.objects[i].kind));
-    if (s.objects[i].parts.size() > 1) {
+    const TruthShape& truth = s.truth.shapes[i];
+    EXPECT_EQ(o.at("kind"), truth.kind);
+    if (truth.shape == TruthShape::Shape::kUnion) {
       EXPECT_EQ(o.at("shape"), "union");
-      ASSERT_EQ(o.at("parts").size(), s.objects[i].parts.size());
-      EXPECT_DOUBLE_EQ(o.at("parts")[1].at("size")[0].get<double>(), s.objects[i].parts[1].size.x());
+      ASSERT_EQ(o.at("parts").size(), truth.parts.size());
+      EXPECT_DOUBLE_EQ(o.at("parts")[1].at("size")[0].get<double>(), truth.parts[1].size.x());
     } else {
-      EXPECT_DOUBLE_EQ(o.at("center")[2].get<double>(), s.objects[i].parts[0].center.z());
+      EXPECT_DOUBLE_EQ(o.at("center")[2].get<double>(), truth.center.z());
     }
   }
   EXPECT_DOUBLE_EQ(j.at("output_from_map").at("scale").get<double>(), p.monocular_scale);
@@ -227,7 +232,7 @@ TEST(MapperRoomScene, SameSeedSameRoomAndBadParameters) {
 
   SceneParams p = roomParams();
   p.obstacles = 0;  // an empty room is fine
-  EXPECT_EQ(generateScene(p).objects.size(), 5u);
+  EXPECT_EQ(generateScene(p).truth.shapes.size(), 5u);
   for (auto bad : {+[](SceneParams& q) { q.density = 0; }, +[](SceneParams& q) { q.monocular_scale = -1; },
                    +[](SceneParams& q) { q.camera_pitch_deg = 95; }, +[](SceneParams& q) { q.edge_fraction = 2; },
                    +[](SceneParams& q) { q.obstacles = 200; }, +[](SceneParams& q) { q.keyframes = 2; }}) {
@@ -266,7 +271,7 @@ TEST(MapperRoomScene, MapsRoomIsTheDefaultRoom) {
 }
 
 // Distance from p to a primitive's solid (0 inside).
-double solidDistance(const SceneObstacle& o, const Eigen::Vector3d& p) { return std::max(0.0, signedDistance(o, p)); }
+double solidDistance(const TruthShape& o, const Eigen::Vector3d& p) { return std::max(0.0, signedDistance(o, p)); }
 
 // Each segment of maps/room/segments.txt says whether it hits (closer than 0.3 m to) a true
 // object, and which: checked against the truth by sampling every millimetre.
@@ -285,13 +290,13 @@ TEST(MapperRoomScene, MapsRoomSegmentLabelsMatchTheTruth) {
     ASSERT_TRUE(text >> a.x() >> a.y() >> a.z() >> b.x() >> b.y() >> b.z()) << line;
     const std::string label = line.substr(line.find('#'));
     const auto steps = static_cast<int>(std::ceil((b - a).norm() / 0.001));
-    for (std::size_t o = 0; o < s.objects.size(); ++o) {
+    for (std::size_t o = 0; o < s.truth.shapes.size(); ++o) {
       double d = 1e300;
       for (int k = 0; k <= steps; ++k) {
         const Eigen::Vector3d q = a + (b - a) * (static_cast<double>(k) / steps);
-        for (const auto& part : s.objects[o].parts) d = std::min(d, solidDistance(part, q));
+        for (const auto& part : s.truth.shapes[o].primitives()) d = std::min(d, solidDistance(part, q));
       }
-      const std::string name = toString(s.objects[o].kind) + " " + std::to_string(o) + " (";
+      const std::string name = s.truth.shapes[o].label + " (";
       EXPECT_EQ(d < 0.3, label.find(name) != std::string::npos && label.find("hits") != std::string::npos)
           << line << ": object " << o << " at " << d;
     }

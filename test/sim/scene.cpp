@@ -18,10 +18,10 @@ namespace {
 using namespace hullmap::io;
 
 // Exact distance from p to the surface of an obstacle (the oracle for "points lie on surfaces").
-double surfaceDistance(const SceneObstacle& o, const Eigen::Vector3d& p) {
+double surfaceDistance(const TruthShape& o, const Eigen::Vector3d& p) {
   const Eigen::Vector3d h = 0.5 * o.size;
   const Eigen::Vector3d d = p - o.center;
-  if (o.shape == SceneObstacle::Shape::kBox) {
+  if (o.shape == TruthShape::Shape::kBox) {
     const Eigen::Vector3d q = d.cwiseAbs() - h;
     const double outside = q.cwiseMax(0.0).norm();
     const double inside = std::min(q.maxCoeff(), 0.0);
@@ -35,10 +35,10 @@ double surfaceDistance(const SceneObstacle& o, const Eigen::Vector3d& p) {
 }
 
 // Distance to the nearest edge of a box (12 segments) or a cylinder (two rims).
-double edgeDistance(const SceneObstacle& o, const Eigen::Vector3d& p) {
+double edgeDistance(const TruthShape& o, const Eigen::Vector3d& p) {
   const Eigen::Vector3d h = 0.5 * o.size;
   const Eigen::Vector3d d = (p - o.center).cwiseAbs();
-  if (o.shape == SceneObstacle::Shape::kCylinder) {
+  if (o.shape == TruthShape::Shape::kCylinder) {
     return std::hypot(std::hypot(d.x(), d.y()) - h.x(), d.z() - h.z());
   }
   double best = 1e300;
@@ -62,29 +62,32 @@ TEST(MapperScene, SameSeedSameSceneOtherSeedOtherScene) {
   const Scene b = generateScene(smallScene());
   ASSERT_EQ(a.points.size(), b.points.size());
   for (std::size_t i = 0; i < a.points.size(); ++i) ASSERT_EQ(a.points[i], b.points[i]) << i;
-  ASSERT_EQ(a.obstacles.size(), b.obstacles.size());
-  for (std::size_t i = 0; i < a.obstacles.size(); ++i) EXPECT_EQ(a.obstacles[i].center, b.obstacles[i].center);
+  ASSERT_EQ(a.truth.shapes.size(), b.truth.shapes.size());
+  for (std::size_t i = 0; i < a.truth.shapes.size(); ++i) EXPECT_EQ(a.truth.shapes[i].center, b.truth.shapes[i].center);
 
   SceneParams other = smallScene();
   other.seed = 7;
   const Scene c = generateScene(other);
-  EXPECT_NE(a.obstacles[0].center, c.obstacles[0].center);
+  EXPECT_NE(a.truth.shapes[0].center, c.truth.shapes[0].center);
 }
 
 TEST(MapperScene, CountsObstacleGapsAndSurfaces) {
   const SceneParams p = smallScene();
   const Scene s = generateScene(p);
   ASSERT_EQ(s.points.size(), p.points);
-  ASSERT_EQ(s.obstacles.size(), p.obstacles);
+  const std::vector<TruthShape>& obstacles = s.truth.shapes;  // boxes and cylinders
+  ASSERT_EQ(obstacles.size(), p.obstacles);
   ASSERT_EQ(s.keyframes.size(), p.keyframes);
 
-  for (std::size_t i = 0; i < s.obstacles.size(); ++i) {
-    const SceneObstacle& a = s.obstacles[i];
+  for (std::size_t i = 0; i < obstacles.size(); ++i) {
+    const TruthShape& a = obstacles[i];
+    EXPECT_TRUE(a.shape == TruthShape::Shape::kBox || a.shape == TruthShape::Shape::kCylinder);
+    EXPECT_EQ(a.label, a.kind + " " + std::to_string(i));
     EXPECT_NEAR(a.center.z(), 0.5 * a.size.z(), 1e-12) << "stands on the floor";
     EXPECT_LE(std::abs(a.center.x()) + 0.5 * a.size.x(), 0.5 * p.room_size);
     EXPECT_LE(std::abs(a.center.y()) + 0.5 * a.size.y(), 0.5 * p.room_size);
-    for (std::size_t j = i + 1; j < s.obstacles.size(); ++j) {
-      const SceneObstacle& b = s.obstacles[j];
+    for (std::size_t j = i + 1; j < obstacles.size(); ++j) {
+      const TruthShape& b = obstacles[j];
       const double gx = std::abs(a.center.x() - b.center.x()) - 0.5 * (a.size.x() + b.size.x());
       const double gy = std::abs(a.center.y() - b.center.y()) - 0.5 * (a.size.y() + b.size.y());
       EXPECT_GE(std::max(gx, gy), kSceneObstacleGap) << i << " vs " << j;
@@ -95,7 +98,7 @@ TEST(MapperScene, CountsObstacleGapsAndSurfaces) {
   const double tolerance = 6.0 * p.noise_sigma * std::sqrt(3.0);
   for (const auto& q : s.points) {
     double surface = 1e300, edge = 1e300;
-    for (const auto& o : s.obstacles) {
+    for (const auto& o : obstacles) {
       surface = std::min(surface, surfaceDistance(o, q));
       edge = std::min(edge, edgeDistance(o, q));
     }
@@ -133,7 +136,7 @@ TEST(MapperScene, CamerasLoopAroundAndLookInward) {
     const Eigen::Vector3d down = k.orientation * Eigen::Vector3d::UnitY();
     EXPECT_GT(forward.dot(-k.position.normalized()), 0.9);
     EXPECT_LT(down.z(), -0.9) << "camera y axis points down";
-    for (const auto& o : s.obstacles) {
+    for (const auto& o : s.truth.shapes) {
       EXPECT_GT((k.position - o.center).head<2>().norm(), 0.5 * o.size.head<2>().norm() + kSceneObstacleGap - 1e-9);
     }
   }
@@ -193,12 +196,14 @@ TEST(MapperScene, WritesTheThreeFilesItDescribes) {
   std::ifstream json(dir / "ground_truth.json");
   const auto j = nlohmann::json::parse(json);
   EXPECT_EQ(j.at("frame"), "z-up map");
-  ASSERT_EQ(j.at("obstacles").size(), s.obstacles.size());
-  for (std::size_t i = 0; i < s.obstacles.size(); ++i) {
+  ASSERT_EQ(j.at("obstacles").size(), s.truth.shapes.size());
+  for (std::size_t i = 0; i < s.truth.shapes.size(); ++i) {
     const auto& o = j.at("obstacles")[i];
-    EXPECT_EQ(o.at("shape"), s.obstacles[i].shape == SceneObstacle::Shape::kBox ? "box" : "cylinder");
-    EXPECT_DOUBLE_EQ(o.at("center")[0].get<double>(), s.obstacles[i].center.x());
-    EXPECT_DOUBLE_EQ(o.at("size")[2].get<double>(), s.obstacles[i].size.z());
+    const TruthShape& truth = s.truth.shapes[i];
+    EXPECT_EQ(o.at("shape"), truth.shape == TruthShape::Shape::kBox ? "box" : "cylinder");
+    EXPECT_FALSE(o.contains("kind"));
+    EXPECT_DOUBLE_EQ(o.at("center")[0].get<double>(), truth.center.x());
+    EXPECT_DOUBLE_EQ(o.at("size")[2].get<double>(), truth.size.z());
   }
 }
 

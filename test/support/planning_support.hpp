@@ -61,11 +61,11 @@ inline hulls::Obstacle prism(int id, const std::vector<Eigen::Vector2d>& polygon
 /// cylinders by the circumscribed 32-gon.
 inline std::vector<hulls::Obstacle> truthObstacles(const sim::Scene& scene) {
   std::vector<hulls::Obstacle> out;
-  for (const auto& s : scene.obstacles) {
+  for (const auto& s : scene.truth.primitives()) {
     const Eigen::Vector2d c = s.center.head<2>();
     const double z0 = s.center.z() - 0.5 * s.size.z(), z1 = s.center.z() + 0.5 * s.size.z();
     std::vector<Eigen::Vector2d> poly;
-    if (s.shape == sim::SceneObstacle::Shape::kBox) {
+    if (s.shape == sim::TruthShape::Shape::kBox) {
       const Eigen::Vector2d h = 0.5 * s.size.head<2>();
       poly = {c + Eigen::Vector2d(-h.x(), -h.y()), c + Eigen::Vector2d(h.x(), -h.y()), c + h,
               c + Eigen::Vector2d(-h.x(), h.y())};
@@ -80,9 +80,9 @@ inline std::vector<hulls::Obstacle> truthObstacles(const sim::Scene& scene) {
 }
 
 /// Exact distance from p to a ground-truth solid, metres.
-inline double distanceToSolid(const sim::SceneObstacle& o, const Eigen::Vector3d& p) {
+inline double distanceToSolid(const sim::TruthShape& o, const Eigen::Vector3d& p) {
   const Eigen::Vector3d half = 0.5 * o.size;
-  if (o.shape == sim::SceneObstacle::Shape::kBox) return ((p - o.center).cwiseAbs() - half).cwiseMax(0.0).norm();
+  if (o.shape == sim::TruthShape::Shape::kBox) return ((p - o.center).cwiseAbs() - half).cwiseMax(0.0).norm();
   const double radial = std::max(0.0, (p - o.center).head<2>().norm() - half.x());
   const double vertical = std::max(0.0, std::abs(p.z() - o.center.z()) - half.z());
   return std::hypot(radial, vertical);

@@ -196,10 +196,10 @@ std::string htmlEscape(const std::string& text) {
 
 // Line segments (pairs of points) of a truth shape's wireframe.
 void truthSegments(const sim::TruthShape& s, std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& out) {
-  using Kind = sim::TruthShape::Kind;
-  if (s.kind == Kind::kUnion) {
+  using Shape = sim::TruthShape::Shape;
+  if (s.shape == Shape::kUnion) {
     for (const auto& part : s.parts) truthSegments(part, out);
-  } else if (s.kind == Kind::kBox) {
+  } else if (s.shape == Shape::kBox) {
     const Eigen::Vector3d h = s.size / 2;
     const double c = std::cos(s.yaw), n = std::sin(s.yaw);
     const auto corner = [&](int i) {
@@ -210,7 +210,7 @@ void truthSegments(const sim::TruthShape& s, std::vector<std::pair<Eigen::Vector
     for (int i = 0; i < 8; ++i)
       for (int bit : {1, 2, 4})
         if (!(i & bit)) out.emplace_back(corner(i), corner(i | bit));
-  } else if (s.kind == Kind::kCylinder) {
+  } else if (s.shape == Shape::kCylinder) {
     constexpr int kSides = 24;
     const double r = s.size.x() / 2, h = s.size.z() / 2;
     const auto at = [&](int k, double z) {

@@ -73,13 +73,8 @@ struct Primitive {
 
 std::vector<Primitive> primitives(const hullmap::sim::GroundTruth& truth) {
   std::vector<Primitive> out;
-  for (std::size_t s = 0; s < truth.shapes.size(); ++s) {
-    if (truth.shapes[s].kind == hullmap::sim::TruthShape::Kind::kUnion) {
-      for (const auto& part : truth.shapes[s].parts) out.push_back({&part, s});
-    } else {
-      out.push_back({&truth.shapes[s], s});
-    }
-  }
+  for (std::size_t s = 0; s < truth.shapes.size(); ++s)
+    for (const auto& part : truth.shapes[s].primitives()) out.push_back({&part, s});
   return out;
 }
 

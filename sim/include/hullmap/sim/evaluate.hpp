@@ -1,6 +1,5 @@
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -11,44 +10,9 @@
 
 #include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/sim/ground_truth.hpp"
 
 namespace hullmap::sim {
-
-/// One true obstacle, z-up map frame, map units (metres for a metric map).
-struct TruthShape {
-  enum class Kind { kBox, kCylinder, kMesh, kUnion } kind = Kind::kBox;
-  std::string label;  ///< "box 3", "table 6", or the OBJ object's name
-  /// A floor or ceiling ("kind": "floor" / "ceiling" in the JSON): the bound of the map, which the
-  /// build leaves out of its obstacles. Random segments stay above every floor and below every
-  /// ceiling; its observed points are reported but are not expected inside hulls.
-  bool surface = false;
-  std::vector<TruthShape> parts;                          ///< kUnion: the primitives (boxes, cylinders)
-  Eigen::Vector3d center = Eigen::Vector3d::Zero();       ///< box centre; cylinder axis centre
-  Eigen::Vector3d size = Eigen::Vector3d::Ones();         ///< box extents; cylinder (2r, 2r, height)
-  double yaw = 0.0;                                       ///< box rotation about z, radians
-  std::vector<std::array<Eigen::Vector3d, 3>> triangles;  ///< mesh: a closed surface
-  Eigen::Vector3d aabb_min = Eigen::Vector3d::Zero();
-  Eigen::Vector3d aabb_max = Eigen::Vector3d::Zero();
-
-  /// Exact signed distance: negative inside, positive outside. A mesh is inside by its winding
-  /// number (>= 1/2), its distance the exact point-triangle minimum.
-  double signedDistance(const Eigen::Vector3d& p) const;
-};
-
-/// The ground truth: boxes and cylinders (walls and floors are boxes) and/or meshes.
-struct GroundTruth {
-  std::vector<TruthShape> shapes;
-  /// Smallest signed distance over the shapes (+infinity without shapes).
-  double signedDistance(const Eigen::Vector3d& p) const;
-};
-
-/// Reads ground truth: a JSON file as maps/room/ground_truth.json ({"obstacles": [{"shape": "box" |
-/// "cylinder", "center": [x,y,z], "size": [sx,sy,sz], optional "yaw"}]}; "shape": "union" with
-/// "parts": [primitives] for an object made of several (maps/README.md); optional "kind", where
-/// "floor" and "ceiling" mark a bounding surface), or an OBJ mesh (`v` and
-/// `f` lines; each `o` object one true obstacle, the whole file one when it has none; polygons are
-/// fanned). Throws hullmap::Error "<path>: <what>" (line numbers for OBJ).
-GroundTruth readGroundTruth(const std::string& path);
 
 /// Where evaluate() draws its random segments' endpoints.
 /// - kFree: uniformly in the box of the truth grown by radius + clear_margin + 0.5, both keeping

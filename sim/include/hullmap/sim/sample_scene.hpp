@@ -6,16 +6,9 @@
 
 #include "hullmap/io/point_cloud.hpp"
 #include "hullmap/io/readers.hpp"
+#include "hullmap/sim/ground_truth.hpp"
 
 namespace hullmap::sim {
-
-/// A ground-truth obstacle of a generated scene, in the z-up map frame (metres).
-/// Obstacles stand on the floor (z = 0) and are axis-aligned.
-struct SceneObstacle {
-  enum class Shape { kBox, kCylinder } shape = Shape::kBox;
-  Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< box centre; cylinder axis centre
-  Eigen::Vector3d size = Eigen::Vector3d::Ones();    ///< box extents; cylinder (2r, 2r, height)
-};
 
 /// What a generated scene holds.
 /// - kObstacles: boxes and cylinders standing on an unseen floor, no walls (the original scene; the
@@ -34,15 +27,6 @@ enum class SceneLayout { kObstacles, kRoom };
 ///   the pieces stand against a wall (their back 3 to 10 cm from its face, in a corner when it falls
 ///   there), the others kSceneObstacleGap from the walls.
 enum class FurniturePlacement { kInsideLoop, kAnywhere };
-
-/// One true object of a kRoom scene: a union of axis-aligned primitives (z-up map frame, metres).
-struct SceneObject {
-  enum class Kind { kBox, kCylinder, kLShelf, kTable, kWall, kFloor } kind = Kind::kBox;
-  std::vector<SceneObstacle> parts;  ///< non-overlapping boxes/cylinders; their union is the object
-};
-
-/// "box", "cylinder", "l_shelf", "table", "wall", "floor" (ground_truth.json's "kind").
-std::string toString(SceneObject::Kind kind);
 
 /// Parameters of the synthetic ORB-SLAM-like scene. Same seed, same scene, on every machine
 /// (hullmap draws from std::mt19937_64 with its own uniform and normal transforms, since the
@@ -96,11 +80,14 @@ struct SceneParams {
 inline constexpr double kSceneObstacleGap = 0.5;
 
 struct Scene {
-  io::Points points;                     ///< in the output frame (ORB-SLAM's if orbslam_frame)
-  std::vector<io::Keyframe> keyframes;   ///< camera-to-frame poses, in the output frame
-  std::vector<SceneObstacle> obstacles;  ///< always z-up map frame; kRoom: every part of every object
-  std::vector<SceneObject> objects;      ///< kRoom: the true objects (walls and floor included); else empty
-  std::vector<io::Keyframe> reference;   ///< kRoom: the same keyframes in the z-up map frame, metres
+  io::Points points;                    ///< in the output frame (ORB-SLAM's if orbslam_frame)
+  std::vector<io::Keyframe> keyframes;  ///< camera-to-frame poses, in the output frame
+  /// The true obstacles, z-up map frame, metres, labelled as readGroundTruth labels the written
+  /// ground_truth.json: kObstacles: the boxes and cylinders (kind "box" or "cylinder"); kRoom: the
+  /// floor, 4 walls and the furniture ("box", "cylinder", "l_shelf", "table"; unions when of several
+  /// parts). All axis-aligned; obstacles and furniture stand on the floor (z = 0).
+  GroundTruth truth;
+  std::vector<io::Keyframe> reference;  ///< kRoom: the same keyframes in the z-up map frame, metres
   /// kRoom: output frame from the z-up map frame, p_out = scale * rotation * p + translation
   /// (identity when not orbslam_frame).
   double output_scale = 1.0;

@@ -13,7 +13,7 @@
 #include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/io/readers.hpp"
-#include "hullmap/sim/evaluate.hpp"
+#include "hullmap/sim/ground_truth.hpp"
 
 /// `hullmap view` as a library: a build directory (and paths, a roadmap, ground truth) drawn in 3D as
 /// one self-contained HTML page that opens from file:// with no network and no server. The page runs
