@@ -96,6 +96,11 @@ class ClusterSplitter {
   Check checkPart(const Members& part, bool need_split_point = true, const FacetHull* hull = nullptr,
                   bool faces = false) const;
 
+  /// The keyframe rule of checkPart on a check that passed the distances: the check fails, with the
+  /// keyframe as its split point, at the first keyframe inside the hull and in none of the cells'
+  /// closed cubes; those in a cell's cube are counted (keyframes_in_voxels).
+  void checkKeyframes(Check& check, const std::vector<LatticePoint>& cells) const;
+
   /// Whether one of a few probe cells of the hull (`columns`: per column of the box lo..hi, the k
   /// range whose cubes meet it) is farther than max(T, G) from every site (the cells, and the
   /// enclosed cells of the box): then the check fails for certain. False says nothing.

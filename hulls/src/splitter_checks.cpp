@@ -234,6 +234,11 @@ Check ClusterSplitter::checkPart(const Members& part, bool need_split_point, con
         Eigen::Vector3d(double(worst_cell[0]) + 0.5, double(worst_cell[1]) + 0.5, double(worst_cell[2]) + 0.5);
     return check;
   }
+  checkKeyframes(check, cells);
+  return check;
+}
+
+void ClusterSplitter::checkKeyframes(Check& check, const std::vector<LatticePoint>& cells) const {
   for (const auto& x : keyframes_) {
     if (!inside(check.hull, x)) continue;
     // In one of the part's voxels (closed cubes): nothing can keep it out of the hull.
@@ -243,9 +248,8 @@ Check ClusterSplitter::checkPart(const Members& part, bool need_split_point, con
     }
     check.ok = false;
     check.split_point = x;
-    return check;
+    return;
   }
-  return check;
 }
 
 bool ClusterSplitter::farHullCell(const std::vector<LatticePoint>& cells, const LatticePoint& lo,
