@@ -1,5 +1,8 @@
 #include "hullmap/clustering/build_warnings.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace hullmap::clustering {
 namespace {
 
@@ -40,6 +43,29 @@ std::vector<Warning> hullCheckWarnings(const ClusteringOutcome& o) {
     warnings.push_back(noiseShare(Warning::Code::kCheckMostlyNoise, o));
   }
   return warnings;
+}
+
+double roundResolution(double value) {
+  const double decade = std::pow(10.0, std::floor(std::log10(value)));
+  double best = decade;
+  for (const double step : {1.0, 2.0, 5.0, 10.0})
+    if (std::abs(std::log(step * decade / value)) < std::abs(std::log(best / value))) best = step * decade;
+  return best;
+}
+
+std::optional<Warning> sparseMapWarning(const std::vector<Eigen::Vector3d>& centres, double resolution,
+                                        const AutoParams& chosen, const AutoParamsRule& rule, Metric metric) {
+  if (std::isfinite(chosen.knn) || centres.size() <= std::size_t(rule.k)) return std::nullopt;
+  std::vector<double> curve = kDistanceCurve(centres, rule.k + 1, metric, rule.sample);  // sorted descending
+  if (curve.empty()) return std::nullopt;
+  // The knn_quantile quantile of the ascending values: the (1 - knn_quantile) one of the descending.
+  const auto at = std::size_t(std::floor((1.0 - rule.knn_quantile) * double(curve.size() - 1)));
+  const double spacing = curve[at];
+  if (!(spacing > rule.max_eps_voxels * resolution) || !std::isfinite(spacing)) return std::nullopt;
+  const double suggested = std::max(resolution, roundResolution(spacing / kSuggestedSpacingVoxels));
+  return Warning{Warning::Code::kSparseForResolution,
+                 {{"resolution", resolution}, {"spacing", spacing}, {"suggested", suggested}},
+                 ""};
 }
 
 }  // namespace hullmap::clustering

@@ -61,6 +61,8 @@ const char* warningName(Warning::Code code) {
       return "check_no_obstacle";
     case Warning::Code::kCheckMostlyNoise:
       return "check_mostly_noise";
+    case Warning::Code::kSparseForResolution:
+      return "sparse_for_resolution";
   }
   return "unknown";
 }
@@ -122,6 +124,14 @@ std::string warningText(const Warning& w, const ParameterSpelling& spell) {
       return percent(noise, occupied) + " of the build's occupied voxels (" + count(noise) + " of " + count(occupied) +
              ") are noise and in no hull, so this check does not see them; check with " + spell("against", "octree") +
              ", or rebuild with " + larger_eps;
+    }
+    case Warning::Code::kSparseForResolution: {
+      const double resolution = w.number("resolution"), spacing = w.number("spacing");
+      return printed("the map's points lie about %.3g apart (%.0f voxels at ", spacing, spacing / resolution) +
+             spell("resolution", shortest(resolution)) +
+             "; the distance from three in four map points to the 4th nearest occupied voxel): its surfaces fall "
+             "apart into lone voxels and noise; try " +
+             spell("resolution", shortest(w.number("suggested")));
     }
   }
   return warningName(w.code);

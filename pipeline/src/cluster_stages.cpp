@@ -178,6 +178,11 @@ void addWarnings(BuildResult& result, const ClusterWork& w) {
   const clustering::DbscanParams& used = report.cluster_params.used;
   report.warnings = clustering::buildWarnings({w.obstacle_index.size(), result.clusters.noise, result.obstacles.size(),
                                                used.eps, used.min_pts, used.metric, resolution});
+  if (report.cluster_params.chosen) {
+    if (auto sparse = clustering::sparseMapWarning(w.obstacle_centers, resolution, *report.cluster_params.chosen,
+                                                   params.auto_rule, used.metric))
+      report.warnings.push_back(*sparse);
+  }
   if (readsOctree(params) || params.align || report.floor.levelled) return;
   const PlaneReport& floor = report.floor;
   if (floor.plane && floor.setting.mode == mapper::PlaneSetting::Mode::kAuto) {

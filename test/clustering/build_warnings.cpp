@@ -1,7 +1,12 @@
 // clustering::buildWarnings and hullCheckWarnings: which outcomes speak, at the limits, with which
 // codes and numbers.
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Core>
 #include <gtest/gtest.h>
 
+#include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/clustering/build_warnings.hpp"
 
 using hullmap::Warning;
@@ -52,4 +57,53 @@ TEST(BuildWarnings, NoiseShareNoObstacleAndEpsBelowResolution) {
   EXPECT_EQ(hullCheckWarnings(empty_map)[0].code, Warning::Code::kCheckNoObstacle);
   EXPECT_EQ(warningText(hullCheckWarnings(empty_map)[0]).rfind("the build has no obstacle: every path is clear", 0),
             0u);
+}
+
+// The resolution suggested for a sparse map: the nearest of 1, 2, 5 x 10^n, in ratio.
+TEST(BuildWarnings, SuggestedResolutionsAreOneTwoOrFiveTimesAPowerOfTen) {
+  using hullmap::clustering::roundResolution;
+  EXPECT_DOUBLE_EQ(roundResolution(0.344), 0.5);  // 0.5 / 0.344 = 1.45 < 0.344 / 0.2 = 1.72
+  EXPECT_DOUBLE_EQ(roundResolution(0.3), 0.2);    // 1.67 > 1.5
+  EXPECT_DOUBLE_EQ(roundResolution(0.05), 0.05);
+  EXPECT_DOUBLE_EQ(roundResolution(0.14), 0.1);
+  EXPECT_DOUBLE_EQ(roundResolution(0.15), 0.2);
+  EXPECT_DOUBLE_EQ(roundResolution(7.5), 10.0);
+  EXPECT_DOUBLE_EQ(roundResolution(3.2), 5.0);
+}
+
+// kSparseForResolution on voxel centres whose 4th nearest neighbour lies beyond the auto rule's
+// reach, against the brute-force spacing; none on a dense surface or when the rule found the spacing.
+TEST(BuildWarnings, SparseMapsAreToldACoarserResolution) {
+  using hullmap::clustering::AutoParamsRule;
+  using hullmap::clustering::chooseDbscanParams;
+  using hullmap::clustering::sparseMapWarning;
+  const double resolution = 0.05;
+  const AutoParamsRule rule;
+  // A plane sampled every 0.8 m (16 voxels), with centres on the voxel lattice.
+  std::vector<Eigen::Vector3d> sparse;
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j) sparse.emplace_back(0.025 + 0.8 * i, 0.025 + 0.8 * j, 0.025);
+  const auto chosen = chooseDbscanParams(sparse, {}, resolution, hullmap::clustering::Metric::kXyz, rule);
+  ASSERT_FALSE(std::isfinite(chosen.knn)) << "beyond the rule's reach of " << rule.max_eps_voxels << " voxels";
+  const auto w = sparseMapWarning(sparse, resolution, chosen, rule, hullmap::clustering::Metric::kXyz);
+  ASSERT_TRUE(w.has_value());
+  EXPECT_EQ(w->code, Warning::Code::kSparseForResolution);
+  // The 4th nearest: two at 0.8, two at 0.8 (a lattice point's four axis neighbours), at the border
+  // the diagonal 0.8 sqrt(2); three in four of the sampled points are inside: 0.8.
+  EXPECT_NEAR(w->number("spacing"), 0.8, 1e-9);
+  EXPECT_DOUBLE_EQ(w->number("resolution"), resolution);
+  EXPECT_DOUBLE_EQ(w->number("suggested"), 0.5);  // 0.8 / 2.5 = 0.32, nearer 0.5 than 0.2 in ratio
+  // The same plane every 0.1 m (2 voxels): the rule finds the spacing, nothing to say.
+  std::vector<Eigen::Vector3d> dense;
+  for (int i = 0; i < 80; ++i)
+    for (int j = 0; j < 80; ++j) dense.emplace_back(0.025 + 0.1 * i, 0.025 + 0.1 * j, 0.025);
+  const auto dense_chosen = chooseDbscanParams(dense, {}, resolution, hullmap::clustering::Metric::kXyz, rule);
+  EXPECT_TRUE(std::isfinite(dense_chosen.knn));
+  EXPECT_FALSE(sparseMapWarning(dense, resolution, dense_chosen, rule, hullmap::clustering::Metric::kXyz));
+  // A plane every 1 m in voxels of 0.5 m (2 voxels apart): found, no warning.
+  std::vector<Eigen::Vector3d> coarse;
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j) coarse.emplace_back(0.25 + 1.0 * i, 0.25 + 1.0 * j, 0.25);
+  const auto coarse_chosen = chooseDbscanParams(coarse, {}, 0.5, hullmap::clustering::Metric::kXyz, rule);
+  EXPECT_FALSE(sparseMapWarning(coarse, 0.5, coarse_chosen, rule, hullmap::clustering::Metric::kXyz));
 }

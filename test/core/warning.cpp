@@ -23,6 +23,7 @@ std::vector<Warning> everyCode() {
       {Warning::Code::kOrbSlamFrame, {}, "MapPoints.txt"},
       {Warning::Code::kCheckNoObstacle, {{"occupied_voxels", 7}}, ""},
       {Warning::Code::kCheckMostlyNoise, {{"noise_voxels", 60}, {"occupied_voxels", 100}}, ""},
+      {Warning::Code::kSparseForResolution, {{"resolution", 0.05}, {"spacing", 0.86}, {"suggested", 0.5}}, ""},
   };
 }
 
@@ -54,6 +55,9 @@ TEST(Warning, NumbersAndSubjectsReachTheText) {
   EXPECT_NE(warningText(all[5]).find("is 21.0 degrees from level after up=-y:"), std::string::npos);
   EXPECT_EQ(warningText(all[6]).rfind("MapPoints.txt looks like ORB-SLAM output", 0), 0u);
   EXPECT_NE(warningText(all[7]).find("although 7 voxels are occupied"), std::string::npos);
+  EXPECT_EQ(warningText(all[9]).rfind("the map's points lie about 0.86 apart (17 voxels at resolution=0.05;", 0), 0u)
+      << warningText(all[9]);
+  EXPECT_NE(warningText(all[9]).find("; try resolution=0.5"), std::string::npos);
   const Warning unknown{Warning::Code::kCheckNoObstacle, {}, ""};
   EXPECT_EQ(warningText(unknown).rfind("the build has no obstacle: every path", 0), 0u) << "0 voxels: unknown";
   EXPECT_EQ(all[3].number("noise_voxels"), 51.0);

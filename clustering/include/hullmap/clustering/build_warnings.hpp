@@ -1,8 +1,10 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <vector>
 
+#include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/core/warning.hpp"
 
@@ -29,6 +31,24 @@ inline constexpr double kNoiseShareLimit = 0.5;
 /// occupied and there is no obstacle (occupied_voxels, eps, min_pts); else kMostlyNoise when more
 /// than kNoiseShareLimit of the occupied voxels are noise (noise_voxels, occupied_voxels).
 std::vector<Warning> buildWarnings(const ClusteringOutcome& outcome);
+
+/// The spacing a resolution is suggested for, in voxels: the auto rule's k-NN distance on the maps
+/// that cluster well is 1.4 to 4.6 voxels (docs/CLI.md); 2.5 is in the middle of that range.
+inline constexpr double kSuggestedSpacingVoxels = 2.5;
+
+/// kSparseForResolution when the auto rule, measured on `centres` at `resolution` (`chosen`, by
+/// `rule` under `metric`), found the typical map point's k-th nearest occupied voxel beyond its reach
+/// (rule.max_eps_voxels voxels, AutoParams::knn infinite): eps is then clamped far below the points'
+/// spacing, and most voxels are noise. Its numbers: `resolution`; `spacing`, the rule's knn_quantile
+/// quantile of the exact, unbounded k-NN distance (kDistanceCurve over rule.sample voxels evenly
+/// spread, unweighted: at such spacing a voxel holds about one point); `suggested`, spacing /
+/// kSuggestedSpacingVoxels rounded to the nearest 1, 2 or 5 x 10^n (never finer than `resolution`).
+/// None otherwise, and when eps and minPts were both given (no `chosen`).
+std::optional<Warning> sparseMapWarning(const std::vector<Eigen::Vector3d>& centres, double resolution,
+                                        const AutoParams& chosen, const AutoParamsRule& rule, Metric metric);
+
+/// A resolution rounded to the nearest (in ratio) of 1, 2 and 5 x 10^n; `value` > 0 and finite.
+double roundResolution(double value);
 
 /// Warnings for a path check against the hulls of such a build, which cannot see noise voxels:
 /// kCheckNoObstacle (every path is clear; occupied_voxels), else kCheckMostlyNoise (noise_voxels,

@@ -24,6 +24,7 @@ struct Warning {
     kOrbSlamFrame = 7,                 ///< an ORB-SLAM input read with the up axis left at z
     kCheckNoObstacle = 8,              ///< a hull check against a build with no obstacle
     kCheckMostlyNoise = 9,             ///< a hull check against a build whose voxels are mostly noise
+    kSparseForResolution = 10,         ///< the map's points lie many voxels apart: a coarser resolution fits
   };
 
   Code code;
