@@ -1,0 +1,68 @@
+#pragma once
+// The ground of a map that one plane does not explain (outdoors: slopes, bumps, monocular scale
+// drift): a 2.5D height field fitted with the progressive morphological filter (Zhang, Chen,
+// Whitman, Shyu, Yan and Zhang, "A progressive morphological filter for removing nonground
+// measurements from airborne LIDAR data", IEEE TGRS 41(4), 2003), then kept under the camera's
+// keyframes. A library building block of issue 30: the build does not call it yet.
+
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace hullmap::mapper {
+
+/// Heights on a regular grid of cells (z up, map frame): node (i, j) is the centre of cell (i, j),
+/// at origin + step * (i + 0.5, j + 0.5); between nodes the height is bilinear.
+struct HeightField {
+  Eigen::Vector2d origin = Eigen::Vector2d::Zero();  ///< lower corner of cell (0, 0)
+  double step = 1.0;                                 ///< cell side, map units
+  std::size_t nx = 0, ny = 0;
+  std::vector<double> heights;  ///< nx * ny, x fastest, finite
+
+  double at(std::size_t i, std::size_t j) const { return heights[j * nx + i]; }
+  /// Bilinear height at (x, y); outside the nodes' span, the nearest edge's (clamped).
+  double height(double x, double y) const;
+};
+
+/// Settings of fitTerrain (map units unless said).
+struct TerrainParams {
+  double cell = 2.0;                ///< grid cell side, > 0: a few points per cell (a monocular outdoor map: about 2 m)
+  double max_object = 24.0;         ///< widest non-ground object the filter removes (buildings), > 0
+  double slope = 0.15;              ///< steepest ground the filter keeps, rise per run, >= 0 (streets: up to about 0.1)
+  double initial_threshold = 0.3;   ///< height above the opened surface that is still ground at the first window
+  double max_threshold = 3.0;       ///< the same at any window, >= initial_threshold
+  double low_share = 0.0;           ///< a cell's height: its points' k-th lowest z, k = 1 + floor(low_share * count)
+  double keyframe_clearance = 0.3;  ///< the ground stays at least this below every keyframe over it, >= 0
+};
+
+/// What fitTerrain found.
+struct Terrain {
+  HeightField surface;
+  std::vector<char> ground;  ///< per cell (x fastest): 1 when the cell's low point is ground
+  std::size_t cells_with_points = 0;
+  std::size_t ground_cells = 0;  ///< the heights measured; every other node is interpolated
+  std::size_t lowered = 0;       ///< nodes lowered under a keyframe
+};
+
+/// Fits the ground under `points` (map frame, z up):
+/// 1. each cell's height is its points' k-th lowest z (low_share: a lone point below the ground,
+///    SLAM noise, does not pull a cell of several points down);
+///    A cell lower than the second lowest of its measured 8-neighbours (2 at least) by more than
+///    initial_threshold + slope * cell keeps only its points above that depth (none: no
+///    height): the filter below removes what stands above the ground, not what lies under it;
+/// 2. the progressive morphological filter: openings (minimum, then maximum, over square windows of
+///    3, 5, 9, 17, ... cells, the last at least max_object wide) of that surface, where a cell standing more than
+///    dh_k above the opened one is not ground; dh_k = initial_threshold at the first window, then
+///    min(max_threshold, initial_threshold + slope * (w_k - w_{k-1}) * cell);
+/// 3. cells without points, or not ground, are filled by harmonic interpolation from the ground
+///    cells (Jacobi iterations of the 4-neighbour mean to a change below 1e-6 * cell);
+/// 4. every node within 1.5 cells of a keyframe's (x, y) (the four around it among them, so the
+///    bilinear height under the keyframe is bounded too) is lowered to keyframe z -
+///    keyframe_clearance when it is above that (a camera flies over its ground, never under it).
+/// Deterministic. Throws hullmap::Error naming the TerrainParams field on a bad setting, on
+/// non-finite points or keyframes, and on an input with no point.
+Terrain fitTerrain(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& keyframes,
+                   const TerrainParams& params = {});
+
+}  // namespace hullmap::mapper

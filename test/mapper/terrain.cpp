@@ -1,0 +1,169 @@
+// mapper::fitTerrain against a generated truth: a sloping, bumpy ground sampled as sparsely as a
+// monocular outdoor map, with buildings, trees, cars, noise and outliers above and below it.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <random>
+#include <vector>
+
+#include <Eigen/Core>
+#include <gtest/gtest.h>
+
+#include "hullmap/core/error.hpp"
+#include "hullmap/mapper/terrain.hpp"
+
+namespace hullmap::mapper {
+namespace {
+
+using V3 = Eigen::Vector3d;
+
+double trueGround(double x, double y) {
+  return 0.04 * x - 0.02 * y + 0.8 * std::exp(-((x - 20) * (x - 20) + (y - 60) * (y - 60)) / 200.0) -
+         0.6 * std::exp(-((x - 40) * (x - 40) + (y - 110) * (y - 110)) / 300.0);
+}
+
+struct Box {
+  double x0, y0, x1, y1, height;  // standing on the ground
+};
+
+struct Outdoor {
+  std::vector<V3> points, keyframes;
+  std::vector<Box> objects;
+  std::vector<char> is_ground;  // per point: sampled on the ground
+};
+
+/// A 60 m x 160 m street: ground at 0.6 points per m^2 (noise 5 cm), three buildings (facades and
+/// roofs), trees and cars as boxes of points, 2% outliers up to 2 m below and 10 m above the ground,
+/// keyframes 1.6 m above the street's centre line.
+Outdoor makeOutdoor(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> ux(0, 60), uy(0, 160), unit(0, 1);
+  std::normal_distribution<double> noise(0, 0.05);
+  Outdoor o;
+  o.objects = {{2, 20, 18, 44, 9},      {42, 70, 58, 96, 12},     {4, 120, 22, 140, 7},  // buildings
+               {36, 30, 39, 33, 5},     {35, 128, 38, 131, 6},                           // tree crowns as boxes
+               {27, 50, 29, 54.5, 1.5}, {31, 100, 33, 104.5, 1.5}};                      // cars
+  const auto inside = [&](double x, double y) {
+    for (const auto& b : o.objects)
+      if (x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1) return true;
+    return false;
+  };
+  for (int k = 0; k < int(0.6 * 60 * 160); ++k) {
+    const double x = ux(rng), y = uy(rng);
+    if (inside(x, y)) continue;  // the ground under an object is not seen
+    o.points.emplace_back(x, y, trueGround(x, y) + noise(rng));
+    o.is_ground.push_back(1);
+  }
+  for (const auto& b : o.objects) {
+    const double base =
+        std::min({trueGround(b.x0, b.y0), trueGround(b.x1, b.y0), trueGround(b.x0, b.y1), trueGround(b.x1, b.y1)});
+    const int count = int(2.0 * ((b.x1 - b.x0) + (b.y1 - b.y0)) * b.height + (b.x1 - b.x0) * (b.y1 - b.y0));
+    for (int k = 0; k < count; ++k) {
+      double x = b.x0 + unit(rng) * (b.x1 - b.x0), y = b.y0 + unit(rng) * (b.y1 - b.y0), z = base + b.height;
+      if (unit(rng) < 0.7) {  // a facade
+        const double side = unit(rng);
+        if (side < 0.25)
+          x = b.x0;
+        else if (side < 0.5)
+          x = b.x1;
+        else if (side < 0.75)
+          y = b.y0;
+        else
+          y = b.y1;
+        const double foot = trueGround(x, y) + 0.3;  // the lowest 0.3 m of a facade is not mapped
+        z = foot + unit(rng) * (base + b.height - foot);
+      }
+      o.points.emplace_back(x, y, z + noise(rng));
+      o.is_ground.push_back(0);
+    }
+  }
+  const std::size_t outliers = o.points.size() / 50;
+  for (std::size_t k = 0; k < outliers; ++k) {
+    const double x = ux(rng), y = uy(rng);
+    o.points.emplace_back(x, y, trueGround(x, y) - 2.0 + 12.0 * unit(rng));
+    o.is_ground.push_back(0);
+  }
+  for (double y = 2; y < 158; y += 1.5) o.keyframes.emplace_back(30.0, y, trueGround(30.0, y) + 1.6);
+  return o;
+}
+
+// Nine scenes (seeds 1 to 9). Measured over them: the 95th percentile of the nodes' error 0.22 to
+// 0.37 m, the worst node 0.6 to 2.4 m (under a building's interior, interpolated from cells beside its
+// facades, or a low outlier that a neighbour's outlier shields), the objects' centres within 0.30 to
+// 0.50 m, 99.6 % or more of the ground points within 0.3 m of the surface.
+TEST(Terrain, FollowsASlopingBumpyGroundUnderBuildingsAndStaysUnderTheCamera) {
+  for (unsigned seed = 1; seed <= 9; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const Outdoor o = makeOutdoor(seed);
+    const Terrain t = fitTerrain(o.points, o.keyframes);  // cells of 2 m: 2.4 ground points each on average
+    ASSERT_GT(t.ground_cells, 0u);
+    std::vector<double> errors;
+    for (std::size_t j = 0; j < t.surface.ny; ++j)
+      for (std::size_t i = 0; i < t.surface.nx; ++i) {
+        const double x = t.surface.origin.x() + (double(i) + 0.5) * t.surface.step;
+        const double y = t.surface.origin.y() + (double(j) + 0.5) * t.surface.step;
+        errors.push_back(std::abs(t.surface.at(i, j) - trueGround(x, y)));
+      }
+    std::sort(errors.begin(), errors.end());
+    EXPECT_LT(errors[std::size_t(0.95 * double(errors.size()))], 0.4);
+    EXPECT_LT(errors.back(), 2.5);
+    // Roofs are not ground: the height at each object's centre is near the truth.
+    double worst_object = 0.0;
+    for (const auto& b : o.objects) {
+      const double x = 0.5 * (b.x0 + b.x1), y = 0.5 * (b.y0 + b.y1);
+      worst_object = std::max(worst_object, std::abs(t.surface.height(x, y) - trueGround(x, y)));
+    }
+    EXPECT_LT(worst_object, 0.75);
+    // Never above a keyframe less the clearance, right under it.
+    for (const auto& k : o.keyframes) EXPECT_LE(t.surface.height(k.x(), k.y()), k.z() - 0.3 + 1e-9);
+    // The ground's points lie near the surface.
+    std::size_t near = 0, ground = 0;
+    for (std::size_t k = 0; k < o.points.size(); ++k) {
+      if (!o.is_ground[k]) continue;
+      ++ground;
+      near += std::abs(o.points[k].z() - t.surface.height(o.points[k].x(), o.points[k].y())) < 0.3;
+    }
+    EXPECT_GT(double(near), 0.95 * double(ground));
+    std::printf("seed %u: p95 %.2f, worst %.2f, objects %.2f, near %.3f\n", seed,
+                errors[std::size_t(0.95 * double(errors.size()))], errors.back(), worst_object,
+                double(near) / double(ground));
+  }
+}
+
+// A keyframe below the measured ground (monocular drift: the camera flew lower than the points say)
+// pulls the ground down under it.
+TEST(Terrain, AKeyframeBelowTheGroundLowersItUnderTheKeyframe) {
+  std::vector<V3> points;
+  for (int i = 0; i < 30; ++i)
+    for (int j = 0; j < 30; ++j) points.emplace_back(i * 0.7, j * 0.7, 1.0);
+  const V3 keyframe(10.0, 10.0, 0.5);
+  const Terrain t = fitTerrain(points, {keyframe});
+  EXPECT_GT(t.lowered, 0u);
+  EXPECT_LE(t.surface.height(keyframe.x(), keyframe.y()), 0.2 + 1e-12);
+  EXPECT_NEAR(t.surface.height(2.0, 2.0), 1.0, 1e-9) << "far from it the ground is as measured";
+}
+
+TEST(Terrain, BadSettingsAndInputsNameTheirField) {
+  const std::vector<V3> points{V3(0, 0, 0), V3(1, 1, 0)};
+  TerrainParams p;
+  p.cell = 0;
+  EXPECT_THROW(
+      try { fitTerrain(points, {}, p); } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("cell: ", 0), 0u) << e.what();
+        throw;
+      },
+      Error);
+  p = {};
+  p.max_threshold = 0.1;
+  EXPECT_THROW(fitTerrain(points, {}, p), Error);
+  p = {};
+  p.low_share = 1.0;
+  EXPECT_THROW(fitTerrain(points, {}, p), Error);
+  EXPECT_THROW(fitTerrain({}, {}, {}), Error);
+  EXPECT_THROW(fitTerrain({V3(0, 0, NAN)}, {}, {}), Error);
+  EXPECT_THROW(fitTerrain(points, {V3(0, INFINITY, 0)}, {}), Error);
+}
+
+}  // namespace
+}  // namespace hullmap::mapper
