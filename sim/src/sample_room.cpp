@@ -9,6 +9,7 @@
 
 #include "hullmap/core/error.hpp"
 #include "hullmap/sim/sample_scene.hpp"
+#include "scene_patches.hpp"
 #include "scene_random.hpp"
 
 namespace hullmap::sim::detail {
@@ -16,22 +17,9 @@ namespace {
 
 constexpr double kWallThickness = 0.1;  // the truth's walls and floor are 10 cm thick, outside the room
 
-// The box from corner lo to corner hi, of `kind`.
-TruthShape boxBetween(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const std::string& kind = "box") {
-  return TruthShape::box(0.5 * (lo + hi), hi - lo, kind);
-}
-
 // A box or cylinder as `part` (a primitive of kind box or cylinder), at `center` with `size`.
 TruthShape reshaped(const TruthShape& part, const Eigen::Vector3d& center, const Eigen::Vector3d& size) {
   return part.shape == TruthShape::Shape::kBox ? TruthShape::box(center, size) : TruthShape::cylinder(center, size);
-}
-
-// A true object of `kind` made of `parts`: their union, or the one part itself.
-TruthShape object(const std::string& kind, std::vector<TruthShape> parts) {
-  if (parts.size() > 1) return TruthShape::unionOf(kind, std::move(parts));
-  const TruthShape& part = parts.front();
-  return part.shape == TruthShape::Shape::kBox ? TruthShape::box(part.center, part.size, kind)
-                                               : TruthShape::cylinder(part.center, part.size, kind);
 }
 
 // `o`'s primitives moved by `shift` in x and y, as an object of o's kind.
@@ -43,108 +31,6 @@ TruthShape shifted(const TruthShape& o, const Eigen::Vector2d& shift) {
     parts.push_back(reshaped(part, center, part.size));
   }
   return object(o.kind, std::move(parts));
-}
-
-// A visible surface patch: a rectangle c + u a + v b (u, v in [-1, 1]), a cylinder's side or its
-// top disc. Points on it that fall on or inside another piece of furniture's part are drawn again:
-// faces where parts touch, the floor under furniture, a leg's top under the table top.
-struct Patch {
-  enum class Type { kRect, kCylinderSide, kDisc } type = Type::kRect;
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  Eigen::Vector3d a = Eigen::Vector3d::Zero();  // rect half-axis; cylinder: (radius, half height, 0)
-  Eigen::Vector3d b = Eigen::Vector3d::Zero();
-  double area = 0.0;
-  std::size_t part = 0;  // index into the flat parts list (itself is never a rejecter)
-};
-
-void addBoxFaces(const TruthShape& o, std::size_t part, bool top, std::vector<Patch>& patches) {
-  const Eigen::Vector3d h = 0.5 * o.size;
-  auto rect = [&](const Eigen::Vector3d& c, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    Patch p;
-    p.c = c;
-    p.a = a;
-    p.b = b;
-    p.area = 4.0 * a.norm() * b.norm();
-    p.part = part;
-    if (p.area > 0.0) patches.push_back(p);
-  };
-  const Eigen::Vector3d x(h.x(), 0, 0), y(0, h.y(), 0), z(0, 0, h.z());
-  if (top) rect(o.center + z, x, y);
-  rect(o.center + x, y, z);
-  rect(o.center - x, y, z);
-  rect(o.center + y, x, z);
-  rect(o.center - y, x, z);
-}
-
-void addCylinder(const TruthShape& o, std::size_t part, std::vector<Patch>& patches) {
-  const double r = 0.5 * o.size.x(), hz = 0.5 * o.size.z();
-  Patch side;
-  side.type = Patch::Type::kCylinderSide;
-  side.c = o.center;
-  side.a = Eigen::Vector3d(r, hz, 0);
-  side.area = 2.0 * kPi * r * 2.0 * hz;
-  side.part = part;
-  patches.push_back(side);
-  Patch disc = side;
-  disc.type = Patch::Type::kDisc;
-  disc.c = o.center + Eigen::Vector3d(0, 0, hz);
-  disc.area = kPi * r * r;
-  patches.push_back(disc);
-}
-
-Eigen::Vector3d samplePatch(const Patch& p, bool on_edge, SceneRandom& rng) {
-  switch (p.type) {
-    case Patch::Type::kRect: {
-      double u = rng.uniform(-1.0, 1.0), v = rng.uniform(-1.0, 1.0);
-      if (on_edge) {
-        // One of the four edges, by length.
-        const double la = p.a.norm(), lb = p.b.norm();
-        if (rng.uniform() * (la + lb) < la)
-          v = rng.uniform() < 0.5 ? -1.0 : 1.0;
-        else
-          u = rng.uniform() < 0.5 ? -1.0 : 1.0;
-      }
-      return p.c + u * p.a + v * p.b;
-    }
-    case Patch::Type::kCylinderSide: {
-      const double angle = 2.0 * kPi * rng.uniform();
-      const double z = on_edge ? p.a.y() : rng.uniform(-p.a.y(), p.a.y());
-      return p.c + Eigen::Vector3d(p.a.x() * std::cos(angle), p.a.x() * std::sin(angle), z);
-    }
-    case Patch::Type::kDisc:
-    default: {
-      const double angle = 2.0 * kPi * rng.uniform();
-      const double r = on_edge ? p.a.x() : p.a.x() * std::sqrt(rng.uniform());
-      return p.c + Eigen::Vector3d(r * std::cos(angle), r * std::sin(angle), 0.0);
-    }
-  }
-}
-
-// On or inside the part (1e-9 m slack).
-bool covers(const TruthShape& o, const Eigen::Vector3d& q) {
-  const Eigen::Vector3d d = q - o.center;
-  const Eigen::Vector3d h = 0.5 * o.size;
-  if (o.shape == TruthShape::Shape::kBox) return (d.cwiseAbs() - h).maxCoeff() <= 1e-9;
-  return std::hypot(d.x(), d.y()) <= h.x() + 1e-9 && std::abs(d.z()) <= h.z() + 1e-9;
-}
-
-// Footprint (x, y) bounds of an object, for the placement gaps.
-struct Footprint {
-  Eigen::Vector2d lo, hi;
-};
-
-Footprint footprint(const TruthShape& object) {
-  Footprint f{Eigen::Vector2d::Constant(1e300), Eigen::Vector2d::Constant(-1e300)};
-  for (const auto& p : object.primitives()) {
-    f.lo = f.lo.cwiseMin((p.center - 0.5 * p.size).head<2>());
-    f.hi = f.hi.cwiseMax((p.center + 0.5 * p.size).head<2>());
-  }
-  return f;
-}
-
-double gap(const Footprint& a, const Footprint& b) {
-  const Eigen::Vector2d d = (a.lo - b.hi).cwiseMax(b.lo - a.hi);
-  return d.maxCoeff();
 }
 
 // A piece of furniture with its footprint's lower corner at the origin, standing on z = 0.
