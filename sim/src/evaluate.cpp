@@ -148,7 +148,8 @@ double convexDistance(const std::vector<V3>& vertices, const TruthShape& s) {
 }
 
 /// Distance from a hull to a true shape: exact for boxes, cylinders and their unions
-/// (convexDistance); for a mesh the least over the hull's vertices and `samples` (points in it).
+/// (convexDistance); for a mesh or a height field the least over the hull's vertices and `samples`
+/// (points in it), 0 when one of them is inside.
 double hullDistance(const std::vector<V3>& vertices, const std::vector<V3>& samples, const TruthShape& s) {
   switch (s.shape) {
     case TruthShape::Shape::kBox:
@@ -159,7 +160,8 @@ double hullDistance(const std::vector<V3>& vertices, const std::vector<V3>& samp
       for (const auto& part : s.parts) best = std::min(best, convexDistance(vertices, part));
       return best;
     }
-    case TruthShape::Shape::kMesh: {
+    case TruthShape::Shape::kMesh:
+    case TruthShape::Shape::kHeightField: {
       double best = kInf;
       for (const V3& p : vertices) best = std::min(best, s.signedDistance(p));
       for (const V3& p : samples) best = std::min(best, s.signedDistance(p));
@@ -300,16 +302,24 @@ std::optional<SampledSegments> sampleSegments(const GroundTruth& truth, const Ev
     hi += V3::Constant(params.radius + params.clear_margin + 0.5);
   }
   const double free_distance = params.radius + params.clear_margin;
-  // Segments stay on the map's side of its floors and ceilings: nothing flies through a floor.
+  // Segments stay on the map's side of its floors and ceilings: nothing flies through a floor. Over a
+  // height field, the side is that of its surface at the point's (x, y) (its rim's beside the grid).
   double above = -kInf, below = kInf;
+  std::vector<const HeightGrid*> grounds;
   for (const auto& s : truth.shapes) {
     if (!s.surface) continue;
-    if (s.kind == "floor")
+    if (s.shape == TruthShape::Shape::kHeightField)
+      grounds.push_back(&s.grid);
+    else if (s.kind == "floor")
       above = std::max(above, s.aabb_max.z() + free_distance);
     else
       below = std::min(below, s.aabb_min.z() - free_distance);
   }
-  const auto onMapSide = [&](const V3& p) { return p.z() >= above && p.z() <= below; };
+  const auto onMapSide = [&](const V3& p) {
+    for (const HeightGrid* g : grounds)
+      if (p.z() < *g->heightAt(p.head<2>().cwiseMax(g->origin).cwiseMin(g->corner())) + free_distance) return false;
+    return p.z() >= above && p.z() <= below;
+  };
   SampledSegments sampled;
   auto& segments = sampled.segments;
   for (std::size_t tries = 0; segments.size() < params.segments && tries < 1000 * params.segments; ++tries) {

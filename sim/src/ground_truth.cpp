@@ -1,5 +1,6 @@
-// The ground truth (the scene generator's and the one a build is scored against): its shapes, their
-// signed distance, and its JSON both ways (maps/'s ground_truth.json), with the reader of OBJ meshes.
+// The ground truth (the scene generator's and the one a build is scored against): its shapes (boxes,
+// cylinders, unions, meshes, height fields), their signed distance, and its JSON both ways (maps/'s
+// ground_truth.json), with the reader of OBJ meshes.
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -83,6 +84,47 @@ nlohmann::json primitiveToJson(const TruthShape& s) {
   return j;
 }
 
+[[noreturn]] void failAt(const std::string& path, const std::string& where, const std::string& what) {
+  throw Error(path + ": " + where + ": " + what);
+}
+
+/// A "heightfield" entry of ground_truth.json at `at`, of `kind` (without one, "heightfield"); every
+/// field checked, errors "<path>: <at>.<field>: <what>".
+TruthShape readHeightField(const std::string& path, const nlohmann::json& j, const std::string& at,
+                           const std::optional<std::string>& kind) {
+  for (const char* key : {"origin", "step", "size", "heights"})
+    if (!j.contains(key)) failAt(path, at, std::string("missing \"") + key + "\"");
+  HeightGrid grid;
+  const auto& origin = j["origin"];
+  if (!origin.is_array() || origin.size() != 2 || !origin[0].is_number() || !origin[1].is_number())
+    failAt(path, at + ".origin", "expected [x, y]");
+  grid.origin = Eigen::Vector2d(origin[0].get<double>(), origin[1].get<double>());
+  if (!grid.origin.allFinite()) failAt(path, at + ".origin", "non-finite number");
+  if (!j["step"].is_number() || !(j["step"].get<double>() > 0) || !std::isfinite(j["step"].get<double>()))
+    failAt(path, at + ".step", "expected a finite number > 0");
+  grid.step = j["step"].get<double>();
+  const auto& size = j["size"];
+  if (!size.is_array() || size.size() != 2 || !size[0].is_number_unsigned() || !size[1].is_number_unsigned() ||
+      size[0].get<std::size_t>() < 2 || size[1].get<std::size_t>() < 2)
+    failAt(path, at + ".size", "expected [nx, ny], whole numbers >= 2");
+  grid.nx = size[0].get<std::size_t>();
+  grid.ny = size[1].get<std::size_t>();
+  const auto& heights = j["heights"];
+  if (!heights.is_array()) failAt(path, at + ".heights", "expected an array of numbers");
+  // nx and ny each at most the count of heights, so their product cannot overflow when it matches.
+  if (grid.nx > heights.size() || grid.ny > heights.size() || grid.nx * grid.ny != heights.size())
+    failAt(path, at + ".heights",
+           "expected nx * ny = " + size[0].dump() + " * " + size[1].dump() + " numbers, got " +
+               std::to_string(heights.size()));
+  grid.heights.reserve(heights.size());
+  for (std::size_t k = 0; k < heights.size(); ++k) {
+    if (!heights[k].is_number() || !std::isfinite(heights[k].get<double>()))
+      failAt(path, at + ".heights[" + std::to_string(k) + "]", "expected a finite number");
+    grid.heights.push_back(heights[k].get<double>());
+  }
+  return TruthShape::heightField(std::move(grid), kind.value_or("heightfield"));
+}
+
 GroundTruth readJsonTruth(const std::string& path, std::istream& in) {
   nlohmann::json doc;
   try {
@@ -127,7 +169,9 @@ GroundTruth readJsonTruth(const std::string& path, std::istream& in) {
     };
     std::optional<std::string> kind;
     if (j.contains("kind") && j["kind"].is_string()) kind = j["kind"].get<std::string>();
-    if (j.contains("shape") && j["shape"] == "union") {
+    if (j.contains("shape") && j["shape"] == "heightfield") {
+      truth.add(readHeightField(path, j, at, kind));
+    } else if (j.contains("shape") && j["shape"] == "union") {
       if (!j.contains("parts") || !j["parts"].is_array() || j["parts"].empty())
         fail(at + ".parts", "a union needs a non-empty \"parts\" array");
       std::vector<TruthShape> parts;
@@ -234,6 +278,73 @@ TruthShape TruthShape::mesh(const std::string& label, std::vector<std::array<V3,
   return s;
 }
 
+TruthShape TruthShape::heightField(HeightGrid grid, const std::string& kind) {
+  const auto fail = [&](const std::string& what) { throw Error("ground truth: heightfield " + kind + ": " + what); };
+  if (grid.nx < 2 || grid.ny < 2) fail("needs at least 2 x 2 nodes");
+  if (grid.heights.size() / grid.nx != grid.ny || grid.heights.size() % grid.nx != 0)
+    fail("needs nx * ny heights, got " + std::to_string(grid.heights.size()));
+  if (!(grid.step > 0) || !std::isfinite(grid.step) || !grid.origin.allFinite()) fail("needs a finite step > 0");
+  TruthShape s = ofKind(Shape::kHeightField, kind);
+  s.surface = true;
+  double lo = kInf, hi = -kInf;
+  for (double h : grid.heights) {
+    if (!std::isfinite(h)) fail("non-finite height");
+    lo = std::min(lo, h);
+    hi = std::max(hi, h);
+  }
+  s.aabb_min = V3(grid.origin.x(), grid.origin.y(), lo);
+  s.aabb_max = V3(grid.corner().x(), grid.corner().y(), hi);
+  s.grid = std::move(grid);
+  return s;
+}
+
+std::optional<double> HeightGrid::heightAt(const Eigen::Vector2d& xy) const {
+  const Eigen::Vector2d far = corner();
+  if (!(xy.array() >= origin.array()).all() || !(xy.array() <= far.array()).all()) return std::nullopt;
+  const Eigen::Vector2d u = (xy - origin) / step;
+  const std::size_t i = std::min(std::size_t(u.x()), nx - 2), j = std::min(std::size_t(u.y()), ny - 2);
+  const double fu = u.x() - double(i), fv = u.y() - double(j);
+  const double a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+  // Triangle (a, b, c) where fu >= fv, else (a, c, d).
+  return fu >= fv ? a + fu * (b - a) + fv * (c - b) : a + fv * (d - a) + fu * (c - d);
+}
+
+double HeightGrid::distance(const V3& p) const {
+  const Eigen::Vector2d xy = p.head<2>();
+  const Eigen::Vector2d near = xy.cwiseMax(origin).cwiseMin(corner());
+  // The surface point over the grid's point nearest p's (x, y) bounds the answer: only cells whose
+  // square lies within that bound of p's (x, y) can hold a nearer point.
+  double best2 = (xy - near).squaredNorm() + std::pow(p.z() - *heightAt(near), 2);
+  const double reach = std::sqrt(best2);
+  const auto cells = [&](double v, double o, std::size_t n) {
+    const double last = double(n - 2);
+    const double lo = std::clamp(std::floor((v - reach - o) / step), 0.0, last);
+    const double hi = std::clamp(std::floor((v + reach - o) / step), 0.0, last);
+    return std::pair<std::size_t, std::size_t>(std::size_t(lo), std::size_t(hi));
+  };
+  const auto [i0, i1] = cells(p.x(), origin.x(), nx);
+  const auto [j0, j1] = cells(p.y(), origin.y(), ny);
+  // Distance from v to [lo, lo + span] along one axis.
+  const auto outside = [](double v, double lo, double span) { return std::max({0.0, lo - v, v - lo - span}); };
+  for (std::size_t j = j0; j <= j1; ++j) {
+    const double y = origin.y() + step * double(j);
+    const double dy = outside(p.y(), y, step);
+    if (dy * dy >= best2) continue;
+    for (std::size_t i = i0; i <= i1; ++i) {
+      const double x = origin.x() + step * double(i);
+      const double dx = outside(p.x(), x, step);
+      const double h00 = at(i, j), h10 = at(i + 1, j), h11 = at(i + 1, j + 1), h01 = at(i, j + 1);
+      const double lo = std::min({h00, h10, h11, h01}), hi = std::max({h00, h10, h11, h01});
+      const double dz = outside(p.z(), lo, hi - lo);
+      if (dx * dx + dy * dy + dz * dz >= best2) continue;
+      const V3 a(x, y, h00), b(x + step, y, h10), c(x + step, y + step, h11), d(x, y + step, h01);
+      best2 = std::min(best2, (p - closestOnTriangle(p, a, b, c)).squaredNorm());
+      best2 = std::min(best2, (p - closestOnTriangle(p, a, c, d)).squaredNorm());
+    }
+  }
+  return std::sqrt(best2);
+}
+
 TruthShapeRange TruthShape::primitives() const {
   return shape == Shape::kUnion ? TruthShapeRange(parts.data(), parts.size()) : TruthShapeRange(this, 1);
 }
@@ -271,6 +382,11 @@ double TruthShape::signedDistance(const V3& p) const {
       winding /= 4.0 * kPi;
       return std::abs(winding) >= 0.5 ? -best : best;
     }
+    case Shape::kHeightField: {
+      const double d = grid.distance(p);
+      const std::optional<double> h = grid.heightAt(p.head<2>());
+      return h && p.z() < *h ? -d : d;
+    }
   }
   return kInf;
 }
@@ -307,7 +423,14 @@ nlohmann::json groundTruthToJson(const GroundTruth& truth, bool write_kinds) {
   for (const TruthShape& s : truth.shapes) {
     nlohmann::json entry;
     if (s.shape == TruthShape::Shape::kMesh) throw Error("ground truth: " + s.label + ": a mesh has no JSON form");
-    if (s.shape == TruthShape::Shape::kUnion) {
+    if (s.shape == TruthShape::Shape::kHeightField) {
+      const HeightGrid& g = s.grid;
+      entry = {{"shape", "heightfield"},
+               {"origin", {g.origin.x(), g.origin.y()}},
+               {"step", g.step},
+               {"size", {g.nx, g.ny}},
+               {"heights", g.heights}};
+    } else if (s.shape == TruthShape::Shape::kUnion) {
       entry["shape"] = "union";
       nlohmann::json parts = nlohmann::json::array();
       for (const TruthShape& part : s.parts) parts.push_back(primitiveToJson(part));

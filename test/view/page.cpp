@@ -423,15 +423,19 @@ TEST(ViewPage, TruthShapesAreWireframes) {
   hullmap::test::writeText(truth_file, R"({"obstacles": [
       {"shape": "box", "center": [1, 2, 0.5], "size": [2, 1, 1], "yaw": 0.5},
       {"shape": "cylinder", "center": [-1, 0, 1], "size": [0.4, 0.4, 2]},
-      {"kind": "floor", "shape": "box", "center": [0, 0, -0.05], "size": [10, 10, 0.1]}]})");
+      {"kind": "floor", "shape": "box", "center": [0, 0, -0.05], "size": [10, 10, 0.1]},
+      {"kind": "ground", "shape": "heightfield", "origin": [0, 0], "step": 1, "size": [3, 2],
+       "heights": [0, 0, 0, 1, 1, 1]}]})");
   view::ViewInputs inputs;
   inputs.truth = hullmap::sim::readGroundTruth(truth_file.string());
   inputs.truth_name = "truth.json";
   const json data = pageData(view::renderPage(view::readScene(b.dir / "out", inputs)).html);
   const json& truth = data["truth"];
-  ASSERT_EQ(truth["shapes"].size(), 3u);
+  ASSERT_EQ(truth["shapes"].size(), 4u);
   EXPECT_EQ(truth["shapes"][0]["segments"], 12);  // a box's edges
   EXPECT_EQ(truth["shapes"][2]["surface"], true);
+  EXPECT_EQ(truth["shapes"][3]["segments"], 7);  // a 3 x 2 grid's lines: 2 rows of 2, 3 columns of 1
+  EXPECT_EQ(truth["shapes"][3]["surface"], true);
   const auto segments = typed<float>(truth["segments"]);
   const Eigen::Vector3d shift(data["shift"][0], data["shift"][1], data["shift"][2]);
   // Every end of the box's edges is one of its 8 corners (yawed by 0.5 rad about z).

@@ -222,6 +222,19 @@ void truthSegments(const sim::TruthShape& s, std::vector<std::pair<Eigen::Vector
       out.emplace_back(at(k, h), at(k + 1, h));
       if (k % 6 == 0) out.emplace_back(at(k, -h), at(k, h));
     }
+  } else if (s.shape == Shape::kHeightField) {
+    // A terrain: its grid lines through every k-th node each way (about 40 each way), on the surface.
+    const sim::HeightGrid& g = s.grid;
+    const std::size_t k = std::max<std::size_t>(1, (std::max(g.nx, g.ny) + 39) / 40);
+    const auto node = [&g](std::size_t i, std::size_t j) {
+      return Eigen::Vector3d(g.origin.x() + g.step * double(i), g.origin.y() + g.step * double(j), g.at(i, j));
+    };
+    for (std::size_t j = 0; j < g.ny; ++j)
+      for (std::size_t i = 0; i + 1 < g.nx; ++i)
+        if (j % k == 0 || j + 1 == g.ny) out.emplace_back(node(i, j), node(i + 1, j));
+    for (std::size_t i = 0; i < g.nx; ++i)
+      for (std::size_t j = 0; j + 1 < g.ny; ++j)
+        if (i % k == 0 || i + 1 == g.nx) out.emplace_back(node(i, j), node(i, j + 1));
   } else {
     // A mesh: each edge of its triangles once.
     using Key = std::tuple<double, double, double, double, double, double>;

@@ -20,7 +20,8 @@ namespace hullmap::sim {
 /// - kInTruthBox: uniformly in the box of the truth itself, free or not (a room: anywhere inside its
 ///   walls, or in them), as a user draws test paths in the room: many are deep, and the clear ones
 ///   all lie inside the room.
-/// Both keep the endpoints radius + clear_margin above every true floor and below every ceiling.
+/// Both keep the endpoints radius + clear_margin above every true floor and below every ceiling, and
+/// above every height field's surface where they are (at the point's (x, y) clamped to its grid).
 enum class SegmentEnds { kFree, kInTruthBox };
 
 /// Settings of evaluate(); every random draw comes from std::mt19937_64(seed) with hullmap's own
@@ -48,7 +49,7 @@ struct EvaluateParams {
 /// Per true obstacle.
 struct TruthScore {
   std::string label;
-  bool surface = false;  ///< a floor or ceiling (TruthShape::surface)
+  bool surface = false;  ///< a floor, ceiling or height field (TruthShape::surface)
   /// Weight of its observed points: map points whose nearest shape surface is this one's, within
   /// surface_margin (each point counts for one shape only).
   double points_near = 0;
@@ -71,8 +72,8 @@ struct FalsePart {
   std::size_t voxels = 0;  ///< its voxels
   double volume = 0.0;     ///< its hull's volume, map units^3: the free space it brings
   /// Its hull's distance from the nearest true obstacle, map units: exact for boxes, cylinders and
-  /// their unions (Frank-Wolfe over the hull, to a duality gap of 1e-12), for a mesh the least over
-  /// the hull's vertices and its Monte Carlo points.
+  /// their unions (Frank-Wolfe over the hull, to a duality gap of 1e-12), for a mesh or a height
+  /// field the least over the hull's vertices and its Monte Carlo points.
   double distance = 0.0;
 };
 

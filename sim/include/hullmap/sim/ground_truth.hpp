@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,26 @@
 namespace hullmap::sim {
 
 struct TruthShape;
+
+/// A terrain's heights on a square grid, z = h(x, y), map frame, map units. The surface is
+/// triangulated: each cell (i, j)-(i + 1, j + 1) is two triangles split along its diagonal from node
+/// (i, j) to node (i + 1, j + 1). Built by TruthShape::heightField, which checks it.
+struct HeightGrid {
+  Eigen::Vector2d origin = Eigen::Vector2d::Zero();  ///< (x, y) of node (0, 0)
+  double step = 1.0;                                 ///< node spacing along x and along y, > 0
+  std::size_t nx = 0, ny = 0;                        ///< nodes along x and along y, >= 2 each
+  /// Row-major, a row per y: heights[j * nx + i] is z at node (i, j), (x, y) = origin + step (i, j).
+  std::vector<double> heights;
+
+  double at(std::size_t i, std::size_t j) const { return heights[j * nx + i]; }
+  /// (x, y) of the last node, origin + step (nx - 1, ny - 1): the grid covers [origin, corner()].
+  Eigen::Vector2d corner() const { return origin + step * Eigen::Vector2d(double(nx - 1), double(ny - 1)); }
+  /// The surface's height at (x, y), on its triangles; nothing outside [origin, corner()].
+  std::optional<double> heightAt(const Eigen::Vector2d& xy) const;
+  /// Exact distance from p to the triangulated surface (the closest point of each triangle that can
+  /// be nearer than the surface point above or below p). Costs O(r^2 / step^2) cells, r the answer.
+  double distance(const Eigen::Vector3d& p) const;
+};
 
 /// A run of shapes lying one after another in memory (a union's parts, or one shape alone), for
 /// range-for; valid while the shape it was taken from is.
@@ -30,20 +51,23 @@ class TruthShapeRange {
 /// One true obstacle, z-up map frame, map units (metres for a metric map): what the scene
 /// generator makes, ground_truth.json holds and evaluate scores against.
 struct TruthShape {
-  enum class Shape { kBox, kCylinder, kMesh, kUnion } shape = Shape::kBox;
+  enum class Shape { kBox, kCylinder, kMesh, kUnion, kHeightField } shape = Shape::kBox;
   /// What it is: the JSON's "kind" ("box", "cylinder", "l_shelf", "table", "wall", "floor",
-  /// "ceiling", ...); without one, the shape's name ("box", "cylinder", "union", "mesh").
+  /// "ceiling", "ground", "building", ...); without one, the shape's name ("box", "cylinder",
+  /// "union", "mesh", "heightfield").
   std::string kind = "box";
   std::string label;  ///< "box 3", "table 6" (kind and index), or the OBJ object's name
-  /// A floor or ceiling (kind "floor" / "ceiling"): the bound of the map, which the build leaves out
-  /// of its obstacles. Random segments stay above every floor and below every ceiling; its observed
-  /// points are reported but are not expected inside hulls.
+  /// A floor or ceiling (kind "floor" / "ceiling"), or a height field (any kind, "ground" from the
+  /// generator): the bound of the map, which the build leaves out of its obstacles. Random segments
+  /// stay above every floor and height field and below every ceiling; its observed points are
+  /// reported but are not expected inside hulls.
   bool surface = false;
   std::vector<TruthShape> parts;                          ///< kUnion: the primitives (boxes, cylinders)
   Eigen::Vector3d center = Eigen::Vector3d::Zero();       ///< box centre; cylinder axis centre
   Eigen::Vector3d size = Eigen::Vector3d::Ones();         ///< box extents; cylinder (2r, 2r, height)
   double yaw = 0.0;                                       ///< box rotation about z, radians
   std::vector<std::array<Eigen::Vector3d, 3>> triangles;  ///< mesh: a closed surface
+  HeightGrid grid;                                        ///< height field: the terrain
   Eigen::Vector3d aabb_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d aabb_max = Eigen::Vector3d::Zero();
 
@@ -58,19 +82,26 @@ struct TruthShape {
   static TruthShape unionOf(const std::string& kind, std::vector<TruthShape> parts);
   /// A closed triangle mesh of kind "mesh", labelled `label`, with its aabb.
   static TruthShape mesh(const std::string& label, std::vector<std::array<Eigen::Vector3d, 3>> triangles);
+  /// A terrain, of `kind`, always a surface: its solid is everything below the grid's surface over
+  /// [origin, corner()]; its aabb spans that in x and y and the heights' range in z. Throws
+  /// hullmap::Error when the grid is not nx x ny >= 2 x 2 finite heights at a finite step > 0.
+  static TruthShape heightField(HeightGrid grid, const std::string& kind = "heightfield");
 
   /// The primitives it is made of: a union's parts, else the shape itself.
   TruthShapeRange primitives() const;
 
   /// Exact signed distance: negative inside, positive outside. A mesh is inside by its winding
-  /// number (>= 1/2), its distance the exact point-triangle minimum.
+  /// number (>= 1/2), its distance the exact point-triangle minimum. A height field: the distance to
+  /// its triangulated surface (HeightGrid::distance), negative below the surface over the grid; its
+  /// vertical sides are no part of it (beside the grid the distance is to the surface's rim).
   double signedDistance(const Eigen::Vector3d& p) const;
 };
 
 inline const TruthShape* TruthShapeRange::end() const { return first_ + count_; }
 inline const TruthShape& TruthShapeRange::operator[](std::size_t i) const { return first_[i]; }
 
-/// The ground truth: boxes and cylinders (walls and floors are boxes), unions of them, and/or meshes.
+/// The ground truth: boxes and cylinders (walls and floors are boxes), unions of them, height fields
+/// (terrain) and/or meshes.
 struct GroundTruth {
   std::vector<TruthShape> shapes;
 
@@ -84,8 +115,9 @@ struct GroundTruth {
 
 /// Reads ground truth: a JSON file as maps/room/ground_truth.json ({"obstacles": [{"shape": "box" |
 /// "cylinder", "center": [x,y,z], "size": [sx,sy,sz], optional "yaw"}]}; "shape": "union" with
-/// "parts": [primitives] for an object made of several (maps/README.md); optional "kind", where
-/// "floor" and "ceiling" mark a bounding surface), or an OBJ mesh (`v` and
+/// "parts": [primitives] for an object made of several (maps/README.md); "shape": "heightfield" with
+/// "origin": [x, y], "step", "size": [nx, ny] and "heights" (nx * ny, row-major) for a terrain;
+/// optional "kind", where "floor" and "ceiling" mark a bounding surface), or an OBJ mesh (`v` and
 /// `f` lines; each `o` object one true obstacle, the whole file one when it has none; polygons are
 /// fanned). Throws hullmap::Error "<path>: <what>" (line numbers for OBJ).
 GroundTruth readGroundTruth(const std::string& path);
