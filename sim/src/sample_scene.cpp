@@ -14,6 +14,8 @@
 
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/core/number_text.hpp"
+#include "outdoor_scene.hpp"
 #include "scene_random.hpp"
 
 namespace hullmap::sim {
@@ -103,6 +105,41 @@ double footprintGap(const TruthShape& a, const TruthShape& b) {
   return std::max(dx, dy);
 }
 
+// The shortest text that reads back as `value`.
+std::string numberText(double value) {
+  char text[core::kShortestTextMax];
+  return std::string(text, core::writeShortest(text, value));
+}
+
+// kOutdoor's own checks; errors name the field (Error::inParameter).
+void checkOutdoorParams(const SceneParams& p) {
+  const auto require = [](bool ok, const char* field, const std::string& rule, double value) {
+    if (!ok) throw Error::inParameter(field, rule + ", got " + numberText(value));
+  };
+  const auto within = [](double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
+  require(p.keyframes >= 3, "keyframes", "must be at least 3 on a street (to align the trajectory)",
+          double(p.keyframes));
+  require(within(p.track_length, 40.0, 1e5), "track_length", "must be in [40, 1e5] metres", p.track_length);
+  require(within(p.track_width, 30.0, 1e4), "track_width", "must be in [30, 1e4] metres", p.track_width);
+  const double nodes = (std::ceil(p.track_length) + 1.0) * (std::ceil(p.track_width) + 1.0);
+  require(nodes <= 1e8, "track_length/track_width", "the terrain must have at most 1e8 nodes (1 m apart)", nodes);
+  require(std::isfinite(p.density) && p.density > 0.0, "density", "must be > 0 points per m^2", p.density);
+  require(p.density * nodes <= 1e9, "density", "x the area must be at most 1e9 points", p.density * nodes);
+  require(within(p.edge_fraction, 0.0, 1.0), "edge_fraction", "must be in [0, 1]", p.edge_fraction);
+  require(std::isfinite(p.monocular_scale) && p.monocular_scale > 0.0, "monocular_scale", "must be > 0",
+          p.monocular_scale);
+  require(within(p.camera_pitch_deg, 0.0, 80.0), "camera_pitch_deg", "must be in [0, 80] degrees", p.camera_pitch_deg);
+  require(p.outlier_fraction < 1.0, "outlier_fraction", "must be < 1 on a street", p.outlier_fraction);
+  require(within(p.slope_along, -0.2, 0.2), "slope_along", "must be in [-0.2, 0.2]", p.slope_along);
+  require(within(p.slope_across, -0.2, 0.2), "slope_across", "must be in [-0.2, 0.2]", p.slope_across);
+  require(p.bumps <= 10000, "bumps", "must be at most 10000", double(p.bumps));
+  require(within(p.bump_height, 0.0, 5.0), "bump_height", "must be in [0, 5] metres", p.bump_height);
+  require(std::isfinite(p.scale_drift) && p.scale_drift > -1.0 && p.scale_drift <= 10.0, "scale_drift",
+          "must be in (-1, 10]", p.scale_drift);
+  require(within(p.gps_sigma, 0.0, 1e4), "gps_sigma", "must be in [0, 1e4] metres", p.gps_sigma);
+  require(within(p.gps_dropout, 0.0, 1.0), "gps_dropout", "must be in [0, 1]", p.gps_dropout);
+}
+
 void checkParams(const SceneParams& p) {
   auto require = [](bool ok, const std::string& message) {
     if (!ok) throw Error("scene parameters: " + message);
@@ -116,6 +153,8 @@ void checkParams(const SceneParams& p) {
   require(p.keyframes >= 1, "keyframes must be at least 1");
   if (p.layout == SceneLayout::kObstacles) {
     require(p.obstacles >= 1, "obstacles must be at least 1");
+  } else if (p.layout == SceneLayout::kOutdoor) {
+    checkOutdoorParams(p);
   } else {
     require(p.keyframes >= 3, "keyframes (--keyframes) must be at least 3 in a room (to align the trajectory)");
     require(std::isfinite(p.density) && p.density > 0.0, "density (--density) must be > 0 points per m^2");
@@ -202,6 +241,124 @@ void appendXyz(std::string& out, const Eigen::Vector3d& p) {
   out.append(buf, end);
 }
 
+// Writes keyframes to `path` atomically as TUM lines `t x y z qx qy qz qw`.
+void writeTum(const std::string& path, const std::vector<io::Keyframe>& keyframes) {
+  core::writeFileAtomically(path, [&keyframes](std::ostream& out) {
+    char line[512];
+    for (const io::Keyframe& k : keyframes) {
+      const Eigen::Quaterniond& q = k.orientation;
+      std::snprintf(line, sizeof(line), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", k.stamp, k.position.x(),
+                    k.position.y(), k.position.z(), q.x(), q.y(), q.z(), q.w());
+      out << line;
+    }
+  });
+}
+
+// ground_truth.json of a kObstacles scene.
+nlohmann::json obstaclesDocument(const Scene& scene, const SceneParams& params) {
+  nlohmann::json j;
+  j["frame"] = "z-up map";
+  j["units"] = "metres";
+  j["points_frame"] = params.orbslam_frame ? "orbslam (y down): read with --up -y" : "z-up map";
+  j["params"] = {{"seed", params.seed},
+                 {"points", params.points},
+                 {"obstacles", params.obstacles},
+                 {"room_size", params.room_size},
+                 {"room_height", params.room_height},
+                 {"noise_sigma", params.noise_sigma},
+                 {"outlier_fraction", params.outlier_fraction},
+                 {"gross_outliers", params.gross_outliers},
+                 {"keyframes", params.keyframes}};
+  j["obstacles"] = groundTruthToJson(scene.truth, false);  // plain boxes and cylinders, no "kind"
+  return j;
+}
+
+// The output frame from the map frame (Scene::output_scale, _rotation, _translation) as JSON.
+nlohmann::json outputFromMap(const Scene& scene) {
+  const Eigen::Matrix3d& r = scene.output_rotation;
+  return {{"scale", scene.output_scale},
+          {"rotation", {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}}},
+          {"translation", {scene.output_translation.x(), scene.output_translation.y(), scene.output_translation.z()}}};
+}
+
+// ground_truth.json of a kRoom scene.
+nlohmann::json roomDocument(const Scene& scene, const SceneParams& params) {
+  nlohmann::json j;
+  j["frame"] = "z-up map";
+  j["units"] = "metres";
+  j["layout"] = "room";
+  j["points_frame"] = params.orbslam_frame ? "orbslam: the first keyframe's camera frame (x right, y down, z forward), "
+                                             "monocular scale; align with reference_trajectory.txt"
+                                           : "z-up map";
+  j["output_from_map"] = outputFromMap(scene);
+  j["params"] = {{"seed", params.seed},
+                 {"layout", "room"},
+                 {"points", scene.points.size()},
+                 {"furniture", params.obstacles},
+                 {"room_size", params.room_size},
+                 {"room_width", params.room_width > 0.0 ? params.room_width : params.room_size},
+                 {"room_height", params.room_height},
+                 {"loop_fraction", params.loop_fraction},
+                 {"placement", params.placement == FurniturePlacement::kAnywhere ? "anywhere" : "inside_loop"},
+                 {"wall_fraction", params.wall_fraction},
+                 {"density", params.density},
+                 {"edge_fraction", params.edge_fraction},
+                 {"noise_sigma", params.noise_sigma},
+                 {"outlier_fraction", params.outlier_fraction},
+                 {"gross_outliers", params.gross_outliers},
+                 {"keyframes", params.keyframes},
+                 {"monocular_scale", params.orbslam_frame ? params.monocular_scale : 1.0},
+                 {"camera_pitch_deg", params.camera_pitch_deg}};
+  j["obstacles"] = groundTruthToJson(scene.truth, true);
+  return j;
+}
+
+// ground_truth.json of a kOutdoor scene.
+nlohmann::json outdoorDocument(const Scene& scene, const SceneParams& params) {
+  nlohmann::json j;
+  j["frame"] = "z-up map (x east, y north)";
+  j["units"] = "metres";
+  j["layout"] = "outdoor";
+  j["points_frame"] = params.orbslam_frame
+                          ? "orbslam: the first keyframe's camera frame (x right, y down, z forward), at a monocular "
+                            "scale drifting along the street (keyframe_scales); align with reference_trajectory.txt "
+                            "or gps.txt (--align-format gps)"
+                          : "z-up map";
+  j["output_from_map"] = outputFromMap(scene);  // at the first keyframe
+  j["keyframe_scales"] = scene.keyframe_scales;
+  j["geodetic_origin"] = {{"latitude_deg", kOutdoorGeodeticOrigin[0]},
+                          {"longitude_deg", kOutdoorGeodeticOrigin[1]},
+                          {"altitude_m", kOutdoorGeodeticOrigin[2]}};
+  j["params"] = {{"seed", params.seed},
+                 {"layout", "outdoor"},
+                 {"points", scene.points.size()},
+                 {"keyframes", params.keyframes},
+                 {"track_length", params.track_length},
+                 {"track_width", params.track_width},
+                 {"slope_along", params.slope_along},
+                 {"slope_across", params.slope_across},
+                 {"bumps", params.bumps},
+                 {"bump_height", params.bump_height},
+                 {"buildings", params.buildings},
+                 {"trees", params.trees},
+                 {"cars", params.cars},
+                 {"posts", params.posts},
+                 {"density", params.density},
+                 {"edge_fraction", params.edge_fraction},
+                 {"noise_sigma", params.noise_sigma},
+                 {"outlier_fraction", params.outlier_fraction},
+                 {"gross_outliers", params.gross_outliers},
+                 {"monocular_scale", params.orbslam_frame ? params.monocular_scale : 1.0},
+                 {"scale_drift", params.orbslam_frame ? params.scale_drift : 0.0},
+                 {"camera_pitch_deg", params.camera_pitch_deg},
+                 {"camera_height", kOutdoorCameraHeight},
+                 {"path_margin", kOutdoorPathMargin},
+                 {"gps_sigma", params.gps_sigma},
+                 {"gps_dropout", params.gps_dropout}};
+  j["obstacles"] = groundTruthToJson(scene.truth, true);
+  return j;
+}
+
 }  // namespace
 
 Eigen::Matrix3d mapToOrbSlamRotation() {
@@ -210,9 +367,21 @@ Eigen::Matrix3d mapToOrbSlamRotation() {
   return m;
 }
 
+SceneParams outdoorSceneParams() {
+  SceneParams p;
+  p.layout = SceneLayout::kOutdoor;
+  p.keyframes = 100;
+  p.density = 3.0;
+  p.noise_sigma = 0.05;
+  p.camera_pitch_deg = 10.0;
+  p.monocular_scale = 0.0145;
+  return p;
+}
+
 Scene generateScene(const SceneParams& p) {
   checkParams(p);
   if (p.layout == SceneLayout::kRoom) return detail::generateRoomScene(p);
+  if (p.layout == SceneLayout::kOutdoor) return detail::generateOutdoorScene(p);
   SceneRandom rng(p.seed);
   const double loop_radius = 0.4 * p.room_size;
 
@@ -304,76 +473,14 @@ void writeScene(const Scene& scene, const SceneParams& params, const std::string
     }
   });
 
-  core::writeFileAtomically((base / "KeyFrameTrajectory.txt").string(), [&scene](std::ostream& out) {
-    char line[512];
-    for (const io::Keyframe& k : scene.keyframes) {
-      const Eigen::Quaterniond& q = k.orientation;
-      std::snprintf(line, sizeof(line), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", k.stamp, k.position.x(),
-                    k.position.y(), k.position.z(), q.x(), q.y(), q.z(), q.w());
-      out << line;
-    }
-  });
-
-  if (params.layout == SceneLayout::kRoom) {
-    core::writeFileAtomically((base / "reference_trajectory.txt").string(), [&scene](std::ostream& out) {
-      char line[512];
-      for (const io::Keyframe& k : scene.reference) {
-        const Eigen::Quaterniond& q = k.orientation;
-        std::snprintf(line, sizeof(line), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", k.stamp, k.position.x(),
-                      k.position.y(), k.position.z(), q.x(), q.y(), q.z(), q.w());
-        out << line;
-      }
-    });
-  }
+  writeTum((base / "KeyFrameTrajectory.txt").string(), scene.keyframes);
+  if (params.layout != SceneLayout::kObstacles) writeTum((base / "reference_trajectory.txt").string(), scene.reference);
+  if (params.layout == SceneLayout::kOutdoor) detail::writeGpsLog(scene.gps, (base / "gps.txt").string());
 
   core::writeFileAtomically((base / "ground_truth.json").string(), [&scene, &params](std::ostream& out) {
-    nlohmann::json j;
-    j["frame"] = "z-up map";
-    j["units"] = "metres";
-    if (params.layout == SceneLayout::kObstacles) {
-      j["points_frame"] = params.orbslam_frame ? "orbslam (y down): read with --up -y" : "z-up map";
-      j["params"] = {{"seed", params.seed},
-                     {"points", params.points},
-                     {"obstacles", params.obstacles},
-                     {"room_size", params.room_size},
-                     {"room_height", params.room_height},
-                     {"noise_sigma", params.noise_sigma},
-                     {"outlier_fraction", params.outlier_fraction},
-                     {"gross_outliers", params.gross_outliers},
-                     {"keyframes", params.keyframes}};
-      j["obstacles"] = groundTruthToJson(scene.truth, false);  // plain boxes and cylinders, no "kind"
-      out << j.dump(2) << '\n';
-      return;
-    }
-    j["layout"] = "room";
-    j["points_frame"] = params.orbslam_frame
-                            ? "orbslam: the first keyframe's camera frame (x right, y down, z forward), "
-                              "monocular scale; align with reference_trajectory.txt"
-                            : "z-up map";
-    const Eigen::Matrix3d& r = scene.output_rotation;
-    j["output_from_map"] = {
-        {"scale", scene.output_scale},
-        {"rotation", {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}}},
-        {"translation", {scene.output_translation.x(), scene.output_translation.y(), scene.output_translation.z()}}};
-    j["params"] = {{"seed", params.seed},
-                   {"layout", "room"},
-                   {"points", scene.points.size()},
-                   {"furniture", params.obstacles},
-                   {"room_size", params.room_size},
-                   {"room_width", params.room_width > 0.0 ? params.room_width : params.room_size},
-                   {"room_height", params.room_height},
-                   {"loop_fraction", params.loop_fraction},
-                   {"placement", params.placement == FurniturePlacement::kAnywhere ? "anywhere" : "inside_loop"},
-                   {"wall_fraction", params.wall_fraction},
-                   {"density", params.density},
-                   {"edge_fraction", params.edge_fraction},
-                   {"noise_sigma", params.noise_sigma},
-                   {"outlier_fraction", params.outlier_fraction},
-                   {"gross_outliers", params.gross_outliers},
-                   {"keyframes", params.keyframes},
-                   {"monocular_scale", params.orbslam_frame ? params.monocular_scale : 1.0},
-                   {"camera_pitch_deg", params.camera_pitch_deg}};
-    j["obstacles"] = groundTruthToJson(scene.truth, true);
+    const nlohmann::json j = params.layout == SceneLayout::kObstacles ? obstaclesDocument(scene, params)
+                             : params.layout == SceneLayout::kRoom    ? roomDocument(scene, params)
+                                                                      : outdoorDocument(scene, params);
     out << j.dump(2) << '\n';
   });
 }

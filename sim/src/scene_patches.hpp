@@ -1,8 +1,8 @@
 #pragma once
 
 // What the scene generators share to build objects, place them and sample their surfaces
-// (sample_room.cpp): boxes and unions, surface patches of boxes and cylinders, points on them, and
-// (x, y) footprints. Not installed.
+// (sample_room.cpp, sample_outdoor.cpp, outdoor_points.cpp): boxes and unions, surface patches of
+// boxes, cylinders and triangles, points on them, and (x, y) footprints. Not installed.
 
 #include <algorithm>
 #include <cmath>
@@ -31,11 +31,11 @@ inline TruthShape object(const std::string& kind, std::vector<TruthShape> parts)
 }
 
 // A visible surface patch: a rectangle c + u a + v b (u, v in [-1, 1]), a cylinder's side or its
-// top disc. The room draws again the points on it that fall on or inside another piece of
-// furniture's part: faces where parts touch, the floor under furniture, a leg's top under the table
-// top.
+// top disc, or a triangle c + u a + v b (u, v >= 0, u + v <= 1). The room draws again the points on
+// it that fall on or inside another piece of furniture's part: faces where parts touch, the floor
+// under furniture, a leg's top under the table top.
 struct Patch {
-  enum class Type { kRect, kCylinderSide, kDisc } type = Type::kRect;
+  enum class Type { kRect, kCylinderSide, kDisc, kTriangle } type = Type::kRect;
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   Eigen::Vector3d a = Eigen::Vector3d::Zero();  // rect half-axis; cylinder: (radius, half height, 0)
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
@@ -81,7 +81,7 @@ inline void addCylinder(const TruthShape& o, std::size_t part, std::vector<Patch
 }
 
 // A point on the patch, uniform by area; `on_edge`: on its rim instead (rectangles: an edge chosen by
-// length; a side: its top rim; a disc: its circle).
+// length; a side: its top rim; a disc: its circle; a triangle: ignored).
 inline Eigen::Vector3d samplePatch(const Patch& p, bool on_edge, SceneRandom& rng) {
   switch (p.type) {
     case Patch::Type::kRect: {
@@ -100,6 +100,14 @@ inline Eigen::Vector3d samplePatch(const Patch& p, bool on_edge, SceneRandom& rn
       const double angle = 2.0 * kPi * rng.uniform();
       const double z = on_edge ? p.a.y() : rng.uniform(-p.a.y(), p.a.y());
       return p.c + Eigen::Vector3d(p.a.x() * std::cos(angle), p.a.x() * std::sin(angle), z);
+    }
+    case Patch::Type::kTriangle: {
+      double u = rng.uniform(), v = rng.uniform();
+      if (u + v > 1.0) {
+        u = 1.0 - u;
+        v = 1.0 - v;
+      }
+      return p.c + u * p.a + v * p.b;
     }
     case Patch::Type::kDisc:
     default: {

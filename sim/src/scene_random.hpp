@@ -1,6 +1,7 @@
 #pragma once
 
-// Portable random numbers for the scene generators (sample_scene.cpp, sample_room.cpp). Not installed.
+// Portable random numbers for the scene generators (sample_scene.cpp, sample_room.cpp,
+// sample_outdoor.cpp), and their camera helpers. Not installed.
 
 #include <cmath>
 #include <cstdint>
@@ -68,6 +69,9 @@ class SceneRandom {
 
 /// The kRoom layout of generateScene (sample_room.cpp); parameters already checked.
 Scene generateRoomScene(const SceneParams& params);
+
+/// The kOutdoor layout of generateScene (sample_outdoor.cpp); parameters already checked.
+Scene generateOutdoorScene(const SceneParams& params);
 
 /// A camera's orientation in the map (ORB-SLAM's camera axes: z forward, x right, y down) looking
 /// along `forward` (unit, not vertical), with no roll.

@@ -1,5 +1,6 @@
-// The scene generator's ground truth and evaluate's are one type: a generated scene's truth, written
-// to ground_truth.json and read back, is the same shapes with the same signed distance.
+// The scene generator's ground truth and evaluate's are one type: a generated scene's truth (every
+// layout), written to ground_truth.json and read back, is the same shapes with the same signed
+// distance.
 #include <random>
 #include <string>
 
@@ -26,6 +27,11 @@ void expectSameShape(const TruthShape& a, const TruthShape& b, const std::string
   EXPECT_EQ(a.aabb_min, b.aabb_min) << where;
   EXPECT_EQ(a.aabb_max, b.aabb_max) << where;
   EXPECT_TRUE(a.triangles.empty() && b.triangles.empty()) << where;
+  EXPECT_EQ(a.grid.origin, b.grid.origin) << where;
+  EXPECT_EQ(a.grid.step, b.grid.step) << where;
+  EXPECT_EQ(a.grid.nx, b.grid.nx) << where;
+  EXPECT_EQ(a.grid.ny, b.grid.ny) << where;
+  EXPECT_EQ(a.grid.heights, b.grid.heights) << where;
   ASSERT_EQ(a.parts.size(), b.parts.size()) << where;
   for (std::size_t p = 0; p < a.parts.size(); ++p)
     expectSameShape(a.parts[p], b.parts[p], where + " part " + std::to_string(p));
@@ -39,11 +45,14 @@ TEST(TruthJson, GeneratedScenesReadBackAsTheSameTruth) {
   SceneParams room;
   room.layout = SceneLayout::kRoom;
   room.density = 10.0;
-  for (const SceneParams& p : {obstacles, room}) {
-    const bool is_room = p.layout == SceneLayout::kRoom;
-    SCOPED_TRACE(is_room ? "room" : "obstacles");
+  SceneParams outdoor = outdoorSceneParams();
+  outdoor.density = 0.5;
+  for (const SceneParams& p : {obstacles, room, outdoor}) {
+    const bool is_room = p.layout == SceneLayout::kRoom, is_outdoor = p.layout == SceneLayout::kOutdoor;
+    const std::string name = is_room ? "room" : is_outdoor ? "outdoor" : "obstacles";
+    SCOPED_TRACE(name);
     const Scene scene = generateScene(p);
-    const auto dir = test::freshDir(is_room ? "truth_json_room" : "truth_json_obstacles");
+    const auto dir = test::freshDir("truth_json_" + name);
     writeScene(scene, p, dir.string());
     const GroundTruth back = readGroundTruth((dir / "ground_truth.json").string());
     const std::vector<TruthShape>& truth = scene.truth.shapes;
@@ -55,9 +64,15 @@ TEST(TruthJson, GeneratedScenesReadBackAsTheSameTruth) {
       unions += truth[i].shape == TruthShape::Shape::kUnion;
       surfaces += truth[i].surface;
     }
-    // The room has its floor and unions (tables, the shelf); the obstacles are plain primitives.
-    EXPECT_EQ(surfaces, is_room ? 1u : 0u);
-    EXPECT_EQ(unions > 0, is_room);
+    // The room has its floor and unions (tables, the shelf), the street its ground and unions (trees);
+    // the obstacles are plain primitives.
+    EXPECT_EQ(surfaces, is_room || is_outdoor ? 1u : 0u);
+    EXPECT_EQ(unions > 0, is_room || is_outdoor);
+    if (is_outdoor) {
+      EXPECT_EQ(back.shapes[0].shape, TruthShape::Shape::kHeightField);
+      EXPECT_EQ(back.shapes[0].kind, "ground");
+      EXPECT_EQ(unions, p.trees);
+    }
     EXPECT_EQ(scene.truth.primitives().size(), back.primitives().size());
 
     V3 lo = V3::Constant(1e300), hi = V3::Constant(-1e300);

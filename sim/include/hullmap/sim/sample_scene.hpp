@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -17,7 +18,11 @@ namespace hullmap::sim {
 ///   (L-shaped shelves, tables on legs) beside boxes and cylinders, sparse points (`density` per
 ///   square metre of visible surface), written in the first camera's frame at a monocular scale,
 ///   with a metric reference trajectory to align it.
-enum class SceneLayout { kObstacles, kRoom };
+/// - kOutdoor: a street as a car's monocular ORB-SLAM maps it: a terrain that is no plane (a slope
+///   and smooth bumps, the truth a height field), buildings, trees, parked cars and posts beside the
+///   street, sparse points mostly on the ground, written in the first camera's frame at a monocular
+///   scale that drifts along the street, with a metric reference trajectory and a GPS log.
+enum class SceneLayout { kObstacles, kRoom, kOutdoor };
 
 /// Where a kRoom scene's furniture stands.
 /// - kInsideLoop: inside the camera loop, kSceneObstacleGap from it and from each other (the room
@@ -73,11 +78,51 @@ struct SceneParams {
   FurniturePlacement placement = FurniturePlacement::kInsideLoop;  ///< kRoom: where furniture stands
   /// kRoom with kAnywhere: the chance that a piece is placed against a wall, [0, 1].
   double wall_fraction = 0.5;
+
+  /// kOutdoor only (see SceneLayout and generateScene's kOutdoor notes; outdoorSceneParams() gives
+  /// its defaults for the fields it shares with kRoom). The area is track_width x track_length
+  /// metres (x across, y along the street, centred on the origin; each rounded up to whole metres).
+  double track_length = 200.0;  ///< the area along the street (y), metres, >= 40
+  double track_width = 60.0;    ///< the area across the street (x), metres, >= 30
+  double slope_along = 0.03;    ///< the terrain's grade along y (rise over run), [-0.2, 0.2]
+  double slope_across = 0.02;   ///< the terrain's grade along x, [-0.2, 0.2]
+  std::size_t bumps = 12;       ///< Gaussian bumps and dips on the slope (0 allowed)
+  double bump_height = 1.0;     ///< largest bump amplitude, metres, [0, 5]
+  std::size_t buildings = 16;   ///< boxes beside the street (each count: 0 allowed)
+  std::size_t trees = 16;       ///< a trunk and a crown on the verges
+  std::size_t cars = 10;        ///< boxes parked on the street's sides
+  std::size_t posts = 12;       ///< thin cylinders at the kerbs
+  /// The monocular scale grows along the path from monocular_scale to monocular_scale * (1 +
+  /// scale_drift) at its end, (-1, 10]; 0: no drift.
+  double scale_drift = 0.15;
+  double gps_sigma = 3.0;    ///< GPS noise, metres, per axis (east, north, up), >= 0
+  double gps_dropout = 0.1;  ///< the share of GPS lines without a fix, [0, 1]
 };
+
+/// kOutdoor's defaults: SceneParams's, with layout kOutdoor and the fields it shares with kRoom
+/// set for a street (100 keyframes, 3 points per m^2, 5 cm noise, pitch 10 degrees, monocular scale
+/// 0.0145 map units per metre: one unit is 69 m, as an outdoor ORB-SLAM map aligned to GPS).
+SceneParams outdoorSceneParams();
 
 /// Smallest distance between two obstacles' axis-aligned footprints, and between an obstacle and
 /// the camera loop, metres.
 inline constexpr double kSceneObstacleGap = 0.5;
+
+/// kOutdoor: the cameras' height above the terrain, metres (a car's roof).
+inline constexpr double kOutdoorCameraHeight = 1.6;
+/// kOutdoor: smallest horizontal distance between an object's footprint (its parts' axis-aligned
+/// rectangles) and the camera path (the polyline through the keyframes), metres.
+inline constexpr double kOutdoorPathMargin = 2.0;
+/// kOutdoor: where the map frame's origin is on Earth: WGS84 latitude, longitude (degrees) and
+/// altitude (metres above the ellipsoid); the map's x points east, y north, z up.
+inline constexpr std::array<double, 3> kOutdoorGeodeticOrigin{47.3769, 8.5417, 408.0};
+
+/// One line of a kOutdoor scene's gps.txt.
+struct GpsFix {
+  double stamp = 0.0;  ///< the keyframe's stamp, seconds
+  bool fix = true;     ///< false: no fix, written `t 0 0 0` as receivers do
+  double latitude_deg = 0.0, longitude_deg = 0.0, altitude_m = 0.0;  ///< WGS84, when fix
+};
 
 struct Scene {
   io::Points points;                    ///< in the output frame (ORB-SLAM's if orbslam_frame)
@@ -86,13 +131,22 @@ struct Scene {
   /// ground_truth.json: kObstacles: the boxes and cylinders (kind "box" or "cylinder"); kRoom: the
   /// floor, 4 walls and the furniture ("box", "cylinder", "l_shelf", "table"; unions when of several
   /// parts). All axis-aligned; obstacles and furniture stand on the floor (z = 0).
+  /// kOutdoor: the ground (a height field of kind "ground", a surface) first, then "building"
+  /// boxes, "tree" unions (trunk, crown), "car" boxes and "post" cylinders.
   GroundTruth truth;
-  std::vector<io::Keyframe> reference;  ///< kRoom: the same keyframes in the z-up map frame, metres
+  /// kRoom, kOutdoor: the same keyframes in the z-up map frame, metres.
+  std::vector<io::Keyframe> reference;
   /// kRoom: output frame from the z-up map frame, p_out = scale * rotation * p + translation
-  /// (identity when not orbslam_frame).
+  /// (identity when not orbslam_frame). kOutdoor: that similarity at the first keyframe only.
   double output_scale = 1.0;
   Eigen::Matrix3d output_rotation = Eigen::Matrix3d::Identity();
   Eigen::Vector3d output_translation = Eigen::Vector3d::Zero();
+  /// kOutdoor: `points` in the z-up map frame, metres, in the same order (noise and outliers
+  /// included); empty for the other layouts.
+  std::vector<Eigen::Vector3d> map_points;
+  /// kOutdoor: each keyframe's monocular scale, map units per metre (1 without orbslam_frame).
+  std::vector<double> keyframe_scales;
+  std::vector<GpsFix> gps;  ///< kOutdoor: gps.txt's lines, one per keyframe, in order
 };
 
 /// The rotation taking the z-up map frame to ORB-SLAM's camera frame (y down, z forward):
@@ -101,12 +155,48 @@ Eigen::Matrix3d mapToOrbSlamRotation();
 
 /// Generates the scene. Throws hullmap::Error naming the parameter when the parameters are out of
 /// range or the obstacles cannot be placed with the required gaps.
+///
+/// kOutdoor, exactly (z-up map frame, metres; x east, y north):
+/// - Terrain: z = slope_across x + slope_along y + the sum of `bumps` Gaussians (amplitude uniform
+///   in [-bump_height, bump_height], sigma in [5, 15] m, centres anywhere in the area), sampled every
+///   1 m (heights rounded to 0.1 mm) and triangulated: the truth's height field IS the terrain.
+/// - Street: 10 m wide, its centreline x = 3 sin(2 pi y / track_length) (with 1.5 m in an area under
+///   40 m wide). Keyframes are evenly spaced along it (by arc length) from 10 m after the area's
+///   start to 10 m before its end, kOutdoorCameraHeight above the terrain, each looking along the
+///   street, pitched down by camera_pitch_deg; stamps 1, 1.5, 2, ... s.
+/// - Objects, axis-aligned, kSceneObstacleGap apart (footprints), kOutdoorPathMargin from the path,
+///   inside the area: buildings (8-20 m along the street, 6-12 m deep, 5-15 m high, 4-8 m back from
+///   the street's edge), trees (a trunk 0.25-0.45 m wide, 1.8-3 m high, under a crown cylinder or
+///   box 2.5-4.5 m wide and 2-4 m high, 1 to 5 m beyond the street's edge), cars (3.8-4.8 x
+///   1.7-1.9 x 1.4-1.7 m, 0.3 m in from the street's edge), posts (0.1-0.2 m wide, 2.5-5 m high,
+///   0.3-0.8 m beyond the edge). Each stands on the lowest terrain under its foot (a tree's trunk,
+///   else its footprint) and reaches below it there: by 0.5 m a building, 0.3 m the others. Throws
+///   naming the count that does not fit.
+/// - Points: the visible surfaces (the terrain, objects' sides and tops; no bottoms) drawn with
+///   `density` tries per m^2; a try is kept when some keyframe sees it: within 40 m, in its 90 x 70
+///   degree view, on the front of the surface, the line of sight clear of every object (the terrain
+///   hides nothing) and the point not under the terrain or inside another object. `edge_fraction` of
+///   the tries on objects lie on face edges. Then Gaussian noise (noise_sigma per axis), outliers
+///   (outlier_fraction of all points, 0 to 12 m above the terrain anywhere in the area) and
+///   gross_outliers far away.
+/// - Scale drift: keyframe k, at arc length a_k of the A-long keyframe polyline, has the scale s_k =
+///   monocular_scale (1 + scale_drift a_k / A). With R0, c0 the first camera's rotation and
+///   position, keyframe positions are written as w_0 = 0, w_k+1 = w_k + (s_k + s_k+1) / 2 R0^T
+///   (c_k+1 - c_k), orientations as R0^T R_k. A point p is written from its nearest polyline segment
+///   in (x, y) [c_k, c_k+1], at the fraction f of the segment's point q nearest p (clamped to [0, 1]):
+///   w = (1 - f) w_k + f w_k+1 + ((1 - f) s_k + f s_k+1) R0^T (p - q). So near keyframe k the map is
+///   the similarity of scale s_k; near the first, the room layout's first camera frame.
+///   Without orbslam_frame points and keyframes stay in the map frame, unscaled.
+/// - GPS: for each keyframe, its true position plus Gaussian noise of gps_sigma per axis (east,
+///   north, up), converted to WGS84 around kOutdoorGeodeticOrigin; round(gps_dropout x keyframes)
+///   lines, chosen at random, hold no fix.
 Scene generateScene(const SceneParams& params);
 
 /// Writes points as ORB-SLAM2 map-point text, the trajectory as TUM, the ground truth as JSON,
 /// into `dir` (map_points.txt, KeyFrameTrajectory.txt, ground_truth.json), each atomically; a kRoom
-/// scene also gets reference_trajectory.txt (TUM `t x y z qx qy qz qw`, z-up metres, the
-/// keyframes' stamps: `--align` input). The JSON is described in maps/README.md.
+/// or kOutdoor scene also gets reference_trajectory.txt (TUM `t x y z qx qy qz qw`, z-up metres, the
+/// keyframes' stamps: `--align` input), a kOutdoor scene gps.txt (`t lat lon alt` a line, `t 0 0 0`
+/// without a fix: `--align-format gps` input). The files are described in maps/README.md.
 /// `dir` is created when missing.
 void writeScene(const Scene& scene, const SceneParams& params, const std::string& dir);
 
