@@ -1,4 +1,5 @@
-// hullmap generate --layout room: the files it writes, and its bad input (exit 2, one line).
+// hullmap generate --layout room and --layout outdoor: the files they write (the outdoor GPS log as
+// `hullmap build --align-format gps` reads it), and bad input (exit 2, one line).
 #include <fstream>
 #include <string>
 
@@ -44,6 +45,58 @@ TEST(GenerateCommand, BadRoomOptionsExitTwoWithOneLine) {
     EXPECT_EQ(r.status, 2) << args;
     EXPECT_NE(r.err.find(name), std::string::npos) << args << ": " << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
+  }
+}
+
+// A small street: 80 x 40 m, 14 objects, 40 keyframes.
+const char* kSmallStreet =
+    "generate --layout outdoor --track-length 80 --track-width 40 --buildings 4 --trees 4 --cars 3 --posts 3 "
+    "--keyframes 40 --density 1";
+
+TEST(GenerateCommand, OutdoorLayoutWritesAGpsLogThatBuildAligns) {
+  const auto dir = hullmap::test::freshDir("generate_outdoor");
+  const std::string d = "'" + dir.string() + "/";
+  const auto r = runHullmap(std::string(kSmallStreet) + " -o " + d + "street'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("40 keyframes, 15 objects (ground, 4 buildings, 4 trees, 3 cars, 3 posts)"), std::string::npos)
+      << r.out;
+  const std::string in = d + "street/map_points.txt' --trajectory " + d + "street/KeyFrameTrajectory.txt' ";
+  // The GPS log: 4 of its 40 lines without a fix, the rest matched; its noise (3 m) in the fit.
+  const auto gps = runHullmap("build " + in + "--align " + d + "street/gps.txt' --align-format gps -o " + d + "gps'");
+  ASSERT_EQ(gps.status, 0) << gps.err;
+  const auto a = hullmap::test::readJson(dir / "gps" / "report.json").at("alignment");
+  EXPECT_EQ(a.at("matched"), 36);
+  EXPECT_EQ(a.at("unmatched"), 4);
+  EXPECT_EQ(a.at("reference_dropped"), (nlohmann::json{{"no_fix", 4}}));
+  EXPECT_GT(a.at("rmse").get<double>(), 2.0);
+  EXPECT_LT(a.at("rmse").get<double>(), 10.0);
+  // The metric reference: the scale between the start's 1 / 0.0145 and the end's 1 / (0.0145 x 1.15).
+  const auto ref =
+      runHullmap("build " + in + "--align " + d + "street/reference_trajectory.txt' -o " + d + "reference'");
+  ASSERT_EQ(ref.status, 0) << ref.err;
+  const double scale = hullmap::test::readJson(dir / "reference" / "report.json").at("alignment").at("scale");
+  EXPECT_GT(scale, 1.0 / (0.0145 * 1.15));
+  EXPECT_LT(scale, 1.0 / 0.0145);
+}
+
+TEST(GenerateCommand, BadOutdoorOptionsExitTwoWithOneLine) {
+  const auto dir = hullmap::test::freshDir("generate_outdoor_bad");
+  const std::pair<const char*, const char*> cases[] = {{"--scale-drift -1", "--scale-drift"},
+                                                       {"--gps-sigma -3", "--gps-sigma"},
+                                                       {"--gps-dropout 1.5", "--gps-dropout"},
+                                                       {"--track-length 30", "--track-length"},
+                                                       {"--track-width 10", "--track-width"},
+                                                       {"--slope-across 0.9", "--slope-across"},
+                                                       {"--bump-height 9", "--bump-height"},
+                                                       {"--buildings 300", "--buildings"},
+                                                       {"--density 0", "--density"},
+                                                       {"--scale 0", "--scale"},
+                                                       {"--pitch 90", "--pitch"},
+                                                       {"--keyframes 2", "--keyframes"}};
+  for (const auto& [args, name] : cases) {
+    const auto r = runHullmap(std::string("generate --layout outdoor ") + args + " -o '" + (dir / "x").string() + "'");
+    hullmap::test::expectOneLineError(r, name);
+    EXPECT_EQ(r.err.find("--trajectory"), std::string::npos) << r.err;
   }
 }
 
