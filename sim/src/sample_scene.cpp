@@ -316,7 +316,7 @@ nlohmann::json roomDocument(const Scene& scene, const SceneParams& params) {
 // ground_truth.json of a kOutdoor scene.
 nlohmann::json outdoorDocument(const Scene& scene, const SceneParams& params) {
   nlohmann::json j;
-  j["frame"] = "z-up map (x east, y north)";
+  j["frame"] = "z-up map";
   j["units"] = "metres";
   j["layout"] = "outdoor";
   j["points_frame"] = params.orbslam_frame
@@ -328,7 +328,8 @@ nlohmann::json outdoorDocument(const Scene& scene, const SceneParams& params) {
   j["keyframe_scales"] = scene.keyframe_scales;
   j["geodetic_origin"] = {{"latitude_deg", kOutdoorGeodeticOrigin[0]},
                           {"longitude_deg", kOutdoorGeodeticOrigin[1]},
-                          {"altitude_m", kOutdoorGeodeticOrigin[2]}};
+                          {"altitude_m", kOutdoorGeodeticOrigin[2]},
+                          {"axes", "x east, y north, z up"}};
   j["params"] = {{"seed", params.seed},
                  {"layout", "outdoor"},
                  {"points", scene.points.size()},

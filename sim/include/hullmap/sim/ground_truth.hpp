@@ -28,8 +28,9 @@ struct HeightGrid {
   Eigen::Vector2d corner() const { return origin + step * Eigen::Vector2d(double(nx - 1), double(ny - 1)); }
   /// The surface's height at (x, y), on its triangles; nothing outside [origin, corner()].
   std::optional<double> heightAt(const Eigen::Vector2d& xy) const;
-  /// Exact distance from p to the triangulated surface (the closest point of each triangle that can
-  /// be nearer than the surface point above or below p). Costs O(r^2 / step^2) cells, r the answer.
+  /// Exact distance from p (finite) to the triangulated surface: the closest point of each triangle
+  /// that can be nearer than the surface point over the grid's point nearest p. Visits the cells
+  /// within that point's distance r of p in (x, y): O(r^2 / step^2) of them, few near the surface.
   double distance(const Eigen::Vector3d& p) const;
 };
 
