@@ -89,12 +89,25 @@ Terrain fitTerrain(const std::vector<Eigen::Vector3d>& points, const std::vector
                    const TerrainParams& params) {
   checkParams(params);
   if (points.empty()) throw Error("terrain: no point");
-  Eigen::Vector2d lo = points[0].head<2>(), hi = lo;
-  for (const auto& p : points) {
+  for (const auto& p : points)
     if (!p.allFinite()) throw Error("terrain: non-finite point");
-    lo = lo.cwiseMin(p.head<2>());
-    hi = hi.cwiseMax(p.head<2>());
+  // The grid spans the points' 0.1 % to 99.9 % quantiles in x and in y: SLAM's gross outliers,
+  // kilometres away, would make it a grid of billions of cells.
+  Eigen::Vector2d lo, hi;
+  for (int a = 0; a < 2; ++a) {
+    std::vector<double> v;
+    v.reserve(points.size());
+    for (const auto& p : points) v.push_back(p[a]);
+    const auto at = [&](double q) {
+      const auto k = std::size_t(std::floor(q * double(v.size() - 1)));
+      std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
+      return v[k];
+    };
+    lo[a] = at(0.001);
+    hi[a] = at(0.999);
   }
+  if ((hi - lo).maxCoeff() / params.cell > 1e5)
+    throw Error("cell: " + std::to_string(params.cell) + " makes a grid of more than 100000 cells a side");
   for (const auto& k : keyframes)
     if (!k.allFinite()) throw Error("terrain: non-finite keyframe");
   Terrain t;
@@ -107,6 +120,7 @@ Terrain fitTerrain(const std::vector<Eigen::Vector3d>& points, const std::vector
   // 1. Each cell's low height.
   std::vector<std::vector<double>> in_cell(n);
   for (const auto& p : points) {
+    if (p.x() < lo.x() || p.y() < lo.y() || p.x() > hi.x() || p.y() > hi.y()) continue;
     const auto i = std::min(f.nx - 1, std::size_t((p.x() - lo.x()) / f.step));
     const auto j = std::min(f.ny - 1, std::size_t((p.y() - lo.y()) / f.step));
     in_cell[j * f.nx + i].push_back(p.z());

@@ -45,7 +45,8 @@ struct Terrain {
   std::size_t lowered = 0;       ///< nodes lowered under a keyframe
 };
 
-/// Fits the ground under `points` (map frame, z up):
+/// Fits the ground under `points` (map frame, z up), on a grid over the points' 0.1 % to 99.9 %
+/// quantiles of x and y (points beyond, gross outliers, are left out):
 /// 1. each cell's height is its points' k-th lowest z (low_share: a lone point below the ground,
 ///    SLAM noise, does not pull a cell of several points down);
 ///    A cell lower than the second lowest of its measured 8-neighbours (2 at least) by more than
