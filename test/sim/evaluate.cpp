@@ -17,6 +17,7 @@
 #include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
+#include "evaluate_fixtures.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::sim {
@@ -116,17 +117,6 @@ TEST(TruthGeometry, MeshOfABoxIsTheBox) {
   }
 }
 
-/// An obstacle of voxels (edge 0.1) filling [lo, hi) exactly.
-hulls::Obstacle filled(const V3& lo, const V3& hi, int id) {
-  std::vector<V3> centers;
-  for (double x = lo.x() + 0.05; x < hi.x(); x += 0.1)
-    for (double y = lo.y() + 0.05; y < hi.y(); y += 0.1)
-      for (double z = lo.z() + 0.05; z < hi.z(); z += 0.1) centers.emplace_back(x, y, z);
-  auto obstacles = hulls::buildObstacles(centers, {}, std::vector<std::int32_t>(centers.size(), 0), 0.1);
-  obstacles.at(0).id = id;
-  return obstacles[0];
-}
-
 std::vector<V3> boxSurface(const V3& lo, const V3& hi) {
   std::vector<V3> out;
   for (double x = lo.x(); x <= hi.x() + 1e-9; x += 0.1)
@@ -191,7 +181,7 @@ TEST(Evaluate, SegmentsStayAboveATrueFloor) {
   GroundTruth truth;
   truth.shapes.push_back(box(V3(0.5, 0.5, -0.05), V3(2, 2, 0.1)));
   truth.shapes.push_back(box(V3(0.5, 0.5, 1), V3(1, 1, 2)));
-  const std::vector<hulls::Obstacle> obstacles{filled(V3(0, 0, 0), V3(1, 1, 2), 0)};
+  const std::vector<hulls::Obstacle> obstacles{test::filledObstacle(V3(0, 0, 0), V3(1, 1, 2), 0)};
   EvaluateParams params;
   params.segments = 6000;
   const Evaluation everywhere = evaluate(obstacles, truth, {}, {}, params);
@@ -208,7 +198,7 @@ TEST(Evaluate, SegmentsStayAboveATrueFloor) {
 TEST(Evaluate, ExactHullHasNothingToReport) {
   GroundTruth truth;
   truth.shapes.push_back(box(V3(0.5, 0.5, 0.5), V3(1, 1, 1)));
-  const std::vector<hulls::Obstacle> obstacles{filled(V3(0, 0, 0), V3(1, 1, 1), 0)};
+  const std::vector<hulls::Obstacle> obstacles{test::filledObstacle(V3(0, 0, 0), V3(1, 1, 1), 0)};
   EvaluateParams params;
   const Evaluation e = evaluate(obstacles, truth, boxSurface(V3(0, 0, 0), V3(1, 1, 1)), {}, params);
   ASSERT_EQ(e.truth.size(), 1u);
@@ -231,8 +221,8 @@ TEST(Evaluate, SwallowedVolumeMatchesTheAnalyticValue) {
   // farther than 0.1 from the cube; and a hull 5 m away touching nothing.
   GroundTruth truth;
   truth.shapes.push_back(box(V3(0.5, 0.5, 0.5), V3(1, 1, 1)));
-  const std::vector<hulls::Obstacle> obstacles{filled(V3(0, 0, 0), V3(2, 1, 1), 0),
-                                               filled(V3(5, 0, 0), V3(5.5, 0.5, 0.5), 1)};
+  const std::vector<hulls::Obstacle> obstacles{test::filledObstacle(V3(0, 0, 0), V3(2, 1, 1), 0),
+                                               test::filledObstacle(V3(5, 0, 0), V3(5.5, 0.5, 0.5), 1)};
   EvaluateParams params;
   params.segments = 500;
   params.volume_samples = 20000;
@@ -277,7 +267,7 @@ TEST(Evaluate, FalsePartsAtAToleranceWithTheirDistanceMatchBruteForce) {
           nearest = std::min(nearest, truth.signedDistance(V3(x, y, w)));
     nearest = std::max(nearest, 0.0);
     if (std::abs(nearest - tolerance) < 0.01) continue;  // too close to the tolerance for the grid to say
-    obstacles.push_back(filled(lo, hi, int(obstacles.size())));
+    obstacles.push_back(test::filledObstacle(lo, hi, int(obstacles.size())));
     oracle.push_back(nearest);
   }
   EvaluateParams params;
@@ -313,7 +303,7 @@ TEST(Evaluate, FalsePartsAtAToleranceWithTheirDistanceMatchBruteForce) {
 TEST(Evaluate, SameSeedSameNumbers) {
   GroundTruth truth;
   truth.shapes.push_back(box(V3(0.5, 0.5, 0.5), V3(1, 1, 1)));
-  const std::vector<hulls::Obstacle> obstacles{filled(V3(0, 0, 0), V3(2, 1, 1), 0)};
+  const std::vector<hulls::Obstacle> obstacles{test::filledObstacle(V3(0, 0, 0), V3(2, 1, 1), 0)};
   EvaluateParams params;
   params.segments = 200;
   const auto a = evaluationToJson(evaluate(obstacles, truth, {}, {}, params), params);
@@ -390,7 +380,7 @@ TEST(Evaluate, APointBelongsToItsNearestShapeOnly) {
   GroundTruth truth;
   truth.shapes.push_back(aabb(V3(-1, -1, -0.125), V3(1, 1, 0)));
   truth.shapes.push_back(aabb(V3(0, -1, 0), V3(0.25, 1, 1)));
-  const std::vector<hulls::Obstacle> obstacles{filled(V3(0, -1, 0), V3(0.3, 1, 1), 0)};
+  const std::vector<hulls::Obstacle> obstacles{test::filledObstacle(V3(0, -1, 0), V3(0.3, 1, 1), 0)};
   std::vector<V3> points;
   for (double y = -0.95; y < 1; y += 0.1) {
     points.emplace_back(-0.03, y, 0.0);  // floor, in front of the wall's foot
@@ -434,7 +424,7 @@ TEST(Evaluate, AttributionAndRepresentationMatchBruteForce) {
       const double lo_z = lattice(0, 1), lo_y = lattice(0, 2), lo_x = lattice(0, 2);  // as drawPoint
       const V3 lo(lo_x, lo_y, lo_z);
       const V3 hi = lo + hullmap::test::drawPoint([&] { return lattice(0.1, 1.0); }) + V3::Constant(0.1);
-      obstacles.push_back(filled(lo, hi, h));
+      obstacles.push_back(test::filledObstacle(lo, hi, h));
       hull_boxes.emplace_back(lo, hi);
     }
     std::vector<V3> points;
@@ -524,13 +514,13 @@ TEST(Evaluate, EachHullRepresentsOneTrueObstacle) {
   std::vector<V3> points;
   for (const auto& [lo, hi] : walls) {
     truth.shapes.push_back(aabb(lo, hi));
-    obstacles.push_back(filled(lo, hi, int(obstacles.size())));
+    obstacles.push_back(test::filledObstacle(lo, hi, int(obstacles.size())));
     for (const V3& p : faceSamples(lo, hi, 0.1)) points.push_back(p);
   }
   truth.shapes.push_back(aabb(crate.first, crate.second));
-  obstacles.push_back(filled(crate.first, crate.second, 4));
+  obstacles.push_back(test::filledObstacle(crate.first, crate.second, 4));
   for (const V3& p : faceSamples(crate.first, crate.second, 0.1)) points.push_back(p);
-  obstacles.push_back(filled(V3(10, 10, 0), V3(10.5, 10.5, 0.5), 5));
+  obstacles.push_back(test::filledObstacle(V3(10, 10, 0), V3(10.5, 10.5, 0.5), 5));
   EvaluateParams params;
   params.segments = 0;
   const Evaluation e = evaluate(obstacles, truth, points, {}, params);

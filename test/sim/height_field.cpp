@@ -14,6 +14,7 @@
 #include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/sim/evaluate.hpp"
 #include "hullmap/sim/ground_truth.hpp"
+#include "evaluate_fixtures.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::sim {
@@ -183,17 +184,6 @@ TEST(HeightFieldJson, BadHeightFieldsAreRefusedNamingTheField) {
   EXPECT_NEAR(*truth.shapes[0].grid.heightAt(V2(0.5, 0.25)), 0.5 * 1 + 0.25 * (3 - 1), 1e-12);
 }
 
-// The obstacle of the voxels (0.1 m) filling [lo, hi], its id `id`.
-hulls::Obstacle voxelBlock(const V3& lo, const V3& hi, int id) {
-  std::vector<V3> centers;
-  for (double x = lo.x() + 0.05; x < hi.x(); x += 0.1)
-    for (double y = lo.y() + 0.05; y < hi.y(); y += 0.1)
-      for (double z = lo.z() + 0.05; z < hi.z(); z += 0.1) centers.emplace_back(x, y, z);
-  auto obstacles = hulls::buildObstacles(centers, {}, std::vector<std::int32_t>(centers.size(), 0), 0.1);
-  obstacles.at(0).id = id;
-  return obstacles[0];
-}
-
 // A terrain rising 0.1 m per metre along x with a 1.5 m ridge across it at y = 5.
 TruthShape ridgedSlope() {
   HeightGrid g;
@@ -238,8 +228,8 @@ TEST(Evaluate, AHeightFieldOwnsItsPointsAndFlagsHullsFarAboveIt) {
   std::vector<V3> points;
   for (double x = 0.25; x < 10; x += 0.5) points.emplace_back(x, 2.0, *g.heightAt({x, 2.0}));
   // One hull 2 m above the ground's highest point under it, one through the ground.
-  const std::vector<hulls::Obstacle> obstacles{voxelBlock(V3(1, 1, 2.2), V3(2, 2, 3.2), 0),
-                                               voxelBlock(V3(6, 1, 0.3), V3(7, 2, 1.3), 1)};
+  const std::vector<hulls::Obstacle> obstacles{test::filledObstacle(V3(1, 1, 2.2), V3(2, 2, 3.2), 0),
+                                               test::filledObstacle(V3(6, 1, 0.3), V3(7, 2, 1.3), 1)};
   EvaluateParams params;
   params.segments = 0;
   const Evaluation e = evaluate(obstacles, truth, points, {}, params);
