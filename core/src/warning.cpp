@@ -129,7 +129,7 @@ std::string warningText(const Warning& w, const ParameterSpelling& spell) {
       const double resolution = w.number("resolution"), spacing = w.number("spacing");
       return printed("the map's points lie about %.3g apart (%.0f voxels at ", spacing, spacing / resolution) +
              spell("resolution", shortest(resolution)) +
-             "; the distance from three in four map points to the 4th nearest occupied voxel): its surfaces fall "
+             "; three in four occupied voxels have their 4th nearest within it): its surfaces fall "
              "apart into lone voxels and noise; try " +
              spell("resolution", shortest(w.number("suggested")));
     }
