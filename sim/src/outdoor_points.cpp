@@ -4,8 +4,6 @@
 #include <cmath>
 #include <optional>
 
-#include <tbb/parallel_for.h>
-
 #include "outdoor_scene.hpp"
 #include "scene_patches.hpp"
 
@@ -151,15 +149,10 @@ void sampleOutdoorPoints(const SceneParams& p, SceneRandom& rng, Scene& scene) {
   std::vector<Camera> cameras;
   for (const io::Keyframe& k : scene.reference) cameras.push_back({k.position, k.orientation.toRotationMatrix()});
   const auto tries = static_cast<std::size_t>(std::llround(p.density * surfaces.cumulative.back()));
-  const std::size_t chunks = (tries + kTryChunk - 1) / kTryChunk;
-  std::vector<std::vector<V3>> kept(chunks);
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
-    SceneRandom local(splitMix64(p.seed ^ splitMix64(chunk + 1)));
-    const std::size_t end = std::min(tries, (chunk + 1) * kTryChunk);
-    for (std::size_t i = chunk * kTryChunk; i < end; ++i) {
-      if (const std::optional<V3> q = tryPoint(p, surfaces, parts, cameras, local))
-        kept[chunk].push_back(*q + p.noise_sigma * local.normal3());
-    }
+  std::vector<std::vector<V3>> kept((tries + kTryChunk - 1) / kTryChunk);
+  forEachSeeded(tries, p.seed, kTryChunk, [&](SceneRandom& local, std::size_t, std::size_t chunk) {
+    if (const std::optional<V3> q = tryPoint(p, surfaces, parts, cameras, local))
+      kept[chunk].push_back(*q + p.noise_sigma * local.normal3());
   });
   std::vector<V3>& points = scene.map_points;
   for (const std::vector<V3>& some : kept) points.insert(points.end(), some.begin(), some.end());

@@ -5,8 +5,6 @@
 #include <optional>
 #include <string>
 
-#include <tbb/parallel_for.h>
-
 #include "hullmap/core/error.hpp"
 #include "hullmap/sim/sample_scene.hpp"
 #include "scene_patches.hpp"
@@ -266,34 +264,29 @@ void samplePoints(const SceneParams& p, const Room& room, SceneRandom& rng, Scen
   const std::size_t gross = p.gross_outliers;
   const std::size_t n = surface + outliers + gross;
   scene.points.resize(n);
-  const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
-    SceneRandom local(splitMix64(p.seed ^ splitMix64(chunk + 1)));
-    const std::size_t end = std::min(n, (chunk + 1) * kChunk);
-    for (std::size_t i = chunk * kChunk; i < end; ++i) {
-      Eigen::Vector3d& q = scene.points[i];
-      if (i < surface) {
-        while (true) {
-          const double x = local.uniform() * area;
-          const auto k = static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end() - 1, x) -
-                                                  cumulative.begin());
-          const Patch& patch = patches[k];
-          q = samplePatch(patch, local.uniform() < p.edge_fraction, local);
-          bool hidden = false;
-          for (std::size_t j = 0; j < parts.size() && !hidden; ++j) {
-            hidden = hides[j] && j != patch.part && covers(parts[j], q);
-          }
-          if (!hidden) break;
+  forEachSeeded(n, p.seed, kChunk, [&](SceneRandom& local, std::size_t i, std::size_t) {
+    Eigen::Vector3d& q = scene.points[i];
+    if (i < surface) {
+      while (true) {
+        const double x = local.uniform() * area;
+        const auto k = static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end() - 1, x) -
+                                                cumulative.begin());
+        const Patch& patch = patches[k];
+        q = samplePatch(patch, local.uniform() < p.edge_fraction, local);
+        bool hidden = false;
+        for (std::size_t j = 0; j < parts.size() && !hidden; ++j) {
+          hidden = hides[j] && j != patch.part && covers(parts[j], q);
         }
-        q += p.noise_sigma * local.normal3();
-      } else if (i < surface + outliers) {
-        const double z = local.uniform(0.0, room.height);  // z, y, x: as normal3()
-        const double y = local.uniform(-room.half_y, room.half_y);
-        q = Eigen::Vector3d(local.uniform(-room.half, room.half), y, z);
-      } else {
-        const Eigen::Vector3d direction = local.unitVector();  // then the distance: as normal3()
-        q = local.uniform(1e5, 1e6) * direction;
+        if (!hidden) break;
       }
+      q += p.noise_sigma * local.normal3();
+    } else if (i < surface + outliers) {
+      const double z = local.uniform(0.0, room.height);  // z, y, x: as normal3()
+      const double y = local.uniform(-room.half_y, room.half_y);
+      q = Eigen::Vector3d(local.uniform(-room.half, room.half), y, z);
+    } else {
+      const Eigen::Vector3d direction = local.unitVector();  // then the distance: as normal3()
+      q = local.uniform(1e5, 1e6) * direction;
     }
   });
   for (std::size_t i = n; i > 1; --i) std::swap(scene.points[i - 1], scene.points[rng.index(i)]);
@@ -330,11 +323,7 @@ void toOutputFrame(const SceneParams& p, Scene& scene) {
   const double s = scene.output_scale;
   const Eigen::Matrix3d& r = scene.output_rotation;
   const Eigen::Vector3d& tr = scene.output_translation;
-  const std::size_t n = scene.points.size(), chunks = (n + kChunk - 1) / kChunk;
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
-    const std::size_t end = std::min(n, (chunk + 1) * kChunk);
-    for (std::size_t i = chunk * kChunk; i < end; ++i) scene.points[i] = s * (r * scene.points[i]) + tr;
-  });
+  transformPoints(scene.points, [&](const Eigen::Vector3d& q) -> Eigen::Vector3d { return s * (r * q) + tr; });
   const Eigen::Quaterniond rq(r);
   scene.keyframes = scene.reference;
   for (io::Keyframe& k : scene.keyframes) {

@@ -21,10 +21,11 @@
 namespace hullmap::sim {
 namespace {
 
-using core::splitMix64;
+using detail::forEachSeeded;
 using detail::kCameraHeight;
 using detail::kChunk;
 using detail::SceneRandom;
+using detail::transformPoints;
 
 // Samples the surface of one obstacle: half the points near edges, half on visible faces.
 class SurfaceSampler {
@@ -408,26 +409,21 @@ Scene generateScene(const SceneParams& p) {
 
   // Fixed chunks with their own seeds: the same points whatever the thread count.
   scene.points.resize(n);
-  const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
-    SceneRandom local(splitMix64(p.seed ^ splitMix64(chunk + 1)));
-    const std::size_t end = std::min(n, (chunk + 1) * kChunk);
-    for (std::size_t i = chunk * kChunk; i < end; ++i) {
-      Eigen::Vector3d& q = scene.points[i];
-      if (i < surface) {
-        const double x = local.uniform() * total_area;
-        const std::size_t o = static_cast<std::size_t>(
-            std::upper_bound(cumulative_area.begin(), cumulative_area.end() - 1, x) - cumulative_area.begin());
-        q = samplers[o].sample(local);
-        q += p.noise_sigma * local.normal3();
-      } else if (i < surface + outliers) {
-        const double z = local.uniform(0.0, p.room_height);  // z, y, x: as normal3()
-        const double y = local.uniform(-half, half);
-        q = Eigen::Vector3d(local.uniform(-half, half), y, z);
-      } else {
-        const Eigen::Vector3d direction = local.unitVector();  // then the distance: as normal3()
-        q = local.uniform(1e5, 1e6) * direction;
-      }
+  forEachSeeded(n, p.seed, kChunk, [&](SceneRandom& local, std::size_t i, std::size_t) {
+    Eigen::Vector3d& q = scene.points[i];
+    if (i < surface) {
+      const double x = local.uniform() * total_area;
+      const std::size_t o = static_cast<std::size_t>(
+          std::upper_bound(cumulative_area.begin(), cumulative_area.end() - 1, x) - cumulative_area.begin());
+      q = samplers[o].sample(local);
+      q += p.noise_sigma * local.normal3();
+    } else if (i < surface + outliers) {
+      const double z = local.uniform(0.0, p.room_height);  // z, y, x: as normal3()
+      const double y = local.uniform(-half, half);
+      q = Eigen::Vector3d(local.uniform(-half, half), y, z);
+    } else {
+      const Eigen::Vector3d direction = local.unitVector();  // then the distance: as normal3()
+      q = local.uniform(1e5, 1e6) * direction;
     }
   });
 
@@ -436,10 +432,7 @@ Scene generateScene(const SceneParams& p) {
 
   if (p.orbslam_frame) {
     const Eigen::Matrix3d m = mapToOrbSlamRotation();
-    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
-      const std::size_t end = std::min(n, (chunk + 1) * kChunk);
-      for (std::size_t i = chunk * kChunk; i < end; ++i) scene.points[i] = m * scene.points[i];
-    });
+    transformPoints(scene.points, [&](const Eigen::Vector3d& q) -> Eigen::Vector3d { return m * q; });
     const Eigen::Quaterniond mq(m);
     for (io::Keyframe& k : scene.keyframes) {
       k.position = m * k.position;

@@ -3,12 +3,15 @@
 // Portable random numbers for the scene generators (sample_scene.cpp, sample_room.cpp,
 // sample_outdoor.cpp), and their camera helpers. Not installed.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <tbb/parallel_for.h>
 
 #include "hullmap/core/constants.hpp"
 #include "hullmap/core/random.hpp"
@@ -83,6 +86,28 @@ inline Eigen::Quaterniond cameraLookingAlong(const Eigen::Vector3d& forward) {
   r.col(1) = down;
   r.col(2) = forward;
   return Eigen::Quaterniond(r).normalized();
+}
+
+/// Calls draw(rng, i, c) for every i in [0, n), in chunks c of `chunk` items run in parallel, each
+/// chunk drawing from its own SceneRandom seeded with splitMix64(seed ^ splitMix64(c + 1)): the same
+/// values whatever the thread count.
+template <class Draw>
+void forEachSeeded(std::size_t n, std::uint64_t seed, std::size_t chunk, Draw&& draw) {
+  tbb::parallel_for(std::size_t{0}, (n + chunk - 1) / chunk, [&](std::size_t c) {
+    SceneRandom local(splitMix64(seed ^ splitMix64(c + 1)));
+    const std::size_t end = std::min(n, (c + 1) * chunk);
+    for (std::size_t i = c * chunk; i < end; ++i) draw(local, i, c);
+  });
+}
+
+/// points[i] = f(points[i]) for every point, kChunk points at a time in parallel.
+template <class F>
+void transformPoints(std::vector<Eigen::Vector3d>& points, F&& f) {
+  const std::size_t n = points.size();
+  tbb::parallel_for(std::size_t{0}, (n + kChunk - 1) / kChunk, [&](std::size_t c) {
+    const std::size_t end = std::min(n, (c + 1) * kChunk);
+    for (std::size_t i = c * kChunk; i < end; ++i) points[i] = f(points[i]);
+  });
 }
 
 }  // namespace hullmap::sim::detail
