@@ -21,6 +21,7 @@
 #include "hullmap/collision/convex_distance.hpp"
 #include "hullmap/collision/fcl_obstacles.hpp"
 #include "convex_distance_detail.hpp"
+#include "height_field_sweep.hpp"
 #include "hullmap/core/error.hpp"
 
 namespace hullmap::collision {
@@ -45,9 +46,15 @@ void checkSegment(const Segment& segment) {
   if (!segment.a.allFinite() || !segment.b.allFinite()) throw Error("segment has a non-finite coordinate");
 }
 
-void checkSurfaces(const std::vector<HalfSpace>& surfaces) {
-  for (const HalfSpace& h : surfaces) {
+void checkSurfaces(const std::vector<Surface>& surfaces) {
+  for (const Surface& h : surfaces) {
     const std::string name = h.name.empty() ? std::string("a surface") : "\"" + h.name + "\"";
+    if (h.field) {
+      if (!h.field->valid())
+        throw Error::inParameter("surfaces", name + ": the height field needs a finite step > 0, a finite origin and "
+                                                    "nx * ny >= 1 finite heights");
+      continue;
+    }
     if (!h.normal.allFinite() || std::abs(h.normal.norm() - 1.0) > 1e-9)
       throw Error::inParameter("surfaces", name + ": the normal must be a finite unit vector");
     if (!std::isfinite(h.offset)) throw Error::inParameter("surfaces", name + ": the offset must be finite");
@@ -57,7 +64,7 @@ void checkSurfaces(const std::vector<HalfSpace>& surfaces) {
 /// The capsule against one half-space, inputs already validated: the distance to the solid is
 /// linear along the segment, so its minimum is at an end and the first contact is where it falls
 /// to the radius.
-SegmentCheck sweepHalfSpace(const Segment& segment, double radius, const HalfSpace& surface) {
+SegmentCheck sweepPlane(const Segment& segment, double radius, const Surface& surface) {
   SegmentCheck result;
   const double da = surface.distance(segment.a), db = surface.distance(segment.b);
   const double nearest = std::min(da, db);
@@ -73,11 +80,18 @@ SegmentCheck sweepHalfSpace(const Segment& segment, double radius, const HalfSpa
   return result;
 }
 
+/// One surface, inputs validated: a plane exactly, a height field to `t_tolerance`.
+SegmentCheck sweepSurface(const Segment& segment, double radius, const Surface& surface, double t_tolerance) {
+  return surface.field ? detail::sweepHeightField(segment, radius, surface, t_tolerance)
+                       : sweepPlane(segment, radius, surface);
+}
+
 /// Folds the surfaces into a check against the other obstacles: the earliest contact wins (a
 /// hull or voxel on a tie), and a clear segment's clearance is the least of all.
-void addSurfaces(const Segment& segment, double radius, const std::vector<HalfSpace>& surfaces, SegmentCheck& result) {
-  for (const HalfSpace& surface : surfaces) {
-    SegmentCheck s = sweepHalfSpace(segment, radius, surface);
+void addSurfaces(const Segment& segment, const CheckRequest& request, const std::vector<Surface>& surfaces,
+                 SegmentCheck& result) {
+  for (const Surface& surface : surfaces) {
+    SegmentCheck s = sweepSurface(segment, request.radius, surface, contactTolerance(segment, request));
     if (s.collides) {
       if (!result.collides || s.t < result.t) result = std::move(s);
     } else if (!result.collides) {
@@ -106,11 +120,12 @@ PathCheck checkWaypoints(const std::vector<Eigen::Vector3d>& waypoints, CheckOne
 
 }  // namespace
 
-SegmentCheck checkHalfSpace(const Segment& segment, double radius, const HalfSpace& surface) {
-  checkRequest(CheckRequest{radius});
+SegmentCheck checkSurface(const Segment& segment, double radius, const Surface& surface, double contact_tolerance) {
+  const CheckRequest request{radius, contact_tolerance};
+  checkRequest(request);
   checkSegment(segment);
   checkSurfaces({surface});
-  return sweepHalfSpace(segment, radius, surface);
+  return sweepSurface(segment, radius, surface, contactTolerance(segment, request));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -178,7 +193,7 @@ class TouchingHulls {
 }  // namespace
 
 struct HullChecker::Impl {
-  Impl(const std::vector<hulls::Obstacle>& obstacles, std::vector<HalfSpace> given)
+  Impl(const std::vector<hulls::Obstacle>& obstacles, std::vector<Surface> given)
       : fcl(obstacles), surfaces(std::move(given)) {
     checkSurfaces(surfaces);
     for (std::size_t i = 0; i < fcl.size(); ++i) {
@@ -190,7 +205,7 @@ struct HullChecker::Impl {
   SegmentCheck checkHulls(const Segment& segment, const CheckRequest& request) const;
 
   FclObstacles fcl;
-  std::vector<HalfSpace> surfaces;
+  std::vector<Surface> surfaces;
   std::vector<int> ids;    ///< per FCL object: its obstacle's id
   std::vector<int> parts;  ///< per FCL object: its part index (-1: whole hull)
 };
@@ -249,20 +264,20 @@ bool visitHull(fcl::CollisionObjectd* object, fcl::CollisionObjectd*, void* data
 
 }  // namespace
 
-HullChecker::HullChecker(const std::vector<hulls::Obstacle>& obstacles, std::vector<HalfSpace> surfaces)
+HullChecker::HullChecker(const std::vector<hulls::Obstacle>& obstacles, std::vector<Surface> surfaces)
     : impl_(std::make_unique<Impl>(obstacles, std::move(surfaces))) {}
 
 HullChecker::~HullChecker() = default;
 HullChecker::HullChecker(HullChecker&&) noexcept = default;
 HullChecker& HullChecker::operator=(HullChecker&&) noexcept = default;
 
-const std::vector<HalfSpace>& HullChecker::surfaces() const { return impl_->surfaces; }
+const std::vector<Surface>& HullChecker::surfaces() const { return impl_->surfaces; }
 
 SegmentCheck HullChecker::check(const Segment& segment, const CheckRequest& request) const {
   checkRequest(request);
   checkSegment(segment);
   SegmentCheck result = impl_->checkHulls(segment, request);
-  addSurfaces(segment, request.radius, impl_->surfaces, result);
+  addSurfaces(segment, request, impl_->surfaces, result);
   return result;
 }
 
@@ -340,7 +355,7 @@ std::vector<SegmentCheck> HullChecker::checkBatch(const std::vector<Segment>& se
 // Octree mode
 
 struct OctreeChecker::Impl {
-  std::vector<HalfSpace> surfaces;
+  std::vector<Surface> surfaces;
   std::shared_ptr<const octomap::OcTree> tree;
   std::shared_ptr<fcl::OcTreed> geometry;
   std::unique_ptr<fcl::CollisionObjectd> object;
@@ -363,7 +378,7 @@ fcl::CollisionObjectd sweptSphere(const Segment& segment, double t, double radiu
 
 }  // namespace
 
-OctreeChecker::OctreeChecker(const octomap::OcTree& tree, std::vector<HalfSpace> surfaces)
+OctreeChecker::OctreeChecker(const octomap::OcTree& tree, std::vector<Surface> surfaces)
     : impl_(std::make_unique<Impl>()) {
   checkSurfaces(surfaces);
   impl_->surfaces = std::move(surfaces);
@@ -377,13 +392,13 @@ OctreeChecker::~OctreeChecker() = default;
 OctreeChecker::OctreeChecker(OctreeChecker&&) noexcept = default;
 OctreeChecker& OctreeChecker::operator=(OctreeChecker&&) noexcept = default;
 
-const std::vector<HalfSpace>& OctreeChecker::surfaces() const { return impl_->surfaces; }
+const std::vector<Surface>& OctreeChecker::surfaces() const { return impl_->surfaces; }
 
 SegmentCheck OctreeChecker::check(const Segment& segment, const CheckRequest& request) const {
   checkRequest(request);
   checkSegment(segment);
   SegmentCheck result = checkVoxels(segment, request);
-  addSurfaces(segment, request.radius, impl_->surfaces, result);
+  addSurfaces(segment, request, impl_->surfaces, result);
   return result;
 }
 

@@ -75,16 +75,6 @@ void harmonicFill(std::vector<double>& z, const std::vector<char>& fixed, std::s
 
 }  // namespace
 
-double HeightField::height(double x, double y) const {
-  const double u = std::clamp((x - origin.x()) / step - 0.5, 0.0, double(nx - 1));
-  const double v = std::clamp((y - origin.y()) / step - 0.5, 0.0, double(ny - 1));
-  const auto i = std::min(std::size_t(u), nx > 1 ? nx - 2 : 0), j = std::min(std::size_t(v), ny > 1 ? ny - 2 : 0);
-  const double fu = nx > 1 ? u - double(i) : 0.0, fv = ny > 1 ? v - double(j) : 0.0;
-  const auto h = [&](std::size_t a, std::size_t b) { return at(std::min(a, nx - 1), std::min(b, ny - 1)); };
-  return (1 - fu) * (1 - fv) * h(i, j) + fu * (1 - fv) * h(i + 1, j) + (1 - fu) * fv * h(i, j + 1) +
-         fu * fv * h(i + 1, j + 1);
-}
-
 Terrain fitTerrain(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& keyframes,
                    const TerrainParams& params) {
   checkParams(params);

@@ -141,7 +141,7 @@ void makeObstacles(BuildResult& result, ClusterWork& w) {
     if (w.labels[i] == kFloorLabel) ++report.floor.voxels;
     if (w.labels[i] == kCeilingLabel) ++report.ceiling.voxels;
   }
-  result.surfaces = surfaceHalfSpaces(report, w.centers, w.labels, resolution);
+  result.surfaces = boundingSurfaces(report, w.centers, w.labels, resolution);
 }
 
 bool convexPartsOn(const BuildParams& params) { return params.convex_parts.has_value(); }

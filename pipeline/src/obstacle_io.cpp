@@ -121,21 +121,62 @@ json commonJson(const T& o) {
           {"footprint", footprintJson(o.footprint)}};
 }
 
-json surfacesJson(const std::vector<collision::HalfSpace>& surfaces) {
+json surfacesJson(const std::vector<collision::Surface>& surfaces) {
   json list = json::array();
-  for (const auto& h : surfaces) list.push_back({{"name", h.name}, {"normal", vec3(h.normal)}, {"offset", h.offset}});
+  for (const auto& h : surfaces) {
+    if (!h.field) {
+      list.push_back({{"name", h.name}, {"normal", vec3(h.normal)}, {"offset", h.offset}});
+      continue;
+    }
+    const HeightField& f = *h.field;
+    list.push_back({{"name", h.name},
+                    {"kind", "heightfield"},
+                    {"origin", {f.origin.x(), f.origin.y()}},
+                    {"step", f.step},
+                    {"nx", f.nx},
+                    {"ny", f.ny},
+                    {"heights", f.heights}});
+  }
   return list;
 }
 
-std::vector<collision::HalfSpace> surfacesFromJson(const Reader& r, const json& list) {
-  std::vector<collision::HalfSpace> surfaces;
+/// A surfaces[] entry of kind "heightfield".
+HeightField heightFieldFromJson(const Reader& r, const json& entry, const std::string& at) {
+  HeightField f;
+  const json& origin = r.array(r.field(entry, "origin", at), at + ".origin");
+  if (origin.size() != 2) r.fail(at + ".origin", "expected [x, y]");
+  f.origin = {r.number(origin[0], at + ".origin"), r.number(origin[1], at + ".origin")};
+  f.step = r.number(r.field(entry, "step", at), at + ".step");
+  f.nx = std::size_t(r.count(r.field(entry, "nx", at), at + ".nx"));
+  f.ny = std::size_t(r.count(r.field(entry, "ny", at), at + ".ny"));
+  const json& heights = r.array(r.field(entry, "heights", at), at + ".heights");
+  if (f.nx == 0 || f.ny == 0 || heights.size() / f.nx != f.ny || heights.size() % f.nx != 0)
+    r.fail(at + ".heights", "expected nx * ny >= 1 heights");
+  f.heights.reserve(heights.size());
+  for (const json& z : heights) f.heights.push_back(r.number(z, at + ".heights"));
+  if (!f.valid()) r.fail(at, "expected a finite origin, a finite step > 0 and finite heights");
+  return f;
+}
+
+std::vector<collision::Surface> surfacesFromJson(const Reader& r, const json& list) {
+  std::vector<collision::Surface> surfaces;
   r.array(list, "surfaces");
   for (std::size_t k = 0; k < list.size(); ++k) {
     const std::string at = "surfaces[" + std::to_string(k) + "]";
-    collision::HalfSpace h;
+    collision::Surface h;
     const json& name = r.field(list[k], "name", at);
     if (!name.is_string()) r.fail(at + ".name", "expected a string");
     h.name = name.get<std::string>();
+    std::string kind = "plane";
+    if (const auto found = list[k].find("kind"); found != list[k].end()) {
+      if (!found->is_string()) r.fail(at + ".kind", "expected a string");
+      kind = found->get<std::string>();
+    }
+    if (kind == "heightfield") {
+      surfaces.push_back(collision::Surface::heightField(h.name, heightFieldFromJson(r, list[k], at)));
+      continue;
+    }
+    if (kind != "plane") r.fail(at + ".kind", "expected \"plane\" or \"heightfield\", got \"" + kind + "\"");
     h.normal = r.point3(r.field(list[k], "normal", at), at + ".normal");
     if (!(std::abs(h.normal.norm() - 1.0) <= 1e-6)) r.fail(at + ".normal", "expected a unit vector");
     h.normal.normalize();

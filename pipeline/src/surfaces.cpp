@@ -130,14 +130,14 @@ std::vector<Eigen::Vector3d> freeVoxelCentres(const mapper::OccupancyMap& map) {
 
 /// The floor and ceiling as solid half-spaces: up to the plane, or to the far face of the highest
 /// voxel set aside as that surface when it lies beyond (the voxels lie inside completely).
-std::vector<collision::HalfSpace> surfaceHalfSpaces(const BuildReport& report,
+std::vector<collision::Surface> boundingSurfaces(const BuildReport& report,
                                                     const std::vector<Eigen::Vector3d>& centers,
                                                     const std::vector<std::int32_t>& labels, double resolution) {
-  std::vector<collision::HalfSpace> out;
+  std::vector<collision::Surface> out;
   const auto add = [&](const PlaneReport& surface, std::int32_t label, const char* name) {
     if (!surface.plane) return;
     const double norm = surface.plane->normal.norm();
-    collision::HalfSpace h{name, surface.plane->normal / norm, surface.plane->offset / norm};
+    collision::Surface h = collision::Surface::plane(name, surface.plane->normal / norm, surface.plane->offset / norm);
     // The support of a voxel cube along the normal, beyond its centre.
     const double half = 0.5 * resolution * h.normal.cwiseAbs().sum();
     for (std::size_t i = 0; i < centers.size(); ++i)

@@ -19,7 +19,7 @@ std::vector<Eigen::Vector3d> freeVoxelCentres(const mapper::OccupancyMap& map);
 
 /// The floor and ceiling as solid half-spaces: up to the plane, or to the far face of the highest
 /// voxel set aside as that surface when it lies beyond (the voxels lie inside completely).
-std::vector<collision::HalfSpace> surfaceHalfSpaces(const BuildReport& report,
+std::vector<collision::Surface> boundingSurfaces(const BuildReport& report,
                                                     const std::vector<Eigen::Vector3d>& centers,
                                                     const std::vector<std::int32_t>& labels, double resolution);
 

@@ -140,7 +140,7 @@ Box3d omplBoxFor(const std::vector<hulls::Obstacle>& obstacles, const PlanReques
 }
 
 OmplPlanResult planPathOmpl(const std::vector<hulls::Obstacle>& obstacles, const PlanRequest& request,
-                            const OmplParams& params, const std::vector<collision::HalfSpace>& surfaces) {
+                            const OmplParams& params, const std::vector<collision::Surface>& surfaces) {
   if (!(params.time_limit > 0) || !std::isfinite(params.time_limit))
     throw Error::inParameter("time_limit", "must be > 0 and finite seconds");
   if (!(params.clearance_weight >= 0) || !std::isfinite(params.clearance_weight))

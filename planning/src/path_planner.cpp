@@ -32,7 +32,7 @@ struct PathPlanner::Impl {
   collision::HullChecker checker;
   Graph graph;
 
-  Impl(const std::vector<hulls::Obstacle>& obstacles, Roadmap map, std::vector<collision::HalfSpace> surfaces)
+  Impl(const std::vector<hulls::Obstacle>& obstacles, Roadmap map, std::vector<collision::Surface> surfaces)
       : roadmap(std::move(map)), checker(obstacles, std::move(surfaces)) {
     for (const auto& n : roadmap.nodes) graph.position.push_back(n.position);
     graph.links.resize(graph.position.size());
@@ -220,7 +220,7 @@ struct PathPlanner::Impl {
 };
 
 PathPlanner::PathPlanner(const std::vector<hulls::Obstacle>& obstacles, Roadmap roadmap,
-                         std::vector<collision::HalfSpace> surfaces)
+                         std::vector<collision::Surface> surfaces)
     : impl_(std::make_unique<Impl>(obstacles, std::move(roadmap), std::move(surfaces))) {}
 PathPlanner::~PathPlanner() = default;
 PathPlanner::PathPlanner(PathPlanner&&) noexcept = default;
@@ -339,7 +339,7 @@ RoadmapParams roadmapParamsFor(const std::vector<hulls::Obstacle>& obstacles,
 }
 
 PlanResult planPath(const std::vector<hulls::Obstacle>& obstacles, const PlanRequest& request,
-                    std::optional<RoadmapParams> roadmap_params, const std::vector<collision::HalfSpace>& surfaces) {
+                    std::optional<RoadmapParams> roadmap_params, const std::vector<collision::Surface>& surfaces) {
   const double z = request.flight_z.value_or(request.start.z());
   const RoadmapParams params = roadmap_params.value_or(roadmapParamsFor(
       obstacles, {request.start, request.goal, Eigen::Vector3d(request.start.x(), request.start.y(), z)},

@@ -159,11 +159,12 @@ void traceBisector(RoadmapEdge& edge, const Eigen::Vector2d& a, const Eigen::Vec
 /// The band with the floor and ceiling taken out: above the highest point of each floor-like
 /// surface's solid over the bounds rectangle [lo, hi] (its normal up), below the lowest point of each
 /// ceiling-like one's. Throws hullmap::Error naming z0/z1 when nothing of the band is left.
-std::pair<double, double> bandBetweenSurfaces(double z0, double z1, const std::vector<collision::HalfSpace>& surfaces,
+std::pair<double, double> bandBetweenSurfaces(double z0, double z1, const std::vector<collision::Surface>& surfaces,
                                               const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
   const double given0 = z0, given1 = z1;
   std::string limiting;
   for (const auto& h : surfaces) {
+    if (h.field) continue;  // the ground's height varies: the checks keep the roadmap's edges off it
     if (std::abs(h.normal.z()) < 1e-9) continue;  // a wall-like surface bounds no height
     double extreme =
         h.normal.z() > 0 ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
@@ -527,7 +528,7 @@ double siteDistance(const SiteRef& site, const Eigen::Vector2d& p) {
 }
 
 Roadmap buildRoadmap(const std::vector<hulls::Obstacle>& obstacles, const RoadmapParams& params,
-                     const std::vector<collision::HalfSpace>& surfaces) {
+                     const std::vector<collision::Surface>& surfaces) {
   if (!(params.tolerance > 0) || !std::isfinite(params.tolerance))
     throw Error::inParameter("tolerance", "must be > 0 and finite, got " + std::to_string(params.tolerance));
   if (!(params.z0 <= params.z1)) throw Error::inParameter("z0/z1", "z0 must be <= z1");

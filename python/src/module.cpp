@@ -41,6 +41,7 @@ struct Types {
   py::object path_check;     ///< namedtuple PathCheck
   py::object plan;           ///< namedtuple Plan
   py::object surface;        ///< namedtuple Surface
+  py::object height_field;   ///< namedtuple HeightField
 };
 Types* types = nullptr;
 
@@ -454,13 +455,25 @@ void bindMap(py::module_& m) {
           "surfaces",
           [](py::object self) {
             py::list list;
-            for (const auto& s : self.cast<const Map&>().map().surfaces)
-              list.append(
-                  types->surface(s.name, own(std::vector<Eigen::Vector3d>{s.normal}).attr("reshape")(3), s.offset));
+            for (const auto& s : self.cast<const Map&>().map().surfaces) {
+              if (s.field) {
+                const HeightField& f = *s.field;
+                py::array_t<double> heights({py::ssize_t(f.ny), py::ssize_t(f.nx)}), origin(2);
+                std::copy(f.heights.begin(), f.heights.end(), heights.mutable_data());
+                origin.mutable_data()[0] = f.origin.x();
+                origin.mutable_data()[1] = f.origin.y();
+                list.append(types->surface(s.name, py::none(), py::none(), types->height_field(origin, f.step, heights)));
+                continue;
+              }
+              list.append(types->surface(s.name, own(std::vector<Eigen::Vector3d>{s.normal}).attr("reshape")(3),
+                                         s.offset, py::none()));
+            }
             return list;
           },
-          "the floor and ceiling as solid half-spaces, obstacles for the checks and plans: "
-          "Surface(name, normal (3,), offset), the solid where normal . x <= offset")
+          "the floor, ceiling and ground, solids that the checks and plans treat as obstacles: "
+          "Surface(name, normal (3,), offset, field): a plane's solid is normal . x <= offset (field None); "
+          "the ground's is every point under field, HeightField(origin (2,), step, heights (ny, nx)), "
+          "normal and offset None")
       .def_property_readonly(
           "frame", [](const Map& map) { return map.map().frame; }, "the build's description of its frame")
       .def("check", &check, py::arg("segments"), py::arg("radius"), py::arg("against") = "hulls",
@@ -511,7 +524,9 @@ PYBIND11_MODULE(_hullmap, m) {
   types->path_check =
       namedtuple("PathCheck", "segments first_colliding_segment first_contact", py::arg("module") = "hullmap");
   types->plan = namedtuple("Plan", "path length blocked", py::arg("module") = "hullmap");
-  types->surface = namedtuple("Surface", "name normal offset", py::arg("module") = "hullmap");
+  types->surface = namedtuple("Surface", "name normal offset field", py::arg("module") = "hullmap");
+  types->height_field = namedtuple("HeightField", "origin step heights", py::arg("module") = "hullmap");
+  m.attr("HeightField") = types->height_field;
   m.attr("Surface") = types->surface;
   m.attr("Voxels") = types->voxels;
   m.attr("PathCheck") = types->path_check;

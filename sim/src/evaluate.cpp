@@ -360,7 +360,7 @@ std::optional<SampledSegments> sampleSegments(const GroundTruth& truth, const Ev
 
 // The build's checks of the sampled segments against the truth's verdicts: deep ones missed, clear
 // ones blocked (false alarms), and the parts those hit.
-void scoreSegments(const std::vector<hulls::Obstacle>& obstacles, const std::vector<collision::HalfSpace>& surfaces,
+void scoreSegments(const std::vector<hulls::Obstacle>& obstacles, const std::vector<collision::Surface>& surfaces,
                    const GroundTruth& truth, const EvaluateParams& params, const SampledSegments& sampled,
                    Evaluation& e) {
   const auto& segments = sampled.segments;
@@ -395,7 +395,7 @@ void scoreSegments(const std::vector<hulls::Obstacle>& obstacles, const std::vec
 
 Evaluation evaluate(const std::vector<hulls::Obstacle>& obstacles, const GroundTruth& truth,
                     const std::vector<V3>& points, const std::vector<std::uint32_t>& weights,
-                    const EvaluateParams& params, const std::vector<collision::HalfSpace>& surfaces) {
+                    const EvaluateParams& params, const std::vector<collision::Surface>& surfaces) {
   checkEvaluateParams(points.size(), weights.size(), params);
   Evaluation e;
   const std::vector<HullPlanes> hulls = hullsOf(obstacles);

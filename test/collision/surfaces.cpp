@@ -17,28 +17,29 @@ namespace {
 
 using test::V3;
 
-HalfSpace randomHalfSpace(std::mt19937& rng, const char* name) {
+Surface randomSurface(std::mt19937& rng, const char* name) {
   std::normal_distribution<double> n(0.0, 1.0);
   std::uniform_real_distribution<double> u(-2.0, 2.0);
-  return {name, V3(n(rng), n(rng), n(rng)).normalized(), u(rng)};
+  const V3 normal = V3(n(rng), n(rng), n(rng)).normalized();
+  return Surface::plane(name, normal, u(rng));
 }
 
 /// Whether the sphere of `radius` swept from a to a + t (b - a) meets the solid: the least signed
 /// distance over the prefix is at one of its ends.
-bool prefixTouches(const Segment& s, double t, double radius, const HalfSpace& h) {
+bool prefixTouches(const Segment& s, double t, double radius, const Surface& h) {
   return std::min(h.distance(s.a), h.distance(s.a + t * (s.b - s.a))) <= radius;
 }
 
-TEST(SurfaceCheck, CapsuleAgainstAHalfSpaceMatchesTheOracle) {
+TEST(SurfaceCheck, CapsuleAgainstASurfaceMatchesTheOracle) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> coordinate(-4.0, 4.0), radius(0.0, 1.5);
   int collisions = 0, clear = 0;
   for (int trial = 0; trial < 5000; ++trial) {
-    const HalfSpace h = randomHalfSpace(rng, "floor");
+    const Surface h = randomSurface(rng, "floor");
     const Segment s{V3(coordinate(rng), coordinate(rng), coordinate(rng)),
                     V3(coordinate(rng), coordinate(rng), coordinate(rng))};
     const double r = trial % 10 == 0 ? 0.0 : radius(rng);
-    const SegmentCheck c = checkHalfSpace(s, r, h);
+    const SegmentCheck c = checkSurface(s, r, h);
     const bool touches = prefixTouches(s, 1.0, r, h);
     ASSERT_EQ(c.collides, touches) << "trial " << trial;
     if (!c.collides) {
@@ -67,7 +68,7 @@ TEST(SurfaceCheck, CapsuleAgainstAHalfSpaceMatchesTheOracle) {
 TEST(SurfaceCheck, EverySegmentThroughTheFloorCollidesAtAnyRadius) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> xy(-10.0, 10.0), height(0.0, 5.0), radius(0.0, 2.0);
-  const HalfSpace floor{"floor", V3(0.02, -0.01, 1.0).normalized(), 0.05};
+  const Surface floor = Surface::plane("floor", V3(0.02, -0.01, 1.0).normalized(), 0.05);
   const std::vector<hulls::Obstacle> none;
   const HullChecker hulls(none, {floor});
   for (int trial = 0; trial < 2000; ++trial) {
@@ -97,8 +98,8 @@ TEST(SurfaceCheck, TheEarliestOfHullsAndSurfacesIsReported) {
   auto obstacles = hulls::buildObstacles(centers, std::vector<std::uint32_t>(centers.size(), 1),
                                          std::vector<std::int32_t>(centers.size(), 0), 0.1);
   obstacles[0].id = 4;
-  const HalfSpace floor{"floor", V3::UnitZ(), 0.0};
-  const HalfSpace ceiling{"ceiling", -V3::UnitZ(), -3.0};
+  const Surface floor = Surface::plane("floor", V3::UnitZ(), 0.0);
+  const Surface ceiling = Surface::plane("ceiling", -V3::UnitZ(), -3.0);
   const HullChecker checker(obstacles, {floor, ceiling});
   ASSERT_EQ(checker.surfaces().size(), 2u);
 
@@ -145,7 +146,7 @@ TEST(SurfaceCheck, OctreeModeSeesTheFloorBetweenItsSparseVoxels) {
   tree.updateNode(octomap::point3d(1.05f, 0.05f, 1.05f), true);  // one voxel in the air
   const Segment down{V3(0.3, 0.3, 2), V3(0.3, 0.3, -1)};
   EXPECT_FALSE(OctreeChecker(tree).check(down, 0.05).collides);
-  const OctreeChecker checker(tree, {HalfSpace{"floor", V3::UnitZ(), 0.1}});
+  const OctreeChecker checker(tree, {Surface::plane("floor", V3::UnitZ(), 0.1)});
   const SegmentCheck c = checker.check(down, 0.05);
   EXPECT_TRUE(c.collides);
   EXPECT_EQ(c.surface, "floor");
@@ -159,8 +160,8 @@ TEST(SurfaceCheck, OctreeModeSeesTheFloorBetweenItsSparseVoxels) {
 
 TEST(SurfaceCheck, BadSurfacesAreRefusedNamingThem) {
   const std::vector<hulls::Obstacle> none;
-  for (const HalfSpace& bad : {HalfSpace{"floor", V3(0, 0, 2), 0.0}, HalfSpace{"floor", V3(0, 0, NAN), 0.0},
-                               HalfSpace{"floor", V3::UnitZ(), INFINITY}}) {
+  for (const Surface& bad : {Surface::plane("floor", V3(0, 0, 2), 0.0), Surface::plane("floor", V3(0, 0, NAN), 0.0),
+                               Surface::plane("floor", V3::UnitZ(), INFINITY)}) {
     try {
       HullChecker checker(none, {bad});
       ADD_FAILURE() << "accepted";
@@ -169,7 +170,7 @@ TEST(SurfaceCheck, BadSurfacesAreRefusedNamingThem) {
       EXPECT_NE(std::string(e.what()).find("\"floor\""), std::string::npos) << e.what();
     }
   }
-  EXPECT_THROW(checkHalfSpace({V3::Zero(), V3::Ones()}, -1.0, HalfSpace{"floor", V3::UnitZ(), 0.0}), Error);
+  EXPECT_THROW(checkSurface({V3::Zero(), V3::Ones()}, -1.0, Surface::plane("floor", V3::UnitZ(), 0.0)), Error);
 }
 
 }  // namespace

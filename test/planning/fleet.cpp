@@ -115,7 +115,7 @@ TEST(Fleet, HeadOnSwapInACorridorWaitsOrDetoursAndNamesTheUnroutable) {
   expectSafeFleet(scene, tasks, crowded, params);
 
   // The floor is an obstacle: a drone that starts under it is named with the floor, as plan names it.
-  const std::vector<collision::HalfSpace> floor{{"floor", Vector3d::UnitZ(), 0.0}};
+  const std::vector<collision::Surface> floor{collision::Surface::plane("floor", Vector3d::UnitZ(), 0.0)};
   const planning::PathPlanner on_floor(obstacles, planning::buildRoadmap(obstacles, rp, floor), floor);
   const auto under = planning::planFleet(on_floor, {{Vector3d(-4, 0, -1), Vector3d(4, 0, 1)}}, params);
   ASSERT_EQ(under.unrouted, std::vector<std::size_t>{0});

@@ -125,7 +125,7 @@ TEST(PipelineFrames, InputToOutputIsTheFrameChangeOfEveryPoint) {
   }
 }
 
-TEST(PipelineFrames, TheFloorsHalfSpaceHoldsEveryFloorVoxel) {
+TEST(PipelineFrames, TheFloorsSurfaceHoldsEveryFloorVoxel) {
   BuildParams params;
   params.inputs = {sample("room/map_points.txt")};
   params.trajectory = sample("room/KeyFrameTrajectory.txt");

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "hullmap/core/height_field.hpp"
 #include "hullmap/hulls/obstacles.hpp"
 
 namespace octomap {
@@ -21,17 +22,46 @@ struct Segment {
   Eigen::Vector3d b;
 };
 
-/// A surface that bounds the map (a floor, a ceiling) as a solid half-space: every point x with
-/// normal . x <= offset is inside it. `normal` is a unit vector pointing out of the solid, into the
-/// map: up for a floor (the solid below it), down for a ceiling (the solid above it). Map frame,
-/// map units. The checkers validate it (unit, finite normal; finite offset).
-struct HalfSpace {
-  std::string name;  ///< what it is: "floor", "ceiling"
+/// A surface that bounds the map as a solid, an obstacle for every check: a plane (a floor, a
+/// ceiling) or a height field (the ground outdoors).
+/// - Plane (`field` empty): the half-space of every point x with normal . x <= offset. `normal` is
+///   a unit vector pointing out of the solid, into the map: up for a floor (the solid below it),
+///   down for a ceiling (the solid above it).
+/// - Height field (`field` set; normal and offset unused): every point on or under the field's
+///   surface (HeightField: linear on triangles between its nodes, level with its edges beyond them).
+///   The solid reaches `field->step * (nx + ny)` around the nodes' span and as far below the
+///   lowest node, the region a check of the map covers (kilometres for a street map on 2 m cells).
+/// Map frame, map units. The checkers validate it (unit, finite normal and finite offset; a valid
+/// field).
+struct Surface {
+  std::string name;  ///< what it is: "floor", "ceiling", "ground"
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   double offset = 0.0;
+  std::shared_ptr<const HeightField> field;  ///< the ground's height field; empty for a plane
 
-  /// Signed distance of p to the solid's boundary: > 0 outside the solid (in the map).
-  double distance(const Eigen::Vector3d& p) const { return normal.dot(p) - offset; }
+  /// A plane surface.
+  static Surface plane(std::string name, const Eigen::Vector3d& normal, double offset) {
+    Surface s;
+    s.name = std::move(name);
+    s.normal = normal;
+    s.offset = offset;
+    return s;
+  }
+  /// A height-field surface.
+  static Surface heightField(std::string name, HeightField f) {
+    Surface s;
+    s.name = std::move(name);
+    s.field = std::make_shared<const HeightField>(std::move(f));
+    return s;
+  }
+  bool isPlane() const { return !field; }
+
+  /// Plane: the signed distance of p to the plane, > 0 outside the solid (in the map). Height
+  /// field: p's height over the surface, > 0 above it (outside the solid); not the distance to it
+  /// (on a slope that is less), which the checks compute.
+  double distance(const Eigen::Vector3d& p) const {
+    return field ? p.z() - field->height(p.x(), p.y()) : normal.dot(p) - offset;
+  }
 };
 
 /// Default of CheckRequest::contact_tolerance, map units.
@@ -53,7 +83,7 @@ struct SegmentCheck {
                            ///< or in octree mode (voxels have no id)
   int part = -1;           ///< HullChecker: index of that obstacle's convex part hit first; -1 when
                            ///< clear, in octree mode, or for an obstacle without parts
-  std::string surface;     ///< the name of the surface (HalfSpace) hit first ("floor"); empty when
+  std::string surface;     ///< the name of the surface (Surface) hit first ("floor"); empty when
                            ///< clear or when a hull or voxel is hit first (obstacle, part then -1)
   double t = 1.0;          ///< first contact as a fraction of the segment (valid when collides)
   double clearance = 0.0;  ///< min distance to any obstacle minus r, map units; 0 when colliding
@@ -66,12 +96,15 @@ struct PathCheck {
   std::optional<Eigen::Vector3d> first_contact;  ///< point on the path, map frame
 };
 
-/// A capsule (the segment swept by a sphere of `radius`) against one half-space, exactly: the
-/// half-space's distance is linear along the segment, so the first contact is where it falls to
-/// `radius` (t = 0 when the segment starts within radius of the solid). `surface` is set to the
-/// half-space's name when it collides; clearance is the smaller end's distance minus radius.
-/// Throws hullmap::Error as the checkers do on a bad radius, segment or half-space.
-SegmentCheck checkHalfSpace(const Segment& segment, double radius, const HalfSpace& surface);
+/// A capsule (the segment swept by a sphere of `radius`) against one surface. A plane exactly: its
+/// distance is linear along the segment, so the first contact is where it falls to `radius` (t = 0
+/// when the segment starts within radius of the solid), and clearance is the smaller end's distance
+/// minus radius. A height field: the exact distance to the union of the prisms under its
+/// triangles (certified convex distances), the first contact within `contact_tolerance` as in the
+/// checkers. `surface` is set to the surface's name when it collides. Throws hullmap::Error as the
+/// checkers do on a bad radius, tolerance, segment or surface.
+SegmentCheck checkSurface(const Segment& segment, double radius, const Surface& surface,
+                          double contact_tolerance = kContactTolerance);
 
 /// Hull mode: the obstacles' convex hulls (one per convex part when an obstacle has parts) as FCL objects in FCL's
 /// broadphase manager (FclObstacles); every answer from certified segment-hull distances (convex_distance.hpp), the
@@ -90,7 +123,7 @@ SegmentCheck checkHalfSpace(const Segment& segment, double radius, const HalfSpa
 /// `surfaces` when one has a non-unit or non-finite normal or a non-finite offset.
 class HullChecker {
  public:
-  explicit HullChecker(const std::vector<hulls::Obstacle>& obstacles, std::vector<HalfSpace> surfaces = {});
+  explicit HullChecker(const std::vector<hulls::Obstacle>& obstacles, std::vector<Surface> surfaces = {});
   ~HullChecker();
   HullChecker(HullChecker&&) noexcept;
   HullChecker& operator=(HullChecker&&) noexcept;
@@ -109,7 +142,7 @@ class HullChecker {
   }
 
   /// The surfaces it checks against, as given.
-  const std::vector<HalfSpace>& surfaces() const;
+  const std::vector<Surface>& surfaces() const;
 
  private:
   struct Impl;
@@ -120,11 +153,12 @@ class HullChecker {
 /// FCL's capsule-box narrowphase, the first contact found by bisection on the swept prefix to the
 /// request's tolerance). SegmentCheck::obstacle is always -1. The constructor copies the tree.
 /// `surfaces` are obstacles as in HullChecker: a sparse floor has gaps between its voxels that a
-/// thin sweep passes through, the floor's half-space has none.
+/// thin sweep passes through, the floor's half-space has none; the ground's height field is the
+/// surface under voxels set aside as ground.
 /// Units, frame, errors and thread safety as HullChecker's. Movable, not copyable.
 class OctreeChecker {
  public:
-  explicit OctreeChecker(const octomap::OcTree& tree, std::vector<HalfSpace> surfaces = {});
+  explicit OctreeChecker(const octomap::OcTree& tree, std::vector<Surface> surfaces = {});
   ~OctreeChecker();
   OctreeChecker(OctreeChecker&&) noexcept;
   OctreeChecker& operator=(OctreeChecker&&) noexcept;
@@ -139,7 +173,7 @@ class OctreeChecker {
   }
 
   /// The surfaces it checks against, as given.
-  const std::vector<HalfSpace>& surfaces() const;
+  const std::vector<Surface>& surfaces() const;
 
  private:
   SegmentCheck checkVoxels(const Segment& segment, const CheckRequest& request) const;

@@ -3,27 +3,16 @@
 // drift): a 2.5D height field fitted with the progressive morphological filter (Zhang, Chen,
 // Whitman, Shyu, Yan and Zhang, "A progressive morphological filter for removing nonground
 // measurements from airborne LIDAR data", IEEE TGRS 41(4), 2003), then kept under the camera's
-// keyframes. A library building block of issue 30: the build does not call it yet.
+// keyframes.
 
 #include <cstddef>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "hullmap/core/height_field.hpp"
+
 namespace hullmap::mapper {
-
-/// Heights on a regular grid of cells (z up, map frame): node (i, j) is the centre of cell (i, j),
-/// at origin + step * (i + 0.5, j + 0.5); between nodes the height is bilinear.
-struct HeightField {
-  Eigen::Vector2d origin = Eigen::Vector2d::Zero();  ///< lower corner of cell (0, 0)
-  double step = 1.0;                                 ///< cell side, map units
-  std::size_t nx = 0, ny = 0;
-  std::vector<double> heights;  ///< nx * ny, x fastest, finite
-
-  double at(std::size_t i, std::size_t j) const { return heights[j * nx + i]; }
-  /// Bilinear height at (x, y); outside the nodes' span, the nearest edge's (clamped).
-  double height(double x, double y) const;
-};
 
 /// Settings of fitTerrain (map units unless said).
 struct TerrainParams {
@@ -59,7 +48,7 @@ struct Terrain {
 /// 3. cells without points, or not ground, are filled by harmonic interpolation from the ground
 ///    cells (Jacobi iterations of the 4-neighbour mean to a change below 1e-6 * cell);
 /// 4. every node within 1.5 cells of a keyframe's (x, y) (the four around it among them, so the
-///    bilinear height under the keyframe is bounded too) is lowered to keyframe z -
+///    interpolated height under the keyframe is bounded too) is lowered to keyframe z -
 ///    keyframe_clearance when it is above that (a camera flies over its ground, never under it).
 /// Deterministic. Throws hullmap::Error naming the TerrainParams field on a bad setting, on
 /// non-finite points or keyframes, and on an input with no point.

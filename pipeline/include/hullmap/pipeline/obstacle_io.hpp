@@ -26,7 +26,7 @@ struct ObstaclesMeta {
   nlohmann::json parameters = nlohmann::json::object();  ///< the build's settings, verbatim
   /// The floor and ceiling as solid half-spaces (top-level "surfaces"; absent in files written before
   /// them: none). Path checks count them as obstacles.
-  std::vector<collision::HalfSpace> surfaces;
+  std::vector<collision::Surface> surfaces;
   /// Input coordinates -> these coordinates (top-level "input_to_output"; absent in files written
   /// before it: unknown).
   std::optional<mapper::Similarity> input_to_output;

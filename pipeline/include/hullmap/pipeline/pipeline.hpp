@@ -205,7 +205,7 @@ struct BuildResult {
   /// surfaces): the solid reaches up to the plane, or to the top of its highest voxel when that is
   /// higher (every voxel set aside as floor lies inside it completely, as a cluster's voxels lie
   /// inside its hull). Named "floor" and "ceiling".
-  std::vector<collision::HalfSpace> surfaces;
+  std::vector<collision::Surface> surfaces;
   std::vector<io::Keyframe> keyframes;  ///< output frame (with params.trajectory)
   BuildReport report;
 };

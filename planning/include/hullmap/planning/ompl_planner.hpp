@@ -75,6 +75,6 @@ Box3d omplBoxFor(const std::vector<hulls::Obstacle>& obstacles, const PlanReques
 /// coordinates; and on an invalid hull (naming its id).
 /// `surfaces` (floor, ceiling) are obstacles for the states, the motions and the final check.
 OmplPlanResult planPathOmpl(const std::vector<hulls::Obstacle>& obstacles, const PlanRequest& request,
-                            const OmplParams& params = {}, const std::vector<collision::HalfSpace>& surfaces = {});
+                            const OmplParams& params = {}, const std::vector<collision::Surface>& surfaces = {});
 
 }  // namespace hullmap::planning

@@ -44,7 +44,7 @@ class PathPlanner {
   /// roadmap should have been built with them. Throws hullmap::Error on an invalid hull (naming its
   /// id) or surface.
   PathPlanner(const std::vector<hulls::Obstacle>& obstacles, Roadmap roadmap,
-              std::vector<collision::HalfSpace> surfaces = {});
+              std::vector<collision::Surface> surfaces = {});
   ~PathPlanner();
   PathPlanner(PathPlanner&&) noexcept;
   PathPlanner& operator=(PathPlanner&&) noexcept;
@@ -91,7 +91,7 @@ RoadmapParams roadmapParamsFor(const std::vector<hulls::Obstacle>& obstacles,
 /// as buildRoadmap and plan do.
 PlanResult planPath(const std::vector<hulls::Obstacle>& obstacles, const PlanRequest& request,
                     std::optional<RoadmapParams> roadmap_params = std::nullopt,
-                    const std::vector<collision::HalfSpace>& surfaces = {});
+                    const std::vector<collision::Surface>& surfaces = {});
 
 /// What a check's hit is, for messages: "obstacle 3" or "the floor".
 std::string hitName(const collision::SegmentCheck& check);

@@ -89,7 +89,7 @@ struct Roadmap {
 /// fault (empty bounds, tolerance <= 0, a footprint with fewer than 3 vertices naming its id, "z0/z1"
 /// when nothing of the band is left between the surfaces).
 Roadmap buildRoadmap(const std::vector<hulls::Obstacle>& obstacles, const RoadmapParams& params,
-                     const std::vector<collision::HalfSpace>& surfaces = {});
+                     const std::vector<collision::Surface>& surfaces = {});
 
 /// Distance from `p` to the site (point or segment), metres.
 double siteDistance(const SiteRef& site, const Eigen::Vector2d& p);

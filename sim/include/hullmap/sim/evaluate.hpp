@@ -127,7 +127,7 @@ struct Evaluation {
 /// hull, a point counted for the union only in the first hull holding it.
 Evaluation evaluate(const std::vector<hulls::Obstacle>& obstacles, const GroundTruth& truth,
                     const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& weights,
-                    const EvaluateParams& params, const std::vector<collision::HalfSpace>& surfaces = {});
+                    const EvaluateParams& params, const std::vector<collision::Surface>& surfaces = {});
 
 /// The result as JSON: params, per truth shape, totals.
 nlohmann::json evaluationToJson(const Evaluation& evaluation, const EvaluateParams& params);
