@@ -72,6 +72,15 @@ ROOM_WALL_FRACTIONS = (0.0, 0.5)
 ROOM_SEGMENTS = 3000
 ROOM_CLEAR_MARGIN = 0.15
 ROOM_TARGETS = {"missed": 0, "false_alarms": 3.0}
+STREET_SEEDS = tuple(range(301, 313))  # issue 30's streets
+STREET_DENSITIES = (1.5, 3.0, 6.0)     # map points per m^2 of visible surface (the generator's default: 3)
+STREET_DRIFTS = (0.0, 0.15, 0.3)       # monocular scale drift from the path's start to its end
+STREET_PITCHES = (0, 10, 20)           # degrees
+STREET_BUMPS = (0.5, 1.0, 2.0)         # the largest bump's amplitude, metres
+STREET_SLOPES = (0.03, 0.06)           # grade along the street
+STREET_SEGMENTS = 3000
+STREET_SEGMENT_LENGTH = 8.0
+STREET_TARGETS = {"missed_seen": 0, "false_alarms": 5.0, "inside": 0, "noise": 30.0}
 
 
 def run(cmd, **kw):
@@ -322,6 +331,98 @@ def rooms_part(hullmap, work, log, seeds=ROOM_SEEDS):
     return rows
 
 
+def street_params(k, seed):
+    """The k-th street of the sweep: density and drift cycle together (every pair in 9 streets), pitch
+    and bumps with them shifted, the grade every 6."""
+    return {"seed": seed, "density": STREET_DENSITIES[k % 3], "drift": STREET_DRIFTS[(k // 3) % 3],
+            "pitch": STREET_PITCHES[(k + 1) % 3], "bumps": STREET_BUMPS[(k + 2) % 3],
+            "slope": STREET_SLOPES[(k // 6) % 2]}
+
+
+def ground_error(truth_path, obstacles_path, keyframes, reach=10.0, samples=20000):
+    """The built ground's height minus the true ground's within `reach` (x, y) of the keyframes:
+    (median, 95th percentile, share above 0.1 m); None without a built ground. The true ground is a
+    grid of heights linear on the triangles of its cells (sim/ground_truth.hpp), the built one linear
+    on the triangles of its node lattice (core/height_field.hpp)."""
+    truth = json.load(open(truth_path))
+    built = [s for s in json.load(open(obstacles_path)).get("surfaces", []) if s.get("kind") == "heightfield"]
+    ground = [s for s in truth["obstacles"] if s.get("shape") == "heightfield"]
+    if not built or not ground:
+        return None
+    g, b = ground[0], built[0]
+
+    def lattice(heights, nx, ny, ox, oy, step, x, y):
+        h = np.array(heights).reshape(ny, nx)
+        u = np.clip((x - ox) / step, 0, nx - 1 - 1e-9)
+        v = np.clip((y - oy) / step, 0, ny - 1 - 1e-9)
+        i, j = u.astype(int), v.astype(int)
+        fu, fv = u - i, v - j
+        h00, h10, h01, h11 = h[j, i], h[j, i + 1], h[j + 1, i], h[j + 1, i + 1]
+        return np.where(fu >= fv, h00 + fu * (h10 - h00) + fv * (h11 - h10), h00 + fv * (h01 - h00) + fu * (h11 - h01))
+
+    rng = np.random.default_rng(1)
+    centres = keyframes[rng.integers(len(keyframes), size=samples), :2]
+    xy = centres + rng.uniform(-reach, reach, size=(samples, 2))
+    near = np.linalg.norm(xy - centres, axis=1) <= reach
+    xy = xy[near]
+    gx, gy = g["size"]
+    true_h = lattice(g["heights"], gx, gy, g["origin"][0], g["origin"][1], g["step"], xy[:, 0], xy[:, 1])
+    # The built field's nodes are cell centres: origin + step * (k + 1/2).
+    half = 0.5 * b["step"]
+    built_h = lattice(b["heights"], b["nx"], b["ny"], b["origin"][0] + half, b["origin"][1] + half, b["step"],
+                      xy[:, 0], xy[:, 1])
+    e = built_h - true_h
+    return float(np.median(e)), float(np.percentile(e, 95)), float(np.mean(e > 0.1))
+
+
+def streets_part(hullmap, work, log, seeds=STREET_SEEDS):
+    """Issue 30's streets: one build at the defaults (--trajectory --align the reference), one
+    `evaluate --ends corridor` per street, the ground's error, and a build aligned to the GPS log."""
+    rows = []
+    for k, seed in enumerate(seeds):
+        p = street_params(k, seed)
+        scene = f"{work}/street-{seed}"
+        run([hullmap, "generate", "--layout", "outdoor", "-o", scene, "--seed", str(seed), "--density", str(p["density"]),
+             "--scale-drift", str(p["drift"]), "--pitch", str(p["pitch"]), "--bump-height", str(p["bumps"]),
+             "--slope-along", str(p["slope"])])
+        start = time.perf_counter()
+        run([hullmap, "build", f"{scene}/map_points.txt", "--trajectory", f"{scene}/KeyFrameTrajectory.txt",
+             "--align", f"{scene}/reference_trajectory.txt", "-o", f"{scene}/out"])
+        seconds = time.perf_counter() - start
+        e = json.loads(run([hullmap, "evaluate", f"{scene}/out", "--truth", f"{scene}/ground_truth.json",
+                            "--radius", str(RADIUS), "--segments", str(STREET_SEGMENTS), "--segment-length",
+                            str(STREET_SEGMENT_LENGTH), "--ends", "corridor", "--json"]))
+        seg = e["segments"]
+        report = json.load(open(f"{scene}/out/report.json"))
+        occupied = report["octree"]["occupied_voxels"]
+        ground = report.get("ground") or {}
+        _, keyframes, _ = read_tum(f"{scene}/out/trajectory.txt")
+        err = ground_error(f"{scene}/ground_truth.json", f"{scene}/out/obstacles.json", keyframes)
+        on_ground = sum(h["segments"] for h in seg["false_alarm_hulls"] if h["obstacle"] == -1)
+        run([hullmap, "build", f"{scene}/map_points.txt", "--trajectory", f"{scene}/KeyFrameTrajectory.txt",
+             "--align", f"{scene}/gps.txt", "--align-format", "gps", "-o", f"{scene}/gps"])
+        gps = json.load(open(f"{scene}/gps/report.json"))
+        p.update({"points": report["points"]["used"], "resolution": report["parameters"]["resolution"],
+                  "coverage": 100.0 * ground.get("coverage", 0.0),
+                  "ground_share": 100.0 * ground.get("voxels", 0) / occupied if occupied else 0.0,
+                  "noise": 100.0 * report["clusters"]["noise_voxels"] / occupied if occupied else 0.0,
+                  "obstacles": report["clusters"]["count"], "parts": e["parts"],
+                  "inside": (report.get("parts") or {}).get("keyframes_inside_hulls", 0),
+                  "deep": seg["deep"], "unseen": seg.get("deep_unseen", 0), "missed": seg["missed"],
+                  "missed_seen": seg["missed"] - seg.get("missed_unseen", 0), "clear": seg["clear"],
+                  "false_alarms": 100.0 * seg["false_alarms"] / seg["clear"] if seg["clear"] else 0.0,
+                  "on_ground": on_ground, "error": err, "time": seconds,
+                  "gps_rmse": gps["alignment"]["rmse"], "gps_ground": gps.get("ground") is not None,
+                  "gps_noise": 100.0 * gps["clusters"]["noise_voxels"] / gps["octree"]["occupied_voxels"],
+                  "gps_inside": (gps.get("parts") or {}).get("keyframes_inside_hulls", 0)})
+        rows.append(p)
+        log(f"street {seed}: density {p['density']} drift {p['drift']} pitch {p['pitch']} bumps {p['bumps']} "
+            f"slope {p['slope']}: resolution {p['resolution']}, noise {p['noise']:.1f}%, missed {p['missed_seen']} seen "
+            f"({p['missed']}/{p['deep']}), false alarms {p['false_alarms']:.1f}% ({on_ground} on the ground), "
+            f"keyframes inside {p['inside']}")
+    return rows
+
+
 def best_of(grid):
     """The grid's best member, safety first: the fewest missed deep collisions, then the fewest false
     alarms, then the least swallowed share."""
@@ -501,7 +602,74 @@ def rooms_doc(w, rooms, held_out):
     w("")
 
 
-def write_doc(out, rows, template, why, real, densities, args, seconds, hullmap, rooms=None, held_out=None):
+def street_summary(streets):
+    fa = [r["false_alarms"] for r in streets]
+    noise = [r["noise"] for r in streets]
+    t = STREET_TARGETS
+    ok = sum(r["missed_seen"] <= t["missed_seen"] and r["false_alarms"] <= t["false_alarms"] and
+             r["inside"] <= t["inside"] and r["noise"] <= t["noise"] for r in streets)
+    return (f"{ok} of {len(streets)} streets meet all four targets; deep collisions missed where the map saw them: "
+            f"{sum(r['missed_seen'] for r in streets)} in all (unseen: {sum(r['unseen'] for r in streets)} of "
+            f"{sum(r['deep'] for r in streets)} deep); false alarms median {fmt(statistics.median(fa))} %, worst "
+            f"{fmt(max(fa))} %; noise median {fmt(statistics.median(noise))} %, worst {fmt(max(noise))} %; keyframes "
+            f"inside a hull: {sum(r['inside'] for r in streets)}")
+
+
+def streets_doc(w, streets):
+    t = STREET_TARGETS
+    w("## Streets: the sweep of issue 30")
+    w("")
+    w("**Streets** of `hullmap generate --layout outdoor --density D --scale-drift S --pitch A --bump-height B "
+      "--slope-along G --seed K` ([maps/README.md](../maps/README.md)): 200 × 60 m of terrain that is no plane "
+      "(grades along and across, 12 Gaussian bumps and dips up to B), a curving street, 16 buildings, 16 trees "
+      "(trunk and crown), 10 cars and 12 posts; map points seen from a car's 100 keyframes (view cone, facing, "
+      "occlusion), D = 1.5, 3 or 6 per m² of visible surface, 5 cm noise; the monocular scale drifting by S = 0, "
+      "15 or 30 % along the path; cameras pitched A = 0 to 20°; B = 0.5 to 2 m; G = 3 or 6 %. Each street's "
+      "parameters cycle through their values (`street_params` in `bench/quality.py`).")
+    w("")
+    w("**Method**: `hullmap build map_points.txt --trajectory KeyFrameTrajectory.txt --align reference_trajectory.txt` "
+      f"at the defaults, then `hullmap evaluate OUT --truth ground_truth.json --radius {RADIUS} --segments "
+      f"{STREET_SEGMENTS} --segment-length {STREET_SEGMENT_LENGTH:g} --ends corridor` ([CLI.md](CLI.md#evaluate)): "
+      "segments up to 8 m long with both ends free, within 10 m (x, y) of the keyframe path and at most 3 m "
+      "above it, where a map made from that path can know the world (ends anywhere in the area cross the backs and "
+      "roofs of buildings no camera saw). **Deep**: the r = 0.3 capsule goes more than 0.1 m into a true shape, "
+      "the ground's included; **unseen**: a deep one whose capsule holds no occupied voxel of the build (a post "
+      "between map points metres apart, a tree's far side): no map of these points could hold it; **missed, "
+      f"seen**: deep, not unseen, and called clear (target {t['missed_seen']}). **False alarms**: clear segments "
+      f"(r + 0.1 from every true shape) called blocked (target ≤ {t['false_alarms']:g} %); **on the ground**: those "
+      f"whose first contact is the built ground. **Noise**: occupied voxels left out of every obstacle and of the "
+      f"ground (target ≤ {t['noise']:g} %). **Keyframes inside**: keyframe positions inside a part's hull (target "
+      f"{t['inside']}). **Ground error**: the built ground's height minus the true ground's within 10 m of the path, "
+      "median and 95th percentile. **GPS**: the same build aligned to the scene's GPS log (3 m noise, 10 % of the "
+      "lines without a fix: `--align gps.txt --align-format gps`), whose frame is the GPS's, so only its own "
+      "figures: the alignment's RMSE, whether the ground was found, noise and keyframes inside.")
+    w("")
+    w("`bench/quality_streets.py BUILD/cli/hullmap` runs this section alone (`--seeds` for other streets).")
+    w("")
+    w(f"**The sweep** (seeds {streets[0]['seed']} to {streets[-1]['seed']}): " + street_summary(streets) + ".")
+    w("")
+    w("| seed | points/m² | drift | pitch ° | bumps m | grade | map points | resolution | ground: coverage %, voxels % "
+      "| noise % | obstacles / parts | keyframes inside | deep (unseen) | missed: seen (all) | clear | false alarms % "
+      "| on the ground | ground error median / p95 m | GPS: RMSE m, ground, noise %, inside | build s |")
+    w("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in streets:
+        err = r["error"]
+        err_text = f"{err[0]:.2f} / {err[1]:.2f}" if err else "-"
+        def mark(ok, text):
+            return text if ok else f"**{text}**"
+        w(f"| {r['seed']} | {r['density']:g} | {r['drift']:g} | {r['pitch']} | {r['bumps']:g} | {r['slope']:g} | "
+          f"{r['points']} | {r['resolution']:g} | {fmt(r['coverage'])}, {fmt(r['ground_share'])} | "
+          f"{mark(r['noise'] <= t['noise'], fmt(r['noise']))} | {r['obstacles']} / {r['parts']} | "
+          f"{mark(r['inside'] <= t['inside'], str(r['inside']))} | {r['deep']} ({r['unseen']}) | "
+          f"{mark(r['missed_seen'] <= t['missed_seen'], str(r['missed_seen']))} ({r['missed']}) | {r['clear']} | "
+          f"{mark(r['false_alarms'] <= t['false_alarms'], fmt(r['false_alarms']))} | {r['on_ground']} | {err_text} | "
+          f"{r['gps_rmse']:.1f}, {'yes' if r['gps_ground'] else 'no'}, {fmt(r['gps_noise'])}, {r['gps_inside']} | "
+          f"{fmt(r['time'], 2)} |")
+    w("")
+
+
+def write_doc(out, rows, template, why, real, densities, args, seconds, hullmap, rooms=None, held_out=None,
+              streets=None):
     rev = subprocess.run(["git", "-C", os.path.dirname(os.path.abspath(__file__)), "rev-parse", "--short", "HEAD"],
                          capture_output=True, text=True).stdout.strip() or "unknown"
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "unknown cpu")
@@ -652,6 +820,8 @@ def write_doc(out, rows, template, why, real, densities, args, seconds, hullmap,
     w("")
     if rooms:
         rooms_doc(w, rooms, held_out)
+    if streets:
+        streets_doc(w, streets)
     w("## Real maps (no ground truth)")
     w("")
     w("The real ORB-SLAM maps of the shared data directory (read from there; they are GPL and not copied into")
@@ -708,9 +878,10 @@ def main():
     rows, template, why = scenes_part(args.hullmap, work, args.seeds, args.segments, log)
     rooms = rooms_part(args.hullmap, work, log)
     held_out = rooms_part(args.hullmap, work, log, ROOM_HELD_OUT)
+    streets = streets_part(args.hullmap, work, log)
     real, densities = real_part(args.hullmap, work, args.img, data, log)
     write_doc(args.out, rows, template, why, real, densities, args, time.perf_counter() - start, args.hullmap,
-              rooms, held_out)
+              rooms, held_out, streets)
     log(f"wrote {args.out} in {time.perf_counter() - start:.0f} s (scratch: {work})")
 
 

@@ -466,6 +466,8 @@ void addBuildCommand(CLI::App& app, int& status) {
   addClusterOptions(*cmd, *options);
   addBagOptions(*cmd, *options);
   cmd->callback([options, cmd, &status] {
+    // A resolution given is the octree's; the default adapts to a sparse map.
+    options->params.adapt_resolution = cmd->count("--resolution") == 0;
     runBuild(*options, *cmd);
     status = 0;
   });

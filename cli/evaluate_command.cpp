@@ -15,6 +15,7 @@
 #include "hullmap/io/readers.hpp"
 #include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
+#include "hullmap/pipeline/trajectory_file.hpp"
 
 namespace hullmap::cli {
 namespace {
@@ -77,6 +78,13 @@ void runEvaluate(const EvaluateOptions& o) {
   } else {
     tolerance_why = "the default: no resolution in " + obstacles_path;
   }
+  if (params.ends == sim::SegmentEnds::kCorridor) {
+    const auto keyframes = fs::is_directory(o.dir) ? pipeline::readBuildTrajectory(o.dir) : std::nullopt;
+    if (!keyframes || keyframes->empty())
+      throw Error::inParameter("ends", "corridor needs the build's keyframe path: " + o.dir +
+                                           " has no trajectory.txt (build with --trajectory)");
+    for (const auto& k : *keyframes) params.path.push_back(k.position);
+  }
   const sim::GroundTruth truth = sim::readGroundTruth(o.truth);
   std::vector<Eigen::Vector3d> points;
   std::vector<std::uint32_t> weights;
@@ -126,6 +134,11 @@ void runEvaluate(const EvaluateOptions& o) {
   std::cout << "segments (r = " << o.params.radius << "): " << e.segments << "; deep collisions " << e.deep
             << ", missed " << e.missed << "; clear " << e.clear << ", false alarms " << e.false_alarms << " ("
             << percent(double(e.false_alarms), double(e.clear)) << ")\n";
+  // Said only when there are such: maps/room's figures read as before.
+  if (e.deep_unseen > 0)
+    std::cout << "unseen: " << e.deep_unseen << " of the deep collisions hold fewer than " << o.params.seen_points
+              << " map points within r (" << e.missed_unseen
+              << " of the missed): the map never saw where they collide, or saw a stray point or two\n";
 }
 
 }  // namespace
@@ -150,15 +163,30 @@ void addEvaluateCommand(CLI::App& app, int& status) {
       ->check(CLI::NonNegativeNumber);
   auto ends = std::make_shared<std::string>("free");
   cmd->add_option("--ends", *ends,
-                  "Segment endpoints: free (around the truth, both free) or in-box (anywhere in the truth's box: "
-                  "a room's inside; default free)");
+                  "Segment endpoints: free (around the truth, both free), in-box (anywhere in the truth's box: "
+                  "a room's inside) or corridor (free, near the build's keyframe path: a street; needs the build's "
+                  "trajectory.txt; default free)");
+  cmd->add_option("--segment-length", options->params.segment_length,
+                  "Segments are 0.2 to this long, map units (default 2)")
+      ->check(CLI::Range(0.2, 1e9));
+  cmd->add_option("--seen-points", options->params.seen_points,
+                  "A deep segment whose capsule holds fewer map points than this is unseen (default 3)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--corridor-width", options->params.corridor_width,
+                  "With --ends corridor: ends within this of the keyframe path in (x, y), map units (default 10)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--corridor-height", options->params.corridor_height,
+                  "With --ends corridor: ends at most this above the nearest keyframe, map units (default 3)")
+      ->check(CLI::PositiveNumber);
   cmd->callback([options, ends, &status] {
     if (*ends == "free") {
       options->params.ends = sim::SegmentEnds::kFree;
     } else if (*ends == "in-box") {
       options->params.ends = sim::SegmentEnds::kInTruthBox;
+    } else if (*ends == "corridor") {
+      options->params.ends = sim::SegmentEnds::kCorridor;
     } else {
-      throw Error("--ends: expected 'free' or 'in-box', got '" + *ends + "'");
+      throw Error("--ends: expected 'free', 'in-box' or 'corridor', got '" + *ends + "'");
     }
     runEvaluate(*options);
     status = 0;

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <iomanip>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -60,6 +61,19 @@ void readReport(const std::string& path, plot::MapPlot& plot) {
   if (!line.empty()) plot.caption.push_back(line);
   const auto frame = report.find("frame");
   if (frame != report.end() && !frame->is_null()) plot.caption.push_back("frame: " + scalarText(*frame));
+  // The ground's height field: its voxels are drawn as the floor's, its coverage captioned.
+  plot.floor_label = pipeline::kFloorLabel;
+  const auto ground = report.find("ground");
+  if (ground != report.end() && ground->is_object()) {
+    plot.floor_label = pipeline::kGroundLabel;
+    const auto& grid = ground->at("grid");
+    std::ostringstream text;
+    text << "ground: " << grid.at("nx").get<std::size_t>() << " x " << grid.at("ny").get<std::size_t>() << " cells of "
+         << grid.at("step").get<double>() << ", " << std::fixed << std::setprecision(0)
+         << 100.0 * ground->at("coverage").get<double>() << " % measured, "
+         << ground->at("voxels").get<std::size_t>() << " voxels";
+    plot.caption.push_back(text.str());
+  }
 }
 
 void runPlot(const PlotOptions& o) {
@@ -76,7 +90,6 @@ void runPlot(const PlotOptions& o) {
   }
   const pipeline::MapObstacles map = pipeline::readMapObstacles(fs::path(o.dir) / "obstacles.json");
   plot.obstacles = map.obstacles;
-  plot.floor_label = pipeline::kFloorLabel;
   if (const auto keyframes = pipeline::readBuildTrajectory(o.dir))
     for (const auto& k : *keyframes) plot.keyframes.push_back(k.position);
   if (!o.roadmap.empty()) {

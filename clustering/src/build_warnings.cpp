@@ -48,23 +48,36 @@ std::vector<Warning> hullCheckWarnings(const ClusteringOutcome& o) {
 double roundResolution(double value) {
   const double decade = std::pow(10.0, std::floor(std::log10(value)));
   double best = decade;
+  // Rounding in the decade's computation (log10 of 0.05) is forgiven by a hair.
   for (const double step : {1.0, 2.0, 5.0, 10.0})
-    if (std::abs(std::log(step * decade / value)) < std::abs(std::log(best / value))) best = step * decade;
+    if (step * decade <= value * (1 + 1e-9)) best = step * decade;
   return best;
+}
+
+std::optional<double> pointSpacing(const std::vector<Eigen::Vector3d>& points, const AutoParamsRule& rule,
+                                   Metric metric) {
+  if (points.size() <= std::size_t(rule.k)) return std::nullopt;
+  std::vector<double> curve = kDistanceCurve(points, rule.k + 1, metric, rule.sample);  // sorted descending
+  if (curve.empty()) return std::nullopt;
+  // The knn_quantile quantile of the ascending values: the (1 - knn_quantile) one of the descending.
+  const auto at = std::size_t(std::floor((1.0 - rule.knn_quantile) * double(curve.size() - 1)));
+  return curve[at];
+}
+
+std::optional<double> resolutionForSpacing(double spacing, double resolution, const AutoParamsRule& rule) {
+  if (!(spacing > rule.max_eps_voxels * resolution) || !std::isfinite(spacing)) return std::nullopt;
+  return std::max(resolution, roundResolution(spacing / kSuggestedSpacingVoxels));
 }
 
 std::optional<Warning> sparseMapWarning(const std::vector<Eigen::Vector3d>& centres, double resolution,
                                         const AutoParams& chosen, const AutoParamsRule& rule, Metric metric) {
-  if (std::isfinite(chosen.knn) || centres.size() <= std::size_t(rule.k)) return std::nullopt;
-  std::vector<double> curve = kDistanceCurve(centres, rule.k + 1, metric, rule.sample);  // sorted descending
-  if (curve.empty()) return std::nullopt;
-  // The knn_quantile quantile of the ascending values: the (1 - knn_quantile) one of the descending.
-  const auto at = std::size_t(std::floor((1.0 - rule.knn_quantile) * double(curve.size() - 1)));
-  const double spacing = curve[at];
-  if (!(spacing > rule.max_eps_voxels * resolution) || !std::isfinite(spacing)) return std::nullopt;
-  const double suggested = std::max(resolution, roundResolution(spacing / kSuggestedSpacingVoxels));
+  if (std::isfinite(chosen.knn)) return std::nullopt;
+  const std::optional<double> spacing = pointSpacing(centres, rule, metric);
+  if (!spacing) return std::nullopt;
+  const std::optional<double> suggested = resolutionForSpacing(*spacing, resolution, rule);
+  if (!suggested) return std::nullopt;
   return Warning{Warning::Code::kSparseForResolution,
-                 {{"resolution", resolution}, {"spacing", spacing}, {"suggested", suggested}},
+                 {{"resolution", resolution}, {"spacing", *spacing}, {"suggested", *suggested}},
                  ""};
 }
 

@@ -240,6 +240,8 @@ NodeSettings readSettings(const ParameterValues& values, Checking checking, cons
   NodeSettings settings;
   pipeline::BuildParams& p = settings.build;  // `hullmap build`'s defaults
   p.octree.resolution = r.number("resolution", p.octree.resolution);
+  // A live map grows from a few points: its resolution stays the parameter's, not its spacing's.
+  p.adapt_resolution = false;
   p.octree.max_range = r.number("max_range", p.octree.max_range);
   p.octree.sensor.hit = r.number("hit", p.octree.sensor.hit);
   p.octree.sensor.miss = r.number("miss", p.octree.sensor.miss);

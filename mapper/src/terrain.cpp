@@ -81,8 +81,8 @@ Terrain fitTerrain(const std::vector<Eigen::Vector3d>& points, const std::vector
   if (points.empty()) throw Error("terrain: no point");
   for (const auto& p : points)
     if (!p.allFinite()) throw Error("terrain: non-finite point");
-  // The grid spans the points' 0.1 % to 99.9 % quantiles in x and in y: SLAM's gross outliers,
-  // kilometres away, would make it a grid of billions of cells.
+  // The grid spans the points' bulk in x and in y: SLAM's gross outliers, kilometres away, would
+  // make it a grid of billions of cells.
   Eigen::Vector2d lo, hi;
   for (int a = 0; a < 2; ++a) {
     std::vector<double> v;
@@ -93,8 +93,11 @@ Terrain fitTerrain(const std::vector<Eigen::Vector3d>& points, const std::vector
       std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
       return v[k];
     };
-    lo[a] = at(0.001);
-    hi[a] = at(0.999);
+    // The 1 % to 99 % quantiles grown by a tenth of their span, within the 0.1 % to 99.9 % ones: a
+    // map with more than 0.1 % of gross outliers (SLAM's, kilometres away) keeps its grid small.
+    const double q1 = at(0.01), q99 = at(0.99), margin = 0.1 * (q99 - q1);
+    lo[a] = std::max(at(0.001), q1 - margin);
+    hi[a] = std::min(at(0.999), q99 + margin);
   }
   if ((hi - lo).maxCoeff() / params.cell > 1e5)
     throw Error("cell: " + std::to_string(params.cell) + " makes a grid of more than 100000 cells a side");
@@ -188,9 +191,15 @@ Terrain fitTerrain(const std::vector<Eigen::Vector3d>& points, const std::vector
     if (t.ground[c]) f.heights[c] = z[c];
   harmonicFill(f.heights, t.ground, f.nx, f.ny, 1e-6 * f.step);
   // 4. Under the keyframes.
+  t.lowered = keepUnderKeyframes(f, keyframes, params.keyframe_clearance);
+  return t;
+}
+
+std::size_t keepUnderKeyframes(HeightField& f, const std::vector<Eigen::Vector3d>& keyframes, double clearance) {
+  std::size_t lowered = 0;
   for (const auto& k : keyframes) {
-    const double top = k.z() - params.keyframe_clearance;
-    const double u = (k.x() - lo.x()) / f.step - 0.5, v = (k.y() - lo.y()) / f.step - 0.5;
+    const double top = k.z() - clearance;
+    const double u = (k.x() - f.origin.x()) / f.step - 0.5, v = (k.y() - f.origin.y()) / f.step - 0.5;
     for (long j = long(std::floor(v)) - 1; j <= long(std::ceil(v)) + 1; ++j)
       for (long i = long(std::floor(u)) - 1; i <= long(std::ceil(u)) + 1; ++i) {
         if (i < 0 || j < 0 || i >= long(f.nx) || j >= long(f.ny)) continue;
@@ -198,11 +207,11 @@ Terrain fitTerrain(const std::vector<Eigen::Vector3d>& points, const std::vector
         double& h = f.heights[std::size_t(j) * f.nx + std::size_t(i)];
         if (h > top) {
           h = top;
-          ++t.lowered;
+          ++lowered;
         }
       }
   }
-  return t;
+  return lowered;
 }
 
 }  // namespace hullmap::mapper

@@ -20,6 +20,7 @@
 #include "hullmap/mapper/level_check.hpp"
 #include "hullmap/pipeline/report.hpp"
 #include "stages.hpp"
+#include "ground.hpp"
 #include "surfaces.hpp"
 
 namespace hullmap::pipeline {
@@ -61,6 +62,18 @@ void separateSurfaces(BuildResult& result, ClusterWork& w) {
       if (classes[i] == mapper::SurfaceClass::kFloor) w.labels[i] = kFloorLabel;
       if (classes[i] == mapper::SurfaceClass::kCeiling) w.labels[i] = kCeilingLabel;
     }
+  }
+  // The ground found in the points (a height field among the surfaces): the voxels within its band.
+  for (const collision::Surface& surface : result.surfaces) {
+    if (!surface.field || !result.report.ground) continue;
+    const double band = groundBand(result.params.terrain, result.map.resolution());
+    std::size_t& count = result.report.ground->voxels;
+    count = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (w.labels[i] == clustering::kNoise && surface.distance(w.centers[i]) <= band) {
+        w.labels[i] = kGroundLabel;
+        ++count;
+      }
   }
   w.obstacle_index.reserve(n);
   for (std::size_t i = 0; i < n; ++i)
@@ -105,7 +118,8 @@ void extendClusters(BuildResult& result, ClusterWork& w) {
   // the floor's and ceiling's voxels support what stands on them (a table leg's foot).
   std::vector<Eigen::Vector3d> surface_centers;
   for (std::size_t i = 0; i < w.labels.size(); ++i)
-    if (w.labels[i] == kFloorLabel || w.labels[i] == kCeilingLabel) surface_centers.push_back(w.centers[i]);
+    if (w.labels[i] == kFloorLabel || w.labels[i] == kCeilingLabel || w.labels[i] == kGroundLabel)
+      surface_centers.push_back(w.centers[i]);
   chosen.trim_params =
       clustering::OutlierTrimParams{3.0 * resolution, std::max(3.0 * resolution, chosen.extension_params->reach)};
   chosen.trim = clustering::trimOutliers(w.obstacle_centers, w.clusters, surface_centers, *chosen.trim_params);
@@ -141,7 +155,11 @@ void makeObstacles(BuildResult& result, ClusterWork& w) {
     if (w.labels[i] == kFloorLabel) ++report.floor.voxels;
     if (w.labels[i] == kCeilingLabel) ++report.ceiling.voxels;
   }
-  result.surfaces = boundingSurfaces(report, w.centers, w.labels, resolution);
+  // The floor and ceiling as their voxels make them; the ground as found in the points.
+  std::vector<collision::Surface> surfaces = boundingSurfaces(report, w.centers, w.labels, resolution);
+  for (collision::Surface& s : result.surfaces)
+    if (s.field) surfaces.push_back(std::move(s));
+  result.surfaces = std::move(surfaces);
 }
 
 bool convexPartsOn(const BuildParams& params) { return params.convex_parts.has_value(); }

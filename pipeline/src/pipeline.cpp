@@ -24,6 +24,7 @@
 #include "cluster_stages.hpp"
 #include "stage_timer.hpp"
 #include "stages.hpp"
+#include "ground.hpp"
 #include "surfaces.hpp"
 #include "hullmap/pipeline/report.hpp"
 #include "hullmap/pipeline/voxels_csv.hpp"
@@ -84,6 +85,7 @@ class PointSample {
     }
   }
   const io::Points& points() const { return points_; }
+  std::size_t stride() const { return stride_; }
 
  private:
   io::Points points_;
@@ -207,6 +209,52 @@ void recordFrame(const BuildParams& params, BuildReport& report) {
   report.input_to_output = mapper::compose(mapper::fromIsometry(report.levelling), frameTransform(params, report));
 }
 
+/// The octree's resolution (BuildParams::adapt_resolution): the one given, or a coarser one when
+/// the map's points lie too far apart for it. The spacing is measured on the build's sample, which
+/// keeps every stride-th point: on a surface the spacing grows with the square root of the stride,
+/// so it is divided by that. Both paths (whole, streamed) keep the same sample.
+double chooseResolution(const BuildParams& params, const PointSample& sample, BuildReport& report) {
+  const double given = params.octree.resolution;
+  if (!params.adapt_resolution) return given;
+  ResolutionReport r;
+  r.given = given;
+  r.used = given;
+  if (const auto spacing = clustering::pointSpacing(sample.points(), params.auto_rule, params.metric)) {
+    r.spacing = *spacing / std::sqrt(double(sample.stride()));
+    if (const auto coarser = clustering::resolutionForSpacing(*r.spacing, given, params.auto_rule)) r.used = *coarser;
+  }
+  report.resolution = r;
+  return r.used;
+}
+
+/// The ground (BuildParams::terrain) when no floor plane explains the map: fitted to the build's
+/// sample of its points (map frame) under the keyframes, the same in both paths. A floor plane found
+/// (not levelled: a levelled map is a camera's frame, not metric) gives way to the ground when it
+/// does not explain it (planeExplainsGround).
+void recordGround(const BuildParams& params, const io::Points& sample, const std::vector<io::Keyframe>& keyframes,
+                  BuildResult& result) {
+  PlaneReport& floor = result.report.floor;
+  if (!params.ground || params.floor.mode != mapper::PlaneSetting::Mode::kAuto || floor.levelled) return;
+  std::vector<Eigen::Vector3d> positions;
+  for (const auto& k : keyframes) positions.push_back(k.position);
+  std::optional<Ground> ground = fitGround(sample, positions, params.terrain);
+  if (!ground) return;
+  if (floor.plane) {
+    if (planeExplainsGround(*floor.plane, *ground, params.terrain)) return;
+    floor.plane.reset();
+    floor.ground_instead = true;
+  }
+  result.report.ground = ground->report;
+  result.surfaces.push_back(std::move(ground->surface));
+}
+
+/// `params` with the octree resolution `resolution`.
+BuildParams atResolution(const BuildParams& params, double resolution) {
+  BuildParams p = params;
+  p.octree.resolution = resolution;
+  return p;
+}
+
 /// The octree of points already read whole (map frame after this), with the keyframes' rays
 /// (trajectory), one scan's rays (origin), or points alone.
 /// `given` (keyframes in memory, input frame) stands for the trajectory file when not null.
@@ -240,31 +288,35 @@ void buildWhole(const BuildParams& params, io::Points points, BuildResult& resul
   }
   PointSample sample;
   sample.add(points);
-  const Surfaces surfaces = findSurfaces(params, sample.points(), levelsMap(params, result.report.inputs));
+  // `params` may be result.params itself: copied before result.params records the resolution used.
+  const BuildParams used = atResolution(params, chooseResolution(params, sample, result.report));
+  result.params.octree.resolution = used.octree.resolution;
+  const Surfaces surfaces = findSurfaces(used, sample.points(), levelsMap(used, result.report.inputs));
   if (!isIdentity(surfaces.levelling)) {
     applyIsometry(surfaces.levelling, points);
     applyIsometry(surfaces.levelling, keyframes);
     applyIsometry(surfaces.levelling, origin);
   }
   recordSurfaces(surfaces, result);
-  recordFrame(params, result.report);
+  recordFrame(used, result.report);
+  recordGround(used, sample.points(), keyframes, result);
   timer.stage("floor");
   io::InputStats filtered;
-  mapper::applyFilters(params.filters, points, filtered);
+  mapper::applyFilters(used.filters, points, filtered);
   addDropped(result.report.points, filtered);
   if (points.empty()) throw noPointsInBounds();
   timer.stage("frame_and_filters");
 
   runStage("octree");
   io::InputStats built;
-  if (params.trajectory) {
-    result.map = mapper::buildWithTrajectory(points, keyframes, params.octree, built);
+  if (used.trajectory) {
+    result.map = mapper::buildWithTrajectory(points, keyframes, used.octree, built);
     result.report.keyframes = keyframes.size();
     result.keyframes = std::move(keyframes);
-  } else if (params.origin) {
-    result.map = mapper::buildFromScan(points, origin.front(), params.octree, built);
+  } else if (used.origin) {
+    result.map = mapper::buildFromScan(points, origin.front(), used.octree, built);
   } else {
-    result.map = mapper::buildFromPoints(points, params.octree, built);
+    result.map = mapper::buildFromPoints(points, used.octree, built);
   }
   addDropped(result.report.points, built);
   timer.stage("octree");
@@ -334,12 +386,17 @@ void buildStreamed(const BuildParams& params, BuildResult& result, StageTimer& t
     throw noPoints(inputs);
   }
   const auto floor_start = Clock::now();
-  const Surfaces surfaces = findSurfaces(params, sample.points(), levelsMap(params, pass.inputs));
+  // `params` may be result.params itself: copied before result.params records the resolution used.
+  const BuildParams used = atResolution(params, chooseResolution(params, sample, result.report));
+  result.params.octree.resolution = used.octree.resolution;
+  const Surfaces surfaces = findSurfaces(used, sample.points(), levelsMap(used, pass.inputs));
   recordSurfaces(surfaces, result);
-  recordFrame(params, result.report);
+  recordFrame(used, result.report);
+  recordGround(used, sample.points(), {}, result);
   const double floor_ms = msSince(floor_start);
-  if (!isIdentity(surfaces.levelling)) {
-    pass = streamPass(params, surfaces.levelling, nullptr);
+  // A second pass when the map must be levelled or the first pass's octree has another resolution.
+  if (!isIdentity(surfaces.levelling) || used.octree.resolution != params.octree.resolution) {
+    pass = streamPass(used, surfaces.levelling, nullptr);
     read_ms += pass.read_ms;
     frame_ms += pass.frame_ms;
     octree_ms += pass.octree_ms;
@@ -536,7 +593,7 @@ BuildResult build(const BuildParams& params) {
       result.report.inputs = set.inputs;
       buildWhole(params, std::move(set.points), result, timer);
     }
-    finishAccount(params, result);
+    finishAccount(result.params, result);
   }
   clusterInto(result, timer);
   return result;

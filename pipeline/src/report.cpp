@@ -62,6 +62,7 @@ nlohmann::json planeReportJson(const PlaneReport& r) {
               {"plane", r.plane ? planeJson(*r.plane) : json(nullptr)},
               {"levelled", r.levelled},
               {"voxels", r.voxels}};
+  if (r.ground_instead) out["ground_instead"] = true;
   if (r.setting.mode == mapper::PlaneSetting::Mode::kAuto) {
     out["search"] = {{"found", r.fit.found},
                      {"reason", r.fit.found ? json(nullptr) : json(r.fit.reason)},
@@ -73,6 +74,35 @@ nlohmann::json planeReportJson(const PlaneReport& r) {
                      {"coverage", r.fit.coverage}};
   }
   return out;
+}
+
+/// The ground's entry: null when none was fitted or none explained the map.
+nlohmann::json groundJson(const BuildParams& params, const std::optional<GroundReport>& ground) {
+  using nlohmann::json;
+  if (!ground) return nullptr;
+  const GroundReport& g = *ground;
+  const mapper::TerrainParams& t = params.terrain;
+  return {{"grid",
+           {{"origin", {g.origin.x(), g.origin.y()}},
+            {"step", g.step},
+            {"nx", g.nx},
+            {"ny", g.ny},
+            {"size", {g.step * double(g.nx), g.step * double(g.ny)}}}},
+          {"cells", g.nx * g.ny},
+          {"cells_with_points", g.cells_with_points},
+          {"measured_cells", g.measured_cells},
+          {"coverage", g.coverage},
+          {"height_range", {g.lowest, g.highest}},
+          {"raised_most", g.raised_most},
+          {"lowered_under_keyframes", g.lowered},
+          {"voxels", g.voxels},
+          {"settings",
+           {{"cell", t.cell},
+            {"max_object", t.max_object},
+            {"slope", t.slope},
+            {"initial_threshold", t.initial_threshold},
+            {"max_threshold", t.max_threshold},
+            {"keyframe_clearance", t.keyframe_clearance}}}};
 }
 
 nlohmann::json matrixRows(const Eigen::Matrix3d& m) {
@@ -278,6 +308,13 @@ nlohmann::json reportJson(const BuildResult& result, const ParameterSpelling& sp
       {"alignment", report.alignment ? alignmentJson(*report.alignment, report.reference_dropped) : json(nullptr)},
       {"floor", readsOctree(result.params) ? json(nullptr) : planeReportJson(report.floor)},
       {"ceiling", readsOctree(result.params) ? json(nullptr) : planeReportJson(report.ceiling)},
+      {"ground", groundJson(result.params, report.ground)},
+      {"resolution",
+       report.resolution ? json{{"given", report.resolution->given},
+                                {"spacing", report.resolution->spacing ? json(*report.resolution->spacing) : json(nullptr)},
+                                {"used", report.resolution->used},
+                                {"adapted", report.resolution->used != report.resolution->given}}
+                         : json(nullptr)},
       {"levelling",
        {{"rotation", matrixRows(report.levelling.linear())},
         {"translation",

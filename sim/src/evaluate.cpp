@@ -178,7 +178,41 @@ void checkEvaluateParams(std::size_t points, std::size_t weights, const Evaluate
     throw Error("evaluate: " + std::to_string(weights) + " weights for " + std::to_string(points) + " points");
   if (!(params.sample_step > 0) || !(params.segment_length > 0.2))
     throw Error("evaluate: sample_step must be > 0 and segment_length > 0.2");
+  if (params.ends == SegmentEnds::kCorridor) {
+    if (params.path.empty()) throw Error("evaluate: corridor ends need the camera's path (no keyframe given)");
+    if (!(params.corridor_width > 0) || !std::isfinite(params.corridor_width) || !(params.corridor_height > 0) ||
+        !std::isfinite(params.corridor_height))
+      throw Error("evaluate: corridor_width and corridor_height must be finite and > 0");
+  }
 }
+
+/// kCorridor's test of an endpoint: within the width of the path's polyline in (x, y), and no higher
+/// than corridor_height above the keyframe nearest to it in (x, y).
+class Corridor {
+ public:
+  explicit Corridor(const EvaluateParams& p) : path_(p.path), width_(p.corridor_width), height_(p.corridor_height) {}
+  bool holds(const V3& q) const {
+    double best = kInf, nearest_key = kInf, top = -kInf;
+    const Eigen::Vector2d x = q.head<2>();
+    for (std::size_t k = 0; k < path_.size(); ++k) {
+      const double d = (path_[k].head<2>() - x).norm();
+      if (d < nearest_key) nearest_key = d, top = path_[k].z() + height_;
+      if (k + 1 == path_.size()) {
+        best = std::min(best, d);
+        continue;
+      }
+      const Eigen::Vector2d a = path_[k].head<2>(), b = path_[k + 1].head<2>();
+      const double len2 = (b - a).squaredNorm();
+      const double t = len2 > 0 ? std::clamp((x - a).dot(b - a) / len2, 0.0, 1.0) : 0.0;
+      best = std::min(best, (a + t * (b - a) - x).norm());
+    }
+    return best <= width_ && q.z() <= top;
+  }
+
+ private:
+  const std::vector<V3>& path_;
+  double width_, height_;
+};
 
 // Observed points: each belongs to the one shape whose surface is nearest (|signed distance|
 // smallest, ties to the lower index), when that is within surface_margin. A floor point at the
@@ -296,7 +330,9 @@ std::optional<SampledSegments> sampleSegments(const GroundTruth& truth, const Ev
   }
   if (!lo.allFinite() || params.segments == 0) return std::nullopt;
   std::mt19937_64 rng(params.seed + 1);
-  const bool free_ends = params.ends == SegmentEnds::kFree;
+  const bool free_ends = params.ends != SegmentEnds::kInTruthBox;
+  const bool in_corridor = params.ends == SegmentEnds::kCorridor;
+  const Corridor corridor(params);
   if (free_ends) {
     lo -= V3::Constant(params.radius + params.clear_margin + 0.5);
     hi += V3::Constant(params.radius + params.clear_margin + 0.5);
@@ -328,6 +364,7 @@ std::optional<SampledSegments> sampleSegments(const GroundTruth& truth, const Ev
     const double z = 2 * uniform(rng) - 1, phi = 2 * kPi * uniform(rng), r = std::sqrt(1 - z * z);
     const double length = 0.2 + (params.segment_length - 0.2) * uniform(rng);
     const V3 b = a + length * V3(r * std::cos(phi), r * std::sin(phi), z);
+    if (in_corridor && (!corridor.holds(a) || !corridor.holds(b))) continue;
     if (free_ends && (truth.signedDistance(a) < free_distance || truth.signedDistance(b) < free_distance)) continue;
     if (!free_ends && ((b.array() < lo.array()).any() || (b.array() > hi.array()).any())) continue;
     if (!onMapSide(a) || !onMapSide(b)) continue;
@@ -360,9 +397,26 @@ std::optional<SampledSegments> sampleSegments(const GroundTruth& truth, const Ev
 
 // The build's checks of the sampled segments against the truth's verdicts: deep ones missed, clear
 // ones blocked (false alarms), and the parts those hit.
+/// The weight of the points within `radius` of the segment [a, b] (each 1 without weights).
+double weightNear(const V3& a, const V3& b, double radius, const std::vector<V3>& points,
+                  const std::vector<std::uint32_t>& weights) {
+  const V3 lo = a.cwiseMin(b) - V3::Constant(radius), hi = a.cwiseMax(b) + V3::Constant(radius);
+  const V3 d = b - a;
+  const double len2 = d.squaredNorm();
+  double sum = 0.0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const V3& p = points[i];
+    if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;
+    const double t = len2 > 0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+    if ((a + t * d - p).squaredNorm() <= radius * radius) sum += weights.empty() ? 1.0 : double(weights[i]);
+  }
+  return sum;
+}
+
 void scoreSegments(const std::vector<hulls::Obstacle>& obstacles, const std::vector<collision::Surface>& surfaces,
-                   const GroundTruth& truth, const EvaluateParams& params, const SampledSegments& sampled,
-                   Evaluation& e) {
+                   const GroundTruth& truth, const std::vector<V3>& points,
+                   const std::vector<std::uint32_t>& weights, const EvaluateParams& params,
+                   const SampledSegments& sampled, Evaluation& e) {
   const auto& segments = sampled.segments;
   const auto& verdict = sampled.verdict;
   const auto& deepest = sampled.deepest;
@@ -373,10 +427,13 @@ void scoreSegments(const std::vector<hulls::Obstacle>& obstacles, const std::vec
   for (std::size_t k = 0; k < segments.size(); ++k) {
     if (verdict[k] == 1) {
       ++e.deep;
+      const bool unseen = weightNear(segments[k].a, segments[k].b, params.radius, points, weights) < params.seen_points;
+      e.deep_unseen += unseen ? 1 : 0;
       if (!checks[k].collides) {
         ++e.missed;
+        e.missed_unseen += unseen ? 1 : 0;
         e.missed_segments.push_back(
-            {segments[k].a, segments[k].b, truth.shapes[deepest[k].first].label, deepest[k].second});
+            {segments[k].a, segments[k].b, truth.shapes[deepest[k].first].label, deepest[k].second, unseen});
       }
     } else if (verdict[k] == 2) {
       ++e.clear;
@@ -403,7 +460,7 @@ Evaluation evaluate(const std::vector<hulls::Obstacle>& obstacles, const GroundT
   scoreObservedPoints(hulls, truth, points, weights, params, e);
   scoreVolumes(hulls, truth, params, e);
   const std::optional<SampledSegments> sampled = sampleSegments(truth, params);
-  if (sampled) scoreSegments(obstacles, surfaces, truth, params, *sampled, e);
+  if (sampled) scoreSegments(obstacles, surfaces, truth, points, weights, params, *sampled, e);
   return e;
 }
 
@@ -428,7 +485,8 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
     missed.push_back({{"from", {m.from.x(), m.from.y(), m.from.z()}},
                       {"to", {m.to.x(), m.to.y(), m.to.z()}},
                       {"truth", m.truth},
-                      {"depth", m.depth}});
+                      {"depth", m.depth},
+                      {"unseen", m.unseen}});
   json false_alarm_hulls = json::array();
   for (const auto& h : e.false_alarm_hulls)
     false_alarm_hulls.push_back({{"obstacle", h.obstacle}, {"part", h.part}, {"segments", h.segments}});
@@ -450,9 +508,12 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
             {"volume_samples", p.volume_samples},
             {"segments", p.segments},
             {"segment_length", p.segment_length},
-            {"segment_ends", p.ends == SegmentEnds::kFree ? "free" : "in_truth_box"},
+            {"segment_ends", p.ends == SegmentEnds::kFree        ? "free"
+                             : p.ends == SegmentEnds::kInTruthBox ? "in_truth_box"
+                                                                  : "corridor"},
             {"false_tolerance", p.false_tolerance},
             {"sample_step", p.sample_step},
+            {"seen_points", p.seen_points},
             {"seed", p.seed}}},
           {"truth", truth},
           {"parts", e.parts},
@@ -470,6 +531,8 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
            {{"count", e.segments},
             {"deep", e.deep},
             {"missed", e.missed},
+            {"deep_unseen", e.deep_unseen},
+            {"missed_unseen", e.missed_unseen},
             {"clear", e.clear},
             {"false_alarms", e.false_alarms},
             {"false_alarm_hulls", false_alarm_hulls},

@@ -59,16 +59,21 @@ TEST(BuildWarnings, NoiseShareNoObstacleAndEpsBelowResolution) {
             0u);
 }
 
-// The resolution suggested for a sparse map: the nearest of 1, 2, 5 x 10^n, in ratio.
+// The resolution suggested for a sparse map: rounded down to 1, 2 or 5 x 10^n.
 TEST(BuildWarnings, SuggestedResolutionsAreOneTwoOrFiveTimesAPowerOfTen) {
   using hullmap::clustering::roundResolution;
-  EXPECT_DOUBLE_EQ(roundResolution(0.344), 0.5);  // 0.5 / 0.344 = 1.45 < 0.344 / 0.2 = 1.72
-  EXPECT_DOUBLE_EQ(roundResolution(0.3), 0.2);    // 1.67 > 1.5
+  EXPECT_DOUBLE_EQ(roundResolution(0.344), 0.2);
+  EXPECT_DOUBLE_EQ(roundResolution(0.3), 0.2);
   EXPECT_DOUBLE_EQ(roundResolution(0.05), 0.05);
+  EXPECT_DOUBLE_EQ(roundResolution(0.1), 0.1);
   EXPECT_DOUBLE_EQ(roundResolution(0.14), 0.1);
-  EXPECT_DOUBLE_EQ(roundResolution(0.15), 0.2);
-  EXPECT_DOUBLE_EQ(roundResolution(7.5), 10.0);
-  EXPECT_DOUBLE_EQ(roundResolution(3.2), 5.0);
+  EXPECT_DOUBLE_EQ(roundResolution(0.19), 0.1);
+  EXPECT_DOUBLE_EQ(roundResolution(0.2), 0.2);
+  EXPECT_DOUBLE_EQ(roundResolution(0.5), 0.5);
+  EXPECT_DOUBLE_EQ(roundResolution(7.5), 5.0);
+  EXPECT_DOUBLE_EQ(roundResolution(9.99), 5.0);
+  EXPECT_DOUBLE_EQ(roundResolution(10.0), 10.0);
+  EXPECT_DOUBLE_EQ(roundResolution(3.2), 2.0);
 }
 
 // kSparseForResolution on voxel centres whose 4th nearest neighbour lies beyond the auto rule's
@@ -92,7 +97,7 @@ TEST(BuildWarnings, SparseMapsAreToldACoarserResolution) {
   // the diagonal 0.8 sqrt(2); three in four of the sampled points are inside: 0.8.
   EXPECT_NEAR(w->number("spacing"), 0.8, 1e-9);
   EXPECT_DOUBLE_EQ(w->number("resolution"), resolution);
-  EXPECT_DOUBLE_EQ(w->number("suggested"), 0.5);  // 0.8 / 2.5 = 0.32, nearer 0.5 than 0.2 in ratio
+  EXPECT_DOUBLE_EQ(w->number("suggested"), 0.2);  // 0.8 / 2.5 = 0.32, rounded down
   // The same plane every 0.1 m (2 voxels): the rule finds the spacing, nothing to say.
   std::vector<Eigen::Vector3d> dense;
   for (int i = 0; i < 80; ++i)

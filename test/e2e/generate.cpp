@@ -1,6 +1,9 @@
 // hullmap generate --layout room and --layout outdoor: the files they write (the outdoor GPS log as
-// `hullmap build --align-format gps` reads it), and bad input (exit 2, one line).
+// `hullmap build --align-format gps` reads it, the street's ground as build, check and plot take it),
+// and bad input (exit 2, one line).
 #include <fstream>
+#include <iterator>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -77,6 +80,55 @@ TEST(GenerateCommand, OutdoorLayoutWritesAGpsLogThatBuildAligns) {
   const double scale = hullmap::test::readJson(dir / "reference" / "report.json").at("alignment").at("scale");
   EXPECT_GT(scale, 1.0 / (0.0145 * 1.15));
   EXPECT_LT(scale, 1.0 / 0.0145);
+}
+
+// A street built at the defaults: the resolution fits its spacing, the ground is a height field in
+// obstacles.json, report.json and voxels.csv, and `check` and `plot` take it as the build wrote it.
+TEST(GenerateCommand, AStreetsGroundIsAHeightFieldThatChecksHit) {
+  const auto dir = hullmap::test::freshDir("generate_street_ground");
+  const std::string d = "'" + dir.string() + "/";
+  ASSERT_EQ(runHullmap(std::string(kSmallStreet) + " -o " + d + "street'").status, 0);
+  const auto b = runHullmap("build " + d + "street/map_points.txt' --trajectory " + d +
+                            "street/KeyFrameTrajectory.txt' --align " + d + "street/reference_trajectory.txt' -o " + d +
+                            "out'");
+  ASSERT_EQ(b.status, 0) << b.err;
+  const auto report = hullmap::test::readJson(dir / "out" / "report.json");
+  EXPECT_TRUE(report.at("resolution").at("adapted").get<bool>()) << report.at("resolution");
+  EXPECT_GT(report.at("parameters").at("resolution").get<double>(), 0.05);
+  ASSERT_TRUE(report.at("ground").is_object()) << "no ground in report.json";
+  const auto& ground = report.at("ground");
+  EXPECT_GT(ground.at("coverage").get<double>(), 0.2);
+  EXPECT_GT(ground.at("voxels").get<std::size_t>(), 0u);
+  EXPECT_EQ(ground.at("grid").at("step"), 2.0);
+  const auto obstacles = hullmap::test::readJson(dir / "out" / "obstacles.json");
+  const auto& surfaces = obstacles.at("surfaces");
+  ASSERT_EQ(surfaces.size(), 1u) << surfaces.dump();
+  EXPECT_EQ(surfaces[0].at("kind"), "heightfield");
+  EXPECT_EQ(surfaces[0].at("name"), "ground");
+  EXPECT_EQ(surfaces[0].at("heights").size(),
+            surfaces[0].at("nx").get<std::size_t>() * surfaces[0].at("ny").get<std::size_t>());
+  std::ifstream voxels(dir / "out" / "voxels.csv");
+  std::string line;
+  std::size_t ground_rows = 0;
+  while (std::getline(voxels, line)) ground_rows += line.find(",-4,") != std::string::npos ? 1 : 0;
+  EXPECT_EQ(ground_rows, ground.at("voxels").get<std::size_t>());
+  // A drop through the ground at the first keyframe: it collides, with the ground.
+  std::ifstream trajectory(dir / "out" / "trajectory.txt");
+  double t = 0, x = 0, y = 0, z = 0;
+  while (std::getline(trajectory, line))
+    if (!line.empty() && line[0] != '#' && std::istringstream(line) >> t >> x >> y >> z) break;
+  std::ostringstream segment;
+  segment << x << "," << y << "," << z << "," << x << "," << y << "," << z - 30.0;
+  const auto c = runHullmap("check " + d + "out' --radius 0.3 --segment " + segment.str() + " --json");
+  EXPECT_EQ(c.status, 1) << c.out << c.err;
+  EXPECT_NE(c.out.find("\"surface\":\"ground\""), std::string::npos) << c.out;
+  // plot captions the ground's coverage.
+  const auto p = runHullmap("plot " + d + "out' -o " + d + "plot.svg'");
+  ASSERT_EQ(p.status, 0) << p.err;
+  std::ifstream svg(dir / "plot.svg");
+  const std::string text((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("ground: "), std::string::npos);
+  EXPECT_NE(text.find("% measured"), std::string::npos);
 }
 
 TEST(GenerateCommand, BadOutdoorOptionsExitTwoWithOneLine) {

@@ -1,6 +1,7 @@
 // hullmap::live::RebuildWorker against the pipeline it runs: what it publishes is what
 // pipeline::buildFromPoints gives on the same points and settings; folding, reset, live settings,
 // path checks and save, each asserted on counts and contents (waits only time out, nothing is timed).
+#include <cmath>
 #include <condition_variable>
 #include <filesystem>
 #include <fstream>
@@ -223,6 +224,36 @@ TEST(LiveRebuildWorker, PathChecksAreHullCheckersOnTheLatestRebuild) {
   }
   EXPECT_TRUE(worker.checkPath(path).check.first_colliding_segment.has_value());
   EXPECT_THROW(worker.checkPath(path, -1.0), Error);
+}
+
+// Outdoors the node does what build does: a ground no plane explains (a rolling 40 x 40 m terrain,
+// 0.8 m of relief) is fitted as a height field, and a path check through it names the ground.
+TEST(LiveRebuildWorker, AGroundThatIsNoPlaneIsAnObstacleForPathChecks) {
+  const auto terrain = [](double x, double y) { return 0.5 * std::sin(x / 5.0) + 0.3 * std::cos(y / 7.0); };
+  io::Points points;
+  for (int i = 0; i < 80; ++i)
+    for (int j = 0; j < 80; ++j) {
+      const double x = -20.0 + 0.5 * i + 0.13 * ((i * 7 + j * 3) % 5), y = -20.0 + 0.5 * j + 0.11 * ((i * 5 + j) % 4);
+      points.emplace_back(x, y, terrain(x, y));
+    }
+  NodeSettings s = settings();
+  s.build.floor.mode = mapper::PlaneSetting::Mode::kAuto;
+  s.build.eps.reset();
+  s.build.min_pts.reset();
+  const auto built = pipeline::buildFromPoints(points, s.build, "map");
+  ASSERT_TRUE(built.report.ground.has_value()) << "no ground found";
+  ASSERT_FALSE(built.report.floor.plane.has_value());
+  Recorder r;
+  RebuildWorker worker(s, r.hooks());
+  worker.submit(update(points));
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 1; }));
+  // A drop from 1.5 m over the terrain to 0.5 m under it, and a level flight 1.5 m over its top.
+  const PathCheckAnswer down = worker.checkPath({{3.0, 4.0, terrain(3, 4) + 1.5}, {3.0, 4.0, terrain(3, 4) - 0.5}}, 0.2);
+  ASSERT_TRUE(down.check.first_colliding_segment.has_value());
+  EXPECT_EQ(down.check.segments[0].surface, "ground");
+  EXPECT_NE(down.json_lines.find("\"surface\":\"ground\""), std::string::npos) << down.json_lines;
+  const PathCheckAnswer over = worker.checkPath({{-15.0, -15.0, 2.3}, {15.0, 15.0, 2.3}}, 0.2);
+  EXPECT_FALSE(over.check.first_colliding_segment.has_value()) << over.json_lines;
 }
 
 TEST(LiveRebuildWorker, SaveWritesWhatWriteWritesForTheSameBuild) {

@@ -37,7 +37,7 @@ constexpr const char* kCeilingColour = "#7890a8";
 
 std::string labelColour(std::int32_t label) {
   if (label >= 0) return plot::toHex(plot::clusterColour(label));
-  if (label == pipeline::kFloorLabel) return kFloorColour;
+  if (label == pipeline::kFloorLabel || label == pipeline::kGroundLabel) return kFloorColour;
   if (label == pipeline::kCeilingLabel) return kCeilingColour;
   return kNoiseColour;
 }
@@ -295,7 +295,7 @@ json voxelsJson(const ViewScene& scene, const std::vector<VoxelCells>& levels, s
   for (const std::int32_t l : scene.labels) {
     if (l >= 0)
       ++clustered;
-    else if (l == pipeline::kFloorLabel)
+    else if (l == pipeline::kFloorLabel || l == pipeline::kGroundLabel)  // the ground is drawn as a floor
       ++floor;
     else if (l == pipeline::kCeilingLabel)
       ++ceiling;

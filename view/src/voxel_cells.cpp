@@ -15,9 +15,10 @@ namespace {
 constexpr std::int64_t kMaxSpan = std::int64_t(1) << 16;
 
 // Priority of a label when voxels of several labels share a cell: obstacles first, then noise,
-// floor, ceiling (any other negative label last).
+// floor or ground, ceiling (any other negative label last).
 int rank(std::int32_t label) {
   if (label >= 0) return 0;
+  if (label == -4) return 2;  // the ground (pipeline::kGroundLabel), as the floor
   if (label >= -3) return -label;
   return 4;
 }

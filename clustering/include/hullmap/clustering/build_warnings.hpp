@@ -42,13 +42,25 @@ inline constexpr double kSuggestedSpacingVoxels = 2.5;
 /// spacing, and most voxels are noise. Its numbers: `resolution`; `spacing`, the rule's knn_quantile
 /// quantile of the exact, unbounded k-NN distance (kDistanceCurve over rule.sample voxels evenly
 /// spread, unweighted: at such spacing a voxel holds about one point); `suggested`, spacing /
-/// kSuggestedSpacingVoxels rounded to the nearest 1, 2 or 5 x 10^n (never finer than `resolution`).
+/// kSuggestedSpacingVoxels rounded down to 1, 2 or 5 x 10^n (never finer than `resolution`).
 /// None otherwise, and when eps and minPts were both given (no `chosen`).
 std::optional<Warning> sparseMapWarning(const std::vector<Eigen::Vector3d>& centres, double resolution,
                                         const AutoParams& chosen, const AutoParamsRule& rule, Metric metric);
 
-/// A resolution rounded to the nearest (in ratio) of 1, 2 and 5 x 10^n; `value` > 0 and finite.
+/// A resolution rounded down to 1, 2 or 5 x 10^n (the largest not above `value`; > 0 and finite):
+/// the voxels are then never coarser than the spacing asks.
 double roundResolution(double value);
+
+/// The spacing of `points` as sparseMapWarning measures it: the rule.knn_quantile quantile of the
+/// exact distance from a point to its rule.k-th nearest (kDistanceCurve over rule.sample points
+/// evenly spread, unweighted). nullopt for rule.k points or fewer.
+std::optional<double> pointSpacing(const std::vector<Eigen::Vector3d>& points, const AutoParamsRule& rule,
+                                   Metric metric);
+
+/// The resolution a map of points `spacing` apart needs when `resolution` is too fine for it:
+/// when spacing > rule.max_eps_voxels * resolution (the auto rule's reach: most voxels would be
+/// noise), spacing / kSuggestedSpacingVoxels rounded by roundResolution; nullopt otherwise.
+std::optional<double> resolutionForSpacing(double spacing, double resolution, const AutoParamsRule& rule);
 
 /// Warnings for a path check against the hulls of such a build, which cannot see noise voxels:
 /// kCheckNoObstacle (every path is clear; occupied_voxels), else kCheckMostlyNoise (noise_voxels,

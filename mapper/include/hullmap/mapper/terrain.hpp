@@ -34,8 +34,9 @@ struct Terrain {
   std::size_t lowered = 0;       ///< nodes lowered under a keyframe
 };
 
-/// Fits the ground under `points` (map frame, z up), on a grid over the points' 0.1 % to 99.9 %
-/// quantiles of x and y (points beyond, gross outliers, are left out):
+/// Fits the ground under `points` (map frame, z up), on a grid over the points' 1 % to 99 %
+/// quantiles of x and y grown by a tenth of their span on each side, never beyond the 0.1 % and
+/// 99.9 % quantiles (points beyond, gross outliers, are left out):
 /// 1. each cell's height is its points' k-th lowest z (low_share: a lone point below the ground,
 ///    SLAM noise, does not pull a cell of several points down);
 ///    A cell lower than the second lowest of its measured 8-neighbours (2 at least) by more than
@@ -54,5 +55,9 @@ struct Terrain {
 /// non-finite points or keyframes, and on an input with no point.
 Terrain fitTerrain(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& keyframes,
                    const TerrainParams& params = {});
+
+/// fitTerrain's step 4 on its own: every node within 1.5 cells of a keyframe's (x, y) lowered to
+/// keyframe z - clearance when above it. Returns how many nodes were lowered.
+std::size_t keepUnderKeyframes(HeightField& field, const std::vector<Eigen::Vector3d>& keyframes, double clearance);
 
 }  // namespace hullmap::mapper

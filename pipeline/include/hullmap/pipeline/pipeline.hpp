@@ -22,6 +22,7 @@
 #include "hullmap/pipeline/output_dir.hpp"
 #include "hullmap/mapper/align.hpp"
 #include "hullmap/mapper/floor.hpp"
+#include "hullmap/mapper/terrain.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/io/readers.hpp"
@@ -39,6 +40,10 @@ namespace hullmap::pipeline {
 /// ceiling: they stay in the map but are not clustered (clustering::kNoise is -1).
 inline constexpr std::int32_t kFloorLabel = -2;
 inline constexpr std::int32_t kCeilingLabel = -3;
+/// Label of the voxels set aside as the ground (a height field: BuildReport::ground).
+inline constexpr std::int32_t kGroundLabel = -4;
+/// The least share of the occupied voxels a fitted ground must take to explain the map's ground.
+inline constexpr double kGroundMinShare = 0.2;
 
 /// Whether a floor found by the build levels the map: rotates the floor level and moves it to
 /// z = 0 (the points, the keyframes, the origin and every output with them).
@@ -83,6 +88,16 @@ struct BuildParams {
   mapper::PlaneSetting floor;
   /// Whether a found floor levels the map; kAuto: only a camera's frame (levelsMap).
   Level level = Level::kAuto;
+  /// The ground when no floor plane explains it (floor kAuto and none found: outdoors, slopes,
+  /// monocular scale drift; point inputs only): mapper::fitTerrain with these settings on the
+  /// build's sample of its points (at most 2^18, every k-th) under the keyframes, then raised into
+  /// the middle of its points. When at least kGroundMinShare of the points lie on it, its height
+  /// field is an obstacle for path checks (BuildResult::surfaces, "ground") and the occupied voxels
+  /// whose centre lies less than half a voxel plus half of terrain.initial_threshold above it (or
+  /// under it) are set aside: kGroundLabel, not clustered, still in map.bt. Map units: the defaults
+  /// are metres (2 m cells), for a metric map.
+  mapper::TerrainParams terrain;
+  bool ground = true;  ///< false: never fit the ground
   /// For level kAuto: whether the points are in a camera's frame (a monocular SLAM map is in its
   /// first camera's). nullopt: judged from the inputs (levelsMap). A live node sets it from the
   /// topic (ORB-SLAM's map markers: true; a PointCloud2: false).
@@ -93,6 +108,14 @@ struct BuildParams {
   /// input frame itself when none of them moved the map).
   mapper::FilterParams filters;
   mapper::OctreeParams octree;  ///< resolution 0.05, octomap's sensor model, unbounded rays
+  /// true (default): when the map's points lie farther apart than the auto rule can reach at
+  /// octree.resolution (the typical point's 4th nearest, three points in four, beyond
+  /// auto_rule.max_eps_voxels voxels: most voxels would be noise; warning 10's measure, on the
+  /// points after align/frame), the octree is built at that spacing / 2.5 rounded to 1, 2 or 5 x
+  /// 10^n instead (clustering::resolutionForSpacing; BuildReport::resolution, and
+  /// BuildResult::params holds the one used). Maps dense enough for it keep octree.resolution. false:
+  /// octree.resolution as given (the CLI when --resolution is given; the live nodes).
+  bool adapt_resolution = true;
   /// DBSCAN radius, map units; nullopt (default): chosen from the map (clustering::chooseDbscanParams
   /// with `auto_rule`). A given value wins.
   std::optional<double> eps;
@@ -122,12 +145,37 @@ struct BuildParams {
   bool write_ot = false;  ///< write() also writes map.ot (full probabilities)
 };
 
+/// How the octree's resolution was chosen (BuildParams::adapt_resolution).
+struct ResolutionReport {
+  double given = 0.0;             ///< BuildParams::octree.resolution
+  std::optional<double> spacing;  ///< the points' spacing measured (none: too few points)
+  double used = 0.0;              ///< the octree's: given, or coarser for a sparse map
+};
+
+/// What the ground stage found (BuildParams::terrain): the height field's grid and how much of it
+/// was measured.
+struct GroundReport {
+  Eigen::Vector2d origin = Eigen::Vector2d::Zero();  ///< lower corner of the grid, map frame
+  double step = 0.0;                                 ///< cell side, map units
+  std::size_t nx = 0, ny = 0;                        ///< nodes along x and y
+  std::size_t cells_with_points = 0;                 ///< cells holding a voxel
+  std::size_t measured_cells = 0;  ///< cells whose height was measured as ground; others interpolated
+  double coverage = 0.0;           ///< measured_cells / (nx * ny)
+  double lowest = 0.0, highest = 0.0;  ///< the surface's lowest and highest node, map frame
+  double raised_most = 0.0;  ///< most a node was raised to hold the ground voxels, map units
+  std::size_t lowered = 0;   ///< nodes then held under a keyframe
+  std::size_t voxels = 0;    ///< occupied voxels set aside as ground
+};
+
 /// What the floor or ceiling stage found.
 struct PlaneReport {
   mapper::PlaneSetting setting;
   std::optional<mapper::Plane> plane;  ///< the plane used (map frame after levelling); nullopt: none
   mapper::PlaneFit fit;                ///< the search's result (kAuto only)
   bool levelled = false;               ///< the map was rotated/shifted to put this floor at z = 0
+  /// The floor found does not explain the ground (its measured heights stray from the plane): the
+  /// ground's height field stands for it (BuildReport::ground); `plane` is then empty.
+  bool ground_instead = false;
   std::size_t voxels = 0;              ///< occupied voxels set aside as this surface
 };
 
@@ -174,6 +222,8 @@ struct BuildReport {
   mapper::Similarity input_to_output;
   PlaneReport floor;
   PlaneReport ceiling;
+  std::optional<GroundReport> ground;  ///< when a ground was found (BuildParams::terrain)
+  std::optional<ResolutionReport> resolution;  ///< with BuildParams::adapt_resolution
   ClusterParamsReport cluster_params;
   std::optional<hulls::ConvexPartsSummary> parts;           ///< with params.convex_parts
   std::size_t keyframes_inside_hulls = 0;                   ///< keyframes inside some part's hull
@@ -197,14 +247,15 @@ struct BuildResult {
   BuildParams params;  ///< as given (inputs included)
   mapper::OccupancyMap map{mapper::OctreeParams{}};
   std::vector<mapper::OccupiedVoxel> voxels;  ///< see ClusteredVoxels
-  /// Voxel labels: clusters.labels[i] is voxels[i]'s (kFloorLabel / kCeilingLabel for the floor's
-  /// and ceiling's voxels, which are counted in neither noise nor clusters).
+  /// Voxel labels: clusters.labels[i] is voxels[i]'s (kFloorLabel / kCeilingLabel / kGroundLabel
+  /// for the floor's, ceiling's and ground's voxels, which are counted in neither noise nor clusters).
   clustering::DbscanResult clusters;
   std::vector<hulls::Obstacle> obstacles;  ///< what collision::HullChecker takes (with parts)
   /// The floor and ceiling found or given, as solid half-spaces for path checks (HullChecker's
   /// surfaces): the solid reaches up to the plane, or to the top of its highest voxel when that is
   /// higher (every voxel set aside as floor lies inside it completely, as a cluster's voxels lie
-  /// inside its hull). Named "floor" and "ceiling".
+  /// inside its hull). Named "floor" and "ceiling". The ground (BuildReport::ground) as a height
+  /// field, named "ground", every voxel set aside as ground under it.
   std::vector<collision::Surface> surfaces;
   std::vector<io::Keyframe> keyframes;  ///< output frame (with params.trajectory)
   BuildReport report;

@@ -20,9 +20,13 @@ namespace hullmap::sim {
 /// - kInTruthBox: uniformly in the box of the truth itself, free or not (a room: anywhere inside its
 ///   walls, or in them), as a user draws test paths in the room: many are deep, and the clear ones
 ///   all lie inside the room.
-/// Both keep the endpoints radius + clear_margin above every true floor and below every ceiling, and
+/// - kCorridor: as kFree, and within corridor_width in (x, y) of the camera's path (`path`, the
+///   keyframes in order) and at most corridor_height above the height of its nearest keyframe:
+///   where a map gathered along that path can know the world (outdoors, the street: segments drawn
+///   anywhere in a street's box cross the backs and roofs of buildings no camera saw).
+/// All keep the endpoints radius + clear_margin above every true floor and below every ceiling, and
 /// above every height field's surface where they are (at the point's (x, y) clamped to its grid).
-enum class SegmentEnds { kFree, kInTruthBox };
+enum class SegmentEnds { kFree, kInTruthBox, kCorridor };
 
 /// Settings of evaluate(); every random draw comes from std::mt19937_64(seed) with hullmap's own
 /// transforms, so the numbers are the same on every machine.
@@ -42,6 +46,12 @@ struct EvaluateParams {
   std::size_t segments = 2000;            ///< random segments in the free volume
   double segment_length = 2.0;            ///< segments are 0.2 .. this long
   SegmentEnds ends = SegmentEnds::kFree;  ///< where the endpoints are drawn
+  std::vector<Eigen::Vector3d> path;      ///< kCorridor: the camera's keyframes in order (map frame), >= 1
+  double corridor_width = 10.0;           ///< kCorridor: reach of the corridor in (x, y) from the path, > 0
+  double corridor_height = 3.0;           ///< kCorridor: how far above the nearest keyframe ends may lie, > 0
+  /// A deep segment is unseen (Evaluation::deep_unseen) when its capsule holds fewer map points than
+  /// this (the points' weights summed: a voxel centre weighs its map points).
+  double seen_points = 3.0;
   double sample_step = 0.01;              ///< spacing of the truth's distance samples along a segment
   std::uint64_t seed = 1;
 };
@@ -90,6 +100,7 @@ struct MissedSegment {
   Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
   std::string truth;  ///< TruthShape::label
   double depth = 0.0;
+  bool unseen = false;  ///< fewer than seen_points map points within radius of it (Evaluation::deep_unseen)
 };
 
 /// What evaluate() measures. Volumes in map units^3, each with its Monte Carlo standard error.
@@ -105,6 +116,12 @@ struct Evaluation {
   std::size_t segments = 0;
   std::size_t deep = 0;          ///< segments whose capsule penetrates the truth by > depth_margin
   std::size_t missed = 0;        ///< of those, reported clear by the hull checker
+  /// Deep segments whose capsule holds fewer than seen_points map points (the points evaluate() was
+  /// given: the build's voxel centres, weighted, by default): the map never saw the place they collide
+  /// with (a tree's far side, a post between map points metres apart) or saw it as one or two stray
+  /// points, which no clustering tells from outliers.
+  std::size_t deep_unseen = 0;
+  std::size_t missed_unseen = 0;  ///< of the missed, those unseen
   std::size_t clear = 0;         ///< segments keeping radius + clear_margin from the truth
   std::size_t false_alarms = 0;  ///< of those, reported colliding
   /// The hulls the false alarms hit first, most hit first (ties by obstacle id, then part).
