@@ -88,8 +88,9 @@ struct BuildParams {
   mapper::PlaneSetting floor;
   /// Whether a found floor levels the map; kAuto: only a camera's frame (levelsMap).
   Level level = Level::kAuto;
-  /// The ground when no floor plane explains it (floor kAuto and none found: outdoors, slopes,
-  /// monocular scale drift; point inputs only): mapper::fitTerrain with these settings on the
+  /// The ground when no floor plane explains it (floor kAuto, a map not levelled, point inputs; no
+  /// plane found, or the plane found strays from the terrain's measured heights: outdoors, slopes,
+  /// monocular scale drift; PlaneReport::ground_instead): mapper::fitTerrain with these settings on the
   /// build's sample of its points (at most 2^18, every k-th) under the keyframes, then raised into
   /// the middle of its points. When at least kGroundMinShare of the points lie on it, its height
   /// field is an obstacle for path checks (BuildResult::surfaces, "ground") and the occupied voxels
