@@ -676,8 +676,7 @@ def streets_doc(w, streets):
     if no_gps_ground:
         w("")
         w(f"Aligned to the GPS log, streets {', '.join(str(x) for x in no_gps_ground)} found neither a floor nor "
-          "a ground (fewer than 20 % of their points lay on the terrain fitted); their reference-aligned builds "
-          "did. The cause is not established here: the GPS fit leaves the rotation about a nearly straight path "
+          "a ground; their reference-aligned builds did. The cause is not established here: the GPS fit leaves the rotation about a nearly straight path "
           "weakly determined (3 m of noise per axis), which would tilt the whole map.")
     w("")
 
