@@ -15,7 +15,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 void checkParams(const TerrainParams& p) {
-  const auto bad = [](const char* field, const std::string& what) { throw Error(std::string(field) + ": " + what); };
+  const auto bad = [](const char* field, const std::string& what) { throw Error::inParameter(field, what); };
   if (!(p.cell > 0.0) || !std::isfinite(p.cell)) bad("cell", "must be finite and > 0");
   if (!(p.max_object > 0.0) || !std::isfinite(p.max_object)) bad("max_object", "must be finite and > 0");
   if (!(p.slope >= 0.0) || !std::isfinite(p.slope)) bad("slope", "must be finite and >= 0");

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <utility>
 
+#include "hullmap/core/error.hpp"
+
 namespace hullmap::pipeline {
 namespace {
 
@@ -21,7 +23,14 @@ std::pair<std::size_t, std::size_t> nodesAround(double v, double origin, double 
 std::optional<Ground> fitGround(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& keyframes,
                                 const mapper::TerrainParams& params) {
   if (points.empty()) return std::nullopt;
-  mapper::Terrain terrain = mapper::fitTerrain(points, keyframes, params);
+  mapper::Terrain terrain;
+  try {
+    terrain = mapper::fitTerrain(points, keyframes, params);
+  } catch (const Error& e) {
+    // A bad setting is the caller's to hear; a map the filter finds no ground in has none.
+    if (!e.parameter().empty()) throw;
+    return std::nullopt;
+  }
   if (terrain.ground_cells < 4) return std::nullopt;
   HeightField& f = terrain.surface;
   // The points on the ground (within initial_threshold over the fit), each node's by its four cells.

@@ -36,7 +36,8 @@ inline constexpr double kPlaneMissShare = 0.25;
 /// the fit of the points within params.initial_threshold above it in the four cells around the node
 /// (never lowered), then held params.keyframe_clearance under the keyframes. nullopt when no ground
 /// explains the map: fewer than kGroundMinShare of the points within initial_threshold of the fit,
-/// or fewer than 4 ground cells.
+/// fewer than 4 ground cells, or points the filter finds no ground in (fitTerrain's errors other
+/// than a bad setting, which it throws).
 std::optional<Ground> fitGround(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& keyframes,
                                 const mapper::TerrainParams& params);
 

@@ -215,7 +215,8 @@ void recordFrame(const BuildParams& params, BuildReport& report) {
 /// so it is divided by that. Both paths (whole, streamed) keep the same sample.
 double chooseResolution(const BuildParams& params, const PointSample& sample, BuildReport& report) {
   const double given = params.octree.resolution;
-  if (!params.adapt_resolution) return given;
+  // An eps given is in the units of the resolution given: the two go together.
+  if (!params.adapt_resolution || params.eps) return given;
   ResolutionReport r;
   r.given = given;
   r.used = given;

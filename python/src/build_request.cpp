@@ -190,7 +190,11 @@ void takeOctree(Keywords& k, pipeline::BuildParams& params) {
                              {"clamp_min", &octree.sensor.clamp_min},
                              {"clamp_max", &octree.sensor.clamp_max},
                              {"occupancy_threshold", &octree.sensor.occupancy_threshold}}) {
-    if (py::object v = k.take(name); !v.is_none()) *field = number(v, name);
+    if (py::object v = k.take(name); !v.is_none()) {
+      *field = number(v, name);
+      // A resolution given is the octree's, as `hullmap build --resolution` gives it.
+      if (field == &octree.resolution) params.adapt_resolution = false;
+    }
   }
 }
 

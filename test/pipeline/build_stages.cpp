@@ -195,6 +195,7 @@ TEST(PipelineStages, ASparseMapIsToldAResolutionThatFitsIt) {
   const Room sparse = writeRoom("stages_sparse", 21, 6.0, 4, 3.0);
   pipeline::BuildParams params = alignedBuild(sparse);
   params.convex_parts.reset();
+  params.adapt_resolution = false;  // as with --resolution 0.05 given
   const pipeline::BuildResult fine = pipeline::build(params);
   const hullmap::Warning* w = sparse_warning(fine);
   ASSERT_NE(w, nullptr);
@@ -208,10 +209,25 @@ TEST(PipelineStages, ASparseMapIsToldAResolutionThatFitsIt) {
   for (const auto& item : json["warnings"])
     named = named || item.get<std::string>().rfind("the map's points lie about", 0) == 0;
   EXPECT_TRUE(named) << json["warnings"].dump();
+  // The default resolution adapts by the same measure on the points: about the spacing the warning
+  // said, a resolution 2.5 to 6.25 times finer, no warning.
+  params.adapt_resolution = true;
+  const pipeline::BuildResult adapted = pipeline::build(params);
+  ASSERT_TRUE(adapted.report.resolution.has_value());
+  ASSERT_TRUE(adapted.report.resolution->spacing.has_value());
+  EXPECT_NEAR(*adapted.report.resolution->spacing, w->number("spacing"), 0.25 * w->number("spacing"));
+  EXPECT_EQ(adapted.params.octree.resolution, adapted.report.resolution->used);
+  EXPECT_EQ(adapted.map.resolution(), adapted.report.resolution->used);
+  EXPECT_GE(adapted.report.resolution->used, *adapted.report.resolution->spacing / 6.25);
+  EXPECT_LE(adapted.report.resolution->used, *adapted.report.resolution->spacing / 2.5);
+  EXPECT_EQ(sparse_warning(adapted), nullptr);
+  params.adapt_resolution = false;
   params.octree.resolution = suggested;
   EXPECT_EQ(sparse_warning(pipeline::build(params)), nullptr) << "at the suggested " << suggested;
   const Room dense = writeRoom("stages_dense", 21);
   pipeline::BuildParams dense_params = alignedBuild(dense);
   dense_params.convex_parts.reset();
-  EXPECT_EQ(sparse_warning(pipeline::build(dense_params)), nullptr);
+  const pipeline::BuildResult kept = pipeline::build(dense_params);
+  EXPECT_EQ(sparse_warning(kept), nullptr);
+  EXPECT_EQ(kept.map.resolution(), 0.05) << "a dense room keeps the default";
 }

@@ -51,8 +51,9 @@ struct Terrain {
 /// 4. every node within 1.5 cells of a keyframe's (x, y) (the four around it among them, so the
 ///    interpolated height under the keyframe is bounded too) is lowered to keyframe z -
 ///    keyframe_clearance when it is above that (a camera flies over its ground, never under it).
-/// Deterministic. Throws hullmap::Error naming the TerrainParams field on a bad setting, on
-/// non-finite points or keyframes, and on an input with no point.
+/// Deterministic. Throws hullmap::Error naming the TerrainParams field on a bad setting
+/// (Error::parameter() is the field), and, with no parameter, on non-finite points or keyframes, an
+/// input with no point, a grid of more than 100000 cells a side, or no cell of ground.
 Terrain fitTerrain(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& keyframes,
                    const TerrainParams& params = {});
 

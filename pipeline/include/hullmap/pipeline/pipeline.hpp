@@ -115,7 +115,8 @@ struct BuildParams {
   /// points after align/frame), the octree is built at that spacing / 2.5 rounded to 1, 2 or 5 x
   /// 10^n instead (clustering::resolutionForSpacing; BuildReport::resolution, and
   /// BuildResult::params holds the one used). Maps dense enough for it keep octree.resolution. false:
-  /// octree.resolution as given (the CLI when --resolution is given; the live nodes).
+  /// octree.resolution as given (the CLI when --resolution is given; the live nodes). An `eps` given
+  /// also keeps octree.resolution (the two are chosen together).
   bool adapt_resolution = true;
   /// DBSCAN radius, map units; nullopt (default): chosen from the map (clustering::chooseDbscanParams
   /// with `auto_rule`). A given value wins.
