@@ -7,7 +7,6 @@ usage: bench/quality_streets.py HULLMAP_BINARY [--seeds 301,302,...] [--work DIR
 
 Scenes and builds go to --work (default: a fresh directory under /tmp)."""
 import argparse
-import importlib.util
 import os
 import sys
 import tempfile
@@ -19,10 +18,8 @@ ap.add_argument("--work", default=None)
 ap.add_argument("--doc", default=None, help="rewrite the streets' section of this QUALITY.md")
 ap.add_argument("--repo", default=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 a = ap.parse_args()
-spec = importlib.util.spec_from_file_location("quality", os.path.join(a.repo, "bench", "quality.py"))
-q = importlib.util.module_from_spec(spec)
-sys.argv = [sys.argv[0]]
-spec.loader.exec_module(q)
+sys.path.insert(0, os.path.join(a.repo, "bench"))
+import quality as q  # noqa: E402  (the checkout --repo names)
 seeds = tuple(int(x) for x in a.seeds.split(",")) if a.seeds else q.STREET_SEEDS
 work = a.work or tempfile.mkdtemp(prefix="hullmap-streets-")
 rows = q.streets_part(a.hullmap, work, lambda line: print(line, flush=True), seeds)
