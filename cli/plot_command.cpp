@@ -70,8 +70,8 @@ void readReport(const std::string& path, plot::MapPlot& plot) {
     std::ostringstream text;
     text << "ground: " << grid.at("nx").get<std::size_t>() << " x " << grid.at("ny").get<std::size_t>() << " cells of "
          << grid.at("step").get<double>() << ", " << std::fixed << std::setprecision(0)
-         << 100.0 * ground->at("coverage").get<double>() << " % measured, "
-         << ground->at("voxels").get<std::size_t>() << " voxels";
+         << 100.0 * ground->at("coverage").get<double>() << " % measured, " << ground->at("voxels").get<std::size_t>()
+         << " voxels";
     plot.caption.push_back(text.str());
   }
 }

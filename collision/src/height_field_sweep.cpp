@@ -181,7 +181,8 @@ SegmentCheck sweepHeightField(const Segment& segment, double radius, const Surfa
     if (c.bound > reach) break;
     const Eigen::Vector3d n00 = lattice.node(c.k, c.l), n10 = lattice.node(c.k + 1, c.l);
     const Eigen::Vector3d n01 = lattice.node(c.k, c.l + 1), n11 = lattice.node(c.k + 1, c.l + 1);
-    for (const auto& top : {std::array<Eigen::Vector3d, 3>{n00, n10, n11}, std::array<Eigen::Vector3d, 3>{n00, n11, n01}}) {
+    for (const auto& top :
+         {std::array<Eigen::Vector3d, 3>{n00, n10, n11}, std::array<Eigen::Vector3d, 3>{n00, n11, n01}}) {
       ConvexPolytope prism = groundPrism(top, lattice.bottom());
       const DistanceCertificate d = certifiedDistance(a, b, prism, radius, reach);
       if (d.lower > reach) continue;

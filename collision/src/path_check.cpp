@@ -51,8 +51,9 @@ void checkSurfaces(const std::vector<Surface>& surfaces) {
     const std::string name = h.name.empty() ? std::string("a surface") : "\"" + h.name + "\"";
     if (h.field) {
       if (!h.field->valid())
-        throw Error::inParameter("surfaces", name + ": the height field needs a finite step > 0, a finite origin and "
-                                                    "nx * ny >= 1 finite heights");
+        throw Error::inParameter("surfaces", name +
+                                                 ": the height field needs a finite step > 0, a finite origin and "
+                                                 "nx * ny >= 1 finite heights");
       continue;
     }
     if (!h.normal.allFinite() || std::abs(h.normal.norm() - 1.0) > 1e-9)

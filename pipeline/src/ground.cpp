@@ -20,8 +20,8 @@ std::pair<std::size_t, std::size_t> nodesAround(double v, double origin, double 
 
 }  // namespace
 
-std::optional<Ground> fitGround(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& keyframes,
-                                const mapper::TerrainParams& params) {
+std::optional<Ground> fitGround(const std::vector<Eigen::Vector3d>& points,
+                                const std::vector<Eigen::Vector3d>& keyframes, const mapper::TerrainParams& params) {
   if (points.empty()) return std::nullopt;
   mapper::Terrain terrain;
   try {

@@ -38,8 +38,8 @@ inline constexpr double kPlaneMissShare = 0.25;
 /// explains the map: fewer than kGroundMinShare of the points within initial_threshold of the fit,
 /// fewer than 4 ground cells, or points the filter finds no ground in (fitTerrain's errors other
 /// than a bad setting, which it throws).
-std::optional<Ground> fitGround(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& keyframes,
-                                const mapper::TerrainParams& params);
+std::optional<Ground> fitGround(const std::vector<Eigen::Vector3d>& points,
+                                const std::vector<Eigen::Vector3d>& keyframes, const mapper::TerrainParams& params);
 
 /// The height above the ground within which an occupied voxel's centre is the ground's: half a
 /// voxel (a voxel holding a point on the surface has its centre that far from it at most) and half

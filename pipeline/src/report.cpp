@@ -309,12 +309,12 @@ nlohmann::json reportJson(const BuildResult& result, const ParameterSpelling& sp
       {"floor", readsOctree(result.params) ? json(nullptr) : planeReportJson(report.floor)},
       {"ceiling", readsOctree(result.params) ? json(nullptr) : planeReportJson(report.ceiling)},
       {"ground", groundJson(result.params, report.ground)},
-      {"resolution",
-       report.resolution ? json{{"given", report.resolution->given},
-                                {"spacing", report.resolution->spacing ? json(*report.resolution->spacing) : json(nullptr)},
-                                {"used", report.resolution->used},
-                                {"adapted", report.resolution->used != report.resolution->given}}
-                         : json(nullptr)},
+      {"resolution", report.resolution ? json{{"given", report.resolution->given},
+                                              {"spacing", report.resolution->spacing ? json(*report.resolution->spacing)
+                                                                                     : json(nullptr)},
+                                              {"used", report.resolution->used},
+                                              {"adapted", report.resolution->used != report.resolution->given}}
+                                       : json(nullptr)},
       {"levelling",
        {{"rotation", matrixRows(report.levelling.linear())},
         {"translation",

@@ -130,9 +130,8 @@ std::vector<Eigen::Vector3d> freeVoxelCentres(const mapper::OccupancyMap& map) {
 
 /// The floor and ceiling as solid half-spaces: up to the plane, or to the far face of the highest
 /// voxel set aside as that surface when it lies beyond (the voxels lie inside completely).
-std::vector<collision::Surface> boundingSurfaces(const BuildReport& report,
-                                                    const std::vector<Eigen::Vector3d>& centers,
-                                                    const std::vector<std::int32_t>& labels, double resolution) {
+std::vector<collision::Surface> boundingSurfaces(const BuildReport& report, const std::vector<Eigen::Vector3d>& centers,
+                                                 const std::vector<std::int32_t>& labels, double resolution) {
   std::vector<collision::Surface> out;
   const auto add = [&](const PlaneReport& surface, std::int32_t label, const char* name) {
     if (!surface.plane) return;

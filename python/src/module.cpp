@@ -462,7 +462,8 @@ void bindMap(py::module_& m) {
                 std::copy(f.heights.begin(), f.heights.end(), heights.mutable_data());
                 origin.mutable_data()[0] = f.origin.x();
                 origin.mutable_data()[1] = f.origin.y();
-                list.append(types->surface(s.name, py::none(), py::none(), types->height_field(origin, f.step, heights)));
+                list.append(
+                    types->surface(s.name, py::none(), py::none(), types->height_field(origin, f.step, heights)));
                 continue;
               }
               list.append(types->surface(s.name, own(std::vector<Eigen::Vector3d>{s.normal}).attr("reshape")(3),

@@ -414,9 +414,8 @@ double weightNear(const V3& a, const V3& b, double radius, const std::vector<V3>
 }
 
 void scoreSegments(const std::vector<hulls::Obstacle>& obstacles, const std::vector<collision::Surface>& surfaces,
-                   const GroundTruth& truth, const std::vector<V3>& points,
-                   const std::vector<std::uint32_t>& weights, const EvaluateParams& params,
-                   const SampledSegments& sampled, Evaluation& e) {
+                   const GroundTruth& truth, const std::vector<V3>& points, const std::vector<std::uint32_t>& weights,
+                   const EvaluateParams& params, const SampledSegments& sampled, Evaluation& e) {
   const auto& segments = sampled.segments;
   const auto& verdict = sampled.verdict;
   const auto& deepest = sampled.deepest;
@@ -508,7 +507,7 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
             {"volume_samples", p.volume_samples},
             {"segments", p.segments},
             {"segment_length", p.segment_length},
-            {"segment_ends", p.ends == SegmentEnds::kFree        ? "free"
+            {"segment_ends", p.ends == SegmentEnds::kFree         ? "free"
                              : p.ends == SegmentEnds::kInTruthBox ? "in_truth_box"
                                                                   : "corridor"},
             {"false_tolerance", p.false_tolerance},

@@ -161,7 +161,7 @@ TEST(SurfaceCheck, OctreeModeSeesTheFloorBetweenItsSparseVoxels) {
 TEST(SurfaceCheck, BadSurfacesAreRefusedNamingThem) {
   const std::vector<hulls::Obstacle> none;
   for (const Surface& bad : {Surface::plane("floor", V3(0, 0, 2), 0.0), Surface::plane("floor", V3(0, 0, NAN), 0.0),
-                               Surface::plane("floor", V3::UnitZ(), INFINITY)}) {
+                             Surface::plane("floor", V3::UnitZ(), INFINITY)}) {
     try {
       HullChecker checker(none, {bad});
       ADD_FAILURE() << "accepted";

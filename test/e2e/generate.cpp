@@ -88,9 +88,9 @@ TEST(GenerateCommand, AStreetsGroundIsAHeightFieldThatChecksHit) {
   const auto dir = hullmap::test::freshDir("generate_street_ground");
   const std::string d = "'" + dir.string() + "/";
   ASSERT_EQ(runHullmap(std::string(kSmallStreet) + " -o " + d + "street'").status, 0);
-  const auto b = runHullmap("build " + d + "street/map_points.txt' --trajectory " + d +
-                            "street/KeyFrameTrajectory.txt' --align " + d + "street/reference_trajectory.txt' -o " + d +
-                            "out'");
+  const auto b =
+      runHullmap("build " + d + "street/map_points.txt' --trajectory " + d + "street/KeyFrameTrajectory.txt' --align " +
+                 d + "street/reference_trajectory.txt' -o " + d + "out'");
   ASSERT_EQ(b.status, 0) << b.err;
   const auto report = hullmap::test::readJson(dir / "out" / "report.json");
   EXPECT_TRUE(report.at("resolution").at("adapted").get<bool>()) << report.at("resolution");

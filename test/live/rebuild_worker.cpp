@@ -248,7 +248,8 @@ TEST(LiveRebuildWorker, AGroundThatIsNoPlaneIsAnObstacleForPathChecks) {
   worker.submit(update(points));
   ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 1; }));
   // A drop from 1.5 m over the terrain to 0.5 m under it, and a level flight 1.5 m over its top.
-  const PathCheckAnswer down = worker.checkPath({{3.0, 4.0, terrain(3, 4) + 1.5}, {3.0, 4.0, terrain(3, 4) - 0.5}}, 0.2);
+  const PathCheckAnswer down =
+      worker.checkPath({{3.0, 4.0, terrain(3, 4) + 1.5}, {3.0, 4.0, terrain(3, 4) - 0.5}}, 0.2);
   ASSERT_TRUE(down.check.first_colliding_segment.has_value());
   EXPECT_EQ(down.check.segments[0].surface, "ground");
   EXPECT_NE(down.json_lines.find("\"surface\":\"ground\""), std::string::npos) << down.json_lines;

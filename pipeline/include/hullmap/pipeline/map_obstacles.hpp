@@ -17,7 +17,7 @@ struct BuildResult;
 
 /// What a path check of a build needs. Coordinates in the build's output (map) frame, map units.
 struct MapObstacles {
-  std::vector<hulls::Obstacle> obstacles;      ///< with their convex parts
+  std::vector<hulls::Obstacle> obstacles;    ///< with their convex parts
   std::vector<collision::Surface> surfaces;  ///< the floor and ceiling found or given, solid
   /// Input coordinates -> map coordinates; nullopt for an obstacles.json written before it was recorded.
   std::optional<mapper::Similarity> input_to_output;

@@ -161,12 +161,12 @@ struct GroundReport {
   double step = 0.0;                                 ///< cell side, map units
   std::size_t nx = 0, ny = 0;                        ///< nodes along x and y
   std::size_t cells_with_points = 0;                 ///< cells holding a voxel
-  std::size_t measured_cells = 0;  ///< cells whose height was measured as ground; others interpolated
-  double coverage = 0.0;           ///< measured_cells / (nx * ny)
-  double lowest = 0.0, highest = 0.0;  ///< the surface's lowest and highest node, map frame
-  double raised_most = 0.0;  ///< most a node was raised to hold the ground voxels, map units
-  std::size_t lowered = 0;   ///< nodes then held under a keyframe
-  std::size_t voxels = 0;    ///< occupied voxels set aside as ground
+  std::size_t measured_cells = 0;                    ///< cells whose height was measured as ground; others interpolated
+  double coverage = 0.0;                             ///< measured_cells / (nx * ny)
+  double lowest = 0.0, highest = 0.0;                ///< the surface's lowest and highest node, map frame
+  double raised_most = 0.0;                          ///< most a node was raised to hold the ground voxels, map units
+  std::size_t lowered = 0;                           ///< nodes then held under a keyframe
+  std::size_t voxels = 0;                            ///< occupied voxels set aside as ground
 };
 
 /// What the floor or ceiling stage found.
@@ -178,7 +178,7 @@ struct PlaneReport {
   /// The floor found does not explain the ground (its measured heights stray from the plane): the
   /// ground's height field stands for it (BuildReport::ground); `plane` is then empty.
   bool ground_instead = false;
-  std::size_t voxels = 0;              ///< occupied voxels set aside as this surface
+  std::size_t voxels = 0;  ///< occupied voxels set aside as this surface
 };
 
 /// The DBSCAN parameters a build used and where they came from.
@@ -224,7 +224,7 @@ struct BuildReport {
   mapper::Similarity input_to_output;
   PlaneReport floor;
   PlaneReport ceiling;
-  std::optional<GroundReport> ground;  ///< when a ground was found (BuildParams::terrain)
+  std::optional<GroundReport> ground;          ///< when a ground was found (BuildParams::terrain)
   std::optional<ResolutionReport> resolution;  ///< with BuildParams::adapt_resolution
   ClusterParamsReport cluster_params;
   std::optional<hulls::ConvexPartsSummary> parts;           ///< with params.convex_parts

@@ -52,7 +52,7 @@ struct EvaluateParams {
   /// A deep segment is unseen (Evaluation::deep_unseen) when its capsule holds fewer map points than
   /// this (the points' weights summed: a voxel centre weighs its map points).
   double seen_points = 3.0;
-  double sample_step = 0.01;              ///< spacing of the truth's distance samples along a segment
+  double sample_step = 0.01;  ///< spacing of the truth's distance samples along a segment
   std::uint64_t seed = 1;
 };
 
@@ -114,16 +114,16 @@ struct Evaluation {
   double outside_volume = 0.0, outside_volume_se = 0.0;  ///< of the union, outside every shape
   double far_volume = 0.0, far_volume_se = 0.0;          ///< of the union, farther than far_margin
   std::size_t segments = 0;
-  std::size_t deep = 0;          ///< segments whose capsule penetrates the truth by > depth_margin
-  std::size_t missed = 0;        ///< of those, reported clear by the hull checker
+  std::size_t deep = 0;    ///< segments whose capsule penetrates the truth by > depth_margin
+  std::size_t missed = 0;  ///< of those, reported clear by the hull checker
   /// Deep segments whose capsule holds fewer than seen_points map points (the points evaluate() was
   /// given: the build's voxel centres, weighted, by default): the map never saw the place they collide
   /// with (a tree's far side, a post between map points metres apart) or saw it as one or two stray
   /// points, which no clustering tells from outliers.
   std::size_t deep_unseen = 0;
   std::size_t missed_unseen = 0;  ///< of the missed, those unseen
-  std::size_t clear = 0;         ///< segments keeping radius + clear_margin from the truth
-  std::size_t false_alarms = 0;  ///< of those, reported colliding
+  std::size_t clear = 0;          ///< segments keeping radius + clear_margin from the truth
+  std::size_t false_alarms = 0;   ///< of those, reported colliding
   /// The hulls the false alarms hit first, most hit first (ties by obstacle id, then part).
   std::vector<FalseAlarmHull> false_alarm_hulls;
   std::vector<MissedSegment> missed_segments;  ///< every missed one, in the order drawn
