@@ -90,4 +90,25 @@ double groundBand(const mapper::TerrainParams& params, double resolution) {
   return 0.5 * resolution + 0.5 * params.initial_threshold;
 }
 
+/// The ground (BuildParams::terrain) when no floor plane explains the map: fitted to the build's
+/// sample of its points (map frame) under the keyframes, the same in both paths. A floor plane found
+/// (not levelled: a levelled map is a camera's frame, not metric) gives way to the ground when it
+/// does not explain it (planeExplainsGround).
+void recordGround(const BuildParams& params, const io::Points& sample, const std::vector<io::Keyframe>& keyframes,
+                  BuildResult& result) {
+  PlaneReport& floor = result.report.floor;
+  if (!params.ground || params.floor.mode != mapper::PlaneSetting::Mode::kAuto || floor.levelled) return;
+  std::vector<Eigen::Vector3d> positions;
+  for (const auto& k : keyframes) positions.push_back(k.position);
+  std::optional<Ground> ground = fitGround(sample, positions, params.terrain);
+  if (!ground) return;
+  if (floor.plane) {
+    if (planeExplainsGround(*floor.plane, *ground, params.terrain)) return;
+    floor.plane.reset();
+    floor.ground_instead = true;
+  }
+  result.report.ground = ground->report;
+  result.surfaces.push_back(std::move(ground->surface));
+}
+
 }  // namespace hullmap::pipeline

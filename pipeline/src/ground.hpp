@@ -46,4 +46,13 @@ std::optional<Ground> fitGround(const std::vector<Eigen::Vector3d>& points,
 /// of params.initial_threshold (the points' spread about the surface).
 double groundBand(const mapper::TerrainParams& params, double resolution);
 
+/// The build's ground stage (BuildParams::ground, terrain): when `floor` is kAuto and the map was
+/// not levelled (a levelled map is a camera's frame, not metric), fits the ground to the build's
+/// `sample` of its points (map frame) under the keyframes, the same in both paths (whole,
+/// streamed); a floor plane found gives way to it when it does not explain it (planeExplainsGround:
+/// PlaneReport::ground_instead). Records BuildReport::ground and adds the surface to
+/// result.surfaces.
+void recordGround(const BuildParams& params, const io::Points& sample, const std::vector<io::Keyframe>& keyframes,
+                  BuildResult& result);
+
 }  // namespace hullmap::pipeline

@@ -25,6 +25,7 @@
 #include "stage_timer.hpp"
 #include "stages.hpp"
 #include "ground.hpp"
+#include "resolution.hpp"
 #include "surfaces.hpp"
 #include "hullmap/pipeline/report.hpp"
 #include "hullmap/pipeline/voxels_csv.hpp"
@@ -209,53 +210,6 @@ void recordFrame(const BuildParams& params, BuildReport& report) {
   report.input_to_output = mapper::compose(mapper::fromIsometry(report.levelling), frameTransform(params, report));
 }
 
-/// The octree's resolution (BuildParams::adapt_resolution): the one given, or a coarser one when
-/// the map's points lie too far apart for it. The spacing is measured on the build's sample, which
-/// keeps every stride-th point: on a surface the spacing grows with the square root of the stride,
-/// so it is divided by that. Both paths (whole, streamed) keep the same sample.
-double chooseResolution(const BuildParams& params, const PointSample& sample, BuildReport& report) {
-  const double given = params.octree.resolution;
-  // An eps given is in the units of the resolution given: the two go together.
-  if (!params.adapt_resolution || params.eps) return given;
-  ResolutionReport r;
-  r.given = given;
-  r.used = given;
-  if (const auto spacing = clustering::pointSpacing(sample.points(), params.auto_rule, params.metric)) {
-    r.spacing = *spacing / std::sqrt(double(sample.stride()));
-    if (const auto coarser = clustering::resolutionForSpacing(*r.spacing, given, params.auto_rule)) r.used = *coarser;
-  }
-  report.resolution = r;
-  return r.used;
-}
-
-/// The ground (BuildParams::terrain) when no floor plane explains the map: fitted to the build's
-/// sample of its points (map frame) under the keyframes, the same in both paths. A floor plane found
-/// (not levelled: a levelled map is a camera's frame, not metric) gives way to the ground when it
-/// does not explain it (planeExplainsGround).
-void recordGround(const BuildParams& params, const io::Points& sample, const std::vector<io::Keyframe>& keyframes,
-                  BuildResult& result) {
-  PlaneReport& floor = result.report.floor;
-  if (!params.ground || params.floor.mode != mapper::PlaneSetting::Mode::kAuto || floor.levelled) return;
-  std::vector<Eigen::Vector3d> positions;
-  for (const auto& k : keyframes) positions.push_back(k.position);
-  std::optional<Ground> ground = fitGround(sample, positions, params.terrain);
-  if (!ground) return;
-  if (floor.plane) {
-    if (planeExplainsGround(*floor.plane, *ground, params.terrain)) return;
-    floor.plane.reset();
-    floor.ground_instead = true;
-  }
-  result.report.ground = ground->report;
-  result.surfaces.push_back(std::move(ground->surface));
-}
-
-/// `params` with the octree resolution `resolution`.
-BuildParams atResolution(const BuildParams& params, double resolution) {
-  BuildParams p = params;
-  p.octree.resolution = resolution;
-  return p;
-}
-
 /// The octree of points already read whole (map frame after this), with the keyframes' rays
 /// (trajectory), one scan's rays (origin), or points alone.
 /// `given` (keyframes in memory, input frame) stands for the trajectory file when not null.
@@ -290,7 +244,8 @@ void buildWhole(const BuildParams& params, io::Points points, BuildResult& resul
   PointSample sample;
   sample.add(points);
   // `params` may be result.params itself: copied before result.params records the resolution used.
-  const BuildParams used = atResolution(params, chooseResolution(params, sample, result.report));
+  const BuildParams used =
+      atResolution(params, chooseResolution(params, sample.points(), sample.stride(), result.report));
   result.params.octree.resolution = used.octree.resolution;
   const Surfaces surfaces = findSurfaces(used, sample.points(), levelsMap(used, result.report.inputs));
   if (!isIdentity(surfaces.levelling)) {
@@ -388,7 +343,8 @@ void buildStreamed(const BuildParams& params, BuildResult& result, StageTimer& t
   }
   const auto floor_start = Clock::now();
   // `params` may be result.params itself: copied before result.params records the resolution used.
-  const BuildParams used = atResolution(params, chooseResolution(params, sample, result.report));
+  const BuildParams used =
+      atResolution(params, chooseResolution(params, sample.points(), sample.stride(), result.report));
   result.params.octree.resolution = used.octree.resolution;
   const Surfaces surfaces = findSurfaces(used, sample.points(), levelsMap(used, pass.inputs));
   recordSurfaces(surfaces, result);
