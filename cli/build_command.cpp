@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <filesystem>
 #include <cmath>
 #include <iomanip>
@@ -40,6 +41,7 @@ struct BuildOptions {
   std::optional<std::string> align;             ///< reference trajectory
   std::string align_format = "tum";
   double align_tolerance = mapper::AlignParams{}.stamp_tolerance;
+  std::string align_model = "auto";
   std::string floor = "auto";
   std::string level = "auto";
   std::string ceiling = "none";
@@ -68,6 +70,7 @@ pipeline::BuildParams toParams(const BuildOptions& o) {
     align.reference = *o.align;
     align.format = io::parseReferenceFormat(o.align_format);
     align.params.stamp_tolerance = o.align_tolerance;
+    align.params.model = mapper::parseAlignModel(o.align_model);
     params.align = align;
   }
   params.floor = mapper::parsePlaneSetting("--floor", o.floor);
@@ -126,7 +129,7 @@ void refuseMisfits(const CLI::App& cmd, const BuildOptions& options) {
         throw Error(std::string(name) +
                     ": cannot apply with --align (the reference trajectory sets the frame and scale); leave it out");
   } else {
-    for (const char* name : {"--align-format", "--align-tolerance"})
+    for (const char* name : {"--align-format", "--align-tolerance", "--align-model"})
       if (cmd.count(name) > 0) throw Error(std::string(name) + ": applies only with --align REF");
   }
   if (options.concavity == "none" && cmd.count("--flat-gap") > 0)
@@ -241,6 +244,11 @@ void printStages(const pipeline::BuildResult& result) {
               << Eigen::AngleAxisd(a.transform.rotation).angle() * 180.0 / M_PI << " deg, translation " << t.x() << ' '
               << t.y() << ' ' << t.z() << "; RMSE " << a.rmse << " (max " << a.max_error << "), " << a.matched
               << " keyframes matched, " << a.unmatched << " unmatched\n";
+    if (a.drift) {
+      const auto [low, high] = std::minmax_element(a.drift->scales.begin(), a.drift->scales.end());
+      std::cout << "align: scale drift undone along the path (scale " << *low << " to " << *high << "): RMSE " << a.rmse
+                << " where one similarity gives " << a.similarity_rmse << "\n";
+    }
   }
   if (pipeline::readsOctree(result.params)) return;
   const bool aligned = report.alignment.has_value();
@@ -350,6 +358,11 @@ void addAlignOptions(CLI::App& cmd, BuildOptions& options) {
   cmd.add_option("--align-tolerance", options.align_tolerance,
                  "Seconds within which a keyframe matches a reference stamp")
       ->check(numberAbove(0, true))
+      ->capture_default_str();
+  cmd.add_option("--align-model", options.align_model,
+                 "How the map follows the reference: similarity (one for the whole map), drift (scale and "
+                 "translation along the path: monocular scale drift) or auto (drift when it fits far better)")
+      ->check(CLI::IsMember({"auto", "similarity", "drift"}))
       ->capture_default_str();
 }
 

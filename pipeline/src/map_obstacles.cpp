@@ -11,6 +11,7 @@ MapObstacles mapObstacles(const BuildResult& result) {
   map.obstacles = result.obstacles;
   map.surfaces = result.surfaces;
   map.input_to_output = result.report.input_to_output;
+  map.input_to_output_exact = inputToOutputExact(result.report);
   map.frame = outputFrame(result);
   return map;
 }
@@ -28,6 +29,7 @@ MapObstacles readMapObstacles(const std::filesystem::path& path) {
   map.obstacles = readObstaclesJson(file.string(), &meta);
   map.surfaces = std::move(meta.surfaces);
   map.input_to_output = meta.input_to_output;
+  map.input_to_output_exact = meta.input_to_output_exact;
   map.frame = std::move(meta.frame);
   return map;
 }
@@ -44,6 +46,11 @@ mapper::Similarity toMapFrame(const MapObstacles& map, QueryFrame frame) {
     throw Error::inParameter("frame",
                              "this build does not record its input-to-output transform (written by an "
                              "older hullmap): rebuild it to query in the input frame");
+  if (!map.input_to_output_exact)
+    throw Error::inParameter("frame",
+                             "this build's --align undid the map's scale drift, moving each point by its own "
+                             "part of the path (report.json alignment.drift), so no one transform takes input "
+                             "coordinates to the map: query in the map frame");
   return *map.input_to_output;
 }
 

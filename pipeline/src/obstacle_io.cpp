@@ -188,13 +188,17 @@ std::vector<collision::Surface> surfacesFromJson(const Reader& r, const json& li
 
 }  // namespace
 
-json similarityJson(const mapper::Similarity& s) {
+json similarityJson(const mapper::Similarity& s, bool exact) {
   json rotation = json::array();
   for (int i = 0; i < 3; ++i) rotation.push_back({s.rotation(i, 0), s.rotation(i, 1), s.rotation(i, 2)});
   const Eigen::Matrix4d m = mapper::toMatrix(s);
   json matrix = json::array();
   for (int i = 0; i < 4; ++i) matrix.push_back({m(i, 0), m(i, 1), m(i, 2), m(i, 3)});
-  return {{"scale", s.scale}, {"rotation", rotation}, {"translation", vec3(s.translation)}, {"matrix", matrix}};
+  return {{"scale", s.scale},
+          {"rotation", rotation},
+          {"translation", vec3(s.translation)},
+          {"matrix", matrix},
+          {"exact", exact}};
 }
 
 mapper::Similarity similarityFromJson(const json& j, const std::string& source, const std::string& where) {
@@ -218,7 +222,7 @@ json obstaclesToJson(const std::vector<hulls::Obstacle>& obstacles, const Obstac
   doc["frame"] = meta.frame;
   doc["parameters"] = meta.parameters;
   doc["surfaces"] = surfacesJson(meta.surfaces);
-  if (meta.input_to_output) doc["input_to_output"] = similarityJson(*meta.input_to_output);
+  if (meta.input_to_output) doc["input_to_output"] = similarityJson(*meta.input_to_output, meta.input_to_output_exact);
   json list = json::array();
   for (const auto& o : obstacles) {
     json entry = commonJson(o);
@@ -258,8 +262,13 @@ std::vector<hulls::Obstacle> obstaclesFromJson(const json& doc, const std::strin
     // Written since surfaces became obstacles for path checks; absent in older files: none.
     if (const auto surfaces = doc.find("surfaces"); surfaces != doc.end())
       meta->surfaces = surfacesFromJson(r, *surfaces);
-    if (const auto frame_change = doc.find("input_to_output"); frame_change != doc.end())
+    if (const auto frame_change = doc.find("input_to_output"); frame_change != doc.end()) {
       meta->input_to_output = similarityFromJson(*frame_change, source, "input_to_output");
+      if (const auto exact = frame_change->find("exact"); exact != frame_change->end()) {
+        if (!exact->is_boolean()) r.fail("input_to_output.exact", "expected true or false");
+        meta->input_to_output_exact = exact->get<bool>();
+      }
+    }
   }
   std::vector<hulls::Obstacle> obstacles;
   const json& list = r.array(r.field(doc, "obstacles", "top level"), "obstacles");

@@ -116,6 +116,7 @@ void write(const BuildResult& result, const fs::path& dir, const WriteOptions& o
     meta.parameters = report["parameters"];
     meta.surfaces = result.surfaces;
     meta.input_to_output = result.report.input_to_output;
+    meta.input_to_output_exact = inputToOutputExact(result.report);
     // The files are independent: written side by side (voxels.csv and obstacles.json take longest).
     tbb::parallel_invoke(
         [&] {

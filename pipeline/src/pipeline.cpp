@@ -233,8 +233,8 @@ void buildWhole(const BuildParams& params, io::Points points, BuildResult& resul
   if (params.origin) origin.push_back(*params.origin);
   if (params.align) {
     result.report.alignment = alignKeyframes(*params.align, keyframes, result.report);
-    mapper::applySimilarity(result.report.alignment->transform, points);
-    mapper::applySimilarity(result.report.alignment->transform, keyframes);
+    mapper::applyAlignment(*result.report.alignment, points);
+    mapper::applyAlignment(*result.report.alignment, keyframes);
     timer.stage("align");
   } else {
     mapper::toMapFrame(params.frame, keyframes);
@@ -429,6 +429,8 @@ namespace detail {
 void (*stage_hook)(const char* stage) = nullptr;
 }  // namespace detail
 
+bool inputToOutputExact(const BuildReport& report) { return !(report.alignment && report.alignment->drift); }
+
 bool readsOctree(const BuildParams& params) {
   return params.inputs.size() == 1 && isOctomapFile(params.inputs.front());
 }
@@ -440,8 +442,14 @@ std::string outputFrame(const BuildResult& result) {
   }
   std::ostringstream s;
   if (result.report.alignment && result.params.align) {
-    s << "the reference trajectory's frame (" << result.params.align->reference.string()
-      << ": keyframes fitted by a similarity, scale " << result.report.alignment->transform.scale << ")";
+    const auto& a = *result.report.alignment;
+    s << "the reference trajectory's frame (" << result.params.align->reference.string();
+    if (a.drift) {
+      const auto [low, high] = std::minmax_element(a.drift->scales.begin(), a.drift->scales.end());
+      s << ": keyframes fitted with the scale drifting along the path, " << *low << " to " << *high << ")";
+    } else {
+      s << ": keyframes fitted by a similarity, scale " << a.transform.scale << ")";
+    }
   } else {
     s << frameDescription(result.params.frame);
   }

@@ -113,14 +113,36 @@ nlohmann::json matrixRows(const Eigen::Matrix3d& m) {
 
 nlohmann::json alignmentJson(const mapper::Alignment& a, const std::map<std::string, std::size_t>& reference_dropped) {
   const auto& t = a.transform;
-  return {{"scale", t.scale},
+  nlohmann::json drift = nullptr;
+  if (a.drift) {
+    const auto& d = *a.drift;
+    nlohmann::json anchors = nlohmann::json::array();
+    for (std::size_t i = 0; i < d.anchors.size(); ++i) {
+      const auto& p = d.anchors[i];
+      const auto& c = d.translations[i];
+      anchors.push_back({{"stamp", d.stamps[i]},
+                         {"position", {p.x(), p.y(), p.z()}},
+                         {"scale", d.scales[i]},
+                         {"translation", {c.x(), c.y(), c.z()}}});
+    }
+    const auto [low, high] = std::minmax_element(d.scales.begin(), d.scales.end());
+    drift = {{"half_window", d.half_window},
+             {"holdout_rmse", d.holdout_rmse},
+             {"scale_min", *low},
+             {"scale_max", *high},
+             {"anchors", anchors}};
+  }
+  return {{"model", a.drift ? "drift" : "similarity"},
+          {"scale", t.scale},
           {"rotation", matrixRows(t.rotation)},
           {"translation", {t.translation.x(), t.translation.y(), t.translation.z()}},
           {"rmse", a.rmse},
           {"max_error", a.max_error},
+          {"similarity_rmse", a.similarity_rmse},
           {"matched", a.matched},
           {"unmatched", a.unmatched},
-          {"reference_dropped", reference_dropped}};
+          {"reference_dropped", reference_dropped},
+          {"drift", drift}};
 }
 
 }  // namespace
@@ -161,6 +183,7 @@ nlohmann::json parametersJson(const BuildParams& params) {
       {"align", params.align ? json(params.align->reference.string()) : json(nullptr)},
       {"align_format", params.align ? json(io::toString(params.align->format)) : json(nullptr)},
       {"align_tolerance", params.align ? json(params.align->params.stamp_tolerance) : json(nullptr)},
+      {"align_model", params.align ? json(mapper::toString(params.align->params.model)) : json(nullptr)},
       {"floor", planeSettingJson(params.floor)},
       {"level", params.level == Level::kOn    ? "on"
                 : params.level == Level::kOff ? "off"
@@ -320,7 +343,7 @@ nlohmann::json reportJson(const BuildResult& result, const ParameterSpelling& sp
         {"translation",
          {report.levelling.translation().x(), report.levelling.translation().y(),
           report.levelling.translation().z()}}}},
-      {"input_to_output", similarityJson(report.input_to_output)},
+      {"input_to_output", similarityJson(report.input_to_output, inputToOutputExact(report))},
       {"octree",
        {{"resolution", info.resolution},
         {"bounds",

@@ -118,7 +118,7 @@ void refuseMisfits(const std::set<std::string>& named, const BuildRequest& reque
   };
   const pipeline::BuildParams& params = request.params;
   if (!params.align) {
-    const std::string list = given({"align_format", "align_tolerance"});
+    const std::string list = given({"align_format", "align_tolerance", "align_model"});
     if (!list.empty()) throw Error::inParameter(list, "applies only with align (a reference trajectory)");
   }
   if (!params.convex_parts && named.count("flat_gap"))
@@ -198,10 +198,11 @@ void takeOctree(Keywords& k, pipeline::BuildParams& params) {
   }
 }
 
-// align (a file or an array of poses), align_format, align_tolerance.
+// align (a file or an array of poses), align_format, align_tolerance, align_model.
 void takeAlign(Keywords& k, py::handle align, pipeline::BuildParams& params) {
   py::object format = k.take("align_format");
   py::object tolerance = k.take("align_tolerance");
+  py::object model = k.take("align_model");
   if (!align.is_none()) {
     pipeline::AlignSettings settings;
     if (!format.is_none()) {
@@ -209,6 +210,15 @@ void takeAlign(Keywords& k, py::handle align, pipeline::BuildParams& params) {
       settings.format = io::parseReferenceFormat(word(format));
     }
     if (!tolerance.is_none()) settings.params.stamp_tolerance = number(tolerance, "align_tolerance");
+    if (!model.is_none()) {
+      if (!isWord(model))
+        throw Error::inParameter("align_model", "expected 'auto', 'similarity' or 'drift', got " + reprOf(model));
+      try {
+        settings.params.model = mapper::parseAlignModel(word(model));
+      } catch (const Error&) {
+        throw Error::inParameter("align_model", "expected 'auto', 'similarity' or 'drift', got " + reprOf(model));
+      }
+    }
     if (isPath(align)) {
       settings.reference = toPath(align);
     } else {

@@ -80,6 +80,32 @@ TEST(GenerateCommand, OutdoorLayoutWritesAGpsLogThatBuildAligns) {
   const double scale = hullmap::test::readJson(dir / "reference" / "report.json").at("alignment").at("scale");
   EXPECT_GT(scale, 1.0 / (0.0145 * 1.15));
   EXPECT_LT(scale, 1.0 / 0.0145);
+  // The GPS log's noise hides the drift: one similarity. The reference shows it: the drift model,
+  // its local scales spanning the drift, each point moved by its own part of the path, so no one
+  // transform takes input coordinates to the map and `check --frame input` says so.
+  EXPECT_EQ(a.at("model"), "similarity");
+  EXPECT_TRUE(hullmap::test::readJson(dir / "gps" / "report.json").at("input_to_output").at("exact").get<bool>());
+  const auto report = hullmap::test::readJson(dir / "reference" / "report.json");
+  const auto& fit = report.at("alignment");
+  EXPECT_EQ(fit.at("model"), "drift");
+  EXPECT_LT(fit.at("rmse").get<double>(), 0.1 * fit.at("similarity_rmse").get<double>());
+  EXPECT_EQ(fit.at("drift").at("anchors").size(), 40u);
+  EXPECT_GT(fit.at("drift").at("scale_max").get<double>(), 1.1 * fit.at("drift").at("scale_min").get<double>());
+  EXPECT_FALSE(report.at("input_to_output").at("exact").get<bool>());
+  EXPECT_FALSE(
+      hullmap::test::readJson(dir / "reference" / "obstacles.json").at("input_to_output").at("exact").get<bool>());
+  const auto input_frame = runHullmap("check " + d + "reference' -r 0.3 --frame input --segment=0,0,1,1,1,1");
+  EXPECT_EQ(input_frame.status, 2);
+  EXPECT_NE(input_frame.err.find("--frame"), std::string::npos) << input_frame.err;
+  EXPECT_NE(input_frame.err.find("scale drift"), std::string::npos) << input_frame.err;
+  // Asked for one similarity, the build keeps it.
+  const auto one = runHullmap("build " + in + "--align " + d + "street/reference_trajectory.txt' --align-model " +
+                              "similarity -o " + d + "similarity'");
+  ASSERT_EQ(one.status, 0) << one.err;
+  const auto one_report = hullmap::test::readJson(dir / "similarity" / "report.json");
+  EXPECT_EQ(one_report.at("alignment").at("model"), "similarity");
+  EXPECT_TRUE(one_report.at("input_to_output").at("exact").get<bool>());
+  EXPECT_EQ(runHullmap("build " + in + "--align-model drift -o " + d + "no_align'").status, 2);
 }
 
 // A street built at the defaults: the resolution fits its spacing, the ground is a height field in

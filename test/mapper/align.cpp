@@ -1,4 +1,5 @@
 // Metric frame from a reference trajectory: reference readers, WGS84 -> ENU, Umeyama alignment.
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -281,6 +282,152 @@ TEST(MapperAlign, GpsReferenceAlignsAMonocularTrajectoryToMetres) {
   const Alignment a = alignTrajectory(keyframesFrom(ref, truth), ref);
   EXPECT_NEAR(a.transform.scale, 0.25, 1e-9);
   EXPECT_LT(a.rmse, 1e-6);
+}
+
+// Monocular scale drift, written independently of the build: a street-long path whose map scale
+// grows linearly along it (as sim/sample_scene.hpp's model, integrated here in closed form per
+// keyframe), the map points placed at fixed offsets from the keyframes in that keyframe's scale.
+struct DriftingMap {
+  std::vector<ReferencePose> reference;
+  std::vector<Keyframe> keyframes;
+  Points truth;  // the points, reference frame
+  Points map;    // the same points as the drifting map wrote them
+};
+
+DriftingMap driftingMap(std::size_t n, double drift, double noise, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  DriftingMap d;
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.4, Eigen::Vector3d(0.2, 0.3, 1.0).normalized()).toRotationMatrix();
+  const double base = 0.05;  // map units per metre at the start
+  Eigen::Vector3d written = Eigen::Vector3d::Zero(), previous_position = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double u = static_cast<double>(i) / static_cast<double>(n - 1);
+    ReferencePose ref;
+    ref.stamp = 10.0 + static_cast<double>(i);
+    ref.position = Eigen::Vector3d(200.0 * u, 30.0 * std::sin(3.0 * u), 1.5 + 2.0 * u);
+    const double scale = base * (1.0 + drift * u);
+    if (i > 0) {
+      const double previous = base * (1.0 + drift * static_cast<double>(i - 1) / static_cast<double>(n - 1));
+      written += 0.5 * (scale + previous) * (r * (ref.position - previous_position));
+    }
+    previous_position = ref.position;
+    d.reference.push_back(ref);
+    Keyframe k;
+    k.stamp = ref.stamp;
+    k.position = written;
+    d.keyframes.push_back(k);
+    for (int j = 0; j < 20; ++j) {  // points 2-8 m off the path, on both sides and above
+      const Eigen::Vector3d offset(gauss(rng), 4.0 * gauss(rng), std::abs(gauss(rng)));
+      d.truth.push_back(ref.position + offset);
+      d.map.push_back(written + scale * (r * offset));
+    }
+    Eigen::Vector3d jitter(gauss(rng), gauss(rng), gauss(rng));
+    d.reference.back().position += noise * jitter;
+  }
+  return d;
+}
+
+double rmsError(const Points& a, const Points& b) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) sum += (a[i] - b[i]).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(a.size()));
+}
+
+TEST(MapperAlignDrift, UndoesMonocularScaleDriftWhereOneSimilarityCannot) {
+  for (const double drift : {0.15, 0.3}) {
+    DriftingMap d = driftingMap(100, drift, 0.0, 3);
+    const Alignment a = alignTrajectory(d.keyframes, d.reference);
+    ASSERT_TRUE(a.drift.has_value()) << "drift " << drift;
+    EXPECT_GT(a.similarity_rmse, 20.0 * a.rmse);
+    EXPECT_LT(a.drift->holdout_rmse, 0.05 * a.similarity_rmse);
+    // The oracle: the points' true positions. One similarity leaves metres; the drift model leaves
+    // what a linear blend of the local scales cannot follow, centimetres.
+    Points similarity = d.map, corrected = d.map;
+    applySimilarity(a.transform, similarity);
+    applyAlignment(a, corrected);
+    const double before = rmsError(similarity, d.truth), after = rmsError(corrected, d.truth);
+    EXPECT_GT(before, 0.5) << "drift " << drift;
+    EXPECT_LT(after, 0.1) << "drift " << drift;
+    // Each local scale is the written one (1 / (0.05 (1 + drift u)) metres per map unit) at its
+    // window's centre (one-sided at the path's ends).
+    const std::size_t n = d.keyframes.size(), h = a.drift->half_window;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double centre = 0.5 * static_cast<double>((i >= h ? i - h : 0) + std::min(n - 1, i + h));
+      const double written = 1.0 / (0.05 * (1.0 + drift * centre / static_cast<double>(n - 1)));
+      EXPECT_NEAR(a.drift->scales[i], written, 0.002 * written) << "drift " << drift << ", anchor " << i;
+    }
+    // Keyframes move as points do: each lands on its reference.
+    std::vector<Keyframe> moved = d.keyframes;
+    applyAlignment(a, moved);
+    for (std::size_t i = 0; i < moved.size(); ++i)
+      EXPECT_LT((moved[i].position - d.reference[i].position).norm(), 0.1) << i;
+  }
+}
+
+TEST(MapperAlignDrift, WithoutDriftOrWithNoiseAloneOneSimilarityIsKept) {
+  // No drift: the similarity is exact and nothing is left to undo.
+  const DriftingMap exact = driftingMap(100, 0.0, 0.0, 5);
+  const Alignment a = alignTrajectory(exact.keyframes, exact.reference);
+  EXPECT_FALSE(a.drift.has_value());
+  EXPECT_LT(a.rmse, 1e-6);
+  // GPS-like noise of 3 m per axis and no drift: the windows fit noise, which they do not predict.
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    const DriftingMap noisy = driftingMap(100, 0.0, 3.0, seed);
+    const Alignment b = alignTrajectory(noisy.keyframes, noisy.reference);
+    EXPECT_FALSE(b.drift.has_value()) << "seed " << seed << ": similarity RMSE " << b.similarity_rmse;
+    EXPECT_DOUBLE_EQ(b.rmse, b.similarity_rmse);
+  }
+}
+
+TEST(MapperAlignDrift, TheModelCanBeForcedEitherWay) {
+  const DriftingMap d = driftingMap(100, 0.3, 0.0, 7);
+  AlignParams similarity;
+  similarity.model = AlignModel::kSimilarity;
+  EXPECT_FALSE(alignTrajectory(d.keyframes, d.reference, similarity).drift.has_value());
+  const DriftingMap exact = driftingMap(100, 0.0, 0.0, 7);
+  AlignParams drift;
+  drift.model = AlignModel::kDrift;
+  const Alignment forced = alignTrajectory(exact.keyframes, exact.reference, drift);
+  ASSERT_TRUE(forced.drift.has_value());
+  for (double s : forced.drift->scales) EXPECT_NEAR(s, forced.transform.scale, 1e-9 * forced.transform.scale);
+  // Too few matches for the windows: one similarity, whatever is asked.
+  const DriftingMap short_path = driftingMap(kDriftMinAnchors - 1, 0.3, 0.0, 7);
+  EXPECT_FALSE(alignTrajectory(short_path.keyframes, short_path.reference, drift).drift.has_value());
+  EXPECT_EQ(parseAlignModel("auto"), AlignModel::kAuto);
+  EXPECT_EQ(parseAlignModel("drift"), AlignModel::kDrift);
+  EXPECT_STREQ(toString(AlignModel::kSimilarity), "similarity");
+  try {
+    parseAlignModel("piecewise");
+    ADD_FAILURE() << "'piecewise' accepted as an align model";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.parameter(), "align_model") << e.what();
+  }
+}
+
+TEST(MapperAlignDrift, TheWarpIsExactAtAnchorsAndContinuousAlongThePath) {
+  const DriftingMap d = driftingMap(60, 0.3, 0.0, 9);
+  const Alignment a = alignTrajectory(d.keyframes, d.reference);
+  ASSERT_TRUE(a.drift.has_value());
+  const DriftCorrection& c = *a.drift;
+  Points anchors = c.anchors;
+  applyAlignment(a, anchors);
+  for (std::size_t i = 0; i < anchors.size(); ++i) {
+    const Eigen::Vector3d expected = c.scales[i] * (a.transform.rotation * c.anchors[i]) + c.translations[i];
+    EXPECT_LT((anchors[i] - expected).norm(), 1e-9) << i;
+  }
+  // Walk the anchor polyline in small steps: the moved walk has no step far longer than the
+  // scaled input step (no jump where the nearest segment changes).
+  Points walk;
+  for (std::size_t i = 0; i + 1 < c.anchors.size(); ++i)
+    for (int k = 0; k < 10; ++k) walk.push_back(c.anchors[i] + 0.1 * k * (c.anchors[i + 1] - c.anchors[i]));
+  Points moved = walk;
+  applyAlignment(a, moved);
+  const double largest_scale = *std::max_element(c.scales.begin(), c.scales.end());
+  for (std::size_t i = 0; i + 1 < walk.size(); ++i) {
+    const double step = (walk[i + 1] - walk[i]).norm();
+    EXPECT_LT((moved[i + 1] - moved[i]).norm(), 1.1 * largest_scale * step + 1e-9) << i;
+  }
 }
 
 }  // namespace

@@ -136,6 +136,7 @@ def test_the_names_in_messages_are_the_librarys(points, simple):
     ({"max_range": 3.0}, "max_range: applies only to free space cast along rays"),
     ({"miss": 0.3, "max_range": 2.0}, "max_range/miss: applies only"),
     ({"align_format": "gps"}, "align_format: applies only with align"),
+    ({"align_model": "drift"}, "align_model: applies only with align"),
     ({"origin": (0, 0)}, "origin: expected three numbers"),
     ({"origin": (0, 0, math.nan)}, "origin: must be finite"),
     ({"origin": (0, 0, 0), "trajectory": "maps/simple/KeyFrameTrajectory.txt"}, "trajectory/origin: give one or the other"),

@@ -38,3 +38,16 @@ def test_the_ground_is_a_height_field_that_checks_hit(street):
     assert loaded.surfaces[0].field.heights.tolist() == field.heights.tolist()
     again = loaded.check(np.array([[x, y, top + 20.0, x, y, top - 5.0]]), radius=0.3)
     assert again["t"][0] == rows["t"][0]
+
+
+def test_the_streets_scale_drift_is_undone_unless_one_similarity_is_asked(street):
+    inputs = dict(trajectory=str(street / "KeyFrameTrajectory.txt"), align=str(street / "reference_trajectory.txt"))
+    drift = hullmap.build(str(street / "map_points.txt"), **inputs)
+    fit = drift.report["alignment"]
+    assert fit["model"] == "drift" and fit["rmse"] < 0.1 * fit["similarity_rmse"]
+    assert drift.report["input_to_output"]["exact"] is False
+    one = hullmap.build(str(street / "map_points.txt"), align_model="similarity", **inputs)
+    assert one.report["alignment"]["model"] == "similarity" and one.report["input_to_output"]["exact"] is True
+    assert one.report["alignment"]["rmse"] == pytest.approx(fit["similarity_rmse"])
+    with pytest.raises(ValueError, match="align_model: expected 'auto', 'similarity' or 'drift'"):
+        hullmap.build(str(street / "map_points.txt"), align_model="piecewise", **inputs)

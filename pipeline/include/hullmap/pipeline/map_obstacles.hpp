@@ -21,7 +21,8 @@ struct MapObstacles {
   std::vector<collision::Surface> surfaces;  ///< the floor and ceiling found or given, solid
   /// Input coordinates -> map coordinates; nullopt for an obstacles.json written before it was recorded.
   std::optional<mapper::Similarity> input_to_output;
-  std::string frame;  ///< the build's description of its frame
+  bool input_to_output_exact = true;  ///< false: the drift model moved each point by its part of the path
+  std::string frame;                  ///< the build's description of its frame
 };
 
 /// The obstacles, surfaces and frame of a build in memory.
@@ -41,7 +42,7 @@ QueryFrame parseQueryFrame(const std::string& text);
 /// The similarity that takes `frame` coordinates into the map frame: the identity for kMap,
 /// input_to_output for kInput. Lengths scale by its `scale` (a radius does not: it is always in map
 /// units). Throws hullmap::Error naming `frame` when kInput is asked of a build that does not record
-/// input_to_output.
+/// input_to_output, or whose input_to_output is not exact (an alignment that undid scale drift).
 mapper::Similarity toMapFrame(const MapObstacles& map, QueryFrame frame);
 
 }  // namespace hullmap::pipeline

@@ -30,11 +30,14 @@ struct ObstaclesMeta {
   /// Input coordinates -> these coordinates (top-level "input_to_output"; absent in files written
   /// before it: unknown).
   std::optional<mapper::Similarity> input_to_output;
+  /// Whether input_to_output is the whole change ("exact"; absent in older files: true). False when
+  /// `--align` undid scale drift: each point moved by its own part of the path's similarities.
+  bool input_to_output_exact = true;
 };
 
-/// {"scale", "rotation" (3 rows), "translation", "matrix" (the 4 x 4 homogeneous matrix, 4 rows)}:
-/// how report.json and obstacles.json write a similarity (input_to_output).
-nlohmann::json similarityJson(const mapper::Similarity& s);
+/// {"scale", "rotation" (3 rows), "translation", "matrix" (the 4 x 4 homogeneous matrix, 4 rows),
+/// "exact"}: how report.json and obstacles.json write a similarity (input_to_output).
+nlohmann::json similarityJson(const mapper::Similarity& s, bool exact = true);
 
 /// Reads similarityJson's object (scale, rotation and translation; matrix is not read); throws
 /// hullmap::Error "<source>: <where>: <what>" when a field is missing or malformed, the scale not

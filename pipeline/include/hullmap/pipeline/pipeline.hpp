@@ -221,6 +221,8 @@ struct BuildReport {
   /// Input coordinates -> output coordinates: the product of the up axis and scale (or the
   /// alignment) and the levelling; identity for an octree read as it is. `check` and `plan` take
   /// input-frame coordinates through it (mapper::inverse for the way back).
+  /// With the alignment's drift model (alignment->drift) it is the whole path's similarity only:
+  /// each point moved by its own part of the path (inputToOutputExact is false).
   mapper::Similarity input_to_output;
   PlaneReport floor;
   PlaneReport ceiling;
@@ -315,6 +317,10 @@ bool readsOctree(const BuildParams& params);
 
 /// The frame the outputs of `result` are in, as written into report.json and obstacles.json.
 std::string outputFrame(const BuildResult& result);
+
+/// Whether report.input_to_output is the whole change from input to output: false when the
+/// alignment's drift model moved each point by its own part of the path.
+bool inputToOutputExact(const BuildReport& report);
 
 /// Writes map.bt (+ map.ot with params.write_ot), voxels.csv, obstacles.json, obstacles.obj,
 /// report.json (+ trajectory.txt, the keyframes in the output frame, when the build had keyframes:
