@@ -244,6 +244,10 @@ void printStages(const pipeline::BuildResult& result) {
               << Eigen::AngleAxisd(a.transform.rotation).angle() * 180.0 / M_PI << " deg, translation " << t.x() << ' '
               << t.y() << ' ' << t.z() << "; RMSE " << a.rmse << " (max " << a.max_error << "), " << a.matched
               << " keyframes matched, " << a.unmatched << " unmatched\n";
+    if (a.roll_from_cameras)
+      std::cout << "align: the reference is nearly a line and leaves the roll about it undetermined (+-"
+                << a.roll_sigma * 180.0 / M_PI << " deg): the cameras' level x axes set it, turning the fit by "
+                << a.roll_turn * 180.0 / M_PI << " deg\n";
     if (a.drift) {
       const auto [low, high] = std::minmax_element(a.drift->scales.begin(), a.drift->scales.end());
       std::cout << "align: scale drift undone along the path (scale " << *low << " to " << *high << "): RMSE " << a.rmse

@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include "align_roll.hpp"
 #include "hullmap/core/error.hpp"
 
 namespace hullmap::mapper {
@@ -26,6 +27,7 @@ Eigen::Vector3d spread(const Eigen::Matrix3Xd& positions) {
 struct Matches {
   std::vector<double> stamps;
   std::vector<Eigen::Vector3d> from, to;
+  std::vector<Eigen::Quaterniond> orientations;  ///< the keyframes'
 };
 
 struct Residuals {
@@ -57,6 +59,7 @@ Matches inTimeOrder(const Matches& m) {
     out.stamps.push_back(m.stamps[i]);
     out.from.push_back(m.from[i]);
     out.to.push_back(m.to[i]);
+    out.orientations.push_back(m.orientations[i]);
   }
   return out;
 }
@@ -151,6 +154,7 @@ Alignment alignTrajectory(const std::vector<io::Keyframe>& keyframes, const std:
       m.stamps.push_back(k.stamp);
       m.from.push_back(k.position);
       m.to.push_back(best->position);
+      m.orientations.push_back(k.orientation);
     } else {
       ++result.unmatched;
     }
@@ -179,6 +183,12 @@ Alignment alignTrajectory(const std::vector<io::Keyframe>& keyframes, const std:
   if (!(s.scale > 0.0) || !std::isfinite(s.scale)) throw Error("align: the fit is degenerate (scale not positive)");
   s.rotation = sr / s.scale;
   s.translation = t.topRightCorner<3, 1>();
+  const Residuals umeyama = residuals(m, [&](const Eigen::Vector3d& p, std::size_t) { return s(p); });
+  const RollFit roll = fitRoll(m.to, m.orientations, s, umeyama.rmse);
+  s = roll.transform;
+  result.roll_sigma = roll.sigma;
+  result.roll_from_cameras = roll.from_cameras;
+  result.roll_turn = roll.turn;
   const Residuals whole = residuals(m, [&](const Eigen::Vector3d& p, std::size_t) { return s(p); });
   result.similarity_rmse = result.rmse = whole.rmse;
   result.max_error = whole.max;

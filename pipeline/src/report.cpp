@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "hullmap/core/constants.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "input_points.hpp"
@@ -139,6 +140,10 @@ nlohmann::json alignmentJson(const mapper::Alignment& a, const std::map<std::str
           {"rmse", a.rmse},
           {"max_error", a.max_error},
           {"similarity_rmse", a.similarity_rmse},
+          {"roll",
+           {{"sigma_deg", a.roll_sigma * 180.0 / kPi},
+            {"from", a.roll_from_cameras ? "cameras" : "reference"},
+            {"turn_deg", a.roll_turn * 180.0 / kPi}}},
           {"matched", a.matched},
           {"unmatched", a.unmatched},
           {"reference_dropped", reference_dropped},

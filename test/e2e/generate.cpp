@@ -84,6 +84,12 @@ TEST(GenerateCommand, OutdoorLayoutWritesAGpsLogThatBuildAligns) {
   // its local scales spanning the drift, each point moved by its own part of the path, so no one
   // transform takes input coordinates to the map and `check --frame input` says so.
   EXPECT_EQ(a.at("model"), "similarity");
+  // A street is nearly a line: the GPS noise leaves the roll about it to the cameras, which level the
+  // map, so its ground is found (this short street's is a plane: the floor).
+  EXPECT_EQ(a.at("roll").at("from"), "cameras");
+  EXPECT_GT(a.at("roll").at("sigma_deg").get<double>(), 1.0);
+  const auto gps_report = hullmap::test::readJson(dir / "gps" / "report.json");
+  EXPECT_TRUE(gps_report.at("floor").at("found").get<bool>() || !gps_report.at("ground").is_null());
   EXPECT_TRUE(hullmap::test::readJson(dir / "gps" / "report.json").at("input_to_output").at("exact").get<bool>());
   const auto report = hullmap::test::readJson(dir / "reference" / "report.json");
   const auto& fit = report.at("alignment");

@@ -430,4 +430,82 @@ TEST(MapperAlignDrift, TheWarpIsExactAtAnchorsAndContinuousAlongThePath) {
   }
 }
 
+// A nearly straight street (0.6 m of sideways wiggle over 200 m), a GPS-like reference of 3 m noise
+// per axis, and keyframes written by a random similarity from cameras that look along the street,
+// pitched down 10 degrees, without roll (ORB-SLAM's axes: x right, y down, z forward).
+struct StraightStreet {
+  std::vector<ReferencePose> reference;
+  std::vector<Keyframe> keyframes;
+  Similarity truth;  // keyframe frame -> metres
+};
+
+StraightStreet straightStreet(unsigned seed, double noise) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  StraightStreet s;
+  s.truth.scale = 40.0;
+  s.truth.rotation = randomRotation(rng);
+  s.truth.translation = Eigen::Vector3d(5.0, -3.0, 2.0);
+  const Similarity to_map = inverse(s.truth);
+  for (int i = 0; i < 100; ++i) {
+    const double x = 2.0 * i;
+    const Eigen::Vector3d position(x, 0.6 * std::sin(x / 15.0), 1.5 + 0.03 * x);
+    const Eigen::Vector3d forward =
+        (std::cos(0.17) * Eigen::Vector3d(1.0, 0.04 * std::cos(x / 15.0), 0.03).normalized() -
+         std::sin(0.17) * Eigen::Vector3d::UnitZ())
+            .normalized();
+    const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
+    Eigen::Matrix3d camera;
+    camera << right, forward.cross(right), forward;
+    Keyframe k;
+    k.stamp = 1.0 + i;
+    k.position = to_map(position);
+    k.orientation = Eigen::Quaterniond(to_map.rotation * camera).normalized();
+    s.keyframes.push_back(k);
+    ReferencePose r;
+    r.stamp = k.stamp;
+    r.position = position + noise * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+    s.reference.push_back(r);
+  }
+  return s;
+}
+
+double tiltDegrees(const Similarity& fit, const Similarity& truth) {
+  const Eigen::Vector3d up = fit.rotation * truth.rotation.transpose() * Eigen::Vector3d::UnitZ();
+  return std::acos(std::clamp(up.z(), -1.0, 1.0)) * 180.0 / kPi;
+}
+
+TEST(MapperAlignRoll, ANearlyStraightNoisyReferenceTakesItsRollFromTheCameras) {
+  double worst = 0.0;
+  int undetermined = 0;
+  for (unsigned seed = 1; seed <= 20; ++seed) {
+    const StraightStreet s = straightStreet(seed, 3.0);
+    const Alignment a = alignTrajectory(s.keyframes, s.reference);
+    ASSERT_TRUE(a.roll_from_cameras) << "seed " << seed << ": roll sigma " << a.roll_sigma;
+    EXPECT_GT(a.roll_sigma, kPi / 180.0);
+    worst = std::max(worst, tiltDegrees(a.transform, s.truth));
+    // What the reference alone gives: the least-squares fit, often tens of degrees off.
+    undetermined += std::abs(a.roll_turn) > 5.0 * kPi / 180.0 ? 1 : 0;
+  }
+  // The cameras level the map to what the GPS noise leaves in the pitch along the street.
+  EXPECT_LT(worst, 1.0);
+  EXPECT_GT(undetermined, 5) << "the reference alone should leave the roll off by > 5 degrees often";
+}
+
+TEST(MapperAlignRoll, AReferenceThatPinsTheRollKeepsIt) {
+  // The same street without noise: the sideways wiggle pins the roll exactly.
+  const StraightStreet exact = straightStreet(3, 0.0);
+  const Alignment a = alignTrajectory(exact.keyframes, exact.reference);
+  EXPECT_FALSE(a.roll_from_cameras);
+  EXPECT_LT(a.roll_sigma, 1e-6);
+  EXPECT_LT(tiltDegrees(a.transform, exact.truth), 1e-6);
+  // Cameras looking across the path (x axes along it) cannot say where up is about it: kept.
+  StraightStreet sideways = straightStreet(4, 3.0);
+  const Eigen::Matrix3d quarter = Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  for (Keyframe& k : sideways.keyframes) k.orientation = Eigen::Quaterniond(k.orientation * quarter).normalized();
+  const Alignment b = alignTrajectory(sideways.keyframes, sideways.reference);
+  EXPECT_FALSE(b.roll_from_cameras);
+  EXPECT_EQ(b.roll_turn, 0.0);
+}
+
 }  // namespace

@@ -13,6 +13,9 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/core/constants.hpp"
+#include "hullmap/io/reference_trajectory.hpp"
+#include "hullmap/mapper/align.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/sim/evaluate.hpp"
 #include "hullmap/sim/sample_scene.hpp"
@@ -24,6 +27,9 @@ using V3 = Eigen::Vector3d;
 namespace pipeline = hullmap::pipeline;
 namespace sim = hullmap::sim;
 namespace collision = hullmap::collision;
+namespace io = hullmap::io;
+namespace mapper = hullmap::mapper;
+using hullmap::kPi;
 
 struct StreetCase {
   std::uint64_t seed;
@@ -43,6 +49,8 @@ std::string caseName(const StreetCase& c) {
 struct Built {
   pipeline::BuildResult result;
   sim::GroundTruth truth;
+  pipeline::BuildResult gps;  ///< the same map aligned to the scene's GPS log
+  std::vector<io::ReferencePose> reference;
 };
 
 /// The street as `hullmap generate --layout outdoor` writes it, built as bench/quality.py builds it.
@@ -61,7 +69,10 @@ Built buildStreet(const StreetCase& c) {
   build.inputs = {dir / "map_points.txt"};
   build.trajectory = dir / "KeyFrameTrajectory.txt";
   build.align = pipeline::AlignSettings{dir / "reference_trajectory.txt", {}, {}};
-  return {pipeline::build(build), sim::readGroundTruth((dir / "ground_truth.json").string())};
+  pipeline::BuildParams gps = build;
+  gps.align = pipeline::AlignSettings{dir / "gps.txt", io::ReferenceFormat::kGps, {}};
+  return {pipeline::build(build), sim::readGroundTruth((dir / "ground_truth.json").string()), pipeline::build(gps),
+          io::readReferenceTrajectory((dir / "reference_trajectory.txt").string(), io::ReferenceFormat::kTum)};
 }
 
 const sim::TruthShape& trueGround(const sim::GroundTruth& truth) {
@@ -79,7 +90,7 @@ TEST(Streets, SweepStreetsMeetTheOutdoorTargetsAtTheDefaults) {
                                            {312, 6.0, 0.0, 0, 1.0, 0.06}};
   for (const StreetCase& c : streets) {
     SCOPED_TRACE(caseName(c));
-    const auto [r, truth] = buildStreet(c);
+    const auto [r, truth, gps, reference] = buildStreet(c);
     // The drifting streets' scale drift is undone; one similarity fits the others exactly.
     ASSERT_TRUE(r.report.alignment.has_value());
     EXPECT_EQ(r.report.alignment->drift.has_value(), c.drift > 0.0);
@@ -133,6 +144,16 @@ TEST(Streets, SweepStreetsMeetTheOutdoorTargetsAtTheDefaults) {
     }
     EXPECT_GT(drops, 250u);
     EXPECT_GT(on_ground, drops / 2);
+
+    // Aligned to the GPS log (3 m of noise on a nearly straight street), the map stays level: its
+    // keyframes fitted to the true path tilt by under 1.5 degrees, its ground is found, no keyframe
+    // is inside a hull and the noise stays low.
+    const mapper::Alignment to_truth = mapper::alignTrajectory(gps.keyframes, reference);
+    const double tilt = std::acos(std::clamp(to_truth.transform.rotation(2, 2), -1.0, 1.0)) * 180.0 / kPi;
+    EXPECT_LT(tilt, 1.5) << "the GPS-aligned map's tilt, degrees";
+    EXPECT_TRUE(gps.report.ground.has_value() || gps.report.floor.plane.has_value());
+    EXPECT_EQ(gps.report.keyframes_inside_hulls, 0u);
+    EXPECT_LE(double(gps.clusters.noise), 0.30 * double(gps.voxels.size()));
   }
 }
 

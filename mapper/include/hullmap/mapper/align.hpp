@@ -73,8 +73,12 @@ struct Alignment {
   double rmse = 0.0;                     ///< metres: RMS distance between the moved keyframes and their matches
   double max_error = 0.0;                ///< metres: the largest of those distances
   double similarity_rmse = 0.0;          ///< metres: the RMS distance with `transform` alone
-  std::size_t matched = 0;               ///< keyframes with a reference pose within the tolerance
-  std::size_t unmatched = 0;             ///< keyframes without one
+  /// radians: the standard error the reference alone leaves in the roll about its path's main axis
+  double roll_sigma = 0.0;
+  bool roll_from_cameras = false;  ///< that roll was undetermined (> 1 degree) and the cameras set it
+  double roll_turn = 0.0;          ///< radians: how far they turned it from the least-squares fit
+  std::size_t matched = 0;         ///< keyframes with a reference pose within the tolerance
+  std::size_t unmatched = 0;       ///< keyframes without one
 };
 
 /// The least anchors the drift model is fitted with, and the share of them each side of an anchor
@@ -87,6 +91,10 @@ inline constexpr double kDriftWindowShare = 0.05;
 /// Each keyframe is matched to the reference pose nearest in time, when within
 /// params.stamp_tolerance; the others are counted as unmatched. Several keyframes may match one
 /// reference pose.
+/// Roll: a nearly straight reference (a street, a GPS log's metres of noise) leaves the rotation
+/// about its line undetermined; the keyframes' cameras then set it (a camera's x axis is level:
+/// see fitRoll in mapper/src/align_roll.hpp), turning the fit about the line through the
+/// reference's centroid; roll_sigma, roll_from_cameras and roll_turn say what happened.
 /// Scale drift: a monocular map's scale changes along its path, so no one similarity fits it. With
 /// at least kDriftMinAnchors matches, the drift model is fitted too: the matches in time order, each
 /// with the least-squares scale and translation (rotation fixed to the whole fit's) of the matches
