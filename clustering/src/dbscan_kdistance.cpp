@@ -7,10 +7,9 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
-#include <nanoflann.hpp>
-
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/core/kd_tree.hpp"
 
 // The k-distance curve needs k nearest neighbours without knowing a radius, so a grid does not fit
 // (its cell size would have to be guessed, and gross outliers would need unbounded ring searches):
@@ -20,26 +19,14 @@
 namespace hullmap::clustering {
 namespace {
 
-/// The points as nanoflann's dataset: the first D coordinates of each.
-struct CloudAdaptor {
-  const std::vector<Eigen::Vector3d>& points;
-  std::size_t kdtree_get_point_count() const { return points.size(); }
-  double kdtree_get_pt(std::size_t i, std::size_t axis) const { return points[i][static_cast<Eigen::Index>(axis)]; }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-
 template <int D>
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, CloudAdaptor>, CloudAdaptor, D,
-                                                   std::uint32_t>;
+using KdTree = core::PointKdTree<D>;
 
 /// curve[j] = distance from points[queries[j]] to its (k+1)-th nearest point, itself included.
 template <int D>
 void kthDistances(const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& queries, int k,
                   std::vector<double>& curve) {
-  const CloudAdaptor cloud{points};
+  const core::PointsAdaptor cloud{points};
   const KdTree<D> tree(D, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(32));
   const std::size_t want = static_cast<std::size_t>(k) + 1;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), 1024),

@@ -11,25 +11,13 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <nanoflann.hpp>
-
+#include "hullmap/core/kd_tree.hpp"
 #include "hullmap/mapper/align.hpp"
 
 namespace hullmap::mapper {
 namespace {
 
-struct AnchorCloud {
-  const std::vector<Eigen::Vector3d>& points;
-  std::size_t kdtree_get_point_count() const { return points.size(); }
-  double kdtree_get_pt(std::size_t i, std::size_t axis) const { return points[i][static_cast<Eigen::Index>(axis)]; }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-
-using AnchorTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, AnchorCloud>, AnchorCloud,
-                                                       3, std::uint32_t>;
+using AnchorTree = core::PointKdTree<3>;
 
 /// Nearest anchors searched per point: the nearest segment touches one of them unless segments are
 /// far longer than the anchors' spacing around the point.
@@ -77,7 +65,7 @@ class DriftWarp {
  private:
   const DriftCorrection& d_;
   Eigen::Matrix3d rotation_;
-  AnchorCloud cloud_;
+  core::PointsAdaptor cloud_;
   AnchorTree tree_;
 };
 
