@@ -38,6 +38,32 @@ std::string frameDescription(const mapper::FrameParams& frame) {
   return s.str();
 }
 
+bool inputToOutputExact(const BuildReport& report) { return !(report.alignment && report.alignment->drift); }
+
+std::string outputFrame(const BuildResult& result) {
+  if (readsOctree(result.params)) {
+    return "the octree's own frame (" + result.params.inputs.front().string() +
+           " read as it is: no up axis or scale applied)";
+  }
+  std::ostringstream s;
+  if (result.report.alignment && result.params.align) {
+    const auto& a = *result.report.alignment;
+    s << "the reference trajectory's frame (" << result.params.align->reference.string();
+    if (a.drift) {
+      const auto [low, high] = std::minmax_element(a.drift->scales.begin(), a.drift->scales.end());
+      s << ": keyframes fitted with the scale drifting along the path, " << *low << " to " << *high << ")";
+    } else {
+      s << ": keyframes fitted by a similarity, scale " << a.transform.scale << ")";
+    }
+  } else {
+    s << frameDescription(result.params.frame);
+  }
+  if (result.report.floor.levelled) {
+    s << ", then levelled: the floor rotated level and moved to z = 0 (report.json \"levelling\")";
+  }
+  return s.str();
+}
+
 namespace {
 
 nlohmann::json planeSettingJson(const mapper::PlaneSetting& setting) {
