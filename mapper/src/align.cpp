@@ -23,7 +23,8 @@ Eigen::Vector3d spread(const Eigen::Matrix3Xd& positions) {
   return ascending.reverse().cwiseMax(0.0).cwiseSqrt();
 }
 
-/// The matched keyframes in time order: stamp, keyframe position, reference position.
+/// The matched keyframes, in the keyframes' order (inTimeOrder sorts them by stamp): stamp, keyframe
+/// position, reference position, keyframe orientation.
 struct Matches {
   std::vector<double> stamps;
   std::vector<Eigen::Vector3d> from, to;
