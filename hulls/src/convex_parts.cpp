@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -17,6 +18,7 @@
 #include <tbb/parallel_for.h>
 
 #include "hullmap/core/error.hpp"
+#include "hullmap/core/kd_tree.hpp"
 #include "cluster_splitter.hpp"
 #include "lattice_hull.hpp"
 
@@ -187,9 +189,63 @@ std::vector<std::vector<std::size_t>> splitConvexParts(const std::vector<Eigen::
   return out;
 }
 
+namespace {
+
+/// Which parts of one cluster the stray-part rule drops (see StrayParts): flags per part.
+class StrayRule {
+ public:
+  StrayRule(const StrayParts& rule, const std::vector<Eigen::Vector3d>& centers, double t)
+      : rule_(rule),
+        reach2_(std::pow(rule.support_reach > 0.0 ? rule.support_reach : 2.0 * t, 2)),
+        cloud_{rule.support},
+        tree_(3, cloud_, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {
+    if (rule.core.size() != centers.size())
+      throw Error("addConvexParts: " + std::to_string(rule.core.size()) + " core flags for " +
+                  std::to_string(centers.size()) + " voxels");
+    if (!(std::isfinite(rule.support_reach) && rule.support_reach >= 0.0))
+      throw Error::inParameter("support_reach", "must be finite and >= 0");
+  }
+
+  /// parts: each part's voxels as indices into the centres.
+  std::vector<char> strays(const std::vector<std::vector<std::size_t>>& parts,
+                           const std::vector<Eigen::Vector3d>& centers) const {
+    std::vector<char> out(parts.size(), 0);
+    if (parts.size() < 2) return out;
+    std::size_t kept = parts.size();
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      const auto& part = parts[k];
+      if (part.size() > rule_.max_voxels) continue;
+      if (std::any_of(part.begin(), part.end(), [&](std::size_t i) { return rule_.core[i] != 0; })) continue;
+      if (std::any_of(part.begin(), part.end(), [&](std::size_t i) { return supported(centers[i]); })) continue;
+      out[k] = 1;
+      --kept;
+    }
+    if (kept == 0) std::fill(out.begin(), out.end(), 0);  // never the whole obstacle
+    return out;
+  }
+
+ private:
+  bool supported(const Eigen::Vector3d& p) const {
+    if (rule_.support.empty()) return false;
+    std::uint32_t nearest = 0;
+    double squared = 0.0;
+    const double query[3] = {p.x(), p.y(), p.z()};
+    tree_.knnSearch(query, 1, &nearest, &squared);
+    return squared <= reach2_;
+  }
+
+  const StrayParts& rule_;
+  double reach2_;
+  core::PointsAdaptor cloud_;
+  core::PointKdTree<3> tree_;
+};
+
+}  // namespace
+
 ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::vector<Eigen::Vector3d>& centers,
                                   const std::vector<std::uint32_t>& weights, const std::vector<std::int32_t>& labels,
-                                  double voxel_size, const ConvexPartsParams& params, const KnownFreeSpace& known) {
+                                  double voxel_size, const ConvexPartsParams& params, const KnownFreeSpace& known,
+                                  const StrayParts* strays) {
   const double t = resolveConcavity(params, voxel_size);
   const double g = resolveFlatGap(params, t);
   checkFloor(params);
@@ -213,6 +269,10 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
   std::vector<std::size_t> keyframes_in_voxels(obstacles.size(), 0), flat_parts(obstacles.size(), 0),
       face_parts(obstacles.size(), 0);
   std::vector<double> flat_gaps(obstacles.size(), g);
+  const std::optional<StrayRule> stray_rule =
+      strays ? std::optional<StrayRule>(std::in_place, *strays, centers, t) : std::nullopt;
+  std::vector<std::vector<std::size_t>> stray_voxels(obstacles.size());
+  std::vector<std::size_t> stray_parts(obstacles.size(), 0);
   tbb::parallel_for(std::size_t(0), obstacles.size(), [&](std::size_t o) {
     Obstacle& obstacle = obstacles[o];
     const std::vector<std::size_t>& members = clusters.at(obstacle.id);
@@ -222,10 +282,23 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
     const SplitResult result = splitCluster(local, voxel_size, t, params, known.keyframes);
     flat_gaps[o] = result.flat_gap;
     obstacle.parts.clear();
-    for (const auto& [part_members, check] : result.parts) {
-      std::vector<std::size_t> global;
-      global.reserve(part_members.size());
-      for (const auto i : part_members) global.push_back(members[i]);
+    std::vector<std::vector<std::size_t>> globals;
+    globals.reserve(result.parts.size());
+    for (const auto& part : result.parts) {
+      std::vector<std::size_t>& global = globals.emplace_back();
+      global.reserve(part.first.size());
+      for (const auto i : part.first) global.push_back(members[i]);
+    }
+    const std::vector<char> dropped =
+        stray_rule ? stray_rule->strays(globals, centers) : std::vector<char>(globals.size(), 0);
+    for (std::size_t k = 0; k < result.parts.size(); ++k) {
+      const auto& check = result.parts[k].second;
+      const std::vector<std::size_t>& global = globals[k];
+      if (dropped[k]) {
+        ++stray_parts[o];
+        stray_voxels[o].insert(stray_voxels[o].end(), global.begin(), global.end());
+        continue;
+      }
       const Obstacle whole = detail::wrapCluster(obstacle.id, global, centers, weights, voxel_size);
       ObstaclePart part;
       part.voxel_count = whole.voxel_count;
@@ -268,12 +341,23 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
       }
       obstacle.parts.push_back(std::move(part));
     }
+    // The whole obstacle again, from the voxels it keeps.
+    if (stray_parts[o] > 0) {
+      std::sort(stray_voxels[o].begin(), stray_voxels[o].end());
+      std::vector<std::size_t> kept;
+      std::set_difference(members.begin(), members.end(), stray_voxels[o].begin(), stray_voxels[o].end(),
+                          std::back_inserter(kept));
+      std::vector<ObstaclePart> parts = std::move(obstacle.parts);
+      obstacle = detail::wrapCluster(obstacle.id, kept, centers, weights, voxel_size);
+      obstacle.parts = std::move(parts);
+    }
   });
   ConvexPartsSummary summary;
   summary.concavity = t;
   summary.flat_gap = g;
   summary.flat_gap_max = g;
   for (const double used : flat_gaps) summary.flat_gap_max = std::max(summary.flat_gap_max, used);
+  std::vector<std::pair<std::size_t, int>> strays_of;  // stray voxel, the obstacle it left
   for (std::size_t o = 0; o < obstacles.size(); ++o) {
     const auto& obstacle = obstacles[o];
     summary.parts += obstacle.parts.size();
@@ -282,11 +366,18 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
     summary.keyframes_in_voxels += keyframes_in_voxels[o];
     summary.flat_parts += flat_parts[o];
     summary.face_parts += face_parts[o];
+    summary.stray_parts += stray_parts[o];
+    for (const std::size_t i : stray_voxels[o]) strays_of.emplace_back(i, obstacle.id);
     for (const auto& part : obstacle.parts) {
       summary.hull_volume_after += part.volume;
       summary.free_voxels_inside += part.free_voxels_inside;
       summary.free_voxels_off_surface += part.free_voxels_off_surface;
     }
+  }
+  std::sort(strays_of.begin(), strays_of.end());
+  for (const auto& [i, id] : strays_of) {
+    summary.stray_voxels.push_back(i);
+    summary.stray_obstacles.push_back(id);
   }
   return summary;
 }

@@ -530,6 +530,107 @@ TEST(ConvexParts, FaceHoleRuleDoesNotLiftAWallToAClump) {
   expectWithinConcavity(c, 0.15, params);
 }
 
+/// The stray-part rule's oracle: from the parts made without it, those of at most max_voxels voxels,
+/// none core, none within reach of a support point, of an obstacle with another part that stays.
+std::set<std::size_t> expectedStrays(const Split& plain, const StrayParts& rule, double reach) {
+  std::set<std::size_t> out;
+  const auto groups = splitConvexParts(plain.centers, kVoxel, {});
+  std::vector<std::vector<std::size_t>> stray;
+  for (const auto& g : groups) {
+    bool drop = g.size() <= rule.max_voxels;
+    for (const auto i : g) {
+      drop = drop && !rule.core[i];
+      for (const auto& s : rule.support) drop = drop && (plain.centers[i] - s).norm() > reach;
+    }
+    if (drop) stray.push_back(g);
+  }
+  if (groups.size() < 2 || stray.size() == groups.size()) return out;
+  for (const auto& g : stray) out.insert(g.begin(), g.end());
+  return out;
+}
+
+TEST(ConvexParts, StrayPartsDropsOnlySmallBorderPartsOffTheSupport) {
+  // A wall 2 m long, 10 cm thick, 1 m high, all core; in front of it (0.4 m and more):
+  std::vector<V3> c;
+  addBox(c, 0, 40, 0, 2, 0, 20);
+  const std::size_t wall = c.size();
+  c.push_back(center(20, 8, 15));  // a lone border voxel: dropped
+  c.push_back(center(5, 8, 10));   // a pair, one of them core: kept
+  c.push_back(center(6, 8, 10));
+  c.push_back(center(32, 8, 1));      // a lone border voxel a voxel above the floor: kept
+  addBox(c, 12, 14, 11, 13, 18, 19);  // a clump of 4 border voxels: kept (more than 3)
+  StrayParts rule;
+  rule.core.assign(c.size(), 0);
+  std::fill(rule.core.begin(), rule.core.begin() + std::ptrdiff_t(wall), 1);
+  rule.core[wall + 1] = 1;
+  for (int i = 25; i < 40; ++i) rule.support.push_back(center(i, 8, -1));  // the floor's voxels there
+  const Split plain = splitOne(c);
+  ASSERT_EQ(plain.obstacles[0].parts.size(), 5u);
+
+  Split s = plain;
+  s.obstacles = buildObstacles(c, {}, s.labels, kVoxel);
+  s.summary = addConvexParts(s.obstacles, c, {}, s.labels, kVoxel, {}, {}, &rule);
+  EXPECT_EQ(s.summary.stray_parts, 1u);
+  EXPECT_EQ(s.summary.stray_voxels, std::vector<std::size_t>{wall});
+  const auto expected = expectedStrays(plain, rule, 2 * defaultConcavity(kVoxel));
+  EXPECT_EQ(std::set<std::size_t>(s.summary.stray_voxels.begin(), s.summary.stray_voxels.end()), expected);
+  const Obstacle& o = s.obstacles[0];
+  EXPECT_EQ(o.parts.size(), 4u);
+  EXPECT_EQ(o.voxel_count, c.size() - 1);
+  // The whole obstacle is made again from the voxels it keeps, as buildObstacles makes it.
+  std::vector<std::int32_t> kept_labels = s.labels;
+  kept_labels[wall] = kNoise;
+  const Obstacle again = buildObstacles(c, {}, kept_labels, kVoxel)[0];
+  EXPECT_NEAR(o.volume, again.volume, 1e-12);
+  EXPECT_TRUE(o.aabb_min.isApprox(again.aabb_min) && o.aabb_max.isApprox(again.aabb_max));
+  EXPECT_EQ(o.hull.vertices.size(), again.hull.vertices.size());
+  for (const auto& part : o.parts) EXPECT_FALSE(inHull(part.hull, c[wall]));
+  EXPECT_NEAR(s.summary.hull_volume_before, o.volume, 1e-12);
+
+  // Not the whole obstacle: two lone border voxels far apart are both its parts, and both stay.
+  const std::vector<V3> pair{center(0, 0, 0), center(30, 0, 0)};
+  StrayParts loose;
+  loose.core.assign(2, 0);
+  std::vector<std::int32_t> labels(2, 0);
+  auto obstacles = buildObstacles(pair, {}, labels, kVoxel);
+  const auto summary = addConvexParts(obstacles, pair, {}, labels, kVoxel, {}, {}, &loose);
+  EXPECT_EQ(summary.stray_parts, 0u);
+  EXPECT_EQ(obstacles[0].parts.size(), 2u);
+
+  // A core flag per voxel, or an error.
+  loose.core.assign(1, 0);
+  EXPECT_THROW(addConvexParts(obstacles, pair, {}, labels, kVoxel, {}, {}, &loose), Error);
+}
+
+/// Random stray voxels and clumps around a wall, random core flags and floor: the rule drops exactly
+/// the parts its definition names (the oracle re-derives them from the parts made without it).
+TEST(ConvexParts, StrayPartsMatchTheirDefinitionOnRandomClutter) {
+  std::mt19937 rng(11);
+  for (int round = 0; round < 6; ++round) {
+    std::vector<V3> c;
+    addBox(c, 0, 40, 0, 2, 0, 20);
+    std::uniform_int_distribution<int> x(0, 39), y(5, 14), z(0, 19), n(1, 5);
+    for (int k = 0; k < 8; ++k) {
+      const int i = x(rng), j = y(rng), h = z(rng), m = n(rng);
+      addBox(c, i, i + std::min(m, 2), j, j + 1, h, h + (m + 1) / 2);
+    }
+    StrayParts rule;
+    std::bernoulli_distribution core(0.3);
+    rule.core.resize(c.size());
+    for (auto& f : rule.core) f = core(rng);
+    for (int i = 0; i < 40; i += 3) rule.support.push_back(center(i, 6 + round, -1) - V3(0, 0, 0.3 * kVoxel));
+    const Split plain = splitOne(c);
+    Split s = plain;
+    s.obstacles = buildObstacles(c, {}, s.labels, kVoxel);
+    s.summary = addConvexParts(s.obstacles, c, {}, s.labels, kVoxel, {}, {}, &rule);
+    const auto expected = expectedStrays(plain, rule, 2 * defaultConcavity(kVoxel));
+    EXPECT_EQ(std::set<std::size_t>(s.summary.stray_voxels.begin(), s.summary.stray_voxels.end()), expected)
+        << "round " << round;
+    EXPECT_EQ(s.obstacles[0].voxel_count + s.summary.stray_voxels.size(), c.size());
+    std::size_t dropped_parts = plain.obstacles[0].parts.size() - s.obstacles[0].parts.size();
+    EXPECT_EQ(s.summary.stray_parts, dropped_parts);
+  }
+}
 TEST(ConvexParts, RingOfWallsBecomesItsWalls) {
   const Split s = splitOne(ring());
   EXPECT_EQ(s.obstacles[0].parts.size(), 4u);

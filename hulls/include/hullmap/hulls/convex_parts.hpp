@@ -64,6 +64,22 @@ struct KnownFreeSpace {
   std::vector<Eigen::Vector3d> free_voxels;
 };
 
+/// The stray-part rule of addConvexParts (off unless given). A part of at most `max_voxels` voxels,
+/// none of them a DBSCAN core voxel, of an obstacle that has other parts, and with no `support`
+/// voxel within `support_reach` of any of its voxels, is dropped, and its voxels leave the obstacle.
+/// Why: the eps that connects a sparse map's surfaces also makes a stray map point (or a small clump
+/// of them) up to 1.5 eps in front of a wall a border point of the wall's cluster; the outlier trim
+/// (clustering/outlier_trim.hpp) takes back the lone ones off a flat patch, but not those by a corner,
+/// by furniture against the wall, or in a clump the extension chained to it. Split off the surface
+/// (they lie farther than T from it), each became a part of its own in the room. A part with a core
+/// voxel is dense evidence, and is kept; so is a part near the floor (a leg's foot, a step).
+struct StrayParts {
+  std::size_t max_voxels = 3;
+  std::vector<std::uint8_t> core;        ///< per voxel of addConvexParts' `centers`: 1 when DBSCAN core
+  std::vector<Eigen::Vector3d> support;  ///< voxels that hold structure up: the floor's, ceiling's, ground's
+  double support_reach = 0.0;            ///< map units; 0: 2 T
+};
+
 /// The default T: 3 voxel edges (0.15 m at 5 cm voxels). Why 3:
 /// - the check is certified but conservative by up to sqrt(3)/2 voxel (see splitConvexParts), and
 ///   the hull of a wall that is not axis-aligned covers the staircase of its cubes' corners, about
@@ -142,6 +158,9 @@ struct ConvexPartsSummary {
   std::size_t keyframes_in_voxels = 0;      ///< keyframes in an occupied voxel of a part (kept inside)
   std::size_t free_voxels_inside = 0;       ///< observed-free voxel centres inside some part's hull
   std::size_t free_voxels_off_surface = 0;  ///< of those, none of the part's voxels among their 26 neighbours
+  std::size_t stray_parts = 0;              ///< parts dropped by the stray-part rule
+  std::vector<std::size_t> stray_voxels;    ///< their voxels (indices into centers, ascending): no obstacle's now
+  std::vector<int> stray_obstacles;         ///< per stray voxel: the id of the obstacle it left
 };
 
 /// Fills `parts` of every obstacle made by buildObstacles from the same centres/weights/labels:
@@ -149,10 +168,14 @@ struct ConvexPartsSummary {
 /// whole is (hull, footprint, volume, ...; candidate cuts and merges are also scored in parallel, with
 /// results independent of the thread count), with its certified concavity bound and the count of
 /// `known.free_voxels` inside its hull. A cluster that needs no split gets one part equal to the whole.
-/// Throws hullmap::Error as buildObstacles and splitConvexParts do, and when an obstacle's id is not a
-/// label of the voxels.
+/// With `strays`, the stray parts (StrayParts) are dropped: the obstacle keeps its other parts, and
+/// its whole hull, footprint, counts and box are made again from the voxels it keeps; the dropped
+/// voxels are listed in the summary, for the caller to relabel as noise.
+/// Throws hullmap::Error as buildObstacles and splitConvexParts do, when an obstacle's id is not a
+/// label of the voxels, and when strays->core does not hold one flag per voxel.
 ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::vector<Eigen::Vector3d>& centers,
                                   const std::vector<std::uint32_t>& weights, const std::vector<std::int32_t>& labels,
-                                  double voxel_size, const ConvexPartsParams& params, const KnownFreeSpace& known = {});
+                                  double voxel_size, const ConvexPartsParams& params, const KnownFreeSpace& known = {},
+                                  const StrayParts* strays = nullptr);
 
 }  // namespace hullmap::hulls
