@@ -50,6 +50,7 @@ struct BuildOptions {
   std::string concavity = "default";
   std::string flat_gap = "auto";   ///< G of flat parts: auto (the eps used), 0 (off) or a length
   std::string extension = "auto";  ///< auto (on when --min-pts is auto), on or off
+  std::size_t stray_parts = 3;     ///< --stray-parts: the largest stray part dropped, in voxels (0: none)
   pipeline::BuildParams params;
 };
 
@@ -87,6 +88,7 @@ pipeline::BuildParams toParams(const BuildOptions& o) {
   }
   if (params.convex_parts && o.flat_gap != "auto") params.convex_parts->flat_gap = number(o.flat_gap);
   if (o.extension != "auto") params.extension = o.extension == "on";
+  params.stray_part_voxels = o.stray_parts;
   return params;
 }
 
@@ -290,6 +292,9 @@ void printClustering(const pipeline::BuildResult& result) {
     } else {
       std::cout << ", flat gap off";
     }
+    if (p.stray_parts > 0)
+      std::cout << "; " << p.stray_parts << " stray part" << (p.stray_parts == 1 ? "" : "s") << " of "
+                << p.stray_voxels.size() << " voxel" << (p.stray_voxels.size() == 1 ? "" : "s") << " dropped";
     std::cout << "); observed-free voxels inside hulls: " << p.free_voxels_inside << " (" << p.free_voxels_off_surface
               << " off the surface band), keyframes inside hulls: " << report.keyframes_inside_hulls;
   }
@@ -411,6 +416,12 @@ void addClusterOptions(CLI::App& cmd, BuildOptions& options) {
                  "After DBSCAN, noise voxels dense at a lower level (min-pts x 0.3, at least 2) join the cluster "
                  "a chain of them reaches within 1.5 eps (sparse legs and edges); auto: on when --min-pts is auto")
       ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
+  cmd.add_option("--stray-parts", options.stray_parts,
+                 "With the extension: drop a convex part of at most N voxels, none of them core, of an obstacle with "
+                 "other parts and farther than 2 T from the floor, ceiling and ground (stray map points a wide eps "
+                 "took in off a surface); 0: keep every part")
+      ->check(wholeNumberFrom(0))
       ->capture_default_str();
   cmd.add_option("--metric", options.metric, "DBSCAN distance: xyz or xy (top view)")
       ->check(CLI::IsMember({"xyz", "xy"}))

@@ -183,9 +183,25 @@ void splitConvexParts(BuildResult& result, ClusterWork& w) {
   // A level floor closes the shells standing on it from below (their bottom is never seen).
   if (report.floor.plane && !parts_params.floor_z)
     parts_params.floor_z = levelFloorHeight(*report.floor.plane, w.centers, resolution);
-  report.parts =
-      hulls::addConvexParts(result.obstacles, w.centers, w.weights, w.cluster_labels, resolution, parts_params, known);
+  std::optional<hulls::StrayParts> strays;
+  if (extensionOn(params) && params.stray_part_voxels > 0) {
+    strays.emplace();
+    strays->max_voxels = params.stray_part_voxels;
+    strays->core = result.clusters.core;
+    for (std::size_t i = 0; i < w.labels.size(); ++i)
+      if (w.labels[i] == kFloorLabel || w.labels[i] == kCeilingLabel || w.labels[i] == kGroundLabel)
+        strays->support.push_back(w.centers[i]);
+  }
+  report.parts = hulls::addConvexParts(result.obstacles, w.centers, w.weights, w.cluster_labels, resolution,
+                                       parts_params, known, strays ? &*strays : nullptr);
   report.keyframes_inside_hulls = report.parts->keyframes_in_voxels;
+  // The stray parts' voxels are noise now.
+  for (const std::size_t i : report.parts->stray_voxels) {
+    --result.clusters.cluster_sizes[static_cast<std::size_t>(w.labels[i])];
+    ++result.clusters.noise;
+    w.labels[i] = clustering::kNoise;
+    w.cluster_labels[i] = clustering::kNoise;
+  }
 }
 
 // The clustering's warnings, and a kept floor's tilt or a map that looks unlevelled.

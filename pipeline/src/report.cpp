@@ -231,6 +231,7 @@ nlohmann::json parametersJson(const BuildParams& params) {
       {"extension", !params.extension   ? "auto"
                     : *params.extension ? "on"
                                         : "off"},
+      {"stray_parts", params.stray_part_voxels},
       {"ot", params.write_ot},
   };
 }
@@ -299,6 +300,8 @@ nlohmann::json partsJson(const BuildResult& result) {
           {"voxel_volume", p.voxel_volume},
           {"free_voxels_inside", p.free_voxels_inside},
           {"free_voxels_off_surface", p.free_voxels_off_surface},
+          {"stray_parts", p.stray_parts},
+          {"stray_voxels", p.stray_voxels.size()},
           {"keyframes_inside_hulls", report.keyframes_inside_hulls}};
 }
 

@@ -51,6 +51,8 @@ CASES = {
          "--ceiling", "2.4", "--floor", "0.05", "--min-pts", "8", "--ot"],
         dict(up="-y", scale=1.5, crop=(-5, -5, -1, 5, 5, 3), z_min=0.1, z_max=2.5, ceiling=2.4, floor=0.05,
              min_pts=np.int64(8), write_ot=True)),
+    "stray_parts": (["--trajectory", TRAJECTORY, "--up", "-y", "--stray-parts", "0"],
+                    dict(trajectory=TRAJECTORY, up="-y", stray_parts=0)),
     "level": (["--up", "-y", "--level", "off", "--eps", "0.12", "--min-pts", "5"],
               dict(up="-y", level=False, eps=0.12, min_pts=5)),
     "origin": (["--origin", "0,1,0", "--up", "-y", "--eps", "auto", "--min-pts", "auto"],

@@ -76,7 +76,8 @@ TEST(PipelineStages, CoplanarMergeJoinsAWallsFootToTheWall) {
 // clusters, none new, no clustered voxel relabelled; and on a sparse room with tables it brings
 // their legs' points inside the hulls.
 // The extension pass: the extension grows DBSCAN's clusters, then the outlier trim takes back to
-// noise only clustered voxels that are not core and have no other voxel within its radius.
+// noise only clustered voxels that are not core and have no other voxel within its radius, and the
+// stray-part rule (convex parts) the voxels of the parts it drops.
 TEST(PipelineStages, ExtensionOnlyGrowsClustersAndOffIsPlainDbscan) {
   const Room room = writeRoom("stages_extension", 3, 6.0, 6, 30.0);
   pipeline::BuildParams params = alignedBuild(room);
@@ -102,7 +103,13 @@ TEST(PipelineStages, ExtensionOnlyGrowsClustersAndOffIsPlainDbscan) {
   EXPECT_DOUBLE_EQ(trim.reach, ext.reach);
   const std::size_t dropped = grown.report.cluster_params.trim.dropped;
   EXPECT_GT(dropped, 0u) << "a sparse room's outliers in front of its walls should be dropped";
-  EXPECT_EQ(grown.clusters.noise + joined, plain.clusters.noise + dropped);
+  // With the extension the stray-part rule runs too (convex parts on): its voxels are noise again.
+  ASSERT_TRUE(grown.report.parts && plain.report.parts);
+  const std::size_t strays = grown.report.parts->stray_voxels.size();
+  EXPECT_EQ(grown.report.parts->stray_obstacles.size(), strays);
+  EXPECT_TRUE(plain.report.parts->stray_voxels.empty()) << "no stray-part rule without the extension";
+  for (const std::size_t i : grown.report.parts->stray_voxels) EXPECT_EQ(grown.clusters.labels[i], -1);
+  EXPECT_EQ(grown.clusters.noise + joined, plain.clusters.noise + dropped + strays);
   EXPECT_EQ(grown.obstacles.size(), plain.obstacles.size());
 
   // Unset, the extension follows min_pts: off when it is given (the clusters are then DBSCAN's),

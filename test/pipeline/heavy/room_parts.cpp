@@ -118,7 +118,8 @@ std::vector<V3> hullSamples(const hullmap::hulls::ConvexHull& hull, const V3& lo
 
 /// Every part of the build with its reach. A voxel came from the primitive nearest its centre when
 /// that is within `noise_margin`, else from none (an outlier). The parts' voxels are split again with
-/// the build's own parameters (splitConvexParts gives the parts addConvexParts wraps).
+/// the build's own parameters (splitConvexParts gives the parts addConvexParts wraps; the stray parts
+/// it dropped are left out again).
 std::vector<PartReach> partReaches(const pipeline::BuildResult& r, const hullmap::sim::GroundTruth& truth,
                                    double noise_margin) {
   const double res = r.map.resolution();
@@ -146,14 +147,25 @@ std::vector<PartReach> partReaches(const pipeline::BuildResult& r, const hullmap
   for (const auto& k : r.keyframes) keyframes.push_back(k.position);
   std::vector<PartReach> out;
   for (const auto& o : r.obstacles) {
+    // The cluster as it was split: its voxels and the stray parts' voxels that left it (now noise).
+    std::vector<char> left(r.voxels.size(), 0);
+    const auto& strays = r.report.parts->stray_voxels;
+    for (std::size_t k = 0; k < strays.size(); ++k)
+      if (r.report.parts->stray_obstacles[k] == o.id) left[strays[k]] = 1;
     std::vector<std::size_t> members;
     std::vector<V3> local;
     for (std::size_t i = 0; i < r.voxels.size(); ++i)
-      if (r.clusters.labels[i] == o.id) {
+      if (r.clusters.labels[i] == o.id || left[i]) {
         members.push_back(i);
         local.push_back(r.voxels[i].center);
       }
-    const auto split = hullmap::hulls::splitConvexParts(local, res, params, keyframes);
+    auto split = hullmap::hulls::splitConvexParts(local, res, params, keyframes);
+    split.erase(std::remove_if(split.begin(), split.end(),
+                               [&](const auto& g) {
+                                 return std::all_of(g.begin(), g.end(),
+                                                    [&](std::size_t m) { return left[members[m]]; });
+                               }),
+                split.end());
     EXPECT_EQ(split.size(), o.parts.size()) << "obstacle " << o.id;
     if (split.size() != o.parts.size()) continue;
     for (std::size_t p = 0; p < split.size(); ++p) {
@@ -229,13 +241,16 @@ TEST(RoomParts, WallPartsStayWithinConcavityPlusAVoxelOfTheirSurfaces) {
   }
 }
 
-// Three rooms of docs/QUALITY.md's sweep (bench/quality.py's rooms_part: seeds 202, 205 and 221,
-// at 22, 45 and 90 points per m^2), built at the defaults and checked as the issue does: 3000 random
+// Four rooms of docs/QUALITY.md's sweep (bench/quality.py's rooms_part: seeds 202, 205 and 221,
+// at 22, 45 and 90 points per m^2, and 220, at 5.3 % before the stray-part rule: most of its false
+// alarms first met parts of stray voxels alone), built at the defaults and checked as the issue does: 3000 random
 // segments at r = 0.3 with their ends anywhere in the room; no deep collision missed, and at most 3 %
 // of the segments keeping r + 0.15 from every true surface (the floor's too) called blocked.
 TEST(RoomParts, SweepRoomsMissNoDeepCollisionAndAtMost3PercentFalseAlarms) {
-  const std::vector<std::pair<RoomCase, double>> rooms = {
-      {{202, 10, 1.0, 22, 9}, 0.0}, {{205, 0, 1.0, 45, 12}, 0.0}, {{221, 0, 3.0, 90, 16}, 0.5}};
+  const std::vector<std::pair<RoomCase, double>> rooms = {{{202, 10, 1.0, 22, 9}, 0.0},
+                                                          {{205, 0, 1.0, 45, 12}, 0.0},
+                                                          {{221, 0, 3.0, 90, 16}, 0.5},
+                                                          {{220, 30, 1.0, 45, 16}, 0.5}};
   for (const auto& [c, walls] : rooms) {
     SCOPED_TRACE(caseName(c));
     std::filesystem::path dir;
