@@ -80,6 +80,12 @@ std::vector<ParameterSpec> makeParameters() {
   specs.push_back(flat_gap);
   specs.push_back(words("extension", ParameterKind::kWord, "auto", {"auto", "on", "off"},
                         "the cluster extension after DBSCAN; auto: on when min_pts is auto", "auto, on or off"));
+  auto strays = number("stray_parts", double(d.build.stray_part_voxels),
+                       "with the extension: drop convex parts of at most this many voxels, none core, away from the "
+                       "floor (stray map points); 0: keep every part",
+                       "a whole number >= 0", 0.0, 1e9);
+  strays.whole = true;
+  specs.push_back(strays);
   specs.push_back(words("metric", ParameterKind::kText, clustering::toString(d.build.metric), {"xyz", "xy"},
                         "DBSCAN distance: xyz, or xy (top view)", "xyz or xy"));
   specs.push_back(words("up", ParameterKind::kText, pipeline::upAxisText(d.build.frame.up),
@@ -310,6 +316,11 @@ NodeSettings readSettings(const ParameterValues& values, Checking checking, cons
   } else if (extension != "auto") {
     throw r.bad("extension", "expected auto, on or off, got '" + extension + "'");
   }
+  // stray_parts: a whole number >= 0, checked here in either mode (a negative count has no size_t).
+  const double strays = r.number("stray_parts", double(p.stray_part_voxels));
+  if (!(strays >= 0.0 && strays <= 1e9) || strays != std::floor(strays))
+    throw r.bad("stray_parts", "expected a whole number >= 0, got " + std::to_string(strays));
+  p.stray_part_voxels = static_cast<std::size_t>(strays);
   p.frame.up = r.parsed("up", r.text("up", pipeline::upAxisText(p.frame.up)), mapper::parseUpAxis);
   p.frame.scale = r.number("scale", p.frame.scale);
   p.metric = r.parsed("metric", r.text("metric", clustering::toString(p.metric)), clustering::parseMetric);
