@@ -12,6 +12,7 @@
 
 #include "byte_source.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/core/huge_pages.hpp"
 #include "hullmap/core/number_text.hpp"
 #include "hullmap/io/point_cloud.hpp"
 #include "hullmap/io/readers.hpp"
@@ -143,7 +144,7 @@ class PointSink {
 
   /// About `n` more points are coming (an estimate bounded by the input's size): reserves room
   /// for them, at most one batch.
-  void expect(std::size_t n) { batch_.reserve(batch_.size() + std::min(n, batch_points_ - batch_.size())); }
+  void expect(std::size_t n) { core::reserveHuge(batch_, batch_.size() + std::min(n, batch_points_ - batch_.size())); }
 
   void push(const Point& p) {
     batch_.push_back(p);

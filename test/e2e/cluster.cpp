@@ -79,6 +79,35 @@ TEST(ClusterCommand, WritesLabelsOfEveryPointInInputOrder) {
   EXPECT_NE(r.out.find(knee.str()), std::string::npos) << r.out;
 }
 
+// labels.csv's rows are formatted a chunk of 8192 at a time into slices of 48 bytes a row, and a chunk
+// whose rows are longer on average goes on in an overflow string: 17-digit coordinates (rows of about
+// 60 bytes) over 20,000 points take that path in every full chunk; every row is still there, in order.
+TEST(ClusterCommand, RowsLongerThanTheirSliceStayInOrder) {
+  const auto dir = test::freshDir("cluster_long_rows");
+  Points points = blobs(7, 20000, 3.0, 4, 0.05);
+  for (auto& p : points) p += Eigen::Vector3d(1.0 / 3.0, -2.0 / 7.0, 5.0 / 11.0);  // no short decimals
+  const std::string input = writeXyz(dir / "points.xyz", points);
+  const std::string output = (dir / "labels.csv").string();
+  const auto r = test::runHullmap("cluster '" + input + "' --eps 0.1 --min-pts 10 -o '" + output + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const DbscanResult expected = dbscan(points, {}, DbscanParams{0.1, 10, Metric::kXyz});
+  const auto rows = lines(test::slurp(output));
+  ASSERT_EQ(rows.size(), points.size() + 1);
+  std::size_t long_rows = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    long_rows += rows[i + 1].size() > 48;
+    std::istringstream row(rows[i + 1]);
+    double v[3];
+    int label = 0, core = 0;
+    char comma;
+    ASSERT_TRUE(row >> v[0] >> comma >> v[1] >> comma >> v[2] >> comma >> label >> comma >> core) << rows[i + 1];
+    ASSERT_EQ(Eigen::Vector3d(v[0], v[1], v[2]), points[i]) << "row " << i + 1;
+    ASSERT_EQ(label, expected.labels[i]) << "row " << i + 1;
+    ASSERT_EQ(core, int(expected.core[i])) << "row " << i + 1;
+  }
+  EXPECT_GT(long_rows, points.size() / 2) << "the rows should mostly be longer than a slice's share";
+}
+
 // `hullmap` runs cluster itself and loads only the shared libraries cluster uses (CLI.md): a change
 // that links the other commands' code into it (a unity batch, a new call) brings OMPL, FCL, ROS and
 // Python back into every cluster run's start (about 15 ms of a 0.1 s run at 257,000 points).

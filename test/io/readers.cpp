@@ -657,7 +657,12 @@ TEST(IoReadersStream, PlainDecimalFastPathReadsAsFromChars) {
     if (pick(50) == 0) good += pick(2) ? "\n" : "# comment\n";
     good += line(3);
   }
-  std::vector<std::pair<std::string, std::string>> cases = {{"good.txt", good}};
+  // A long first data line, then short ones: each chunk's points overflow the slice the first line's
+  // length made room for, and go on in order.
+  std::string long_first = "1.000000000000000000 2.000000000000000000 3.000000000000000000\n";
+  for (int i = 0; i < 100000; ++i)
+    long_first += std::to_string(pick(10)) + " " + std::to_string(pick(100)) + " -" + std::to_string(pick(10)) + "\n";
+  std::vector<std::pair<std::string, std::string>> cases = {{"good.txt", good}, {"long_first.txt", long_first}};
   const std::vector<std::string> bad_lines = {"1 2 3,\n",  "1,,2 3\n",   "1 2\n",       "1 2 3 4\n",  "- 1 2\n",
                                               "1 2 3x\n",  "1..2 3 4\n", ",1 2 3\n",    "1 2 0x10\n", "1 2 3 ,\r\n",
                                               "1 2 --3\n", "1 2 3\f,\n", "1\x01 2 3\n", "1 2 3,# c\n"};
