@@ -240,6 +240,53 @@ class StrayRule {
   core::PointKdTree<3> tree_;
 };
 
+/// One part of a cluster wrapped as a whole obstacle is (hull, footprint, volume, ...), with its
+/// check's bound and flags, and the observed-free voxel centres (`free`, sorted by x) inside its hull,
+/// and of those the ones beyond its surface band (none of its voxels among their 26 neighbours).
+/// `origin`: the cluster lattice's, which the check's hull is on.
+ObstaclePart wrapPart(int id, const std::vector<std::size_t>& members, const Check& check,
+                      const Eigen::Vector3d& origin, const std::vector<Eigen::Vector3d>& centers,
+                      const std::vector<std::uint32_t>& weights, double voxel_size,
+                      const std::vector<Eigen::Vector3d>& free) {
+  const Obstacle whole = detail::wrapCluster(id, members, centers, weights, voxel_size);
+  ObstaclePart part;
+  part.voxel_count = whole.voxel_count;
+  part.point_weight = whole.point_weight;
+  part.aabb_min = whole.aabb_min;
+  part.aabb_max = whole.aabb_max;
+  part.centroid = whole.centroid;
+  part.volume = whole.volume;
+  part.hull = whole.hull;
+  part.footprint = whole.footprint;
+  part.concavity_bound = std::sqrt(double(check.worst_d2)) * voxel_size;
+  part.flat = check.flat;
+  part.filled = check.filled;
+  part.faces = check.faces;
+  const auto cellOf = [&](const Eigen::Vector3d& p) {
+    const Eigen::Vector3d c = ((p - origin) / voxel_size).array().round();
+    return std::array<std::int64_t, 3>{std::int64_t(c.x()), std::int64_t(c.y()), std::int64_t(c.z())};
+  };
+  std::set<std::array<std::int64_t, 3>> own;
+  for (const auto i : members) own.insert(cellOf(centers[i]));
+  const auto nearOwn = [&](const Eigen::Vector3d& p) {
+    const auto c = cellOf(p);
+    for (std::int64_t dx = -1; dx <= 1; ++dx)
+      for (std::int64_t dy = -1; dy <= 1; ++dy)
+        for (std::int64_t dz = -1; dz <= 1; ++dz)
+          if (own.count({c[0] + dx, c[1] + dy, c[2] + dz})) return true;
+    return false;
+  };
+  const auto first = std::lower_bound(free.begin(), free.end(), part.aabb_min.x(),
+                                      [](const Eigen::Vector3d& p, double x) { return p.x() < x; });
+  for (auto it = first; it != free.end() && it->x() <= part.aabb_max.x(); ++it) {
+    if ((it->array() < part.aabb_min.array()).any() || (it->array() > part.aabb_max.array()).any()) continue;
+    if (!inside(check.hull, (*it - origin) / voxel_size)) continue;
+    ++part.free_voxels_inside;
+    if (!nearOwn(*it)) ++part.free_voxels_off_surface;
+  }
+  return part;
+}
+
 }  // namespace
 
 ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::vector<Eigen::Vector3d>& centers,
@@ -299,47 +346,11 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
         stray_voxels[o].insert(stray_voxels[o].end(), global.begin(), global.end());
         continue;
       }
-      const Obstacle whole = detail::wrapCluster(obstacle.id, global, centers, weights, voxel_size);
-      ObstaclePart part;
-      part.voxel_count = whole.voxel_count;
-      part.point_weight = whole.point_weight;
-      part.aabb_min = whole.aabb_min;
-      part.aabb_max = whole.aabb_max;
-      part.centroid = whole.centroid;
-      part.volume = whole.volume;
-      part.hull = whole.hull;
-      part.footprint = whole.footprint;
-      part.concavity_bound = std::sqrt(double(check.worst_d2)) * voxel_size;
-      part.flat = check.flat;
-      part.filled = check.filled;
-      part.faces = check.faces;
       if (check.flat) ++flat_parts[o];
       if (check.faces) ++face_parts[o];
       keyframes_in_voxels[o] += check.keyframes_in_voxels;
-      const auto first = std::lower_bound(free.begin(), free.end(), part.aabb_min.x(),
-                                          [](const Eigen::Vector3d& p, double x) { return p.x() < x; });
-      // The part's own voxels on the lattice, for the surface band (26 neighbours).
-      const auto cellOf = [&](const Eigen::Vector3d& p) {
-        const Eigen::Vector3d c = ((p - result.lattice.origin) / voxel_size).array().round();
-        return std::array<std::int64_t, 3>{std::int64_t(c.x()), std::int64_t(c.y()), std::int64_t(c.z())};
-      };
-      std::set<std::array<std::int64_t, 3>> own;
-      for (const auto i : global) own.insert(cellOf(centers[i]));
-      const auto nearOwn = [&](const Eigen::Vector3d& p) {
-        const auto c = cellOf(p);
-        for (std::int64_t dx = -1; dx <= 1; ++dx)
-          for (std::int64_t dy = -1; dy <= 1; ++dy)
-            for (std::int64_t dz = -1; dz <= 1; ++dz)
-              if (own.count({c[0] + dx, c[1] + dy, c[2] + dz})) return true;
-        return false;
-      };
-      for (auto it = first; it != free.end() && it->x() <= part.aabb_max.x(); ++it) {
-        if ((it->array() < part.aabb_min.array()).any() || (it->array() > part.aabb_max.array()).any()) continue;
-        if (!inside(check.hull, (*it - result.lattice.origin) / voxel_size)) continue;
-        ++part.free_voxels_inside;
-        if (!nearOwn(*it)) ++part.free_voxels_off_surface;
-      }
-      obstacle.parts.push_back(std::move(part));
+      obstacle.parts.push_back(
+          wrapPart(obstacle.id, global, check, result.lattice.origin, centers, weights, voxel_size, free));
     }
     // The whole obstacle again, from the voxels it keeps.
     if (stray_parts[o] > 0) {
