@@ -105,6 +105,15 @@ void runDbscan(BuildResult& result, ClusterWork& w) {
   w.clusters = clustering::dbscan(w.obstacle_centers, w.obstacle_weights, result.report.cluster_params.used);
 }
 
+// The centres of the floor's, ceiling's and ground's voxels: what holds up the things standing on them.
+std::vector<Eigen::Vector3d> surfaceCenters(const ClusterWork& w) {
+  std::vector<Eigen::Vector3d> out;
+  for (std::size_t i = 0; i < w.labels.size(); ++i)
+    if (w.labels[i] == kFloorLabel || w.labels[i] == kCeilingLabel || w.labels[i] == kGroundLabel)
+      out.push_back(w.centers[i]);
+  return out;
+}
+
 bool extensionOn(const BuildParams& params) { return params.extension.value_or(!params.min_pts); }
 
 // The clusters extended, their strays trimmed, and flat clusters merged into the ones around them.
@@ -116,10 +125,7 @@ void extendClusters(BuildResult& result, ClusterWork& w) {
       clustering::extendClusters(w.obstacle_centers, w.obstacle_weights, w.clusters, *chosen.extension_params);
   // Stray map points that the eps, wide on a sparse map, took in off the surfaces go back to noise;
   // the floor's and ceiling's voxels support what stands on them (a table leg's foot).
-  std::vector<Eigen::Vector3d> surface_centers;
-  for (std::size_t i = 0; i < w.labels.size(); ++i)
-    if (w.labels[i] == kFloorLabel || w.labels[i] == kCeilingLabel || w.labels[i] == kGroundLabel)
-      surface_centers.push_back(w.centers[i]);
+  const std::vector<Eigen::Vector3d> surface_centers = surfaceCenters(w);
   chosen.trim_params =
       clustering::OutlierTrimParams{3.0 * resolution, std::max(3.0 * resolution, chosen.extension_params->reach)};
   chosen.trim = clustering::trimOutliers(w.obstacle_centers, w.clusters, surface_centers, *chosen.trim_params);
@@ -188,9 +194,7 @@ void splitConvexParts(BuildResult& result, ClusterWork& w) {
     strays.emplace();
     strays->max_voxels = params.stray_part_voxels;
     strays->core = result.clusters.core;
-    for (std::size_t i = 0; i < w.labels.size(); ++i)
-      if (w.labels[i] == kFloorLabel || w.labels[i] == kCeilingLabel || w.labels[i] == kGroundLabel)
-        strays->support.push_back(w.centers[i]);
+    strays->support = surfaceCenters(w);
   }
   report.parts = hulls::addConvexParts(result.obstacles, w.centers, w.weights, w.cluster_labels, resolution,
                                        parts_params, known, strays ? &*strays : nullptr);
