@@ -42,6 +42,22 @@ std::vector<std::string> lines(const std::string& text) {
   return out;
 }
 
+/// labels.csv's rows after its header: point i's coordinates read back exactly, its label and core flag.
+void expectLabelRows(const std::vector<std::string>& rows, const Points& points, const DbscanResult& expected) {
+  ASSERT_EQ(rows.size(), points.size() + 1);
+  EXPECT_EQ(rows[0], "x,y,z,label,core");
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::istringstream row(rows[i + 1]);
+    double v[3];
+    int label = 0, core = 0;
+    char comma;
+    ASSERT_TRUE(row >> v[0] >> comma >> v[1] >> comma >> v[2] >> comma >> label >> comma >> core) << rows[i + 1];
+    ASSERT_EQ(Eigen::Vector3d(v[0], v[1], v[2]), points[i]) << "row " << i + 1;
+    ASSERT_EQ(label, expected.labels[i]) << "row " << i + 1;
+    ASSERT_EQ(core, int(expected.core[i])) << "row " << i + 1;
+  }
+}
+
 TEST(ClusterCommand, WritesLabelsOfEveryPointInInputOrder) {
   const auto dir = test::freshDir("cluster_command");
   const Points points = blobs(91, 2000, 2.0, 6, 0.05);
@@ -53,19 +69,7 @@ TEST(ClusterCommand, WritesLabelsOfEveryPointInInputOrder) {
   Points map;
   for (const auto& p : points) map.emplace_back(p.x(), p.z(), -p.y());
   const DbscanResult expected = dbscan(map, {}, DbscanParams{0.1, 10, Metric::kXyz});
-  const auto rows = lines(test::slurp(output));
-  ASSERT_EQ(rows.size(), points.size() + 1);
-  EXPECT_EQ(rows[0], "x,y,z,label,core");
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    std::istringstream row(rows[i + 1]);
-    double v[3];
-    int label = 0, core = 0;
-    char comma;
-    ASSERT_TRUE(row >> v[0] >> comma >> v[1] >> comma >> v[2] >> comma >> label >> comma >> core) << rows[i + 1];
-    EXPECT_EQ(Eigen::Vector3d(v[0], v[1], v[2]), map[i]) << "row " << i + 1;
-    EXPECT_EQ(label, expected.labels[i]) << "row " << i + 1;
-    EXPECT_EQ(core, int(expected.core[i])) << "row " << i + 1;
-  }
+  expectLabelRows(lines(test::slurp(output)), map, expected);
   EXPECT_NE(r.out.find("clusters: " + std::to_string(expected.cluster_sizes.size()) + "\n"), std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("noise points: " + std::to_string(expected.noise) + " "), std::string::npos) << r.out;
@@ -93,18 +97,9 @@ TEST(ClusterCommand, RowsLongerThanTheirSliceStayInOrder) {
   const DbscanResult expected = dbscan(points, {}, DbscanParams{0.1, 10, Metric::kXyz});
   const auto rows = lines(test::slurp(output));
   ASSERT_EQ(rows.size(), points.size() + 1);
+  expectLabelRows(rows, points, expected);
   std::size_t long_rows = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    long_rows += rows[i + 1].size() > 48;
-    std::istringstream row(rows[i + 1]);
-    double v[3];
-    int label = 0, core = 0;
-    char comma;
-    ASSERT_TRUE(row >> v[0] >> comma >> v[1] >> comma >> v[2] >> comma >> label >> comma >> core) << rows[i + 1];
-    ASSERT_EQ(Eigen::Vector3d(v[0], v[1], v[2]), points[i]) << "row " << i + 1;
-    ASSERT_EQ(label, expected.labels[i]) << "row " << i + 1;
-    ASSERT_EQ(core, int(expected.core[i])) << "row " << i + 1;
-  }
+  for (std::size_t i = 0; i < points.size(); ++i) long_rows += rows[i + 1].size() > 48;
   EXPECT_GT(long_rows, points.size() / 2) << "the rows should mostly be longer than a slice's share";
 }
 
