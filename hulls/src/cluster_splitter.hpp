@@ -14,7 +14,7 @@
 
 #include <Eigen/Core>
 
-#include "lattice_hull.hpp"
+#include "hullmap/hulls/detail/lattice_hull.hpp"
 
 namespace hullmap::hulls::detail {
 

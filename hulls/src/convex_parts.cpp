@@ -20,7 +20,7 @@
 #include "hullmap/core/error.hpp"
 #include "hullmap/core/kd_tree.hpp"
 #include "cluster_splitter.hpp"
-#include "lattice_hull.hpp"
+#include "hullmap/hulls/detail/lattice_hull.hpp"
 
 namespace hullmap::hulls {
 namespace {

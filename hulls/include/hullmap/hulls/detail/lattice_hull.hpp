@@ -1,6 +1,6 @@
 #pragma once
-// Private to hullmap_clustering: the voxel lattice of a cluster (cell (i, j, k) is the cube
-// [i, i+1] x [j, j+1] x [k, k+1] in voxel units) and the hulls on it.
+// The voxel lattice of a cluster (cell (i, j, k) is the cube [i, i+1] x [j, j+1] x [k, k+1] in voxel
+// units) and the hulls on it: a white-box header for hullmap_hulls and its tests, not installed.
 //
 // Why two hull algorithms: an obstacle's hull (wrapCluster, obstacles.cpp) is CGAL's convex_hull_3
 // of the candidate corners, because its output is a polyhedron with double vertices for FCL and
@@ -50,10 +50,8 @@ inline std::int64_t dot(const LatticePoint& a, const LatticePoint& b) {
 }
 
 /// Hull of the cells' corners, exact on the lattice: its facet planes and volume do not depend on
-/// how it is triangulated, so everything decided from them is deterministic. `cells` holds at least
-/// four corners not coplanar between them (any 3D cluster of cells does).
-/// Hull of the cells' corners, exact on the lattice: its facet planes and volume do not depend on
-/// how it is triangulated, so everything decided from them is deterministic.
+/// how it is triangulated, so everything decided from them is deterministic. `cells` is not empty
+/// (the corners of any cell are not coplanar).
 FacetHull facetHull(const std::vector<LatticePoint>& cells);
 
 /// Whether x (corner-lattice coordinates) lies in the hull, with a tolerance of 1e-9.
