@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -25,14 +26,24 @@ namespace fs = std::filesystem;
 
 void writeVoxelsCsv(const fs::path& path, const std::vector<mapper::OccupiedVoxel>& voxels,
                     const clustering::DbscanResult& clusters) {
-  core::writeFileAtomically(path.string(), [&](std::ostream& os) {
-    os << "x,y,z,weight,label,core\n" << std::setprecision(9);
-    for (std::size_t i = 0; i < voxels.size(); ++i) {
-      const auto& v = voxels[i];
-      os << v.center.x() << ',' << v.center.y() << ',' << v.center.z() << ',' << v.weight << ',' << clusters.labels[i]
-         << ',' << int(clusters.core[i]) << '\n';
-    }
-  });
+  // Formatted with std::to_chars, which writes a double at precision 9 as printf's %.9g (and so as an
+  // ostream at setprecision(9)) does, about ten times faster: this file is the longest output of a build.
+  std::string text = "x,y,z,weight,label,core\n";
+  text.reserve(text.size() + voxels.size() * 64);
+  const auto put = [&](auto value, char after, auto... format) {
+    char field[32];  // a double at precision 9 takes at most 16, an int 11
+    text.append(field, std::to_chars(field, field + sizeof field, value, format...).ptr);
+    text.push_back(after);
+  };
+  for (std::size_t i = 0; i < voxels.size(); ++i) {
+    const auto& v = voxels[i];
+    for (const double x : {v.center.x(), v.center.y(), v.center.z()}) put(x, ',', std::chars_format::general, 9);
+    put(v.weight, ',');
+    put(clusters.labels[i], ',');
+    put(int(clusters.core[i]), '\n');
+  }
+  core::writeFileAtomically(path.string(),
+                            [&](std::ostream& os) { os.write(text.data(), std::streamsize(text.size())); });
 }
 
 std::vector<VoxelRow> readVoxelsCsv(const fs::path& path) {
