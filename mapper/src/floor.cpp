@@ -7,6 +7,8 @@
 #include <unordered_set>
 
 #include <Eigen/Eigenvalues>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "hullmap/core/error.hpp"
 #include "hullmap/core/number_text.hpp"
@@ -162,8 +164,8 @@ PlaneFit findBoundingPlane(const io::Points& points, PlaneSide side, const Plane
   }
   const auto max_beyond_screen =
       static_cast<std::size_t>(params.max_beyond_share * static_cast<double>(screen_points.size()));
-  std::vector<std::pair<std::size_t, int>> screened;  // (inliers on the screen, candidate index)
-  std::vector<Plane> candidates;
+  // Every candidate is drawn first (one generator, in order), then counted in parallel.
+  std::vector<Plane> drawn_planes;
   for (int it = 0; it < params.iterations; ++it) {
     Plane candidate;
     const io::Point& p0 = sample[draw.index(sample.size())];
@@ -181,21 +183,35 @@ PlaneFit findBoundingPlane(const io::Points& points, PlaneSide side, const Plane
       candidate.normal = inward;
     }
     candidate.offset = candidate.normal.dot(p0);
-    const Counts c = count(screen_points, candidate, band);
-    if (c.beyond > max_beyond_screen) continue;
-    screened.emplace_back(c.inliers, static_cast<int>(candidates.size()));
-    candidates.push_back(candidate);
+    drawn_planes.push_back(candidate);
+  }
+  std::vector<Counts> screen_counts(drawn_planes.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, drawn_planes.size(), 16),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i)
+                        screen_counts[i] = count(screen_points, drawn_planes[i], band);
+                    });
+  std::vector<std::pair<std::size_t, int>> screened;  // (inliers on the screen, candidate index)
+  std::vector<Plane> candidates;
+  for (std::size_t i = 0; i < drawn_planes.size(); ++i) {
+    if (screen_counts[i].beyond > max_beyond_screen) continue;
+    screened.emplace_back(screen_counts[i].inliers, static_cast<int>(candidates.size()));
+    candidates.push_back(drawn_planes[i]);
   }
   // The finalists: most inliers on the screen first, ties to the earlier draw.
   std::stable_sort(screened.begin(), screened.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
   if (screened.size() > kFinalists) screened.resize(kFinalists);
   std::sort(screened.begin(), screened.end(), [](const auto& x, const auto& y) { return x.second < y.second; });
+  std::vector<Counts> finalist_counts(screened.size());
+  tbb::parallel_for(std::size_t{0}, screened.size(), [&](std::size_t k) {
+    finalist_counts[k] = count(sample, candidates[static_cast<std::size_t>(screened[k].second)], band);
+  });
   bool have = false;
   Plane best;
   std::size_t best_inliers = 0;
-  for (const auto& [screen_inliers, index] : screened) {
-    const Plane& candidate = candidates[static_cast<std::size_t>(index)];
-    const Counts c = count(sample, candidate, band);
+  for (std::size_t k = 0; k < screened.size(); ++k) {
+    const Plane& candidate = candidates[static_cast<std::size_t>(screened[k].second)];
+    const Counts& c = finalist_counts[k];
     if (c.beyond > max_beyond) continue;
     if (!have || c.inliers > best_inliers) {
       have = true;
