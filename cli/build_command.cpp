@@ -16,11 +16,11 @@
 #include "hullmap/mapper/level_check.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "option_checks.hpp"
-#ifdef HULLMAP_HAS_ROSBAG
-#include "hullmap/ros1/bag_map.hpp"
-#endif
 
 namespace hullmap::cli {
+
+Ros1BagReader ros1_bag_reader = nullptr;
+
 namespace {
 
 /// `hullmap build`'s options as typed; strings still to parse.
@@ -188,15 +188,11 @@ pipeline::BuildResult buildFromBag(const BuildOptions& options, const pipeline::
   if (live::isRos2Bag(path)) {
     bag = live::readRos2Bag(path, *options.topic, options.trajectory_topic);
   } else {
-#ifdef HULLMAP_HAS_ROSBAG
-    bag.map = ros1::readBagMap(path, *options.topic);
-    if (options.trajectory_topic) bag.keyframes = ros1::readBagKeyframes(path, *options.trajectory_topic);
-#else
-    (void)params;
-    throw Error(
-        "--topic: this hullmap was built without ROS1's rosbag_storage (install librosbag-storage-dev "
-        "and pluginlib-dev, then rebuild)");
-#endif
+    if (ros1_bag_reader == nullptr)
+      throw Error(
+          "--topic: this hullmap was built without ROS1's rosbag_storage (install librosbag-storage-dev "
+          "and pluginlib-dev, then rebuild)");
+    bag = ros1_bag_reader(path, *options.topic, options.trajectory_topic);
   }
   if (bag.map.skipped > 0) {
     std::cerr << "hullmap: warning: " << path << ": " << bag.map.skipped << " malformed message"

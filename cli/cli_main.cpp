@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -12,6 +15,7 @@
 #endif
 
 #include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 
 namespace hullmap::cli {
 namespace {
@@ -89,10 +93,20 @@ void keepFreedMemoryForReuse() {
 #endif
 }
 
+// Test-only (test/e2e/heavy/build.cpp): HULLMAP_TEST_KILL_AT=<stage> makes the run SIGKILL itself
+// when the pipeline reaches that stage, so that "a run killed there" is a fact, not a race with a timer.
+const char* kill_at = nullptr;
+
+void killAtStage(const char* stage) {
+  if (std::strcmp(stage, kill_at) == 0) std::raise(SIGKILL);
+}
+
 }  // namespace
 
 int runCli(int argc, char** argv, const std::vector<AddCommand>& commands) {
   keepFreedMemoryForReuse();
+  kill_at = std::getenv("HULLMAP_TEST_KILL_AT");
+  if (kill_at != nullptr) pipeline::detail::stage_hook = killAtStage;
   CLI::App app{"hullmap: SLAM map points -> OctoMap -> DBSCAN clusters -> convex obstacles -> path checks"};
   app.set_version_flag("--version", HULLMAP_VERSION);
   app.require_subcommand(1);

@@ -1,31 +1,36 @@
-// hullmap-all: every subcommand. `hullmap` (front.cpp) runs the light ones itself and hands every
-// other command line to this program unchanged.
-#include <csignal>
-#include <cstdlib>
-#include <cstring>
+// hullmap-all: every subcommand. `hullmap` (front.cpp) runs `cluster` and `build` (without --topic)
+// itself and hands every other command line to this program unchanged.
 #include <iostream>
 #include <iterator>
+#include <optional>
+#include <string>
 
 #include "cli_main.hpp"
 #include "commands.hpp"
-#include "hullmap/pipeline/pipeline.hpp"
+#ifdef HULLMAP_HAS_ROSBAG
+#include "hullmap/ros1/bag_map.hpp"
+#endif
 
 namespace {
 
-// Test-only (test/e2e/build.cpp): HULLMAP_TEST_KILL_AT=<stage> makes the run SIGKILL itself when
-// the pipeline reaches that stage, so that "a run killed there" is a fact, not a race with a timer.
-const char* kill_at = nullptr;
-
-void killAtStage(const char* stage) {
-  if (std::strcmp(stage, kill_at) == 0) std::raise(SIGKILL);
+#ifdef HULLMAP_HAS_ROSBAG
+// `build --topic` on a ROS 1 bag: Debian's rosbag_storage, loaded by this program only.
+hullmap::live::BagTopics readRos1Bag(const std::string& path, const std::string& topic,
+                                     const std::optional<std::string>& trajectory_topic) {
+  hullmap::live::BagTopics bag;
+  bag.map = hullmap::ros1::readBagMap(path, topic);
+  if (trajectory_topic) bag.keyframes = hullmap::ros1::readBagKeyframes(path, *trajectory_topic);
+  return bag;
 }
+#endif
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  kill_at = std::getenv("HULLMAP_TEST_KILL_AT");
-  if (kill_at != nullptr) hullmap::pipeline::detail::stage_hook = killAtStage;
   using namespace hullmap::cli;
+#ifdef HULLMAP_HAS_ROSBAG
+  ros1_bag_reader = readRos1Bag;
+#endif
   const std::vector<AddCommand> commands = {addBuildCommand, addInfoCommand,     addGenerateCommand, addClusterCommand,
                                             addSweepCommand, addCheckCommand,    addPlotCommand,     addRoadmapCommand,
                                             addPlanCommand,  addEvaluateCommand, addViewCommand};
