@@ -14,8 +14,11 @@ namespace {
 /// Squared Euclidean distance transform along one line (Felzenszwalb and Huttenlocher 2012) in
 /// integers: `f` holds squared distances (integers) or kFar, at least one of them finite; `out`
 /// gets the lower envelope of the parabolas (q - r)^2 + f[r] of the finite ones. The parabolas'
-/// crossings are kept as fractions num / den (den > 0) and compared by cross-multiplication in 128
-/// bits, so no division rounds; the envelope, and its values at the integers, are exact.
+/// crossings are kept as fractions num / den (den > 0) and compared by cross-multiplication in
+/// `Wide` (128 bits in general; 64 when the box is narrower than 2^14 cells on every axis, so that
+/// heights stay below 2^30 and denominators below 2^15), so no division rounds; the envelope, and its
+/// values at the integers, are exact.
+template <class Wide>
 void distanceTransform1d(const std::vector<double>& f, std::vector<double>& out, std::vector<std::int64_t>& v,
                          std::vector<std::int64_t>& num, std::vector<std::int64_t>& den) {
   constexpr double kFar = 1e20;
@@ -34,7 +37,7 @@ void distanceTransform1d(const std::vector<double>& f, std::vector<double>& out,
       a = height(q) - height(r);
       b = 2 * (q - r);
       // Parabola k is hidden when the new one crosses it at or before where k starts.
-      if (k > 0 && __int128(a) * den[std::size_t(k)] <= __int128(num[std::size_t(k)]) * b) {
+      if (k > 0 && Wide(a) * den[std::size_t(k)] <= Wide(num[std::size_t(k)]) * b) {
         --k;
         continue;
       }
@@ -49,7 +52,7 @@ void distanceTransform1d(const std::vector<double>& f, std::vector<double>& out,
   std::int64_t j = 0;
   for (std::int64_t q = 0; q < n; ++q) {
     // The next parabola starts before q: num / den < q.
-    while (j < k && num[std::size_t(j) + 1] < __int128(q) * den[std::size_t(j) + 1]) ++j;
+    while (j < k && num[std::size_t(j) + 1] < Wide(q) * den[std::size_t(j) + 1]) ++j;
     const std::int64_t r = v[std::size_t(j)], d = q - r;
     out[std::size_t(q)] = double(d * d) + f[std::size_t(r)];
   }
@@ -65,6 +68,8 @@ void exactTransform(std::vector<float>& d2, const std::array<std::int64_t, 3>& d
   const std::array<std::int64_t, 3> stride{1, dims[0], dims[0] * dims[1]};
   std::vector<double> f, out;
   std::vector<std::int64_t> v, num, den;
+  constexpr std::int64_t kNarrow = std::int64_t(1) << 14;
+  const bool narrow = dims[0] < kNarrow && dims[1] < kNarrow && dims[2] < kNarrow;
   for (int axis = 0; axis < 3; ++axis) {
     const std::size_t a = std::size_t(axis), b = std::size_t((axis + 1) % 3), c = std::size_t((axis + 2) % 3);
     const std::int64_t n = dims[a], s = stride[a];
@@ -99,7 +104,10 @@ void exactTransform(std::vector<float>& d2, const std::array<std::int64_t, 3>& d
           continue;
         }
         for (std::int64_t q = 0; q < n; ++q) f[std::size_t(q)] = d2[std::size_t(base + q * s)];
-        distanceTransform1d(f, out, v, num, den);
+        if (narrow)
+          distanceTransform1d<std::int64_t>(f, out, v, num, den);
+        else
+          distanceTransform1d<__int128>(f, out, v, num, den);
         for (std::int64_t q = 0; q < n; ++q) d2[std::size_t(base + q * s)] = float(std::min(out[std::size_t(q)], kFar));
       }
   }

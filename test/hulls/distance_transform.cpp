@@ -72,20 +72,27 @@ TEST(DistanceTransform, ExactAndBoundedAgreeWithBruteForce) {
   EXPECT_EQ(boxes, 600);
 }
 
-// Long lines: the exact transform's crossings of parabolas far apart (the integer comparisons in 128
-// bits), on a thin box along each axis with sites at its ends and a few inside.
+// Long lines: the exact transform's crossings of parabolas far apart, on a thin box along each axis
+// with sites at its ends and a few inside: 3,000 cells (the comparisons in 64 bits) and 20,000 (longer
+// than 2^14: in 128 bits).
 TEST(DistanceTransform, ExactOnLongLinesAlongEachAxis) {
-  for (int axis = 0; axis < 3; ++axis) {
-    std::array<std::int64_t, 3> dims{2, 2, 2};
-    dims[std::size_t(axis)] = 3000;
-    std::vector<float> sites(std::size_t(dims[0] * dims[1] * dims[2]), kFar);
-    const std::array<std::int64_t, 3> stride{1, dims[0], dims[0] * dims[1]};
-    for (const std::int64_t q : {0, 1, 1700, 2999}) sites[std::size_t(q * stride[std::size_t(axis)])] = 0.0f;
-    const std::vector<double> truth = bruteForce(sites, dims);
-    std::vector<float> exact = sites;
-    exactTransform(exact, dims);
-    for (std::size_t x = 0; x < truth.size(); ++x) ASSERT_EQ(double(exact[x]), truth[x]) << "axis " << axis;
-  }
+  for (const std::int64_t length : {3000, 20000})
+    for (int axis = 0; axis < 3; ++axis) {
+      std::array<std::int64_t, 3> dims{2, 2, 2};
+      dims[std::size_t(axis)] = length;
+      std::vector<float> sites(std::size_t(dims[0] * dims[1] * dims[2]), kFar);
+      const std::array<std::int64_t, 3> stride{1, dims[0], dims[0] * dims[1]};
+      // Sites at both ends, next to the first, and every 1,700 cells (at most 2^12 apart: the squared
+      // distances stay exact in floats).
+      for (std::int64_t q = 0; q < length; q += 1700) sites[std::size_t(q * stride[std::size_t(axis)])] = 0.0f;
+      for (const std::int64_t q : {std::int64_t(1), length - 1})
+        sites[std::size_t(q * stride[std::size_t(axis)])] = 0.0f;
+      const std::vector<double> truth = bruteForce(sites, dims);
+      std::vector<float> exact = sites;
+      exactTransform(exact, dims);
+      for (std::size_t x = 0; x < truth.size(); ++x)
+        ASSERT_EQ(double(exact[x]), truth[x]) << "length " << length << ", axis " << axis;
+    }
 }
 
 }  // namespace
