@@ -238,44 +238,56 @@ std::vector<std::array<std::uint32_t, 3>> integerHull(const std::vector<LatticeP
     faces.push_back(f);
   }
   // Each point sees the faces it is strictly outside of; the edges of those faces whose reverse
-  // edge is on no seen face form the horizon, which the point is joined to.
-  thread_local std::vector<char> spare_sees;
-  thread_local std::vector<std::pair<std::uint32_t, std::uint32_t>> spare_seen, spare_sorted, spare_horizon;
-  Borrowed<char> borrowed_sees(spare_sees);
-  Borrowed<std::pair<std::uint32_t, std::uint32_t>> borrowed_seen(spare_seen), borrowed_sorted(spare_sorted),
-      borrowed_horizon(spare_horizon);
-  std::vector<char>& sees = borrowed_sees.v;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>>& seen_edges = borrowed_seen.v;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>>& sorted_edges = borrowed_sorted.v;
+  // edge is on no seen face form the horizon, which the point is joined to. The seen edges go into a
+  // small open-addressing table (keys u << 32 | v, plus one: 0 is empty); the new faces take the seen
+  // faces' places, the rest are appended or the places left over removed (the hull's faces as a set
+  // do not depend on their order).
+  thread_local std::vector<std::uint32_t> spare_seen;
+  thread_local std::vector<std::uint64_t> spare_table;
+  thread_local std::vector<std::pair<std::uint32_t, std::uint32_t>> spare_horizon;
+  Borrowed<std::uint32_t> borrowed_seen(spare_seen);
+  Borrowed<std::uint64_t> borrowed_table(spare_table);
+  Borrowed<std::pair<std::uint32_t, std::uint32_t>> borrowed_horizon(spare_horizon);
+  std::vector<std::uint32_t>& seen = borrowed_seen.v;
+  std::vector<std::uint64_t>& table = borrowed_table.v;
   std::vector<std::pair<std::uint32_t, std::uint32_t>>& horizon = borrowed_horizon.v;
+  const auto slot = [&](std::uint64_t key) {  // the key's slot, or the empty one where it would go
+    std::size_t at = std::size_t((key * 0x9E3779B97F4A7C15ull) >> 40) & (table.size() - 1);
+    while (table[at] != 0 && table[at] != key) at = (at + 1) & (table.size() - 1);
+    return at;
+  };
+  const auto edgeKey = [](std::uint32_t u, std::uint32_t v) { return (std::uint64_t(u) << 32 | v) + 1; };
   for (std::size_t i = 1; i < n; ++i) {
     if (i == i1 || i == i2 || i == i3) continue;
-    seen_edges.clear();
-    sees.resize(faces.size());
-    for (std::size_t f = 0; f < faces.size(); ++f) {
-      sees[f] = side(faces[f], points[i]) > 0;
-      if (sees[f])
-        for (int e = 0; e < 3; ++e)
-          seen_edges.emplace_back(faces[f].v[std::size_t(e)], faces[f].v[std::size_t((e + 1) % 3)]);
-    }
-    if (seen_edges.empty()) continue;
-    horizon.clear();
-    if (seen_edges.size() <= 12) {
-      for (const auto& [u, v] : seen_edges)
-        if (std::find(seen_edges.begin(), seen_edges.end(), std::make_pair(v, u)) == seen_edges.end())
-          horizon.emplace_back(u, v);
-    } else {
-      sorted_edges = seen_edges;
-      std::sort(sorted_edges.begin(), sorted_edges.end());
-      for (const auto& [u, v] : seen_edges)
-        if (!std::binary_search(sorted_edges.begin(), sorted_edges.end(), std::make_pair(v, u)))
-          horizon.emplace_back(u, v);
-    }
-    std::size_t kept = 0;  // the faces it does not see, in order, then its faces on the horizon
+    seen.clear();
     for (std::size_t f = 0; f < faces.size(); ++f)
-      if (!sees[f]) faces[kept++] = faces[f];
-    faces.resize(kept);
-    for (const auto& [u, v] : horizon) faces.push_back(makeFace(u, v, std::uint32_t(i)));
+      if (side(faces[f], points[i]) > 0) seen.push_back(std::uint32_t(f));
+    if (seen.empty()) continue;
+    std::size_t size = 16;
+    while (size < 6 * seen.size()) size *= 2;  // at most half full
+    table.assign(size, 0);
+    for (const std::uint32_t f : seen)
+      for (std::size_t e = 0; e < 3; ++e) {
+        const std::uint64_t key = edgeKey(faces[f].v[e], faces[f].v[(e + 1) % 3]);
+        table[slot(key)] = key;
+      }
+    horizon.clear();
+    for (const std::uint32_t f : seen)
+      for (std::size_t e = 0; e < 3; ++e) {
+        const std::uint32_t u = faces[f].v[e], v = faces[f].v[(e + 1) % 3];
+        if (table[slot(edgeKey(v, u))] == 0) horizon.emplace_back(u, v);
+      }
+    for (std::size_t k = 0; k < horizon.size(); ++k) {
+      const Face face = makeFace(horizon[k].first, horizon[k].second, std::uint32_t(i));
+      if (k < seen.size())
+        faces[seen[k]] = face;
+      else
+        faces.push_back(face);
+    }
+    for (std::size_t k = seen.size(); k-- > horizon.size();) {  // places left over, the last first
+      faces[seen[k]] = faces.back();
+      faces.pop_back();
+    }
   }
   std::vector<std::array<std::uint32_t, 3>> out;
   for (const auto& f : faces) out.push_back(f.v);
