@@ -81,29 +81,39 @@ void exactTransform(std::vector<float>& d2, const std::array<std::int64_t, 3>& d
         // A line holding no finite value stays as it is (every value kFar after the transform too),
         // and on the first pass, where the values are 0 (sites) or kFar, the transform is the
         // squared distance to the nearest site along the line: two sweeps give the same exact
-        // integers as the lower envelope of parabolas.
-        bool any = false, binary = true;
-        for (std::int64_t q = 0; q < n; ++q) {
-          const float x = d2[std::size_t(base + q * s)];
-          any = any || x < float(kFar);
-          binary = binary && (x == 0.0f || x >= float(kFar));
-        }
-        if (!any) continue;
-        if (axis == 0 && binary) {
-          std::int64_t last = -1;  // the nearest site at or before q
+        // integers as the lower envelope of parabolas. Later passes copy the line as they look.
+        bool any = false;
+        if (axis == 0) {
+          bool binary = true;
           for (std::int64_t q = 0; q < n; ++q) {
-            if (d2[std::size_t(base + q * s)] == 0.0f) last = q;
-            f[std::size_t(q)] = last < 0 ? kFar : double(q - last) * double(q - last);
+            const float x = d2[std::size_t(base + q * s)];
+            any = any || x < float(kFar);
+            binary = binary && (x == 0.0f || x >= float(kFar));
           }
-          last = -1;  // the nearest site at or after q
-          for (std::int64_t q = n - 1; q >= 0; --q) {
-            if (d2[std::size_t(base + q * s)] == 0.0f) last = q;
-            const double after = last < 0 ? kFar : double(last - q) * double(last - q);
-            d2[std::size_t(base + q * s)] = float(std::min(std::min(f[std::size_t(q)], after), kFar));
+          if (!any) continue;
+          if (binary) {
+            std::int64_t last = -1;  // the nearest site at or before q
+            for (std::int64_t q = 0; q < n; ++q) {
+              if (d2[std::size_t(base + q * s)] == 0.0f) last = q;
+              f[std::size_t(q)] = last < 0 ? kFar : double(q - last) * double(q - last);
+            }
+            last = -1;  // the nearest site at or after q
+            for (std::int64_t q = n - 1; q >= 0; --q) {
+              if (d2[std::size_t(base + q * s)] == 0.0f) last = q;
+              const double after = last < 0 ? kFar : double(last - q) * double(last - q);
+              d2[std::size_t(base + q * s)] = float(std::min(std::min(f[std::size_t(q)], after), kFar));
+            }
+            continue;
           }
-          continue;
+          for (std::int64_t q = 0; q < n; ++q) f[std::size_t(q)] = d2[std::size_t(base + q * s)];
+        } else {
+          for (std::int64_t q = 0; q < n; ++q) {
+            const float x = d2[std::size_t(base + q * s)];
+            any = any || x < float(kFar);
+            f[std::size_t(q)] = x;
+          }
+          if (!any) continue;
         }
-        for (std::int64_t q = 0; q < n; ++q) f[std::size_t(q)] = d2[std::size_t(base + q * s)];
         if (narrow)
           distanceTransform1d<std::int64_t>(f, out, v, num, den);
         else
