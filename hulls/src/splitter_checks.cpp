@@ -28,28 +28,37 @@ std::vector<std::pair<std::int64_t, std::int64_t>> hullColumns(const FacetHull& 
   const std::int64_t nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1;
   std::vector<std::pair<std::int64_t, std::int64_t>> columns(std::size_t(nx * ny));
   // Per plane, d less the cube's lowest offset: a cube (i, j, k) meets the plane's side when
-  // n0 i + n1 j + n2 k <= rest0.
-  std::vector<std::int64_t> rest0;
-  rest0.reserve(hull.planes.size());
+  // n0 i + n1 j + n2 k <= rest0. Vertical planes (n2 = 0) bound each row's i first: the columns
+  // outside those bounds are empty without looking at the other planes.
+  std::vector<std::pair<const Plane*, std::int64_t>> vertical, others;
   for (const auto& p : hull.planes)
-    rest0.push_back(p.d - std::min<std::int64_t>(p.n[0], 0) - std::min<std::int64_t>(p.n[1], 0) -
-                    std::min<std::int64_t>(p.n[2], 0));
+    (p.n[2] == 0 ? vertical : others)
+        .emplace_back(&p, p.d - std::min<std::int64_t>(p.n[0], 0) - std::min<std::int64_t>(p.n[1], 0) -
+                              std::min<std::int64_t>(p.n[2], 0));
   for (std::int64_t j = lo[1]; j <= hi[1]; ++j) {
+    std::int64_t i0 = lo[0], i1 = hi[0];
+    for (const auto& [p, rest0] : vertical) {
+      const std::int64_t rest = rest0 - p->n[1] * j;  // n0 i <= rest
+      if (p->n[0] > 0)
+        i1 = std::min(i1, floorDiv(rest, p->n[0]));
+      else if (p->n[0] < 0)
+        i0 = std::max(i0, ceilDiv(rest, p->n[0]));
+      else if (rest < 0)
+        i1 = i0 - 1;
+    }
     for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
       std::int64_t k0 = lo[2], k1 = hi[2];
-      for (std::size_t q = 0; q < hull.planes.size(); ++q) {
-        const Plane& p = hull.planes[q];
-        const std::int64_t rest = rest0[q] - (p.n[0] * i + p.n[1] * j);
+      if (i < i0 || i > i1) k1 = k0 - 1;
+      for (std::size_t q = 0; q < others.size() && k1 >= k0; ++q) {
+        const Plane& p = *others[q].first;
+        const std::int64_t rest = others[q].second - (p.n[0] * i + p.n[1] * j);
         // Divide only when the bound tightens: floor(rest / n2) < k1 exactly when rest < k1 n2
         // (n2 > 0), and ceil(rest / n2) > k0 exactly when rest < k0 n2 (n2 < 0).
         if (p.n[2] > 0) {
           if (rest < k1 * p.n[2]) k1 = floorDiv(rest, p.n[2]);
-        } else if (p.n[2] < 0) {
-          if (rest < k0 * p.n[2]) k0 = ceilDiv(rest, p.n[2]);
-        } else if (rest < 0) {
-          k1 = k0 - 1;
+        } else if (rest < k0 * p.n[2]) {
+          k0 = ceilDiv(rest, p.n[2]);
         }
-        if (k1 < k0) break;
       }
       columns[std::size_t((j - lo[1]) * nx + (i - lo[0]))] = {k0, k1};
     }
