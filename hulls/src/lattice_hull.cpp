@@ -375,6 +375,15 @@ FacetHull facetHull(const std::vector<LatticePoint>& cells) {
       lo[a] = std::min(lo[a], c[a]);
       hi[a] = std::max(hi[a], c[a]);
     }
+  // Facet normals reach 8 B^2 and offsets and volume terms 48 B^3 for corners within B of the origin:
+  // 64 bits hold them for B = 2^18. A cluster's lattice starts at its own corner, and an octree has
+  // at most 2^16 voxels an axis, so only cells given to the library directly can reach this.
+  constexpr std::int64_t kReach = std::int64_t(1) << 18;
+  for (std::size_t a = 0; a < 3; ++a)
+    if (lo[a] <= -kReach || hi[a] >= kReach)
+      throw Error(
+          "convex parts: a part reaches 2^18 voxels or more from its lattice's origin: too wide for the "
+          "exact lattice hull");
   const bool narrow = hi[0] - lo[0] < (1 << 18) && hi[1] - lo[1] < (1 << 18) && hi[2] - lo[2] < (1 << 18);
   for (const auto& t : narrow ? integerHull<std::int64_t>(corners) : integerHull<__int128>(corners)) {
     const LatticePoint& p = corners[t[0]];

@@ -18,6 +18,7 @@
 #include <CGAL/convex_hull_3.h>
 #include <gtest/gtest.h>
 
+#include "hullmap/core/error.hpp"
 #include "hullmap/hulls/detail/lattice_hull.hpp"
 
 namespace hullmap::hulls::detail {
@@ -41,15 +42,22 @@ std::set<LatticePoint> allCorners(const std::vector<LatticePoint>& cells) {
   return corners;
 }
 
-Oracle oracle(const std::vector<LatticePoint>& cells) {
+Mesh cgalHull(const std::vector<LatticePoint>& cells) {
   std::vector<Kernel::Point_3> points;
   for (const auto& c : allCorners(cells)) points.emplace_back(double(c[0]), double(c[1]), double(c[2]));
   Mesh mesh;
   CGAL::convex_hull_3(points.begin(), points.end(), mesh);
-  const auto lattice = [&](Mesh::Vertex_index v) {
-    const auto& p = mesh.point(v);
-    return LatticePoint{std::int64_t(p.x()), std::int64_t(p.y()), std::int64_t(p.z())};
-  };
+  return mesh;
+}
+
+LatticePoint latticeVertex(const Mesh& mesh, Mesh::Vertex_index v) {
+  const auto& p = mesh.point(v);
+  return {std::int64_t(p.x()), std::int64_t(p.y()), std::int64_t(p.z())};
+}
+
+Oracle oracle(const std::vector<LatticePoint>& cells) {
+  const Mesh mesh = cgalHull(cells);
+  const auto lattice = [&](Mesh::Vertex_index v) { return latticeVertex(mesh, v); };
   Oracle out;
   const LatticePoint ref = lattice(*mesh.vertices().begin());
   for (const auto v : mesh.vertices()) out.vertices.insert(lattice(v));
@@ -136,13 +144,32 @@ TEST(LatticeHull, CandidateCornersAndFacetHullMatchCgalOnEveryCorner) {
     for (std::int64_t y = -2; y < 3; ++y)
       if ((x + y) % 3 != 0) flat.push_back({x, y, -1});
   expectMatchesOracle(flat, "one layer");
-  // Wide boxes: 2^19 cells (rows packed, 128-bit orientation tests) and 2^22 (every corner kept).
-  for (const std::int64_t span : {std::int64_t(1) << 19, std::int64_t(1) << 22}) {
-    std::vector<LatticePoint> wide = shifted(layers, {-1000, 50, -7});
-    wide.push_back({span, 3, 2});
-    wide.push_back({-span / 3, span / 2, span});
-    expectMatchesOracle(wide, "span " + std::to_string(span));
+  // A wide box: corners up to 2^18 - 2 from the origin both ways, a span near 2^19 (128-bit
+  // orientation tests).
+  const std::int64_t reach = (std::int64_t(1) << 18) - 2;
+  std::vector<LatticePoint> wide = shifted(layers, {-1000, 50, -7});
+  wide.push_back({reach - 1, 3, 2});
+  wide.push_back({-reach, reach / 2, reach - 1});
+  expectMatchesOracle(wide, "span near 2^19");
+}
+
+// Beyond 2^18 from the origin the hull's offsets and volume would overflow 64 bits: facetHull says
+// so; candidateCorners (CGAL's hull of an obstacle uses it, in doubles) still keeps every vertex, on
+// spans of 2^22 that it cannot pack (every corner kept).
+TEST(LatticeHull, TooWideForTheExactHullIsAnErrorAndItsCornersStillHoldEveryVertex) {
+  for (const std::int64_t far : {std::int64_t(1) << 18, std::int64_t(1) << 22}) {
+    SCOPED_TRACE("corner at " + std::to_string(far));
+    const std::vector<LatticePoint> cells{{0, 0, 0}, {far - 1, 3, 2}, {-far / 3, far / 2, 5}, {7, -4, far / 4}};
+    EXPECT_THROW(facetHull(cells), Error);
+    const Mesh mesh = cgalHull(cells);
+    const std::vector<LatticePoint> corners = candidateCorners(cells);
+    const std::set<LatticePoint> kept(corners.begin(), corners.end());
+    for (const auto v : mesh.vertices()) {
+      const LatticePoint x = latticeVertex(mesh, v);
+      EXPECT_TRUE(kept.count(x)) << x[0] << ' ' << x[1] << ' ' << x[2];
+    }
   }
+  EXPECT_NO_THROW(facetHull({{-(std::int64_t(1) << 18) + 1, 0, 0}, {(std::int64_t(1) << 18) - 2, 0, 0}}));
 }
 
 }  // namespace
