@@ -37,6 +37,35 @@ class Borrowed {
   std::vector<T>& spare_;
 };
 
+using Point2 = std::array<std::int64_t, 2>;  // in a plane of the lattice: (y, x), or (u, v)
+
+/// The vertices of the 2D hull of `points` (distinct, sorted), in the same order, into `vertices`
+/// (Andrew's monotone chain, exact; collinear points dropped).
+void hullVertices(const std::vector<Point2>& points, std::vector<Point2>& vertices) {
+  vertices.clear();
+  if (points.size() <= 2) {
+    vertices = points;
+    return;
+  }
+  const auto turn = [](const Point2& p, const Point2& q, const Point2& r) {
+    return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+  };
+  for (const auto& q : points) {
+    while (vertices.size() >= 2 && turn(vertices[vertices.size() - 2], vertices.back(), q) <= 0) vertices.pop_back();
+    vertices.push_back(q);
+  }
+  const std::size_t lower = vertices.size();
+  for (std::size_t k = points.size() - 1; k-- > 0;) {
+    while (vertices.size() > lower && turn(vertices[vertices.size() - 2], vertices.back(), points[k]) <= 0)
+      vertices.pop_back();
+    vertices.push_back(points[k]);
+  }
+  vertices.pop_back();  // the first point again
+  // The lower chain runs up in order, the upper one back down: the upper one reversed, merged in.
+  std::reverse(vertices.begin() + std::ptrdiff_t(lower), vertices.end());
+  std::inplace_merge(vertices.begin(), vertices.begin() + std::ptrdiff_t(lower), vertices.end());
+}
+
 /// Keeps, in each plane of constant coordinate `axis`, only the vertices of the 2D convex hull of
 /// the points lying in that plane (Andrew's monotone chain, exact in integers; collinear points
 /// dropped). A point that is no vertex of its plane's hull is a convex combination of other points
@@ -73,32 +102,23 @@ void keepPlaneHullVertices(std::vector<Corner>& points, int axis) {
     });
     points.erase(std::unique(points.begin(), points.end()), points.end());
   }
-  // Turn of p -> q -> r in the (u, v) plane: > 0 counter-clockwise.
-  const auto turn = [&](const Corner& p, const Corner& q, const Corner& r) {
-    return (q[u] - p[u]) * (r[v] - p[v]) - (q[v] - p[v]) * (r[u] - p[u]);
-  };
-  thread_local std::vector<Corner> spare_out, spare_chain;
-  Borrowed<Corner> borrowed_out(spare_out), borrowed_chain(spare_chain);
+  thread_local std::vector<Corner> spare_out;
+  thread_local std::vector<Point2> spare_plane, spare_vertices;
+  Borrowed<Corner> borrowed_out(spare_out);
+  Borrowed<Point2> plane(spare_plane), vertices(spare_vertices);
   std::vector<Corner>& out = borrowed_out.v;
-  std::vector<Corner>& chain = borrowed_chain.v;
   for (std::size_t begin = 0; begin < points.size();) {
-    std::size_t end = begin + 1;
-    while (end < points.size() && points[end][a] == points[begin][a]) ++end;
-    if (end - begin <= 2) {
-      out.insert(out.end(), points.begin() + std::ptrdiff_t(begin), points.begin() + std::ptrdiff_t(end));
-    } else {
-      chain.clear();
-      for (std::size_t k = begin; k < end; ++k) {  // lower chain
-        while (chain.size() >= 2 && turn(chain[chain.size() - 2], chain.back(), points[k]) <= 0) chain.pop_back();
-        chain.push_back(points[k]);
-      }
-      const std::size_t lower = chain.size();
-      for (std::size_t k = end - 1; k-- > begin;) {  // upper chain
-        while (chain.size() > lower && turn(chain[chain.size() - 2], chain.back(), points[k]) <= 0) chain.pop_back();
-        chain.push_back(points[k]);
-      }
-      chain.pop_back();  // the first point again
-      out.insert(out.end(), chain.begin(), chain.end());
+    plane.v.clear();  // the plane's points as (u, v), sorted
+    std::size_t end = begin;
+    for (; end < points.size() && points[end][a] == points[begin][a]; ++end)
+      plane.v.push_back({points[end][u], points[end][v]});
+    hullVertices(plane.v, vertices.v);
+    for (const auto& q : vertices.v) {
+      Corner c;
+      c[a] = points[begin][a];
+      c[u] = q[0];
+      c[v] = q[1];
+      out.push_back(c);
     }
     begin = end;
   }
@@ -151,35 +171,6 @@ void rowsOf(const std::vector<Corner>& cells, const Corner& lo, const Corner& hi
                     std::int64_t(keys[begin] & kMask) + lo[0], std::int64_t(keys[end - 1] & kMask) + 1 + lo[0]});
     begin = end;
   }
-}
-
-using Point2 = std::array<std::int64_t, 2>;  // (y, x)
-
-/// The vertices of the 2D hull of `points` (distinct, sorted by (y, x)), in (y, x) order, into
-/// `vertices` (Andrew's monotone chain, exact; collinear points dropped).
-void hullVertices(const std::vector<Point2>& points, std::vector<Point2>& vertices) {
-  vertices.clear();
-  if (points.size() <= 2) {
-    vertices = points;
-    return;
-  }
-  const auto turn = [](const Point2& p, const Point2& q, const Point2& r) {
-    return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
-  };
-  for (const auto& q : points) {
-    while (vertices.size() >= 2 && turn(vertices[vertices.size() - 2], vertices.back(), q) <= 0) vertices.pop_back();
-    vertices.push_back(q);
-  }
-  const std::size_t lower = vertices.size();
-  for (std::size_t k = points.size() - 1; k-- > 0;) {
-    while (vertices.size() > lower && turn(vertices[vertices.size() - 2], vertices.back(), points[k]) <= 0)
-      vertices.pop_back();
-    vertices.push_back(points[k]);
-  }
-  vertices.pop_back();  // the first point again
-  // The lower chain runs up in (y, x) order, the upper one back down: the upper one reversed, merged.
-  std::reverse(vertices.begin() + std::ptrdiff_t(lower), vertices.end());
-  std::inplace_merge(vertices.begin(), vertices.begin() + std::ptrdiff_t(lower), vertices.end());
 }
 
 /// gcd of two non-negative integers (binary: shifts instead of divisions).
