@@ -16,6 +16,7 @@
 #include <tbb/parallel_for_each.h>
 
 #include "hullmap/hulls/detail/distance_transform.hpp"
+#include "hullmap/hulls/detail/outside_reach.hpp"
 
 namespace hullmap::hulls::detail {
 namespace {
@@ -333,27 +334,7 @@ std::vector<char> ClusterSplitter::enclosedCells(const std::vector<float>& d2, s
     for (std::int64_t k = 0; k < m; ++k)
       for (std::int64_t j = 0; j < py; ++j)
         for (std::int64_t i = 0; i < px; ++i) state[padded(i, j, k)] = 1;
-  std::vector<std::size_t> queue;
-  for (std::int64_t k = 0; k < pz; ++k)
-    for (std::int64_t j = 0; j < py; ++j)
-      for (std::int64_t i = 0; i < px; ++i) {
-        const bool border = i == 0 || j == 0 || k == 0 || i == px - 1 || j == py - 1 || k == pz - 1;
-        if (border && state[padded(i, j, k)] == 0) {
-          state[padded(i, j, k)] = 2;
-          queue.push_back(padded(i, j, k));
-        }
-      }
-  const std::array<std::int64_t, 6> steps{1, -1, px, -px, px * py, -px * py};
-  while (!queue.empty()) {
-    const std::size_t x = queue.back();
-    queue.pop_back();
-    for (const auto step : steps) {
-      const std::int64_t y = std::int64_t(x) + step;
-      if (y < 0 || y >= std::int64_t(state.size()) || state[std::size_t(y)] != 0) continue;
-      state[std::size_t(y)] = 2;
-      queue.push_back(std::size_t(y));
-    }
-  }
+  markReached(state, px, py, pz);
   // Distance to the reached cells (the blocked bottom layer is no reached cell: the floor).
   std::vector<float> outside(state.size());
   for (std::size_t x = 0; x < state.size(); ++x) outside[x] = state[x] == 2 ? 0.0f : 1e20f;
