@@ -8,7 +8,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <map>
+#include <mutex>
 #include <optional>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -92,9 +95,15 @@ class ClusterSplitter {
   }
 
   /// `need_split_point`: when false (the merge), a failed check only reports that it failed
-  /// (worst_d2 and split_point unset). `hull`: the part's lattice hull when already known.
+  /// (worst_d2 and split_point unset). `hull`: the part's lattice hull when already known. A check
+  /// is a function of the part and the two flags: each is made once (checkPartOnce) and remembered,
+  /// since the merges meet the same unions again.
   Check checkPart(const Members& part, bool need_split_point = true, const FacetHull* hull = nullptr,
                   bool faces = false) const;
+  Check checkPartOnce(const Members& part, bool need_split_point, const FacetHull* hull, bool faces) const;
+
+  /// The lattice hull of a part, remembered likewise (the merges' unions).
+  FacetHull hullOf(const Members& part) const;
 
   /// The keyframe rule of checkPart on a check that passed the distances: the check fails, with the
   /// keyframe as its split point, at the first keyframe inside the hull and in none of the cells'
@@ -252,6 +261,9 @@ class ClusterSplitter {
   std::size_t whole_ball_size_ = 0;  ///< offsets within max(T, G), unclipped
   std::size_t max_check_cells_;
   std::vector<Eigen::Vector3d> keyframes_;  ///< lattice coordinates
+  mutable std::mutex memo_mutex_;           ///< guards checks_ and hulls_ (checks run in parallel)
+  mutable std::map<std::tuple<Members, bool, bool>, Check> checks_;  ///< checkPart's, by its arguments
+  mutable std::map<Members, FacetHull> hulls_;                       ///< hullOf's
 };
 
 }  // namespace hullmap::hulls::detail

@@ -132,6 +132,32 @@ std::vector<std::pair<LatticePoint, float>> ClusterSplitter::ballOffsets(double 
 }
 
 Check ClusterSplitter::checkPart(const Members& part, bool need_split_point, const FacetHull* hull, bool faces) const {
+  auto key = std::make_tuple(part, need_split_point, faces);
+  {
+    const std::lock_guard<std::mutex> lock(memo_mutex_);
+    const auto known = checks_.find(key);
+    if (known != checks_.end()) return known->second;
+  }
+  Check check = checkPartOnce(part, need_split_point, hull, faces);
+  const std::lock_guard<std::mutex> lock(memo_mutex_);
+  checks_.emplace(std::move(key), check);
+  return check;
+}
+
+FacetHull ClusterSplitter::hullOf(const Members& part) const {
+  {
+    const std::lock_guard<std::mutex> lock(memo_mutex_);
+    const auto known = hulls_.find(part);
+    if (known != hulls_.end()) return known->second;
+  }
+  FacetHull hull = facetHull(gather(part));
+  const std::lock_guard<std::mutex> lock(memo_mutex_);
+  hulls_.emplace(part, hull);
+  return hull;
+}
+
+Check ClusterSplitter::checkPartOnce(const Members& part, bool need_split_point, const FacetHull* hull,
+                                     bool faces) const {
   Check check;
   const std::vector<LatticePoint> cells = gather(part);
   check.hull = hull ? *hull : facetHull(cells);

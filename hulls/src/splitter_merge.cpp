@@ -220,7 +220,7 @@ std::vector<std::pair<Members, Check>> ClusterSplitter::merge(std::vector<std::p
     tbb::parallel_for(std::size_t(0), pairs.size(), [&](std::size_t k) {
       const auto [a, b] = pairs[k];
       fails[k] = surelyFails(a, b);
-      if (!fails[k]) hulls[k] = facetHull(gather(unite(nodes[a].members, nodes[b].members)));
+      if (!fails[k]) hulls[k] = hullOf(unite(nodes[a].members, nodes[b].members));
     });
     for (std::size_t k = 0; k < pairs.size(); ++k) {
       if (fails[k]) continue;
