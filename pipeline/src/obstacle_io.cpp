@@ -5,6 +5,10 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <string>
+#include <vector>
+
+#include <tbb/parallel_for.h>
 
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
@@ -216,32 +220,45 @@ mapper::Similarity similarityFromJson(const json& j, const std::string& source, 
   return s;
 }
 
-json obstaclesToJson(const std::vector<hulls::Obstacle>& obstacles, const ObstaclesMeta& meta) {
+namespace {
+
+/// One entry of obstacles.json's "obstacles".
+json obstacleJson(const hulls::Obstacle& o) {
+  json entry = commonJson(o);
+  entry["id"] = o.id;
+  json parts = json::array();
+  for (const auto& p : o.parts) {
+    json part = commonJson(p);
+    part["concavity_bound"] = p.concavity_bound;
+    part["free_voxels_inside"] = p.free_voxels_inside;
+    part["free_voxels_off_surface"] = p.free_voxels_off_surface;
+    part["flat"] = p.flat;
+    part["filled"] = p.filled;
+    part["faces"] = p.faces;
+    parts.push_back(std::move(part));
+  }
+  entry["parts"] = std::move(parts);
+  return entry;
+}
+
+/// Everything of obstacles.json but the obstacles ("obstacles" an empty array).
+json obstaclesHead(const ObstaclesMeta& meta) {
   json doc;
   doc["format"] = kObstaclesFormatV2;
   doc["frame"] = meta.frame;
   doc["parameters"] = meta.parameters;
   doc["surfaces"] = surfacesJson(meta.surfaces);
   if (meta.input_to_output) doc["input_to_output"] = similarityJson(*meta.input_to_output, meta.input_to_output_exact);
-  json list = json::array();
-  for (const auto& o : obstacles) {
-    json entry = commonJson(o);
-    entry["id"] = o.id;
-    json parts = json::array();
-    for (const auto& p : o.parts) {
-      json part = commonJson(p);
-      part["concavity_bound"] = p.concavity_bound;
-      part["free_voxels_inside"] = p.free_voxels_inside;
-      part["free_voxels_off_surface"] = p.free_voxels_off_surface;
-      part["flat"] = p.flat;
-      part["filled"] = p.filled;
-      part["faces"] = p.faces;
-      parts.push_back(std::move(part));
-    }
-    entry["parts"] = std::move(parts);
-    list.push_back(std::move(entry));
-  }
-  doc["obstacles"] = std::move(list);
+  doc["obstacles"] = json::array();
+  return doc;
+}
+
+}  // namespace
+
+json obstaclesToJson(const std::vector<hulls::Obstacle>& obstacles, const ObstaclesMeta& meta) {
+  json doc = obstaclesHead(meta);
+  json& list = doc["obstacles"];
+  for (const auto& o : obstacles) list.push_back(obstacleJson(o));
   return doc;
 }
 
@@ -317,8 +334,35 @@ std::vector<hulls::Obstacle> obstaclesFromJson(const json& doc, const std::strin
 
 void writeObstaclesJson(const std::string& path, const std::vector<hulls::Obstacle>& obstacles,
                         const ObstaclesMeta& meta) {
-  const json doc = obstaclesToJson(obstacles, meta);
-  core::writeFileAtomically(path, [&](std::ostream& out) { out << doc.dump(1) << '\n'; });
+  // The bytes of obstaclesToJson(obstacles, meta).dump(1), the obstacles made and dumped in parallel
+  // (most of the file): each entry is dumped alone, indented to its depth in the document (2, as an
+  // element of a top-level array: no JSON string holds a raw line break), and put in the place of
+  // the empty array the head holds.
+  std::string text = obstaclesHead(meta).dump(1);
+  if (!obstacles.empty()) {
+    std::vector<std::string> entries(obstacles.size());
+    tbb::parallel_for(std::size_t(0), obstacles.size(), [&](std::size_t k) {
+      const std::string alone = obstacleJson(obstacles[k]).dump(1);
+      std::string& out = entries[k];
+      out.reserve(alone.size() + alone.size() / 8);
+      out += "  ";
+      for (const char c : alone) {
+        out += c;
+        if (c == '\n') out += "  ";
+      }
+    });
+    std::string list = "[\n";
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+      list += entries[k];
+      list += k + 1 < entries.size() ? ",\n" : "\n";
+    }
+    list += " ]";
+    const std::string empty = "\n \"obstacles\": []";
+    const std::size_t at = text.find(empty);
+    if (at == std::string::npos) throw Error(path + ": internal error: no obstacles list to fill");
+    text.replace(at + empty.size() - 2, 2, list);
+  }
+  core::writeFileAtomically(path, [&](std::ostream& out) { out << text << '\n'; });
 }
 
 std::vector<hulls::Obstacle> readObstaclesJson(const std::string& path, ObstaclesMeta* meta) {

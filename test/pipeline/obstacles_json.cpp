@@ -114,6 +114,36 @@ TEST(ObstaclesJson, ErrorsNameTheJsonPath) {
   EXPECT_THROW(readObstaclesJson("/nonexistent/obstacles.json"), Error);
 }
 
+TEST(ObstaclesJson, FileIsTheDocumentsOneSpaceDump) {
+  // writeObstaclesJson dumps the obstacles in parallel and stitches them into the head's list: its
+  // bytes must be those of the whole document's dump(1), with and without obstacles, parts and the
+  // frame change.
+  auto obstacles = lAndBox();
+  obstacles[0].parts[1].flat = true;
+  hulls::Obstacle no_parts = obstacles[1];
+  no_parts.id = 7;
+  no_parts.parts.clear();
+  obstacles.push_back(no_parts);
+  ObstaclesMeta meta;
+  meta.frame = "z-up map, \"quoted\"\nand a line break";
+  meta.parameters = {{"concavity", 0.15}, {"obstacles", nlohmann::json::array()}, {"nested", {{"a", {1, 2}}}}};
+  meta.surfaces.push_back(collision::Surface::plane("floor", Eigen::Vector3d::UnitZ(), 0.25));
+  mapper::Similarity s;
+  s.scale = 2.5;
+  s.translation = {1e-7, -3.0, 1e12};
+  const auto dir = test::freshDir("obstacles_json_bytes");
+  for (const bool with_frame_change : {false, true}) {
+    meta.input_to_output = with_frame_change ? std::optional<mapper::Similarity>(s) : std::nullopt;
+    for (const std::size_t count : {std::size_t(0), std::size_t(1), obstacles.size()}) {
+      const std::vector<hulls::Obstacle> some(obstacles.begin(), obstacles.begin() + std::ptrdiff_t(count));
+      const auto path = dir / "obstacles.json";
+      writeObstaclesJson(path.string(), some, meta);
+      EXPECT_EQ(test::slurp(path), obstaclesToJson(some, meta).dump(1) + "\n")
+          << count << " obstacles, frame change " << with_frame_change;
+    }
+  }
+}
+
 TEST(ObstaclesJson, ObjHasOneObjectPerPart) {
   std::ostringstream out;
   writeObstaclesObj(out, lAndBox());
