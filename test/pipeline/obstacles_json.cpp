@@ -1,6 +1,8 @@
 // obstacles.json /2: parts round-trip exactly, /1 files still read, errors name the JSON path;
 // the OBJ has one object per part.
 #include <fstream>
+#include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -142,6 +144,29 @@ TEST(ObstaclesJson, FileIsTheDocumentsOneSpaceDump) {
           << count << " obstacles, frame change " << with_frame_change;
     }
   }
+}
+
+TEST(ObstaclesJson, ObjNumbersAreTheStreamsSeventeenDigits) {
+  // The OBJ writer formats numbers itself: each line must read as an ostream set to max_digits10
+  // writes it, on values with and without exponents, signs, and integers.
+  hulls::Obstacle o;
+  o.id = 3;
+  o.hull.vertices = {{0.1, -0.0, 1e-7}, {123456789.123, 1e21, -2.5}, {1.0 / 3.0, 1e-320, 1e300}, {0.0, 42.0, -1e-5}};
+  o.hull.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}};
+  std::ostringstream out;
+  writeObstaclesObj(out, {o, o});
+  std::ostringstream expected;
+  expected << "# hullmap obstacles: convex hulls (one object per convex part), z-up map frame\n";
+  expected << std::setprecision(std::numeric_limits<double>::max_digits10);
+  std::size_t base = 1;
+  for (int copy = 0; copy < 2; ++copy) {
+    expected << "o obstacle_3\n";
+    for (const auto& v : o.hull.vertices) expected << "v " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
+    for (const auto& t : o.hull.triangles)
+      expected << "f " << base + t[0] << ' ' << base + t[1] << ' ' << base + t[2] << '\n';
+    base += o.hull.vertices.size();
+  }
+  EXPECT_EQ(out.str(), expected.str());
 }
 
 TEST(ObstaclesJson, ObjHasOneObjectPerPart) {
