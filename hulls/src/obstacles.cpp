@@ -5,7 +5,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
-#include <set>
+#include <optional>
 #include <tuple>
 #include <utility>
 
@@ -55,31 +55,49 @@ LatticeHull canonical(const LatticeHull& hull, int id) {
   const auto fail = [&](const char* what) -> void {
     throw Error("buildObstacles: hull of cluster " + std::to_string(id) + ": " + what);
   };
-  // Facets: triangles grouped by their plane (primitive outward normal and offset).
-  std::map<std::array<std::int64_t, 4>, std::vector<std::array<int, 3>>> facets;
+  // Facets: triangles grouped by their plane (primitive outward normal and offset), sorted by it.
+  using Plane = std::array<std::int64_t, 4>;
+  std::vector<std::pair<Plane, std::array<int, 3>>> by_plane;
+  by_plane.reserve(hull.triangles.size());
   for (const auto& t : hull.triangles) {
     const Vec& a = hull.vertices[std::size_t(t[0])];
     Vec n = cross(sub(hull.vertices[std::size_t(t[1])], a), sub(hull.vertices[std::size_t(t[2])], a));
     const std::int64_t g = std::gcd(std::gcd(std::abs(n[0]), std::abs(n[1])), std::abs(n[2]));
     if (g == 0) fail("a triangle of zero area");
     for (auto& c : n) c /= g;
-    facets[{n[0], n[1], n[2], n[0] * a[0] + n[1] * a[1] + n[2] * a[2]}].push_back(t);
+    by_plane.push_back({{n[0], n[1], n[2], n[0] * a[0] + n[1] * a[1] + n[2] * a[2]}, t});
   }
+  std::sort(by_plane.begin(), by_plane.end());
   std::vector<std::vector<int>> loops;
-  for (const auto& [plane, triangles] : facets) {
+  std::vector<std::pair<int, int>> edges, next;  // sorted; next: the boundary edges (u, v)
+  for (std::size_t begin = 0; begin < by_plane.size();) {
+    std::size_t end = begin;
+    while (end < by_plane.size() && by_plane[end].first == by_plane[begin].first) ++end;
+    const Plane& plane = by_plane[begin].first;
     // Boundary edges are those of one triangle whose reverse is in none; they run counter-clockwise.
-    std::set<std::pair<int, int>> edges;
-    for (const auto& t : triangles)
-      for (int k = 0; k < 3; ++k) edges.insert({t[k], t[(k + 1) % 3]});
-    std::map<int, int> next;
+    edges.clear();
+    for (std::size_t f = begin; f < end; ++f)
+      for (int k = 0; k < 3; ++k)
+        edges.push_back({by_plane[f].second[std::size_t(k)], by_plane[f].second[std::size_t((k + 1) % 3)]});
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    next.clear();
     for (const auto& [u, v] : edges)
-      if (!edges.count({v, u}) && !next.emplace(u, v).second) fail("a facet whose boundary is not one loop");
-    std::vector<int> loop{next.begin()->first};
+      if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(v, u))) {
+        if (!next.empty() && next.back().first == u) fail("a facet whose boundary is not one loop");
+        next.push_back({u, v});
+      }
+    if (next.empty()) fail("a facet whose boundary is not one loop");
+    const auto after = [&](int u) {
+      const auto it = std::lower_bound(next.begin(), next.end(), std::make_pair(u, std::numeric_limits<int>::min()));
+      return it != next.end() && it->first == u ? std::optional<int>(it->second) : std::nullopt;
+    };
+    std::vector<int> loop{next.front().first};
     while (loop.size() <= next.size()) {
-      const auto it = next.find(loop.back());
-      if (it == next.end()) fail("a facet whose boundary is not one loop");
-      if (it->second == loop.front()) break;
-      loop.push_back(it->second);
+      const std::optional<int> v = after(loop.back());
+      if (!v) fail("a facet whose boundary is not one loop");
+      if (*v == loop.front()) break;
+      loop.push_back(*v);
     }
     if (loop.size() != next.size()) fail("a facet whose boundary is not one loop");
     std::vector<int> corners;
@@ -87,12 +105,13 @@ LatticeHull canonical(const LatticeHull& hull, int id) {
     for (std::size_t k = 0; k < loop.size(); ++k) {
       const Vec& prev = hull.vertices[std::size_t(loop[(k + loop.size() - 1) % loop.size()])];
       const Vec& here = hull.vertices[std::size_t(loop[k])];
-      const Vec& after = hull.vertices[std::size_t(loop[(k + 1) % loop.size()])];
-      const Vec turn = cross(sub(here, prev), sub(after, here));
+      const Vec& following = hull.vertices[std::size_t(loop[(k + 1) % loop.size()])];
+      const Vec turn = cross(sub(here, prev), sub(following, here));
       if (turn[0] * normal[0] + turn[1] * normal[1] + turn[2] * normal[2] != 0) corners.push_back(loop[k]);
     }
     if (corners.size() < 3) fail("a facet of fewer than three corners");
     loops.push_back(std::move(corners));
+    begin = end;
   }
   // Vertices in lexicographic order, then each loop fanned from its smallest vertex.
   std::vector<int> used;
@@ -103,13 +122,13 @@ LatticeHull canonical(const LatticeHull& hull, int id) {
   });
   used.erase(std::unique(used.begin(), used.end()), used.end());
   LatticeHull out;
-  std::map<int, int> renumber;
+  std::vector<int> renumber(hull.vertices.size(), -1);
   for (const int v : used) {
-    renumber[v] = int(out.vertices.size());
+    renumber[std::size_t(v)] = int(out.vertices.size());
     out.vertices.push_back(hull.vertices[std::size_t(v)]);
   }
   for (auto& loop : loops) {
-    for (int& v : loop) v = renumber.at(v);
+    for (int& v : loop) v = renumber[std::size_t(v)];
     std::rotate(loop.begin(), std::min_element(loop.begin(), loop.end()), loop.end());
     for (std::size_t k = 1; k + 1 < loop.size(); ++k) out.triangles.push_back({loop[0], loop[k], loop[k + 1]});
   }
