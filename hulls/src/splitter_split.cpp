@@ -221,10 +221,25 @@ ClusterSplitter::Halves ClusterSplitter::split(const Members& part, const Check&
 
 std::optional<std::int64_t> ClusterSplitter::bestBoxCut(const Members& part, int axis) const {
   const std::size_t a = std::size_t(axis);
-  Members order = part;
-  std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
-    return std::make_pair(cells_[x][a], x) < std::make_pair(cells_[y][a], y);
-  });
+  // The part's cells by (coordinate on the axis, index): the part is sorted by index, so a stable
+  // counting sort by the coordinate gives that order when the box is not much longer than the part.
+  std::int64_t lo = cells_[part[0]][a], hi = lo;
+  for (const auto i : part) {
+    lo = std::min(lo, cells_[i][a]);
+    hi = std::max(hi, cells_[i][a]);
+  }
+  Members order(part.size());
+  if (std::uint64_t(hi - lo) < 4 * std::uint64_t(part.size())) {
+    std::vector<std::uint32_t> start(std::size_t(hi - lo) + 2, 0);
+    for (const auto i : part) ++start[std::size_t(cells_[i][a] - lo) + 1];
+    std::partial_sum(start.begin(), start.end(), start.begin());
+    for (const auto i : part) order[start[std::size_t(cells_[i][a] - lo)]++] = i;
+  } else {
+    order = part;
+    std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
+      return std::make_pair(cells_[x][a], x) < std::make_pair(cells_[y][a], y);
+    });
+  }
   const std::size_t n = order.size();
   std::vector<LatticePoint> lo_prefix(n), hi_prefix(n), lo_suffix(n), hi_suffix(n);
   for (std::size_t k = 0; k < n; ++k) {
