@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstddef>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace hullmap::hulls::detail {
@@ -63,7 +64,8 @@ void distanceTransform1d(const std::vector<double>& f, std::vector<double>& out,
 /// Exact squared Euclidean distance transform in place (Felzenszwalb-Huttenlocher, one pass per
 /// axis) over a box of `dims` cells stored x fastest: `d2` holds 0 at the sites and a large value
 /// elsewhere (kept below 1e20; lines holding only 0 and 1e20 take a faster, exactly equal path).
-void exactTransform(std::vector<float>& d2, const std::array<std::int64_t, 3>& dims) {
+void exactTransform(std::vector<float>& d2, const std::array<std::int64_t, 3>& dims,
+                    const std::vector<std::pair<std::int64_t, std::int64_t>>* wanted) {
   constexpr double kFar = 1e20;
   const std::array<std::int64_t, 3> stride{1, dims[0], dims[0] * dims[1]};
   std::vector<double> f, out;
@@ -78,6 +80,12 @@ void exactTransform(std::vector<float>& d2, const std::array<std::int64_t, 3>& d
     for (std::int64_t ib = 0; ib < dims[b]; ++ib)
       for (std::int64_t ic = 0; ic < dims[c]; ++ic) {
         const std::int64_t base = ib * stride[b] + ic * stride[c];
+        // The last pass runs along z over the columns (i, j) = (ib, ic): one with no wanted cell is
+        // left as it is.
+        if (axis == 2 && wanted) {
+          const auto& range = (*wanted)[std::size_t(ic * dims[0] + ib)];
+          if (range.second < range.first) continue;
+        }
         // A line holding no finite value stays as it is (every value kFar after the transform too),
         // and on the first pass, where the values are 0 (sites) or kFar, the transform is the
         // squared distance to the nearest site along the line: two sweeps give the same exact

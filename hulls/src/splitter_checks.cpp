@@ -208,7 +208,8 @@ Check ClusterSplitter::checkPartOnce(const Members& part, bool need_split_point,
   seed();
   const std::array<std::int64_t, 3> dims{nx, ny, nz};
   // The exact transform over the whole box (Felzenszwalb-Huttenlocher, one pass per axis).
-  const auto transform = [&] { exactTransform(d2, dims); };
+  // After it only the hull's cells are read (the scan), except by the face-hole rule.
+  const auto transform = [&] { exactTransform(d2, dims, faces ? nullptr : &columns); };
   if (bounded) {
     for (const auto& c : cells)
       for (const auto& [o, o2] : ball_) {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -59,6 +60,24 @@ TEST(DistanceTransform, ExactAndBoundedAgreeWithBruteForce) {
       for (std::size_t x = 0; x < truth.size(); ++x)
         ASSERT_EQ(double(exact[x]), truth[x] >= double(kFar) ? double(kFar) : truth[x])
             << "exact, box " << dims[0] << "x" << dims[1] << "x" << dims[2] << " cell " << x;
+      // Only some columns' ranges wanted (the convex split reads its hull's cells only): those exact.
+      std::vector<std::pair<std::int64_t, std::int64_t>> wanted(std::size_t(dims[0] * dims[1]));
+      std::uniform_int_distribution<std::int64_t> k_of(0, dims[2] - 1);
+      for (auto& range : wanted) {
+        const std::int64_t k0 = k_of(rng), k1 = k_of(rng);
+        range = k0 <= k1 ? std::make_pair(k0, k1) : std::make_pair(std::int64_t(1), std::int64_t(0));
+      }
+      std::vector<float> some = sites;
+      exactTransform(some, dims, &wanted);
+      for (std::int64_t j = 0; j < dims[1]; ++j)
+        for (std::int64_t i = 0; i < dims[0]; ++i) {
+          const auto [k0, k1] = wanted[std::size_t(j * dims[0] + i)];
+          for (std::int64_t k = k0; k <= k1; ++k) {
+            const std::size_t x = std::size_t((k * dims[1] + j) * dims[0] + i);
+            ASSERT_EQ(double(some[x]), truth[x] >= double(kFar) ? double(kFar) : truth[x])
+                << "exact on wanted columns, box " << dims[0] << "x" << dims[1] << "x" << dims[2] << " cell " << x;
+          }
+        }
       for (const std::int64_t cap2 : {0, 1, 2, 4, 9, 10, 26}) {
         std::vector<float> bounded = sites;
         boundedTransform(bounded, dims, cap2);
