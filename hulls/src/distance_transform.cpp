@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "hullmap/core/detail/cpu_clones.hpp"
+
 namespace hullmap::hulls::detail {
 namespace {
 
@@ -131,7 +133,9 @@ void exactTransform(std::vector<float>& d2, const std::array<std::int64_t, 3>& d
   }
 }
 
-void boundedTransform(std::vector<float>& d2, const std::array<std::int64_t, 3>& dims, std::int64_t cap2) {
+// Its passes are min-plus sweeps over whole rows, which AVX2 does eight floats at a time.
+HULLMAP_AVX2_CLONES void boundedTransform(std::vector<float>& d2, const std::array<std::int64_t, 3>& dims,
+                                          std::int64_t cap2) {
   constexpr float kFar = 1e20f;
   std::int64_t reach = 0;
   while ((reach + 1) * (reach + 1) <= cap2) ++reach;
