@@ -131,9 +131,10 @@ void runEvaluate(const EvaluateOptions& o) {
               << " farther (at most " << farthest << ")";
   }
   std::cout << "\n";
-  std::cout << "segments (r = " << o.params.radius << "): " << e.segments << "; deep collisions " << e.deep
-            << ", missed " << e.missed << "; clear " << e.clear << ", false alarms " << e.false_alarms << " ("
-            << percent(double(e.false_alarms), double(e.clear)) << ")\n";
+  std::cout << "segments (r = " << o.params.radius;
+  if (o.params.margin > 0) std::cout << ", hulls checked at r + " << o.params.margin;
+  std::cout << "): " << e.segments << "; deep collisions " << e.deep << ", missed " << e.missed << "; clear " << e.clear
+            << ", false alarms " << e.false_alarms << " (" << percent(double(e.false_alarms), double(e.clear)) << ")\n";
   // Said only when there are such: maps/room's figures read as before.
   if (e.deep_unseen > 0)
     std::cout << "unseen: " << e.deep_unseen << " of the deep collisions hold fewer than " << o.params.seen_points
@@ -160,6 +161,10 @@ void addEvaluateCommand(CLI::App& app, int& status) {
   cmd->add_option("--seed", options->params.seed, "Seed of every random draw (default 1)");
   cmd->add_option("--clear-margin", options->params.clear_margin,
                   "A clear segment keeps --radius plus this from every true obstacle, map units (default 0.1)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--margin", options->params.margin,
+                  "Check the hulls and surfaces at --radius plus this (a planner's safety margin); deep and clear "
+                  "stay defined at --radius, map units (default 0)")
       ->check(CLI::NonNegativeNumber);
   auto ends = std::make_shared<std::string>("free");
   cmd->add_option("--ends", *ends,

@@ -174,6 +174,8 @@ double hullDistance(const std::vector<V3>& vertices, const std::vector<V3>& samp
 void checkEvaluateParams(std::size_t points, std::size_t weights, const EvaluateParams& params) {
   if (!(params.radius >= 0) || !std::isfinite(params.radius))
     throw Error("evaluate: --radius must be >= 0, got " + std::to_string(params.radius));
+  if (!(params.margin >= 0) || !std::isfinite(params.margin))
+    throw Error("evaluate: --margin must be >= 0, got " + std::to_string(params.margin));
   if (weights != 0 && weights != points)
     throw Error("evaluate: " + std::to_string(weights) + " weights for " + std::to_string(points) + " points");
   if (!(params.sample_step > 0) || !(params.segment_length > 0.2))
@@ -421,7 +423,7 @@ void scoreSegments(const std::vector<hulls::Obstacle>& obstacles, const std::vec
   const auto& deepest = sampled.deepest;
   e.segments = segments.size();
   const collision::HullChecker checker(obstacles, surfaces);
-  const std::vector<collision::SegmentCheck> checks = checker.checkBatch(segments, params.radius);
+  const std::vector<collision::SegmentCheck> checks = checker.checkBatch(segments, params.radius + params.margin);
   std::map<std::pair<int, int>, std::size_t> hit;
   for (std::size_t k = 0; k < segments.size(); ++k) {
     if (verdict[k] == 1) {
@@ -504,6 +506,7 @@ nlohmann::json evaluationToJson(const Evaluation& e, const EvaluateParams& p) {
             {"far_margin", p.far_margin},
             {"depth_margin", p.depth_margin},
             {"clear_margin", p.clear_margin},
+            {"margin", p.margin},
             {"volume_samples", p.volume_samples},
             {"segments", p.segments},
             {"segment_length", p.segment_length},

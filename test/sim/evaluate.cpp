@@ -216,6 +216,29 @@ TEST(Evaluate, ExactHullHasNothingToReport) {
   EXPECT_EQ(e.false_alarms, 0u);
 }
 
+TEST(Evaluate, AMarginCatchesWhatAShortHullMisses) {
+  // A hull 0.15 short of the true cube on every side, as a sparse sample's hull falls short of its
+  // object's edges: deep segments (within R - 0.1 = 0.2 of the cube) pass up to 0.2 + 0.15 sqrt(3)
+  // = 0.46 from the hull (at a corner), so at R some are missed; checked at R + 0.17 none can be. The
+  // segments and their classes do not depend on the margin, and a margin only adds collisions.
+  GroundTruth truth;
+  truth.shapes.push_back(box(V3(0.5, 0.5, 0.5), V3(1, 1, 1)));
+  const std::vector<hulls::Obstacle> obstacles{test::filledObstacle(V3(0.15, 0.15, 0.15), V3(0.85, 0.85, 0.85), 0)};
+  EvaluateParams params;
+  params.segments = 3000;
+  const std::vector<V3> points = boxSurface(V3(0, 0, 0), V3(1, 1, 1));
+  const Evaluation plain = evaluate(obstacles, truth, points, {}, params);
+  params.margin = 0.17;
+  const Evaluation safe = evaluate(obstacles, truth, points, {}, params);
+  EXPECT_GT(plain.missed, 0u);
+  EXPECT_EQ(safe.missed, 0u);
+  EXPECT_EQ(safe.deep, plain.deep);
+  EXPECT_EQ(safe.clear, plain.clear);
+  EXPECT_GE(safe.false_alarms, plain.false_alarms);
+  params.margin = -0.01;
+  EXPECT_THROW(evaluate(obstacles, truth, points, {}, params), Error);
+}
+
 TEST(Evaluate, SwallowedVolumeMatchesTheAnalyticValue) {
   // Truth: the unit cube. Hull: [0, 2] x [0, 1] x [0, 1], swallowing 1 m^3, of which 0.9 m^3 is
   // farther than 0.1 from the cube; and a hull 5 m away touching nothing.

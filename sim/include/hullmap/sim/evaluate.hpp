@@ -39,6 +39,9 @@ struct EvaluateParams {
   double far_margin = 0.1;    ///< swallowed volume: hull volume farther than this from every shape
   double depth_margin = 0.1;  ///< deep collision: the capsule penetrates a shape by more than this
   double clear_margin = 0.1;  ///< clear segment: keeps radius + this from every shape
+  /// The hulls and the build's surfaces are checked at radius + this: the safety margin a planner
+  /// adds (>= 0). Deep and clear segments stay defined at radius, against the truth.
+  double margin = 0.0;
   /// A part is *false* when its hull comes no closer than this to any true obstacle (map units; the
   /// CLI's default is one voxel of the build, the resolution in obstacles.json).
   double false_tolerance = 0.05;
