@@ -73,6 +73,7 @@ ROOM_WALL_FRACTIONS = (0.0, 0.5)
 ROOM_SEGMENTS = 3000
 ROOM_CLEAR_MARGIN = 0.15
 ROOM_TARGETS = {"missed": 0, "false_alarms": 3.0}
+ROOM_MARGINS = (0.03, 0.05, 0.08)  # a planner's safety margins scored beside r alone (evaluate --margin)
 STREET_SEEDS = tuple(range(301, 313))  # issue 30's streets
 STREET_DENSITIES = (1.5, 3.0, 6.0)     # map points per m^2 of visible surface (the generator's default: 3)
 STREET_DRIFTS = (0.0, 0.15, 0.3)       # monocular scale drift from the path's start to its end
@@ -316,6 +317,15 @@ def rooms_part(hullmap, work, log, seeds=ROOM_SEEDS):
                             "--radius", str(RADIUS), "--segments", str(ROOM_SEGMENTS), "--ends", "in-box",
                             "--clear-margin", str(ROOM_CLEAR_MARGIN), "--json"]))
         seg = e["segments"]
+        # The same segments with the hulls checked at r + m: what a planner's margin buys and costs.
+        margins = {}
+        for m in ROOM_MARGINS:
+            em = json.loads(run([hullmap, "evaluate", f"{scene}/out", "--truth", f"{scene}/ground_truth.json",
+                                 "--radius", str(RADIUS), "--segments", str(ROOM_SEGMENTS), "--ends", "in-box",
+                                 "--clear-margin", str(ROOM_CLEAR_MARGIN), "--margin", str(m), "--json"]))["segments"]
+            margins[m] = {"missed": em["missed"], "missed_unseen": em.get("missed_unseen", 0),
+                          "false_alarms": 100.0 * em["false_alarms"] / em["clear"] if em["clear"] else 0.0,
+                          "missed_segments": em.get("missed_segments", [])}
         walls = {h["obstacle"] for t in e["truth"] if t["label"].startswith("wall") for h in t["parts"]}
         on_walls = sum(h["segments"] for h in seg["false_alarm_hulls"] if h["obstacle"] in walls)
         report = json.load(open(f"{scene}/out/report.json"))
@@ -324,7 +334,8 @@ def rooms_part(hullmap, work, log, seeds=ROOM_SEEDS):
                   "false_alarms": 100.0 * seg["false_alarms"] / seg["clear"] if seg["clear"] else 0.0,
                   "on_walls": on_walls, "parts": e["parts"],
                   "dropped": ((report.get("clustering") or {}).get("outlier_trim") or {}).get("dropped", 0),
-                  "stray_parts": (report.get("parts") or {}).get("stray_parts", 0), "time": seconds})
+                  "stray_parts": (report.get("parts") or {}).get("stray_parts", 0), "time": seconds,
+                  "margins": margins})
         rows.append(p)
         log(f"room {seed}: pitch {p['pitch']} scale {p['scale']} density {p['density']} furniture {furniture} "
             f"walls {p['wall_fraction']}: missed {p['missed']}/{p['deep']} ({p['missed_unseen']} unseen), "
@@ -655,8 +666,8 @@ def rooms_doc(w, rooms, held_out):
       "both ends stay that high above it); **false alarms**: the clear ones the hulls call blocked (target ≤ "
       f"{ROOM_TARGETS['false_alarms']:.0f} %). **On the walls' obstacle**: false alarms whose first contact is a part "
       "of an obstacle holding a wall's hull (`evaluate`'s `false_alarm_hulls`). **Unseen**: a missed one whose "
-      "capsule holds no occupied voxel of the build (the map has no point there: no map of these points could "
-      "hold it). **Outlier voxels dropped**: the build's outlier trim ([CLI.md](CLI.md#build), stage 5); "
+      "capsule holds fewer than 3 map points (`evaluate --seen-points`: the map saw nothing there, or a stray "
+      "point or two that no clustering tells from outliers). **Outlier voxels dropped**: the build's outlier trim ([CLI.md](CLI.md#build), stage 5); "
       "**stray parts dropped**: its stray-part rule (stage 6).")
     w("")
     w("`bench/quality_rooms.py BUILD/cli/hullmap` runs this section alone (`--seeds` for other rooms).")
@@ -672,6 +683,36 @@ def rooms_doc(w, rooms, held_out):
     w("")
     room_table(w, held_out)
     w("")
+    margins_doc(w, rooms + held_out)
+
+
+def margins_doc(w, rooms):
+    """What a planner's safety margin m does on every room above: the same segments, the hulls and
+    surfaces checked at r + m (`evaluate --margin`), deep and clear still defined at r."""
+    w(f"**A planner's margin** (all {len(rooms)} rooms above, the same segments; the hulls and the floor checked "
+      f"at r + m with `evaluate --margin m`, deep and clear still at r = {RADIUS}): what a margin added to the "
+      "drone's radius buys in missed collisions and costs in false alarms.")
+    w("")
+    w("| margin m | rooms with no deep collision missed | missed (unseen) | false alarms %, median (worst) | "
+      f"rooms over {ROOM_TARGETS['false_alarms']:.0f} % |")
+    w("|---|---|---|---|---|")
+    rows = [(0.0, [(r["missed"], r["missed_unseen"], r["false_alarms"]) for r in rooms])]
+    for m in ROOM_MARGINS:
+        rows.append((m, [(r["margins"][m]["missed"], r["margins"][m]["missed_unseen"], r["margins"][m]["false_alarms"])
+                         for r in rooms]))
+    for m, values in rows:
+        fa = [v[2] for v in values]
+        w(f"| {m:g} | {sum(v[0] == 0 for v in values)} of {len(values)} | {sum(v[0] for v in values)} "
+          f"({sum(v[1] for v in values)}) | {fmt(statistics.median(fa))} ({fmt(max(fa))}) | "
+          f"{sum(x > ROOM_TARGETS['false_alarms'] for x in fa)} |")
+    w("")
+    last = ROOM_MARGINS[-1]
+    left = [(r["seed"], s) for r in rooms for s in r["margins"][last]["missed_segments"]]
+    if left:
+        w(f"Missed still at m = {last:g}: " + "; ".join(
+            f"room {seed}, {s['truth']} {s['depth']:.2f} m deep ({'unseen' if s['unseen'] else 'seen'})"
+            for seed, s in left) + ".")
+        w("")
 
 
 def street_summary(streets):
