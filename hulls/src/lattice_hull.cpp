@@ -61,9 +61,13 @@ void hullVertices(const std::vector<Point2>& points, std::vector<Point2>& vertic
     vertices.push_back(points[k]);
   }
   vertices.pop_back();  // the first point again
-  // The lower chain runs up in order, the upper one back down: the upper one reversed, merged in.
-  std::reverse(vertices.begin() + std::ptrdiff_t(lower), vertices.end());
-  std::inplace_merge(vertices.begin(), vertices.begin() + std::ptrdiff_t(lower), vertices.end());
+  // The lower chain runs up in order, the upper one back down: merged, the upper one read backwards,
+  // into a spare vector (inplace_merge would allocate a buffer on every call).
+  thread_local std::vector<Point2> spare_merged;
+  Borrowed<Point2> merged(spare_merged);
+  std::merge(vertices.begin(), vertices.begin() + std::ptrdiff_t(lower), vertices.rbegin(),
+             std::make_reverse_iterator(vertices.begin() + std::ptrdiff_t(lower)), std::back_inserter(merged.v));
+  std::copy(merged.v.begin(), merged.v.end(), vertices.begin());
 }
 
 /// Keeps, in each plane of constant coordinate `axis`, only the vertices of the 2D convex hull of
