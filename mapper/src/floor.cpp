@@ -1,4 +1,5 @@
 #include "hullmap/core/constants.hpp"
+#include "hullmap/core/detail/cpu_clones.hpp"
 #include "hullmap/mapper/floor.hpp"
 
 #include <algorithm>
@@ -37,16 +38,41 @@ struct Counts {
   std::size_t beyond = 0;
 };
 
-Counts count(const io::Points& points, const Plane& plane, double band) {
-  Counts c;
-  for (const io::Point& p : points) {
-    const double d = plane.signedDistance(p);
-    if (std::abs(d) <= band)
-      ++c.inliers;
-    else if (d < -band)
-      ++c.beyond;
+/// Points as three columns: counting planes over them vectorises, over Eigen's points it does not
+/// (a RANSAC search counts a thousand candidates on the same points).
+struct Columns {
+  std::vector<double> x, y, z;
+  explicit Columns(const io::Points& points) {
+    x.reserve(points.size());
+    y.reserve(points.size());
+    z.reserve(points.size());
+    for (const io::Point& p : points) {
+      x.push_back(p.x());
+      y.push_back(p.y());
+      z.push_back(p.z());
+    }
   }
-  return c;
+  std::size_t size() const { return x.size(); }
+};
+
+// The points within `band` of the plane and those beyond it on the outer side. The distance is
+// Plane::signedDistance's to the bit: Eigen sums a 3-vector's dot product as (x + y) + z, and no
+// clone may contract it (AVX2 is not FMA).
+HULLMAP_AVX2_CLONES
+Counts countColumns(const double* x, const double* y, const double* z, std::size_t n, double nx, double ny, double nz,
+                    double offset, double band) {
+  std::size_t inliers = 0, beyond = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = (nx * x[i] + ny * y[i]) + nz * z[i] - offset;
+    inliers += std::abs(d) <= band ? 1 : 0;
+    beyond += d < -band ? 1 : 0;
+  }
+  return Counts{inliers, beyond};
+}
+
+Counts count(const Columns& points, const Plane& plane, double band) {
+  return countColumns(points.x.data(), points.y.data(), points.z.data(), points.size(), plane.normal.x(),
+                      plane.normal.y(), plane.normal.z(), plane.offset, band);
 }
 
 // Least-squares plane through the inliers of `plane`: the smallest principal axis, oriented like
@@ -185,11 +211,12 @@ PlaneFit findBoundingPlane(const io::Points& points, PlaneSide side, const Plane
     candidate.offset = candidate.normal.dot(p0);
     drawn_planes.push_back(candidate);
   }
+  const Columns screen_columns(screen_points);
   std::vector<Counts> screen_counts(drawn_planes.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, drawn_planes.size(), 16),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i != r.end(); ++i)
-                        screen_counts[i] = count(screen_points, drawn_planes[i], band);
+                        screen_counts[i] = count(screen_columns, drawn_planes[i], band);
                     });
   std::vector<std::pair<std::size_t, int>> screened;  // (inliers on the screen, candidate index)
   std::vector<Plane> candidates;
@@ -202,9 +229,10 @@ PlaneFit findBoundingPlane(const io::Points& points, PlaneSide side, const Plane
   std::stable_sort(screened.begin(), screened.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
   if (screened.size() > kFinalists) screened.resize(kFinalists);
   std::sort(screened.begin(), screened.end(), [](const auto& x, const auto& y) { return x.second < y.second; });
+  const Columns sample_columns(sample);
   std::vector<Counts> finalist_counts(screened.size());
   tbb::parallel_for(std::size_t{0}, screened.size(), [&](std::size_t k) {
-    finalist_counts[k] = count(sample, candidates[static_cast<std::size_t>(screened[k].second)], band);
+    finalist_counts[k] = count(sample_columns, candidates[static_cast<std::size_t>(screened[k].second)], band);
   });
   bool have = false;
   Plane best;
@@ -233,7 +261,7 @@ PlaneFit findBoundingPlane(const io::Points& points, PlaneSide side, const Plane
     evaluation = &drawn;
   }
   fit.plane = refine(*evaluation, best, band, params.fit_tilt);
-  const Counts all = count(points, fit.plane, band);
+  const Counts all = count(Columns(points), fit.plane, band);
   const double n = static_cast<double>(points.size());
   fit.inliers = all.inliers;
   fit.inlier_share = static_cast<double>(all.inliers) / n;

@@ -73,6 +73,41 @@ TEST(MapperFloor, FindsATiltedNoisyFloorUnderWallsAndATable) {
   }
 }
 
+// The counts are taken over the points as columns (vectorised): every point counted as
+// Plane::signedDistance places it, the points on the band's edges included.
+TEST(MapperFloor, CountsAreThoseOfEveryPointsSignedDistance) {
+  for (const double tilt_deg : {0.0, 13.0}) {
+    SCOPED_TRACE(tilt_deg);
+    const Eigen::Matrix3d r =
+        Eigen::AngleAxisd(tilt_deg * kPi / 180, Eigen::Vector3d(2, -1, 0).normalized()).toRotationMatrix();
+    Points pts = room(3000, 0.01, 500, r, Eigen::Vector3d(0.1, 0.4, 0.7));
+    PlaneSearchParams params;
+    params.band = 0.02;
+    const PlaneFit first = findBoundingPlane(pts, PlaneSide::kFloor, params);
+    ASSERT_TRUE(first.found) << first.reason;
+    // Points put on the found plane's band edges, and just inside and outside them.
+    const Eigen::Vector3d n = first.plane.normal;
+    const Eigen::Vector3d on = n * first.plane.offset;
+    for (const double d : {params.band, -params.band, std::nextafter(params.band, 1.0),
+                           std::nextafter(-params.band, -1.0), std::nextafter(params.band, 0.0)}) {
+      for (int k = 0; k < 20; ++k) pts.push_back(on + n.unitOrthogonal() * (0.1 * k) + n * d);
+    }
+    const PlaneFit fit = findBoundingPlane(pts, PlaneSide::kFloor, params);
+    ASSERT_TRUE(fit.found) << fit.reason;
+    std::size_t inliers = 0, beyond = 0;
+    for (const Point& p : pts) {
+      const double d = fit.plane.signedDistance(p);
+      if (std::abs(d) <= params.band)
+        ++inliers;
+      else if (d < -params.band)
+        ++beyond;
+    }
+    EXPECT_EQ(fit.inliers, inliers);
+    EXPECT_EQ(fit.inlier_share, static_cast<double>(inliers) / static_cast<double>(pts.size()));
+    EXPECT_EQ(fit.beyond_share, static_cast<double>(beyond) / static_cast<double>(pts.size()));
+  }
+}
+
 TEST(MapperFloor, FixedTiltFindsOnlyTheHeight) {
   const Points pts = room(3000, 0.01, 500, Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0, 2.0));
   PlaneSearchParams params;
