@@ -122,6 +122,17 @@ TEST(ObstaclesJson, FileIsTheDocumentsOneSpaceDump) {
   // frame change.
   auto obstacles = lAndBox();
   obstacles[0].parts[1].flat = true;
+  obstacles[0].parts[0].faces = true;
+  obstacles[0].parts[0].filled = true;
+  obstacles[0].parts[0].free_voxels_off_surface = 12345678901ull;
+  // Numbers of every form the writer spells: signs, zeros, exponents, integral floats, non-finite.
+  obstacles[0].hull.vertices[0] = {-0.0, 1e-7, 1e21};
+  obstacles[0].hull.vertices[1] = {123456789.123, -1e-5, 0.1 + 0.2};
+  obstacles[0].centroid = {1e300, 5e-324, -2.0};
+  obstacles[0].volume = std::numeric_limits<double>::quiet_NaN();
+  obstacles[0].parts[1].concavity_bound = std::numeric_limits<double>::infinity();
+  obstacles[0].id = -3;
+  obstacles[1].footprint.polygon.clear();
   hulls::Obstacle no_parts = obstacles[1];
   no_parts.id = 7;
   no_parts.parts.clear();
