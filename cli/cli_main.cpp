@@ -12,6 +12,9 @@
 
 #if defined(__GLIBC__)
 #include <malloc.h>
+#include <unistd.h>
+
+#include "hullmap/core/huge_pages.hpp"
 #endif
 
 #include "hullmap/core/error.hpp"
@@ -86,10 +89,24 @@ namespace {
 // `hullmap build octomap_scan.dat --resolution 0.1` 12,100 page faults, a fifth of the process on a
 // virtual machine. Kept in the heap for reuse instead: 5,700, and 0.39 -> 0.32 s (BENCHMARKS.md).
 // A command is one run: what it frees is soon asked for again, and all of it goes at exit.
+//
+// The heap then grows in one step of 64 MiB, which asks for transparent huge pages
+// (core::adviseHugePages; what glibc's glibc.malloc.hugetlb=1 tunable does, which only the
+// environment can set): its fresh memory faults in 2 MiB at a time. On the same build the main
+// thread's page faults 3,000-3,200 -> 850-1,050, the whole process 4,500 -> 2,000, and 0.257 -> 0.232 s; on
+// `hullmap cluster` of 257,000 points 2,200-2,900 -> 1,200 and 0.107 -> 0.086 s. Untouched pages of
+// the step cost nothing; a heap that outgrows it goes on in ordinary pages.
 void keepFreedMemoryForReuse() {
 #if defined(__GLIBC__)
   mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's largest: bigger blocks are still mapped and unmapped
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  mallopt(M_TOP_PAD, 64 << 20);
+  char* const before = static_cast<char*>(sbrk(0));
+  void* volatile block = malloc(1 << 20);  // volatile: the compiler may not drop the pair
+  free(block);
+  char* const after = static_cast<char*>(sbrk(0));
+  if (before != reinterpret_cast<char*>(-1) && after > before)  // sanitizers' allocators leave brk alone
+    hullmap::core::adviseHugePages(before, std::size_t(after - before));
 #endif
 }
 
