@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <csignal>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
@@ -13,6 +14,8 @@
 #if defined(__GLIBC__)
 #include <malloc.h>
 #include <unistd.h>
+
+#include <tbb/task_scheduler_observer.h>
 
 #include "hullmap/core/huge_pages.hpp"
 #endif
@@ -96,6 +99,9 @@ namespace {
 // thread's page faults 3,000-3,200 -> 850-1,050, the whole process 4,500 -> 2,000, and 0.257 -> 0.232 s; on
 // `hullmap cluster` of 257,000 points 2,200-2,900 -> 1,200 and 0.107 -> 0.086 s. Untouched pages of
 // the step cost nothing; a heap that outgrows it goes on in ordinary pages.
+/// The main heap's bounds after keepFreedMemoryForReuse's step (empty when it made none).
+std::uintptr_t heap_begin = 0, heap_end = 0;
+
 void keepFreedMemoryForReuse() {
 #if defined(__GLIBC__)
   mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's largest: bigger blocks are still mapped and unmapped
@@ -105,10 +111,41 @@ void keepFreedMemoryForReuse() {
   void* volatile block = malloc(1 << 20);  // volatile: the compiler may not drop the pair
   free(block);
   char* const after = static_cast<char*>(sbrk(0));
-  if (before != reinterpret_cast<char*>(-1) && after > before)  // sanitizers' allocators leave brk alone
+  if (before != reinterpret_cast<char*>(-1) && after > before) {  // sanitizers' allocators leave brk alone
     hullmap::core::adviseHugePages(before, std::size_t(after - before));
+    heap_begin = reinterpret_cast<std::uintptr_t>(before);
+    heap_end = reinterpret_cast<std::uintptr_t>(after);
+  }
 #endif
 }
+
+/// The same for each TBB worker's heap: glibc gives a thread that allocates its own arena, whose
+/// heap is one mapping aligned to its largest size (64 MiB on 64-bit Linux), made writable whole
+/// under the top pad above. The worker's first block lies in it; a worker that shares the main
+/// heap has nothing to advise.
+class AdviseWorkerHeaps : public tbb::task_scheduler_observer {
+ public:
+  AdviseWorkerHeaps() { observe(true); }
+  ~AdviseWorkerHeaps() override { observe(false); }
+  AdviseWorkerHeaps(const AdviseWorkerHeaps&) = delete;
+  AdviseWorkerHeaps& operator=(const AdviseWorkerHeaps&) = delete;
+
+  void on_scheduler_entry(bool is_worker) override {
+#if defined(__GLIBC__) && defined(__LP64__)
+    thread_local bool advised = false;
+    if (!is_worker || advised || heap_end == 0) return;
+    advised = true;
+    void* volatile block = malloc(64);
+    const auto p = reinterpret_cast<std::uintptr_t>(static_cast<void*>(block));
+    free(block);
+    constexpr std::uintptr_t kHeapBytes = std::uintptr_t{64} << 20;
+    if (p == 0 || (p >= heap_begin && p < heap_end)) return;
+    hullmap::core::adviseHugePages(reinterpret_cast<void*>(p & ~(kHeapBytes - 1)), kHeapBytes);
+#else
+    (void)is_worker;
+#endif
+  }
+};
 
 // Test-only (test/e2e/heavy/build.cpp): HULLMAP_TEST_KILL_AT=<stage> makes the run SIGKILL itself
 // when the pipeline reaches that stage, so that "a run killed there" is a fact, not a race with a timer.
@@ -122,6 +159,7 @@ void killAtStage(const char* stage) {
 
 int runCli(int argc, char** argv, const std::vector<AddCommand>& commands) {
   keepFreedMemoryForReuse();
+  const AdviseWorkerHeaps advise_worker_heaps;
   kill_at = std::getenv("HULLMAP_TEST_KILL_AT");
   if (kill_at != nullptr) pipeline::detail::stage_hook = killAtStage;
   CLI::App app{"hullmap: SLAM map points -> OctoMap -> DBSCAN clusters -> convex obstacles -> path checks"};
