@@ -55,11 +55,11 @@ trap 'rm -f "$tmp"' EXIT
   echo
   sh "$root/bench/section_dbscan.sh" "$build" --full
   echo
-  sh "$root/bench/section_cluster_process.sh" "$build"
+  bash "$root/bench/section_cluster_process.sh" "$build"
   echo
   sh "$root/bench/section_insertion.sh" "$build"
   echo
-  sh "$root/bench/section_build_process.sh" "$build"
+  bash "$root/bench/section_build_process.sh" "$build"
   echo
   sh "$root/bench/section_collision.sh" "$build"
   echo

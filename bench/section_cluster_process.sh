@@ -1,4 +1,4 @@
-#!/bin/sh
+#!/bin/bash
 # Prints the "## Whole process: hullmap cluster" section of docs/BENCHMARKS.md (markdown) to stdout.
 #
 # usage: bench/section_cluster_process.sh BUILD_DIR [POINTS]
@@ -26,10 +26,10 @@ points="$work/scene/map_points.txt"
 "$hullmap" cluster "$points" --up -y --eps 0.1 --min-pts 10 -o "$work/labels.csv" >"$work/cluster.txt"
 times=""
 for run in 1 2 3 4 5 6 7; do
-  start=$(date +%s.%N)
-  "$hullmap" cluster "$points" --up -y --eps 0.1 --min-pts 10 -o "$work/labels.csv" >"$work/cluster.txt"
-  end=$(date +%s.%N)
-  times="$times $(echo "$end - $start" | bc -l)"
+  # bash's time keyword: the command's own wall time (timing it with `date` before and after added
+  # one exec of date, 6-8 ms on the hosts of these runs).
+  seconds=$( { TIMEFORMAT=%3R; time "$hullmap" cluster "$points" --up -y --eps 0.1 --min-pts 10 -o "$work/labels.csv" >"$work/cluster.txt" 2>"$work/stderr"; } 2>&1)
+  times="$times $seconds"
 done
 hullmap_s=$(echo $times | tr ' ' '\n' | sort -g | sed -n 4p)
 clusters=$(sed -n 's/^clusters: //p' "$work/cluster.txt")
@@ -58,11 +58,11 @@ echo "the text file, frame change, exact DBSCAN, the eps suggestion from the k-d
 echo "spread sample of 2048 points, answered on the DBSCAN run's own grid, write one labels.csv row per"
 echo "point), against Open3D's"
 echo "\`cluster_dbscan\` call alone (points already in memory, no file I/O) on the same points, in the same"
-echo "run; eps 0.1, minPts 10, a generated scene; hullmap the median of 7 runs after a warm-up run (\`bench/section_cluster_process.sh\`)."
+echo "run; eps 0.1, minPts 10, a generated scene; hullmap the median of 7 runs after a warm-up run, each timed by bash's \`time\` (\`bench/section_cluster_process.sh\`)."
 echo
 echo "| points | hullmap cluster, whole process s | Open3D cluster_dbscan call s | Open3D / hullmap | clusters |"
 echo "|---|---|---|---|---|"
-printf '| %s | %.2f | %s | %s | %s |\n' "$n" "$hullmap_s" "$open3d_s" "$ratio" "$clusters"
+printf '| %s | %.3f | %s | %s | %s |\n' "$n" "$hullmap_s" "$open3d_s" "$ratio" "$clusters"
 
 # What the eps suggestion costs inside the clustering: hullmap_bench_dbscan times dbscan() alone and
 # with the k-distance sample, in turns, on its own generated scene of the same size; the medians over
