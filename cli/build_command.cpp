@@ -48,9 +48,10 @@ struct BuildOptions {
   std::string eps = "auto";
   std::string min_pts = "auto";
   std::string concavity = "default";
-  std::string flat_gap = "auto";   ///< G of flat parts: auto (the eps used), 0 (off) or a length
-  std::string extension = "auto";  ///< auto (on when --min-pts is auto), on or off
-  std::size_t stray_parts = 3;     ///< --stray-parts: the largest stray part dropped, in voxels (0: none)
+  std::string flat_gap = "auto";    ///< G of flat parts: auto (the eps used), 0 (off) or a length
+  std::string extension = "auto";   ///< auto (on when --min-pts is auto), on or off
+  std::string sparse_edges = "on";  ///< --sparse-edges: on or off
+  std::size_t stray_parts = 3;      ///< --stray-parts: the largest stray part dropped, in voxels (0: none)
   pipeline::BuildParams params;
 };
 
@@ -89,6 +90,7 @@ pipeline::BuildParams toParams(const BuildOptions& o) {
   if (params.convex_parts && o.flat_gap != "auto") params.convex_parts->flat_gap = number(o.flat_gap);
   if (o.extension != "auto") params.extension = o.extension == "on";
   params.stray_part_voxels = o.stray_parts;
+  params.sparse_edges = o.sparse_edges == "on";
   return params;
 }
 
@@ -413,10 +415,16 @@ void addClusterOptions(CLI::App& cmd, BuildOptions& options) {
                  "a chain of them reaches within 1.5 eps (sparse legs and edges); auto: on when --min-pts is auto")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
-  cmd.add_option("--stray-parts", options.stray_parts,
-                 "With the extension: drop a convex part of at most N voxels, none of them core, of an obstacle with "
-                 "other parts and farther than 2 T from the floor, ceiling and ground (stray map points a wide eps "
-                 "took in off a surface); 0: keep every part")
+  cmd.add_option("--sparse-edges", options.sparse_edges,
+                 "Grow each sparse convex part in its own plane by a share of its point spacing (1.5 x the spacing "
+                 "beyond 2.4 voxels, at most 2 voxels), to the edges and corners its last map points stop short of")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
+  cmd.add_option(
+         "--stray-parts", options.stray_parts,
+         "With the extension: drop a convex part of at most N voxels, at most one of them core, of an obstacle "
+         "with other parts and farther than 2 T from the floor, ceiling and ground (stray map points a wide eps "
+         "took in off a surface); 0: keep every part")
       ->check(wholeNumberFrom(0))
       ->capture_default_str();
   cmd.add_option("--metric", options.metric, "DBSCAN distance: xyz or xy (top view)")

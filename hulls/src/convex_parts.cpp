@@ -215,7 +215,8 @@ class StrayRule {
     for (std::size_t k = 0; k < parts.size(); ++k) {
       const auto& part = parts[k];
       if (part.size() > rule_.max_voxels) continue;
-      if (std::any_of(part.begin(), part.end(), [&](std::size_t i) { return rule_.core[i] != 0; })) continue;
+      const auto core = std::count_if(part.begin(), part.end(), [&](std::size_t i) { return rule_.core[i] != 0; });
+      if (std::size_t(core) > rule_.max_core_voxels) continue;
       if (std::any_of(part.begin(), part.end(), [&](std::size_t i) { return supported(centers[i]); })) continue;
       out[k] = 1;
       --kept;
@@ -319,7 +320,8 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
   const std::optional<StrayRule> stray_rule =
       strays ? std::optional<StrayRule>(std::in_place, *strays, centers, t) : std::nullopt;
   std::vector<std::vector<std::size_t>> stray_voxels(obstacles.size());
-  std::vector<std::size_t> stray_parts(obstacles.size(), 0);
+  std::vector<std::size_t> stray_parts(obstacles.size(), 0), grown_parts(obstacles.size(), 0);
+  std::vector<double> grown_most(obstacles.size(), 0.0);
   tbb::parallel_for(std::size_t(0), obstacles.size(), [&](std::size_t o) {
     Obstacle& obstacle = obstacles[o];
     const std::vector<std::size_t>& members = clusters.at(obstacle.id);
@@ -351,6 +353,11 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
       keyframes_in_voxels[o] += check.keyframes_in_voxels;
       obstacle.parts.push_back(
           wrapPart(obstacle.id, global, check, result.lattice.origin, centers, weights, voxel_size, free));
+      if (params.sparse_edges) {
+        const double grown = growSparseEdges(obstacle.parts.back(), voxel_size, *params.sparse_edges);
+        grown_parts[o] += grown > 0.0 ? 1 : 0;
+        grown_most[o] = std::max(grown_most[o], grown);
+      }
     }
     // The whole obstacle again, from the voxels it keeps.
     if (stray_parts[o] > 0) {
@@ -378,6 +385,8 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
     summary.flat_parts += flat_parts[o];
     summary.face_parts += face_parts[o];
     summary.stray_parts += stray_parts[o];
+    summary.sparse_edge_parts += grown_parts[o];
+    summary.sparse_edge_growth_max = std::max(summary.sparse_edge_growth_max, grown_most[o]);
     for (const std::size_t i : stray_voxels[o]) strays_of.emplace_back(i, obstacle.id);
     for (const auto& part : obstacle.parts) {
       summary.hull_volume_after += part.volume;

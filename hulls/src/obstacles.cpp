@@ -139,6 +139,23 @@ LatticeHull canonical(const LatticeHull& hull, int id) {
 }  // namespace
 
 namespace detail {
+
+std::pair<double, Eigen::Vector3d> volumeAndCentroid(const ConvexHull& hull, const Eigen::Vector3d& fallback) {
+  // Tetrahedra from a reference point on the hull, for accuracy away from the origin.
+  const Eigen::Vector3d ref = hull.vertices.front();
+  double volume = 0.0;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  for (const auto& t : hull.triangles) {
+    const Eigen::Vector3d a = hull.vertices[t[0]] - ref;
+    const Eigen::Vector3d b = hull.vertices[t[1]] - ref;
+    const Eigen::Vector3d c = hull.vertices[t[2]] - ref;
+    const double v = a.dot(b.cross(c)) / 6.0;
+    volume += v;
+    moment += v * (a + b + c) / 4.0;
+  }
+  return {volume, volume > 0 ? Eigen::Vector3d(ref + moment / volume) : fallback};
+}
+
 Obstacle wrapCluster(int id, const std::vector<std::size_t>& members, const std::vector<Eigen::Vector3d>& centers,
                      const std::vector<std::uint32_t>& weights, double voxel_size) {
   Obstacle obstacle;
@@ -194,21 +211,7 @@ Obstacle wrapCluster(int id, const std::vector<std::size_t>& members, const std:
   for (const auto& v : lattice.vertices) obstacle.hull.vertices.push_back(cornerPoint(v));
   obstacle.hull.triangles = lattice.triangles;
 
-  // Volume and centroid by the divergence theorem on the outward triangles (tetrahedra from a
-  // reference point inside the hull, for accuracy away from the origin).
-  const Eigen::Vector3d ref = obstacle.hull.vertices.front();
-  double volume = 0.0;
-  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
-  for (const auto& t : obstacle.hull.triangles) {
-    const Eigen::Vector3d a = obstacle.hull.vertices[t[0]] - ref;
-    const Eigen::Vector3d b = obstacle.hull.vertices[t[1]] - ref;
-    const Eigen::Vector3d c = obstacle.hull.vertices[t[2]] - ref;
-    const double v = a.dot(b.cross(c)) / 6.0;
-    volume += v;
-    moment += v * (a + b + c) / 4.0;
-  }
-  obstacle.volume = volume;
-  obstacle.centroid = volume > 0 ? Eigen::Vector3d(ref + moment / volume) : Eigen::Vector3d(0.5 * (lo + hi));
+  std::tie(obstacle.volume, obstacle.centroid) = volumeAndCentroid(obstacle.hull, 0.5 * (lo + hi));
   obstacle.aabb_min = lo;
   obstacle.aabb_max = hi;
   for (const auto& v : obstacle.hull.vertices) {

@@ -180,6 +180,7 @@ void splitConvexParts(BuildResult& result, ClusterWork& w) {
   if (params.trajectory || params.origin) known.free_voxels = freeVoxelCentres(result.map);
   // G unset: the eps used, the distance at which this map's sampling connects a surface.
   hulls::ConvexPartsParams parts_params = *params.convex_parts;
+  if (params.sparse_edges && !parts_params.sparse_edges) parts_params.sparse_edges = hulls::SparseEdges{};
   // Auto G is also adapted to each cluster's sampling (a sparse wall's chance holes); a G the user
   // gives is used as given.
   if (!parts_params.flat_gap) {

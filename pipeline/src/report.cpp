@@ -232,6 +232,7 @@ nlohmann::json parametersJson(const BuildParams& params) {
                     : *params.extension ? "on"
                                         : "off"},
       {"stray_parts", params.stray_part_voxels},
+      {"sparse_edges", params.sparse_edges},
       {"ot", params.write_ot},
   };
 }
@@ -302,6 +303,8 @@ nlohmann::json partsJson(const BuildResult& result) {
           {"free_voxels_off_surface", p.free_voxels_off_surface},
           {"stray_parts", p.stray_parts},
           {"stray_voxels", p.stray_voxels.size()},
+          {"sparse_edge_parts", p.sparse_edge_parts},
+          {"sparse_edge_growth_max", p.sparse_edge_growth_max},
           {"keyframes_inside_hulls", report.keyframes_inside_hulls}};
 }
 

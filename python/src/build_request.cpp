@@ -247,7 +247,8 @@ void takeSurfaces(Keywords& k, pipeline::BuildParams& params) {
   }
 }
 
-// DBSCAN (eps, min_pts, metric, extension), the convex parts (concavity, flat_gap, stray_parts), write_ot.
+// DBSCAN (eps, min_pts, metric, extension), the convex parts (concavity, flat_gap, stray_parts,
+// sparse_edges), write_ot.
 void takeClustering(Keywords& k, pipeline::BuildParams& params) {
   if (py::object v = k.take("eps"); !v.is_none()) {
     if (!isWord(v) || word(v) != "auto") params.eps = number(v, "eps", "a number or 'auto'");
@@ -282,6 +283,11 @@ void takeClustering(Keywords& k, pipeline::BuildParams& params) {
     const auto n = wholeNumber(v, "stray_parts", "a whole number >= 0");
     if (n < 0) throw Error::inParameter("stray_parts", "expected a whole number >= 0, got " + reprOf(v));
     params.stray_part_voxels = static_cast<std::size_t>(n);
+  }
+  if (py::object v = k.take("sparse_edges"); !v.is_none()) {
+    if (!py::isinstance<py::bool_>(v))
+      throw Error::inParameter("sparse_edges", "expected True or False, got " + reprOf(v));
+    params.sparse_edges = py::cast<bool>(v);
   }
   if (py::object v = k.take("write_ot"); !v.is_none()) {
     if (!py::isinstance<py::bool_>(v)) throw Error::inParameter("write_ot", "expected True or False, got " + reprOf(v));

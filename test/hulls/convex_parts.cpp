@@ -531,17 +531,20 @@ TEST(ConvexParts, FaceHoleRuleDoesNotLiftAWallToAClump) {
 }
 
 /// The stray-part rule's oracle: from the parts made without it, those of at most max_voxels voxels,
-/// none core, none within reach of a support point, of an obstacle with another part that stays.
+/// at most max_core_voxels core, none within reach of a support point, of an obstacle with another
+/// part that stays.
 std::set<std::size_t> expectedStrays(const Split& plain, const StrayParts& rule, double reach) {
   std::set<std::size_t> out;
   const auto groups = splitConvexParts(plain.centers, kVoxel, {});
   std::vector<std::vector<std::size_t>> stray;
   for (const auto& g : groups) {
     bool drop = g.size() <= rule.max_voxels;
+    std::size_t core = 0;
     for (const auto i : g) {
-      drop = drop && !rule.core[i];
+      core += rule.core[i] ? 1 : 0;
       for (const auto& s : rule.support) drop = drop && (plain.centers[i] - s).norm() > reach;
     }
+    drop = drop && core <= rule.max_core_voxels;
     if (drop) stray.push_back(g);
   }
   if (groups.size() < 2 || stray.size() == groups.size()) return out;
@@ -555,7 +558,7 @@ TEST(ConvexParts, StrayPartsDropsOnlySmallBorderPartsOffTheSupport) {
   addBox(c, 0, 40, 0, 2, 0, 20);
   const std::size_t wall = c.size();
   c.push_back(center(20, 8, 15));  // a lone border voxel: dropped
-  c.push_back(center(5, 8, 10));   // a pair, one of them core: kept
+  c.push_back(center(5, 8, 10));   // a pair, both core: kept
   c.push_back(center(6, 8, 10));
   c.push_back(center(32, 8, 1));      // a lone border voxel a voxel above the floor: kept
   addBox(c, 12, 14, 11, 13, 18, 19);  // a clump of 4 border voxels: kept (more than 3)
@@ -563,6 +566,7 @@ TEST(ConvexParts, StrayPartsDropsOnlySmallBorderPartsOffTheSupport) {
   rule.core.assign(c.size(), 0);
   std::fill(rule.core.begin(), rule.core.begin() + std::ptrdiff_t(wall), 1);
   rule.core[wall + 1] = 1;
+  rule.core[wall + 2] = 1;
   for (int i = 25; i < 40; ++i) rule.support.push_back(center(i, 8, -1));  // the floor's voxels there
   const Split plain = splitOne(c);
   ASSERT_EQ(plain.obstacles[0].parts.size(), 5u);
@@ -596,6 +600,18 @@ TEST(ConvexParts, StrayPartsDropsOnlySmallBorderPartsOffTheSupport) {
   const auto summary = addConvexParts(obstacles, pair, {}, labels, kVoxel, {}, {}, &loose);
   EXPECT_EQ(summary.stray_parts, 0u);
   EXPECT_EQ(obstacles[0].parts.size(), 2u);
+
+  // One core voxel is not enough to stay; none are needed to go with max_core_voxels 0.
+  StrayParts one_core = rule;
+  one_core.core[wall + 2] = 0;
+  Split t = plain;
+  t.obstacles = buildObstacles(c, {}, t.labels, kVoxel);
+  t.summary = addConvexParts(t.obstacles, c, {}, t.labels, kVoxel, {}, {}, &one_core);
+  EXPECT_EQ(t.summary.stray_voxels, (std::vector<std::size_t>{wall, wall + 1, wall + 2}));
+  one_core.max_core_voxels = 0;
+  t.obstacles = buildObstacles(c, {}, t.labels, kVoxel);
+  t.summary = addConvexParts(t.obstacles, c, {}, t.labels, kVoxel, {}, {}, &one_core);
+  EXPECT_EQ(t.summary.stray_voxels, std::vector<std::size_t>{wall});
 
   // A core flag per voxel, or an error.
   loose.core.assign(1, 0);

@@ -53,6 +53,8 @@ CASES = {
              min_pts=np.int64(8), write_ot=True)),
     "stray_parts": (["--trajectory", TRAJECTORY, "--up", "-y", "--stray-parts", "0"],
                     dict(trajectory=TRAJECTORY, up="-y", stray_parts=0)),
+    "sparse_edges": (["--trajectory", TRAJECTORY, "--up", "-y", "--sparse-edges", "off"],
+                     dict(trajectory=TRAJECTORY, up="-y", sparse_edges=False)),
     "level": (["--up", "-y", "--level", "off", "--eps", "0.12", "--min-pts", "5"],
               dict(up="-y", level=False, eps=0.12, min_pts=5)),
     "origin": (["--origin", "0,1,0", "--up", "-y", "--eps", "auto", "--min-pts", "auto"],

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "hullmap/hulls/obstacles.hpp"
+#include "hullmap/hulls/sparse_edges.hpp"
 
 namespace hullmap::hulls {
 
@@ -53,6 +54,10 @@ struct ConvexPartsParams {
   /// its longest axis without being checked (the check holds one 4-byte distance per cell of the
   /// box: 2^23 cells is 32 MiB). Parts are merged back only when their union is checked.
   std::size_t max_check_cells = std::size_t(1) << 23;
+  /// Grow each sparse part in its own plane by a share of its point spacing (sparse_edges.hpp),
+  /// after its check: its hull reaches the surface's edges its last points stop short of. Unset: no
+  /// growth. hullmap build sets it (BuildParams::sparse_edges).
+  std::optional<SparseEdges> sparse_edges;
 };
 
 /// What is known to be free: nothing of it should be inside a hull.
@@ -65,16 +70,21 @@ struct KnownFreeSpace {
 };
 
 /// The stray-part rule of addConvexParts (off unless given). A part of at most `max_voxels` voxels,
-/// none of them a DBSCAN core voxel, of an obstacle that has other parts, and with no `support`
-/// voxel within `support_reach` of any of its voxels, is dropped, and its voxels leave the obstacle.
+/// at most `max_core_voxels` of them DBSCAN core voxels, of an obstacle that has other parts, and
+/// with no `support` voxel within `support_reach` of any of its voxels, is dropped, and its voxels
+/// leave the obstacle.
 /// Why: the eps that connects a sparse map's surfaces also makes a stray map point (or a small clump
 /// of them) up to 1.5 eps in front of a wall a border point of the wall's cluster; the outlier trim
 /// (clustering/outlier_trim.hpp) takes back the lone ones off a flat patch, but not those by a corner,
 /// by furniture against the wall, or in a clump the extension chained to it. Split off the surface
-/// (they lie farther than T from it), each became a part of its own in the room. A part with a core
-/// voxel is dense evidence, and is kept; so is a part near the floor (a leg's foot, a step).
+/// (they lie farther than T from it), each became a part of its own in the room. One core voxel is
+/// no dense evidence at a sparse map's eps: a stray point by a wall's edge reaches enough of the
+/// wall's points to be core itself, and chains two more strays to it (on generated rooms, a
+/// three-point sliver 0.8 m tall above a cylinder gave half of a room's false alarms). A part with
+/// two core voxels is kept; so is a part near the floor (a leg's foot, a step).
 struct StrayParts {
   std::size_t max_voxels = 3;
+  std::size_t max_core_voxels = 1;
   std::vector<std::uint8_t> core;        ///< per voxel of addConvexParts' `centers`: 1 when DBSCAN core
   std::vector<Eigen::Vector3d> support;  ///< voxels that hold structure up: the floor's, ceiling's, ground's
   double support_reach = 0.0;            ///< map units; 0: 2 T
@@ -161,6 +171,8 @@ struct ConvexPartsSummary {
   std::size_t stray_parts = 0;              ///< parts dropped by the stray-part rule
   std::vector<std::size_t> stray_voxels;    ///< their voxels (indices into centers, ascending): no obstacle's now
   std::vector<int> stray_obstacles;         ///< per stray voxel: the id of the obstacle it left
+  std::size_t sparse_edge_parts = 0;        ///< parts grown by sparse_edges
+  double sparse_edge_growth_max = 0.0;      ///< the most one grew, map units
 };
 
 /// Fills `parts` of every obstacle made by buildObstacles from the same centres/weights/labels:

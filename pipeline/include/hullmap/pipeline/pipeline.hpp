@@ -138,11 +138,15 @@ struct BuildParams {
   /// cluster. The keyframes (with `trajectory`) are kept out of every part's hull.
   /// `convex_parts->flat_gap` (G of flat parts) unset: the DBSCAN eps used; 0: off (G = T).
   std::optional<hulls::ConvexPartsParams> convex_parts = hulls::ConvexPartsParams{};
-  /// With the extension and convex parts: a part of at most this many voxels, none of them core, of
+  /// With the extension and convex parts: a part of at most this many voxels, at most one of them core, of
   /// an obstacle with other parts, and farther than 2 T (the concavity) from the floor's, ceiling's
   /// and ground's voxels, is dropped, its voxels made noise (hulls::StrayParts: the stray map points
   /// a wide eps took in off a surface). 0: keep every part.
   std::size_t stray_part_voxels = 3;
+  /// With convex parts: each sparse part grows in its own plane by a share of its point spacing
+  /// (hulls::SparseEdges at its defaults): the hulls reach the edges and corners a sparse map's last
+  /// points stop short of. Off: every part is the hull of its voxels.
+  bool sparse_edges = true;
   /// Point files only (no trajectory, no origin): they stream batch by batch into the octree, so a
   /// map larger than memory builds. When the floor may have to be levelled (floor auto, no align),
   /// inputs totalling less than this many bytes are read whole instead (one pass: the levelling is

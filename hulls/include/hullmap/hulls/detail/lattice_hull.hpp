@@ -75,6 +75,10 @@ inline std::array<std::int64_t, 3> latticeIndex(const Eigen::Vector3d& center, c
 /// vertices of the hull of all the cells' corners. Never drops a hull vertex; order unspecified.
 std::vector<std::array<std::int64_t, 3>> candidateCorners(const std::vector<std::array<std::int64_t, 3>>& cells);
 
+/// The volume of a closed hull with outward triangles and its centroid (by the divergence theorem,
+/// tetrahedra from its first vertex); the centroid is `fallback` when the volume is not positive.
+std::pair<double, Eigen::Vector3d> volumeAndCentroid(const ConvexHull& hull, const Eigen::Vector3d& fallback);
+
 /// The obstacle of the voxels `members` (indices into centers/weights): the hull of their corners,
 /// canonical, with footprint, volume, centroid and box. `parts` is left empty.
 Obstacle wrapCluster(int id, const std::vector<std::size_t>& members, const std::vector<Eigen::Vector3d>& centers,
