@@ -293,6 +293,9 @@ void printClustering(const pipeline::BuildResult& result) {
     if (p.stray_parts > 0)
       std::cout << "; " << p.stray_parts << " stray part" << (p.stray_parts == 1 ? "" : "s") << " of "
                 << p.stray_voxels.size() << " voxel" << (p.stray_voxels.size() == 1 ? "" : "s") << " dropped";
+    if (p.sparse_edge_parts > 0)
+      std::cout << "; " << p.sparse_edge_parts << " sparse part" << (p.sparse_edge_parts == 1 ? "" : "s")
+                << " grown to their edges, by up to " << p.sparse_edge_growth_max;
     std::cout << "); observed-free voxels inside hulls: " << p.free_voxels_inside << " (" << p.free_voxels_off_surface
               << " off the surface band), keyframes inside hulls: " << report.keyframes_inside_hulls;
   }

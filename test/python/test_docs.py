@@ -26,7 +26,7 @@ def test_the_example_runs_as_written():
     code = block("docs/PYTHON.md", "<!-- example: test/python/test_docs.py runs this block as written, from the checkout -->")
     assert 8 <= len([line for line in code.splitlines() if line.strip()]) <= 12
     first, second = run(code).splitlines()
-    assert first.startswith("<hullmap.Map: 9 obstacles in 60 convex parts") and " eps " in first
+    assert first.startswith("<hullmap.Map: 9 obstacles in 38 convex parts") and " eps " in first
     assert re.fullmatch(r"\d+\.\d\d m in \d+ legs, clearance \d\.\d{3} m", second)
 
 
