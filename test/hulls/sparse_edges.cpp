@@ -7,6 +7,8 @@
 #include <thread>
 #include <vector>
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_2_algorithms.h>
 #include <gtest/gtest.h>
 
 #include "hullmap/core/convex_hull_2d.hpp"
@@ -20,6 +22,7 @@ namespace {
 using hullmap::hulls::ConvexHull;
 using hullmap::hulls::ObstaclePart;
 using V3 = Eigen::Vector3d;
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 
 constexpr double kVoxel = 0.05;
 
@@ -61,15 +64,11 @@ double distanceOutside(const ConvexHull& hull, const V3& p) {
   return worst;
 }
 
+/// The area of the points' 2D hull, by CGAL (the oracle: the library sums its own shoelace).
 double hullArea2d(std::vector<Eigen::Vector2d> points) {
-  const auto polygon = hullmap::core::convexHull2d(std::move(points));
-  double twice = 0.0;
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const auto& p = polygon[i];
-    const auto& q = polygon[(i + 1) % polygon.size()];
-    twice += p.x() * q.y() - q.x() * p.y();
-  }
-  return 0.5 * std::abs(twice);
+  std::vector<Kernel::Point_2> polygon;
+  for (const auto& p : hullmap::core::convexHull2d(std::move(points))) polygon.emplace_back(p.x(), p.y());
+  return std::abs(CGAL::polygon_area_2(polygon.begin(), polygon.end(), Kernel()));
 }
 
 }  // namespace
