@@ -9,6 +9,7 @@
 #include <exception>
 #include <iostream>
 #include <new>
+#include <optional>
 #include <string>
 
 #if defined(__GLIBC__)
@@ -159,7 +160,10 @@ void killAtStage(const char* stage) {
 
 int runCli(int argc, char** argv, const std::vector<AddCommand>& commands) {
   keepFreedMemoryForReuse();
-  const AdviseWorkerHeaps advise_worker_heaps;
+  // Only where the main heap was advised: under a sanitizer's allocator there is nothing to advise,
+  // and an observer still registered when an error path exits would be reported as a leak.
+  std::optional<AdviseWorkerHeaps> advise_worker_heaps;
+  if (heap_end != 0) advise_worker_heaps.emplace();
   kill_at = std::getenv("HULLMAP_TEST_KILL_AT");
   if (kill_at != nullptr) pipeline::detail::stage_hook = killAtStage;
   CLI::App app{"hullmap: SLAM map points -> OctoMap -> DBSCAN clusters -> convex obstacles -> path checks"};
