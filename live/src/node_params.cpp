@@ -81,11 +81,14 @@ std::vector<ParameterSpec> makeParameters() {
   specs.push_back(words("extension", ParameterKind::kWord, "auto", {"auto", "on", "off"},
                         "the cluster extension after DBSCAN; auto: on when min_pts is auto", "auto, on or off"));
   auto strays = number("stray_parts", double(d.build.stray_part_voxels),
-                       "with the extension: drop convex parts of at most this many voxels, none core, away from the "
-                       "floor (stray map points); 0: keep every part",
+                       "with the extension: drop convex parts of at most this many voxels, at most one core, away "
+                       "from the floor (stray map points); 0: keep every part",
                        "a whole number >= 0", 0.0, 1e9);
   strays.whole = true;
   specs.push_back(strays);
+  specs.push_back(words("sparse_edges", ParameterKind::kWord, d.build.sparse_edges ? "on" : "off", {"on", "off"},
+                        "grow each sparse convex part in its own plane to the edges its last map points stop short of",
+                        "on or off"));
   specs.push_back(words("metric", ParameterKind::kText, clustering::toString(d.build.metric), {"xyz", "xy"},
                         "DBSCAN distance: xyz, or xy (top view)", "xyz or xy"));
   specs.push_back(words("up", ParameterKind::kText, pipeline::upAxisText(d.build.frame.up),
@@ -321,6 +324,13 @@ NodeSettings readSettings(const ParameterValues& values, Checking checking, cons
   if (!(strays >= 0.0 && strays <= 1e9) || strays != std::floor(strays))
     throw r.bad("stray_parts", "expected a whole number >= 0, got " + std::to_string(strays));
   p.stray_part_voxels = static_cast<std::size_t>(strays);
+  // sparse_edges: on or off, as `hullmap build --sparse-edges` (ROS 2's YAML: true or false).
+  const ParameterValue* edges_value = r.given("sparse_edges");
+  const bool* edges_bool = edges_value ? std::get_if<bool>(edges_value) : nullptr;
+  const std::string edges =
+      edges_bool ? (*edges_bool ? "on" : "off") : r.wordOrNumber("sparse_edges", p.sparse_edges ? "on" : "off");
+  if (edges != "on" && edges != "off") throw r.bad("sparse_edges", "expected on or off, got '" + edges + "'");
+  p.sparse_edges = edges == "on";
   p.frame.up = r.parsed("up", r.text("up", pipeline::upAxisText(p.frame.up)), mapper::parseUpAxis);
   p.frame.scale = r.number("scale", p.frame.scale);
   p.metric = r.parsed("metric", r.text("metric", clustering::toString(p.metric)), clustering::parseMetric);

@@ -92,6 +92,7 @@ TEST(LiveNodeParams, EachNumberLandsInItsField) {
                                            {"ceiling", std::string("auto")},
                                            {"concavity", std::string("none")},
                                            {"extension", std::string("off")},
+                                           {"sparse_edges", std::string("off")},
                                            {"metric", std::string("xy")},
                                            {"up", std::string("-y")},
                                            {"z_min", std::string("none")},
@@ -102,6 +103,8 @@ TEST(LiveNodeParams, EachNumberLandsInItsField) {
   EXPECT_EQ(words.build.ceiling.mode, mapper::PlaneSetting::Mode::kAuto);
   EXPECT_FALSE(words.build.convex_parts.has_value());
   EXPECT_EQ(words.build.extension, std::optional<bool>(false));
+  EXPECT_FALSE(words.build.sparse_edges);
+  EXPECT_TRUE(NodeSettings{}.build.sparse_edges);
   EXPECT_EQ(words.build.metric, clustering::Metric::kXy);
   EXPECT_EQ(words.build.frame.up, mapper::UpAxis::kNegY);
   EXPECT_FALSE(words.build.filters.z_min.has_value());
@@ -110,6 +113,7 @@ TEST(LiveNodeParams, EachNumberLandsInItsField) {
   // ROS 2's YAML reads `extension: off` as false.
   EXPECT_EQ(readSettings({{"extension", false}}, Checking::kStrict).build.extension, std::optional<bool>(false));
   EXPECT_EQ(readSettings({{"extension", true}}, Checking::kStrict).build.extension, std::optional<bool>(true));
+  EXPECT_FALSE(readSettings({{"sparse_edges", false}}, Checking::kStrict).build.sparse_edges);
 }
 
 TEST(LiveNodeParams, TheTablesRangesAreWhatStrictReadingChecks) {
@@ -160,6 +164,8 @@ TEST(LiveNodeParams, ParseCheckingLeavesTheBuildsNumbersToTheBuildAsTheRos1NodeD
       {{"extension", std::string("Auto")}},
       {{"stray_parts", -1.0}},
       {{"stray_parts", 1.5}},
+      {{"sparse_edges", std::string("auto")}},
+      {{"sparse_edges", std::int64_t{1}}},
       {{"up", std::string("w")}},
       {{"metric", std::string("zz")}},
       {{"eps", true}},
