@@ -26,6 +26,7 @@ void checkParams(const TerrainParams& p) {
   if (!(p.low_share >= 0.0 && p.low_share < 1.0)) bad("low_share", "must be in [0, 1)");
   if (!(p.keyframe_clearance >= 0.0) || !std::isfinite(p.keyframe_clearance))
     bad("keyframe_clearance", "must be finite and >= 0");
+  if (p.min_support < 1) bad("min_support", "must be >= 1");
 }
 
 /// Minimum (erode) or maximum (dilate) over a square window of half side `r` cells, separable;
@@ -153,6 +154,15 @@ Terrain fitTerrain(const std::vector<Eigen::Vector3d>& points, const std::vector
       raised[c] = kept[k];
     }
   z.swap(raised);
+  // 1c. Support: a height that too few points hold up is no measurement.
+  for (std::size_t c = 0; c < n; ++c) {
+    if (!std::isfinite(z[c])) continue;
+    const auto held = std::count_if(in_cell[c].begin(), in_cell[c].end(),
+                                    [&](double v) { return v >= z[c] && v <= z[c] + params.initial_threshold; });
+    if (held >= params.min_support) continue;
+    z[c] = kInf;
+    ++t.unsupported_cells;
+  }
   t.cells_with_points = 0;
   for (const double v : z) t.cells_with_points += std::isfinite(v) ? 1 : 0;
   // 2. The progressive morphological filter. Empty cells take no part in the minimum (+inf) and
@@ -190,9 +200,61 @@ Terrain fitTerrain(const std::vector<Eigen::Vector3d>& points, const std::vector
   for (std::size_t c = 0; c < n; ++c)
     if (t.ground[c]) f.heights[c] = z[c];
   harmonicFill(f.heights, t.ground, f.nx, f.ny, 1e-6 * f.step);
+  boundBySlope(f, t.ground, params.slope);
   // 4. Under the keyframes.
   t.lowered = keepUnderKeyframes(f, keyframes, params.keyframe_clearance);
   return t;
+}
+
+std::vector<std::size_t> slopeSupport(const HeightField& f, const std::vector<char>& measured, double slope) {
+  const std::size_t n = f.nx * f.ny, none = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t> support(n, none);
+  double lowest = kInf;
+  for (std::size_t c = 0; c < n; ++c)
+    if (measured[c]) lowest = std::min(lowest, f.heights[c]);
+  if (!std::isfinite(lowest)) return support;
+  const long nx = long(f.nx), ny = long(f.ny);
+  for (long j = 0; j < ny; ++j)
+    for (long i = 0; i < nx; ++i) {
+      const std::size_t c = std::size_t(j * nx + i);
+      if (measured[c]) continue;
+      double best = kInf;
+      // Ring r holds the nodes at Chebyshev distance r: each is at least r steps away.
+      for (long r = 1; r < std::max(nx, ny); ++r) {
+        if (best <= lowest + slope * f.step * double(r)) break;
+        for (long b = j - r; b <= j + r; ++b) {
+          if (b < 0 || b >= ny) continue;
+          const long stride = (b == j - r || b == j + r) ? 1 : 2 * r;
+          for (long a = i - r; a <= i + r; a += stride) {
+            if (a < 0 || a >= nx) continue;
+            const std::size_t m = std::size_t(b * nx + a);
+            if (!measured[m]) continue;
+            const double h = f.heights[m] + slope * f.step * std::hypot(double(a - i), double(b - j));
+            if (h < best || (h == best && m < support[c])) {
+              best = h;
+              support[c] = m;
+            }
+          }
+        }
+      }
+    }
+  return support;
+}
+
+std::size_t boundBySlope(HeightField& f, const std::vector<char>& measured, double slope) {
+  const std::vector<std::size_t> support = slopeSupport(f, measured, slope);
+  std::size_t lowered = 0;
+  for (std::size_t c = 0; c < support.size(); ++c) {
+    const std::size_t m = support[c];
+    if (m == std::numeric_limits<std::size_t>::max()) continue;
+    const double di = double(c % f.nx) - double(m % f.nx), dj = double(c / f.nx) - double(m / f.nx);
+    const double top = f.heights[m] + slope * f.step * std::hypot(di, dj);
+    if (f.heights[c] > top) {
+      f.heights[c] = top;
+      ++lowered;
+    }
+  }
+  return lowered;
 }
 
 std::size_t keepUnderKeyframes(HeightField& f, const std::vector<Eigen::Vector3d>& keyframes, double clearance) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "hullmap/core/error.hpp"
@@ -50,13 +51,19 @@ std::optional<Ground> fitGround(const std::vector<Eigen::Vector3d>& points,
   GroundReport& report = g.report;
   for (std::size_t k = 0; k < over.size(); ++k) {
     auto& rises = over[k];
-    if (rises.empty()) continue;
+    if (rises.size() < std::size_t(params.min_support)) continue;  // too few points to speak for the ground
     std::nth_element(rises.begin(), rises.begin() + std::ptrdiff_t(rises.size() / 2), rises.end());
     const double rise = std::max(0.0, rises[rises.size() / 2]);
     f.heights[k] += rise;
     report.raised_most = std::max(report.raised_most, rise);
   }
   report.lowered = mapper::keepUnderKeyframes(f, keyframes, params.keyframe_clearance);
+  const std::vector<std::size_t> support = mapper::slopeSupport(f, terrain.ground, params.slope);
+  for (std::size_t c = 0; c < support.size(); ++c) {
+    if (support[c] == std::numeric_limits<std::size_t>::max()) continue;
+    ++report.filled_cells;
+    report.fill_above_support_max = std::max(report.fill_above_support_max, f.heights[c] - f.heights[support[c]]);
+  }
   report.step = f.step;
   report.nx = f.nx;
   report.ny = f.ny;
@@ -74,16 +81,30 @@ std::optional<Ground> fitGround(const std::vector<Eigen::Vector3d>& points,
 bool planeExplainsGround(const mapper::Plane& floor, const Ground& ground, const mapper::TerrainParams& params) {
   const HeightField& f = *ground.surface.field;
   if (!(std::abs(floor.normal.z()) > 1e-9)) return false;
-  std::size_t measured = 0, off = 0;
+  const double band = 2.0 * params.initial_threshold;
+  // Each measured node's height over the plane; the ones within the band are the plane's.
+  std::vector<std::pair<Eigen::Vector2d, double>> on, above, below;
   for (std::size_t j = 0; j < f.ny; ++j)
     for (std::size_t i = 0; i < f.nx; ++i) {
       if (!ground.measured[j * f.nx + i]) continue;
       const Eigen::Vector2d xy = f.node(i, j);
       const double plane_z = (floor.offset - floor.normal.x() * xy.x() - floor.normal.y() * xy.y()) / floor.normal.z();
-      ++measured;
-      off += std::abs(f.at(i, j) - plane_z) > 2.0 * params.initial_threshold ? 1 : 0;
+      const double rise = f.at(i, j) - plane_z;
+      (rise > band ? above : rise < -band ? below : on).emplace_back(xy, rise);
     }
-  return measured == 0 || double(off) < kPlaneMissShare * double(measured);
+  if (on.empty()) return above.empty() && below.empty();
+  // A node above the band is ground that rises from the plane (a street's slope) when it stands no
+  // higher than the slope allows over its distance from the plane's nodes; higher, it is something
+  // standing on the floor whose foot the map did not see, and says nothing of the floor.
+  std::size_t off = below.size(), rising = 0;
+  for (const auto& [xy, rise] : above) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& p : on) nearest = std::min(nearest, (p.first - xy).norm());
+    rising += rise <= band + params.slope * nearest ? 1 : 0;
+  }
+  off += rising;
+  const std::size_t measured = on.size() + below.size() + rising;
+  return double(off) < kPlaneMissShare * double(measured);
 }
 
 double groundBand(const mapper::TerrainParams& params, double resolution) {

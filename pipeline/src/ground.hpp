@@ -22,8 +22,11 @@ struct Ground {
 };
 
 /// Whether `floor` explains the ground fitted: fewer than kPlaneMissShare of the measured ground
-/// nodes lie farther than 2 * initial_threshold (vertically) from the plane. A street's slopes and
-/// bumps, or a monocular map bent by scale drift, do not lie on one plane however wide its band.
+/// nodes that speak of the floor lie farther than 2 * initial_threshold (vertically) from the plane.
+/// Nodes below that band speak of it; so do nodes above it that rise from the band's nodes no faster
+/// than params.slope (a street's slope). A node higher than that stands on the floor (a wall or a
+/// car whose foot was not seen), and is left out. A street's slopes and bumps, or a monocular map
+/// bent by scale drift, do not lie on one plane however wide its band.
 bool planeExplainsGround(const mapper::Plane& floor, const Ground& ground, const mapper::TerrainParams& params);
 
 /// The share of the measured ground nodes off the floor plane above which the plane does not

@@ -208,3 +208,90 @@ TEST(Terrain, BadSettingsAndInputsNameTheirField) {
 
 }  // namespace
 }  // namespace hullmap::mapper
+
+namespace hullmap::mapper {
+namespace {
+
+// slopeSupport's cone against every measured node by brute force, on random fields and masks.
+TEST(TerrainSlope, SupportIsTheLowestConeOverEveryMeasuredNode) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> height(-2.0, 3.0), unit(0.0, 1.0);
+  for (int trial = 0; trial < 40; ++trial) {
+    HeightField f;
+    f.step = 0.5 + 2.0 * unit(rng);
+    f.nx = 1 + std::size_t(unit(rng) * 17);
+    f.ny = 1 + std::size_t(unit(rng) * 13);
+    f.heights.resize(f.nx * f.ny);
+    std::vector<char> measured(f.heights.size());
+    const double share = 0.05 + 0.5 * unit(rng), slope = trial % 5 == 0 ? 0.0 : 0.3 * unit(rng);
+    for (std::size_t c = 0; c < f.heights.size(); ++c) {
+      f.heights[c] = height(rng);
+      measured[c] = unit(rng) < share;
+    }
+    const std::vector<std::size_t> support = slopeSupport(f, measured, slope);
+    const auto cone = [&](std::size_t c, std::size_t m) {
+      const double di = double(c % f.nx) - double(m % f.nx), dj = double(c / f.nx) - double(m / f.nx);
+      return f.heights[m] + slope * f.step * std::hypot(di, dj);
+    };
+    const bool any = std::any_of(measured.begin(), measured.end(), [](char m) { return m != 0; });
+    for (std::size_t c = 0; c < f.heights.size(); ++c) {
+      if (measured[c] || !any) {
+        EXPECT_EQ(support[c], SIZE_MAX);
+        continue;
+      }
+      ASSERT_LT(support[c], f.heights.size());
+      ASSERT_TRUE(measured[support[c]]);
+      double best = INFINITY;
+      for (std::size_t m = 0; m < f.heights.size(); ++m)
+        if (measured[m]) best = std::min(best, cone(c, m));
+      EXPECT_DOUBLE_EQ(cone(c, support[c]), best) << "trial " << trial << " node " << c;
+    }
+    HeightField bounded = f;
+    boundBySlope(bounded, measured, slope);
+    for (std::size_t c = 0; c < f.heights.size(); ++c) {
+      if (measured[c]) {
+        EXPECT_EQ(bounded.heights[c], f.heights[c]);
+        continue;
+      }
+      for (std::size_t m = 0; m < f.heights.size(); ++m) {
+        if (measured[m]) {
+          EXPECT_LE(bounded.heights[c], cone(c, m) + 1e-12);
+        }
+      }
+    }
+  }
+}
+
+// A flat floor seen in one corner only, and a few outliers high up elsewhere: the outliers give no
+// height, and where no ground was seen the fit rises no faster than the slope from the seen floor.
+TEST(TerrainSlope, AFewHighPointsAreNoGroundAndTheFillStaysUnderTheSlope) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<V3> points;
+  for (int i = 0; i < 3000; ++i) points.push_back({8.0 * unit(rng), 8.0 * unit(rng), 0.02 * (unit(rng) - 0.5)});
+  // Two stray points per 2 m cell over the rest of a 24 m square, 1-3 m up.
+  for (int ci = 0; ci < 12; ++ci)
+    for (int cj = 0; cj < 12; ++cj) {
+      if (ci < 4 && cj < 4) continue;
+      for (int k = 0; k < 2; ++k)
+        points.push_back({2.0 * (ci + unit(rng)), 2.0 * (cj + unit(rng)), 1.0 + 2.0 * unit(rng)});
+    }
+  TerrainParams params;
+  const Terrain t = fitTerrain(points, {}, params);
+  EXPECT_GT(t.unsupported_cells, 50u);
+  const HeightField& f = t.surface;
+  for (std::size_t c = 0; c < t.ground.size(); ++c) {
+    if (!t.ground[c]) continue;
+    EXPECT_LT(std::abs(f.heights[c]), 0.05) << "a measured height off the floor at node " << c;
+  }
+  // Every filled node within the slope's cone of the seen floor (z about 0, within 8 m of the origin).
+  for (std::size_t j = 0; j < f.ny; ++j)
+    for (std::size_t i = 0; i < f.nx; ++i) {
+      const Eigen::Vector2d xy = f.node(i, j);
+      const double away = std::hypot(std::max(0.0, xy.x() - 8.0), std::max(0.0, xy.y() - 8.0));
+      EXPECT_LE(f.at(i, j), 0.02 + params.slope * (away + 2.0 * f.step)) << "node " << i << ", " << j;
+    }
+}
+
+}  // namespace
+}  // namespace hullmap::mapper

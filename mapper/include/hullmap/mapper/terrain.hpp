@@ -23,6 +23,7 @@ struct TerrainParams {
   double max_threshold = 3.0;       ///< the same at any window, >= initial_threshold
   double low_share = 0.0;           ///< a cell's height: its points' k-th lowest z, k = 1 + floor(low_share * count)
   double keyframe_clearance = 0.3;  ///< the ground stays at least this below every keyframe over it, >= 0
+  int min_support = 3;              ///< a cell's height needs this many points within initial_threshold over it, >= 1
 };
 
 /// What fitTerrain found.
@@ -30,15 +31,17 @@ struct Terrain {
   HeightField surface;
   std::vector<char> ground;  ///< per cell (x fastest): 1 when the cell's low point is ground
   std::size_t cells_with_points = 0;
-  std::size_t ground_cells = 0;  ///< the heights measured; every other node is interpolated
-  std::size_t lowered = 0;       ///< nodes lowered under a keyframe
+  std::size_t ground_cells = 0;       ///< the heights measured; every other node is interpolated
+  std::size_t unsupported_cells = 0;  ///< cells whose points were too few to measure a height (min_support)
+  std::size_t lowered = 0;            ///< nodes lowered under a keyframe
 };
 
 /// Fits the ground under `points` (map frame, z up), on a grid over the points' 1 % to 99 %
 /// quantiles of x and y grown by a tenth of their span on each side, never beyond the 0.1 % and
 /// 99.9 % quantiles (points beyond, gross outliers, are left out):
 /// 1. each cell's height is its points' k-th lowest z (low_share: a lone point below the ground,
-///    SLAM noise, does not pull a cell of several points down);
+///    SLAM noise, does not pull a cell of several points down), when at least min_support of its
+///    points lie within initial_threshold over it (fewer: an outlier or a few, no height);
 ///    A cell lower than the second lowest of its measured 8-neighbours (2 at least) by more than
 ///    initial_threshold + slope * cell keeps only its points above that depth (none: no
 ///    height): the filter below removes what stands above the ground, not what lies under it;
@@ -47,7 +50,8 @@ struct Terrain {
 ///    dh_k above the opened one is not ground; dh_k = initial_threshold at the first window, then
 ///    min(max_threshold, initial_threshold + slope * (w_k - w_{k-1}) * cell);
 /// 3. cells without points, or not ground, are filled by harmonic interpolation from the ground
-///    cells (Jacobi iterations of the 4-neighbour mean to a change below 1e-6 * cell);
+///    cells (Jacobi iterations of the 4-neighbour mean to a change below 1e-6 * cell), held under
+///    the ground's slope cone (boundBySlope);
 /// 4. every node within 1.5 cells of a keyframe's (x, y) (the four around it among them, so the
 ///    interpolated height under the keyframe is bounded too) is lowered to keyframe z -
 ///    keyframe_clearance when it is above that (a camera flies over its ground, never under it).
@@ -56,6 +60,17 @@ struct Terrain {
 /// input with no point, a grid of more than 100000 cells a side, or no cell of ground.
 Terrain fitTerrain(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& keyframes,
                    const TerrainParams& params = {});
+
+/// For every node not `measured` (per node, x fastest): the measured node m that minimises
+/// h_m + slope * |node - m| (distances in map units), its support; SIZE_MAX at measured nodes, and
+/// everywhere when no node is measured. Exact (a search in growing rings, stopped by the lowest
+/// measured height).
+std::vector<std::size_t> slopeSupport(const HeightField& field, const std::vector<char>& measured, double slope);
+
+/// Lowers every node not `measured` to at most h_m + slope * |node - m| over its support m
+/// (slopeSupport): no filled height rises above the seen ground by more than the slope allows over
+/// the distance. Returns how many nodes were lowered.
+std::size_t boundBySlope(HeightField& field, const std::vector<char>& measured, double slope);
 
 /// fitTerrain's step 4 on its own: every node within 1.5 cells of a keyframe's (x, y) lowered to
 /// keyframe z - clearance when above it. Returns how many nodes were lowered.
