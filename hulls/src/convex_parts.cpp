@@ -288,6 +288,23 @@ ObstaclePart wrapPart(int id, const std::vector<std::size_t>& members, const Che
   return part;
 }
 
+/// growSparseEdges, unless the grown hull would contain a keyframe that the part's own hull keeps
+/// out (a camera was there): then the part stays as its check left it. Returns the growth.
+double growWithoutKeyframes(ObstaclePart& part, double voxel_size, const SparseEdges& params,
+                            const std::vector<Eigen::Vector3d>& keyframes) {
+  const ObstaclePart before = part;
+  const double grown = growSparseEdges(part, voxel_size, params);
+  if (!(grown > 0.0)) return grown;
+  for (const auto& k : keyframes) {
+    if ((k.array() < part.aabb_min.array()).any() || (k.array() > part.aabb_max.array()).any()) continue;
+    if (hullContains(part.hull, k) && !hullContains(before.hull, k)) {
+      part = before;
+      return 0.0;
+    }
+  }
+  return grown;
+}
+
 }  // namespace
 
 ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::vector<Eigen::Vector3d>& centers,
@@ -354,7 +371,8 @@ ConvexPartsSummary addConvexParts(std::vector<Obstacle>& obstacles, const std::v
       obstacle.parts.push_back(
           wrapPart(obstacle.id, global, check, result.lattice.origin, centers, weights, voxel_size, free));
       if (params.sparse_edges) {
-        const double grown = growSparseEdges(obstacle.parts.back(), voxel_size, *params.sparse_edges);
+        const double grown =
+            growWithoutKeyframes(obstacle.parts.back(), voxel_size, *params.sparse_edges, known.keyframes);
         grown_parts[o] += grown > 0.0 ? 1 : 0;
         grown_most[o] = std::max(grown_most[o], grown);
       }

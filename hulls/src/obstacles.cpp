@@ -243,6 +243,20 @@ Obstacle wrapCluster(int id, const std::vector<std::size_t>& members, const std:
 
 }  // namespace detail
 
+bool hullContains(const ConvexHull& hull, const Eigen::Vector3d& p) {
+  if (hull.triangles.empty()) return false;
+  double scale = 1.0;
+  for (const auto& v : hull.vertices) scale = std::max(scale, v.cwiseAbs().maxCoeff());
+  for (const auto& t : hull.triangles) {
+    const Eigen::Vector3d& a = hull.vertices[std::size_t(t[0])];
+    const Eigen::Vector3d n = (hull.vertices[std::size_t(t[1])] - a).cross(hull.vertices[std::size_t(t[2])] - a);
+    const double length = n.norm();
+    if (!(length > 0.0)) continue;  // a sliver triangle bounds nothing its neighbours do not
+    if (n.dot(p - a) / length > 1e-9 * scale) return false;
+  }
+  return true;
+}
+
 std::vector<Obstacle> buildObstacles(const std::vector<Eigen::Vector3d>& centers,
                                      const std::vector<std::uint32_t>& weights, const std::vector<std::int32_t>& labels,
                                      double voxel_size) {

@@ -135,6 +135,28 @@ void extendClusters(BuildResult& result, ClusterWork& w) {
   chosen.coplanar = clustering::mergeCoplanarClusters(w.obstacle_centers, w.clusters, *chosen.coplanar_params);
 }
 
+// The occupied voxels whose closed cube holds a keyframe, with their labels (ascending by voxel).
+std::vector<std::pair<std::size_t, std::int32_t>> cameraVoxels(const BuildResult& result, const ClusterWork& w) {
+  std::vector<std::pair<std::size_t, std::int32_t>> out;
+  if (result.keyframes.empty()) return out;
+  const double half = 0.5 * result.map.resolution() * (1.0 + 1e-9);
+  std::vector<Eigen::Vector3d> positions;
+  for (const auto& k : result.keyframes) positions.push_back(k.position);
+  std::sort(positions.begin(), positions.end(),
+            [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return a.x() < b.x(); });
+  for (std::size_t i = 0; i < w.centers.size(); ++i) {
+    const Eigen::Vector3d& c = w.centers[i];
+    auto it = std::lower_bound(positions.begin(), positions.end(), c.x() - half,
+                               [](const Eigen::Vector3d& p, double x) { return p.x() < x; });
+    for (; it != positions.end() && it->x() <= c.x() + half; ++it)
+      if ((*it - c).cwiseAbs().maxCoeff() <= half) {
+        out.emplace_back(i, w.labels[i]);
+        break;
+      }
+  }
+  return out;
+}
+
 // Every voxel's label, the surfaces' rims joined to what stands on them, a hull and footprint per
 // cluster, and the floor and ceiling as half-spaces.
 void makeObstacles(BuildResult& result, ClusterWork& w) {
@@ -150,10 +172,21 @@ void makeObstacles(BuildResult& result, ClusterWork& w) {
     w.labels[w.obstacle_index[k]] = w.clusters.labels[k];
     result.clusters.core[w.obstacle_index[k]] = w.clusters.core[k];
   }
+  // A camera was where a keyframe is: the voxels around it hold no obstacle (their map points are
+  // SLAM's mistakes), and no rim of a surface joins them.
+  const std::vector<std::pair<std::size_t, std::int32_t>> cameras = cameraVoxels(result, w);
+  for (const auto& [i, label] : cameras)
+    if (label >= 0) {
+      --result.clusters.cluster_sizes[std::size_t(label)];
+      ++result.clusters.noise;
+      w.labels[i] = clustering::kNoise;
+    }
+  report.camera_voxels = cameras.size();
   // The rims reach as far as the eps used, but no farther than the auto rule's upper clamp: a large
   // eps given by hand (1 m) would otherwise join most of the floor to the walls' feet.
   detail::attachSurfaceRims(w.centers, resolution, std::min(used.eps, params.auto_rule.max_eps_voxels * resolution),
                             w.labels);
+  for (const auto& [i, label] : cameras) w.labels[i] = std::min(label, clustering::kNoise);
   w.cluster_labels = w.labels;
   for (auto& l : w.cluster_labels) l = std::max(l, clustering::kNoise);
   result.obstacles = hulls::buildObstacles(w.centers, w.weights, w.cluster_labels, resolution);
@@ -169,6 +202,26 @@ void makeObstacles(BuildResult& result, ClusterWork& w) {
 }
 
 bool convexPartsOn(const BuildParams& params) { return params.convex_parts.has_value(); }
+
+// The keyframes inside some hull, as the outputs hold them: each part's (an obstacle's whole hull
+// when it has no part).
+std::size_t keyframesInsideHulls(const BuildResult& result) {
+  std::size_t inside = 0;
+  const auto contains = [](const auto& shape, const Eigen::Vector3d& p) {
+    return (p.array() >= shape.aabb_min.array()).all() && (p.array() <= shape.aabb_max.array()).all() &&
+           hulls::hullContains(shape.hull, p);
+  };
+  for (const auto& k : result.keyframes) {
+    bool in = false;
+    for (const auto& o : result.obstacles) {
+      if (o.parts.empty()) in = contains(o, k.position);
+      for (const auto& part : o.parts) in = in || contains(part, k.position);
+      if (in) break;
+    }
+    inside += in ? 1 : 0;
+  }
+  return inside;
+}
 
 // Each obstacle split into convex parts that keep out of the space the keyframes saw free.
 void splitConvexParts(BuildResult& result, ClusterWork& w) {
@@ -199,7 +252,7 @@ void splitConvexParts(BuildResult& result, ClusterWork& w) {
   }
   report.parts = hulls::addConvexParts(result.obstacles, w.centers, w.weights, w.cluster_labels, resolution,
                                        parts_params, known, strays ? &*strays : nullptr);
-  report.keyframes_inside_hulls = report.parts->keyframes_in_voxels;
+  report.keyframes_inside_hulls = keyframesInsideHulls(result);
   // The stray parts' voxels are noise now.
   for (const std::size_t i : report.parts->stray_voxels) {
     --result.clusters.cluster_sizes[static_cast<std::size_t>(w.labels[i])];

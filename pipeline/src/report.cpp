@@ -118,6 +118,8 @@ nlohmann::json groundJson(const BuildParams& params, const std::optional<GroundR
           {"cells", g.nx * g.ny},
           {"cells_with_points", g.cells_with_points},
           {"measured_cells", g.measured_cells},
+          {"filled_cells", g.filled_cells},
+          {"fill_above_support_max", g.fill_above_support_max},
           {"coverage", g.coverage},
           {"height_range", {g.lowest, g.highest}},
           {"raised_most", g.raised_most},
@@ -129,7 +131,8 @@ nlohmann::json groundJson(const BuildParams& params, const std::optional<GroundR
             {"slope", t.slope},
             {"initial_threshold", t.initial_threshold},
             {"max_threshold", t.max_threshold},
-            {"keyframe_clearance", t.keyframe_clearance}}}};
+            {"keyframe_clearance", t.keyframe_clearance},
+            {"min_support", t.min_support}}}};
 }
 
 nlohmann::json matrixRows(const Eigen::Matrix3d& m) {
@@ -305,7 +308,8 @@ nlohmann::json partsJson(const BuildResult& result) {
           {"stray_voxels", p.stray_voxels.size()},
           {"sparse_edge_parts", p.sparse_edge_parts},
           {"sparse_edge_growth_max", p.sparse_edge_growth_max},
-          {"keyframes_inside_hulls", report.keyframes_inside_hulls}};
+          {"keyframes_inside_hulls", report.keyframes_inside_hulls},
+          {"camera_voxels", report.camera_voxels}};
 }
 
 // A finished octree is read as it is: its parameters are what it holds, not ones that were not applied.

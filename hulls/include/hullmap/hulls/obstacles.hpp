@@ -69,6 +69,10 @@ struct Obstacle {
   std::vector<ObstaclePart> parts;
 };
 
+/// Whether `p` lies in the closed hull (inside or on its boundary, to 1e-9 of the hull's size).
+/// Same frame and units as the hull. A hull of no triangle contains nothing.
+bool hullContains(const ConvexHull& hull, const Eigen::Vector3d& p);
+
 /// Wraps each cluster: hull of the voxels' corners (CGAL), footprint (Andrew's monotone chain).
 /// `centers`/`weights`/`labels` are per voxel; `voxel_size` the leaf edge length.
 std::vector<Obstacle> buildObstacles(const std::vector<Eigen::Vector3d>& centers,

@@ -171,11 +171,13 @@ struct GroundReport {
   std::size_t nx = 0, ny = 0;                        ///< nodes along x and y
   std::size_t cells_with_points = 0;                 ///< cells holding a voxel
   std::size_t measured_cells = 0;                    ///< cells whose height was measured as ground; others interpolated
-  double coverage = 0.0;                             ///< measured_cells / (nx * ny)
-  double lowest = 0.0, highest = 0.0;                ///< the surface's lowest and highest node, map frame
-  double raised_most = 0.0;                          ///< most a node was raised to hold the ground voxels, map units
-  std::size_t lowered = 0;                           ///< nodes then held under a keyframe
-  std::size_t voxels = 0;                            ///< occupied voxels set aside as ground
+  std::size_t filled_cells = 0;                      ///< cells interpolated from the measured ones
+  double fill_above_support_max = 0.0;  ///< most a filled node stands over its support (mapper::slopeSupport)
+  double coverage = 0.0;                ///< measured_cells / (nx * ny)
+  double lowest = 0.0, highest = 0.0;   ///< the surface's lowest and highest node, map frame
+  double raised_most = 0.0;             ///< most a node was raised to hold the ground voxels, map units
+  std::size_t lowered = 0;              ///< nodes then held under a keyframe
+  std::size_t voxels = 0;               ///< occupied voxels set aside as ground
 };
 
 /// What the floor or ceiling stage found.
@@ -238,8 +240,9 @@ struct BuildReport {
   std::optional<GroundReport> ground;          ///< when a ground was found (BuildParams::terrain)
   std::optional<ResolutionReport> resolution;  ///< with BuildParams::adapt_resolution
   ClusterParamsReport cluster_params;
-  std::optional<hulls::ConvexPartsSummary> parts;           ///< with params.convex_parts
-  std::size_t keyframes_inside_hulls = 0;                   ///< keyframes inside some part's hull
+  std::optional<hulls::ConvexPartsSummary> parts;  ///< with params.convex_parts
+  std::size_t keyframes_inside_hulls = 0;          ///< keyframes inside some part's hull (whole hull without parts)
+  std::size_t camera_voxels = 0;                   ///< occupied voxels holding a keyframe: in no obstacle
   std::vector<std::pair<std::string, double>> timings_ms;   ///< stage -> wall time, ms, in order
   std::vector<std::pair<std::string, double>> peak_rss_mb;  ///< stage -> process peak RSS at its end, MB
   /// What the outputs leave out or misstate (most voxels noise, no obstacle, eps below the
