@@ -70,6 +70,15 @@ ROOM_SCALES = (0.3, 1.0, 3.0)
 ROOM_DENSITIES = (22, 45, 90)
 ROOM_FURNITURE = (9, 12, 16, 20)
 ROOM_WALL_FRACTIONS = (0.0, 0.5)
+# The wider held-out rooms: past the sweep's ranges, never tuned on (first built with the ground's
+# support rule and the camera-space rule in place).
+ROOM_WIDER = tuple(range(701, 725))
+WIDER_PITCHES = (0, 15, 30)
+WIDER_SCALES = (0.3, 1.0, 3.0, 0.5)
+WIDER_DENSITIES = (15, 30, 130)
+WIDER_FURNITURE = (4, 24, 6, 14)
+WIDER_OUTLIERS = (0.01, 0.06)
+WIDER_NOISE = (0.005, 0.02)
 ROOM_SEGMENTS = 3000
 ROOM_CLEAR_MARGIN = 0.15
 ROOM_TARGETS = {"missed": 0, "false_alarms": 3.0}
@@ -288,12 +297,22 @@ def room_params(k, seed):
             "wall_fraction": ROOM_WALL_FRACTIONS[(k // 12) % len(ROOM_WALL_FRACTIONS)]}
 
 
-def rooms_part(hullmap, work, log, seeds=ROOM_SEEDS):
+def wider_room_params(k, seed):
+    """The k-th wider held-out room: pitch and scale cycle with k (3 and 4 values), density every 3
+    rooms, furniture with k shifted, outliers every 2, noise every 4, the wall share every 6."""
+    return {"seed": seed, "pitch": WIDER_PITCHES[k % 3], "scale": WIDER_SCALES[k % 4],
+            "density": WIDER_DENSITIES[(k // 3) % 3], "furniture": WIDER_FURNITURE[(k + 1) % 4],
+            "outliers": WIDER_OUTLIERS[(k // 2) % 2], "noise": WIDER_NOISE[(k // 4) % 2],
+            "wall_fraction": ROOM_WALL_FRACTIONS[(k // 6) % 2]}
+
+
+def rooms_part(hullmap, work, log, seeds=ROOM_SEEDS, params=room_params):
     """The cluttered rooms' sweep: one build at the defaults (--trajectory --align) and one
     `evaluate --ends in-box` per room."""
     rows = []
     for k, seed in enumerate(seeds):
-        p = room_params(k, seed)
+        p = params(k, seed)
+        extra = [a for key in ("outliers", "noise") if key in p for a in (f"--{key}", str(p[key]))]
         furniture = p["furniture"]
         scene = f"{work}/room-{seed}"
         # Twenty pieces may not fit a room whose furniture all stands free; take fewer then.
@@ -302,10 +321,10 @@ def rooms_part(hullmap, work, log, seeds=ROOM_SEEDS):
                 run([hullmap, "generate", "--layout", "room", "-o", scene, "--seed", str(seed), "--room", "8",
                      "--room-width", "6", "--loop", "0.25", "--placement", "anywhere", "--wall-fraction",
                      str(p["wall_fraction"]), "--obstacles", str(furniture), "--density", str(p["density"]),
-                     "--pitch", str(p["pitch"]), "--scale", str(p["scale"])])
+                     "--pitch", str(p["pitch"]), "--scale", str(p["scale"]), *extra])
                 break
             except RuntimeError:
-                if furniture <= 9:
+                if furniture <= 4:
                     raise
                 furniture -= 1
         p["furniture"] = furniture
@@ -686,6 +705,71 @@ def rooms_doc(w, rooms, held_out):
     margins_doc(w, rooms + held_out)
 
 
+def wider_rooms_doc(w, wider):
+    """The wider held-out rooms: past the sweep's ranges, reported by the worst room."""
+    w("## Wider rooms: held out, past the sweep's ranges")
+    w("")
+    w("The same rooms and method as the sweep above, with parameters past its ranges, never tuned on "
+      f"(`wider_room_params` in `bench/quality.py`): pitch {', '.join(map(str, WIDER_PITCHES))}°, scale "
+      f"{', '.join(map(str, sorted(WIDER_SCALES)))}, {', '.join(map(str, WIDER_DENSITIES))} map points per m² "
+      f"(the sweep: 22 to 90), {', '.join(map(str, sorted(WIDER_FURNITURE)))} pieces of furniture (the sweep: 9 "
+      f"to 20), outliers {' or '.join(f'{100 * o:g} %' for o in WIDER_OUTLIERS)} (the sweep: 3 %), noise "
+      f"{' or '.join(f'{100 * n:g} cm' for n in WIDER_NOISE)} (the sweep: 1 cm).")
+    w("")
+    w("`bench/quality_rooms.py BUILD/cli/hullmap --wider --doc docs/QUALITY.md` runs this section alone and "
+      "rewrites it here.")
+    w("")
+    worst = max(wider, key=lambda r: (r["missed"] - r["missed_unseen"], r["false_alarms"]))
+    w(f"**Seeds {wider[0]['seed']} to {wider[-1]['seed']}**: " + room_summary(wider) +
+      f". **Worst room**: {worst['seed']} (pitch {worst['pitch']}°, scale {worst['scale']}, {worst['density']} "
+      f"points/m², {worst['furniture']} pieces, outliers {100 * worst['outliers']:g} %): missed {worst['missed']} "
+      f"({worst['missed_unseen']} unseen), false alarms {fmt(worst['false_alarms'])} %.")
+    w("")
+    w("| seed | pitch ° | scale | points/m² | furniture | against walls | outliers % | noise cm | map points | deep | "
+      "missed (unseen) | clear | false alarms % | stray parts dropped | build s |")
+    w("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in wider:
+        bad_fa = r["false_alarms"] > ROOM_TARGETS["false_alarms"]
+        w(f"| {r['seed']} | {r['pitch']} | {r['scale']} | {r['density']} | {r['furniture']} | {r['wall_fraction']} | "
+          f"{100 * r['outliers']:g} | {100 * r['noise']:g} | {r['points']} | {r['deep']} | "
+          f"{'**' if r['missed'] else ''}{r['missed']}{'**' if r['missed'] else ''} ({r['missed_unseen']}) | "
+          f"{r['clear']} | {'**' if bad_fa else ''}{fmt(r['false_alarms'])}{'**' if bad_fa else ''} | "
+          f"{r['stray_parts']} | {fmt(r['time'], 2)} |")
+    w("")
+
+
+def real_scan_doc(w, scan):
+    """The real-scan sweep (bench/quality_real_scan.py): rows and the worst case."""
+    import quality_real_scan as rs
+    w("## A real laser scan thinned as a SLAM map")
+    w("")
+    w("octomap's real scan (`octomap_scan.dat`, 88,206 points of a sloping yard and the buildings around it, "
+      "the sensor at the origin; BSD, read from the shared data directory) thinned as a SLAM map is: a random "
+      f"share of its points ({', '.join(f'{100 * f:g}' for f in scan['fractions'])} %), each moved by "
+      f"{100 * rs.NOISE:g} cm of Gaussian noise, and outliers drawn uniformly in the scan's box "
+      f"({', '.join(f'{100 * o:g}' for o in scan['outliers'])} % of the points kept), over seeds "
+      f"{', '.join(map(str, scan['seeds']))}; written as XYZ and built with `hullmap build points.xyz -o OUT`, no "
+      "flag, in the scan's own frame.")
+    w("")
+    w(f"**Method** (`bench/quality_real_scan.py`): {scan['segments']} segments at r = {rs.RADIUS} in front of the "
+      f"sensor (both ends within {rs.NEAR:g} m of it, over ground the scan saw within 1.5 m, {rs.RADIUS + 0.1:g} to "
+      f"{rs.TOP:g} m above it, up to {rs.MAX_LENGTH:g} m long), checked with `hullmap check --json`. There is no "
+      "ground truth of obstacles beyond the dense scan's points, so they are judged against them: **deep** when "
+      f"the capsule comes within {rs.RADIUS - rs.DEPTH:g} of a dense point ({scan['deep']} segments), **missed** "
+      "when check calls one clear; **unseen** (apart) when its capsule holds fewer than 3 of the thinned map's "
+      f"points; **clear** when it keeps {rs.RADIUS + rs.CLEAR:g} from every dense point ({scan['clear']} "
+      "segments), a **false alarm** when check calls it blocked; **on a surface**: false alarms whose first "
+      "contact is the floor or the ground. **Floor**: what the build stood on (plane, fitted ground, none).")
+    w("")
+    w("`bench/quality_real_scan.py BUILD/cli/hullmap --doc docs/QUALITY.md` runs this section alone and "
+      "rewrites it here.")
+    w("")
+    w(scan["summary"])
+    w("")
+    rs.table(w, scan["rows"])
+    w("")
+
+
 def margins_doc(w, rooms):
     """What a planner's safety margin m does on every room above: the same segments, the hulls and
     surfaces checked at r + m (`evaluate --margin`), deep and clear still defined at r."""
@@ -824,7 +908,7 @@ def streets_doc(w, streets):
 
 
 def write_doc(out, rows, template, why, real, densities, args, seconds, hullmap, rooms=None, held_out=None,
-              streets=None):
+              streets=None, wider=None, scan=None):
     rev = subprocess.run(["git", "-C", os.path.dirname(os.path.abspath(__file__)), "rev-parse", "--short", "HEAD"],
                          capture_output=True, text=True).stdout.strip() or "unknown"
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "unknown cpu")
@@ -975,8 +1059,12 @@ def write_doc(out, rows, template, why, real, densities, args, seconds, hullmap,
     w("")
     if rooms:
         rooms_doc(w, rooms, held_out)
+    if wider:
+        wider_rooms_doc(w, wider)
     if streets:
         streets_doc(w, streets)
+    if scan:
+        real_scan_doc(w, scan)
     w("## Real maps (no ground truth)")
     w("")
     w("The real ORB-SLAM maps of the shared data directory (read from there; they are GPL and not copied into")
@@ -1017,6 +1105,7 @@ def write_doc(out, rows, template, why, real, densities, args, seconds, hullmap,
 
 def main():
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    sys.path.insert(0, os.path.join(root, "bench"))
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--hullmap", required=True)
     ap.add_argument("--out", default=f"{root}/docs/QUALITY.md")
@@ -1033,10 +1122,13 @@ def main():
     rows, template, why = scenes_part(args.hullmap, work, args.seeds, args.segments, log)
     rooms = rooms_part(args.hullmap, work, log) + rooms_part(args.hullmap, work, log, ROOM_EARLIER)
     held_out = rooms_part(args.hullmap, work, log, ROOM_HELD_OUT)
+    wider = rooms_part(args.hullmap, work, log, ROOM_WIDER, wider_room_params)
     streets = streets_part(args.hullmap, work, log)
+    import quality_real_scan
+    scan = quality_real_scan.sweep(args.hullmap, os.path.join(data, "octomap_scan.dat"), f"{work}/real-scan", log)
     real, densities = real_part(args.hullmap, work, args.img, data, log)
     write_doc(args.out, rows, template, why, real, densities, args, time.perf_counter() - start, args.hullmap,
-              rooms, held_out, streets)
+              rooms, held_out, streets, wider, scan)
     log(f"wrote {args.out} in {time.perf_counter() - start:.0f} s (scratch: {work})")
 
 

@@ -19,8 +19,8 @@ A false alarm whose first contact is a surface (floor, ceiling, ground) is count
 
 usage: bench/quality_real_scan.py HULLMAP [--scan FILE] [--seeds 1,2,3,4,5] [--fractions 0.05,0.1,0.2]
                                   [--outliers 0.01,0.03,0.05] [--segments 3000] [--extra "build args"]
-                                  [--work DIR] [--markdown FILE]
-Prints a line per map and the worst case; --markdown writes the table docs/QUALITY.md holds."""
+                                  [--work DIR] [--doc docs/QUALITY.md]
+Prints a line per map and the worst case; --doc rewrites that section of docs/QUALITY.md in place."""
 import argparse
 import json
 import os
@@ -138,6 +138,60 @@ def judge(hullmap, out, segments, segments_path, deep, clear, points):
             "missed_segments": [int(k) for k in np.flatnonzero(missed & ~unseen)]}
 
 
+def sweep(hullmap, scan, work, log, seeds=(1, 2, 3, 4, 5), fractions=(0.05, 0.1, 0.2),
+          outliers=(0.01, 0.03, 0.05), count=3000, extra=""):
+    """The sweep's rows and figures; None when the scan is not there."""
+    if not os.path.exists(scan):
+        log(f"{scan}: not found; the real-scan sweep is left out")
+        return None
+    dense = np.loadtxt(scan)
+    segments = draw_segments(np.random.default_rng(20261208), count, LocalGround(dense))
+    os.makedirs(work, exist_ok=True)
+    segments_path = f"{work}/segments.txt"
+    np.savetxt(segments_path, segments, fmt="%.6f")
+    mins, halves = segment_distances(cKDTree(dense), segments)
+    deep = mins < RADIUS - DEPTH
+    clear = mins - halves >= RADIUS + CLEAR
+    log(f"scan: {len(dense)} points; {count} segments, {deep.sum()} deep, {clear.sum()} clear")
+    rows = []
+    for seed in seeds:
+        for fraction in fractions:
+            for share in outliers:
+                name = f"s{seed}-f{fraction:g}-o{share:g}"
+                points = f"{work}/{name}.xyz"
+                rng = np.random.default_rng([seed, int(round(fraction * 1000)), int(round(share * 1000))])
+                sample = thin(dense, rng, fraction, share)
+                np.savetxt(points, sample, fmt="%.5f")
+                out = f"{work}/{name}"
+                run([hullmap, "build", points, *shlex.split(extra), "-o", out])
+                report = json.load(open(f"{out}/report.json"))
+                m = judge(hullmap, out, segments, segments_path, deep, clear, np.loadtxt(points))
+                m.update(name=name, seed=seed, fraction=fraction, outliers=share,
+                         floor="plane" if (report.get("floor") or {}).get("found") else
+                         ("ground" if report.get("ground") else "none"))
+                rows.append(m)
+                log(f"{name:18s} missed {m['missed']}/{m['deep']} (+{m['unseen']} unseen)  false alarms "
+                    f"{m['false_alarms']}/{m['clear']} ({m['fa_share']:.1f}%, {m['surface_alarms']} on a surface)  "
+                    f"floor: {m['floor']}")
+    worst_missed = max(rows, key=lambda m: m["missed"])
+    worst_fa = max(rows, key=lambda m: m["fa_share"])
+    summary = (f"**{len(rows)} maps**: deep collisions missed where the map saw them: at most {worst_missed['missed']} "
+               f"in a map ({worst_missed['name']}), {sum(m['missed'] for m in rows)} in all "
+               f"({sum(m['unseen'] for m in rows)} more unseen); false alarms median "
+               f"{np.median([m['fa_share'] for m in rows]):.1f} %, worst {worst_fa['fa_share']:.1f} % ({worst_fa['name']}).")
+    return {"rows": rows, "seeds": seeds, "fractions": fractions, "outliers": outliers, "segments": count,
+            "deep": int(deep.sum()), "clear": int(clear.sum()), "summary": summary}
+
+
+def table(w, rows):
+    w("| map | points kept % | outliers % | deep | missed, seen (unseen) | clear | false alarms % | on a surface | floor |")
+    w("|---|---|---|---|---|---|---|---|---|")
+    for m in rows:
+        missed = f"**{m['missed']}**" if m["missed"] else "0"
+        w(f"| {m['name']} | {100 * m['fraction']:g} | {100 * m['outliers']:g} | {m['deep']} | {missed} ({m['unseen']}) "
+          f"| {m['clear']} | {m['fa_share']:.1f} | {m['surface_alarms']} | {m['floor']} |")
+
+
 def main():
     repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     default_scan = os.environ.get("HULLMAP_REAL_DATA_DIR", os.path.join(repo, "..", "shared", "data", "real"))
@@ -150,55 +204,38 @@ def main():
     ap.add_argument("--segments", type=int, default=3000)
     ap.add_argument("--extra", default="", help="more hullmap build arguments")
     ap.add_argument("--work", default="/tmp/hullmap-real-scan")
-    ap.add_argument("--markdown", help="write the sweep's table here")
+    ap.add_argument("--doc", help="rewrite the real scan's section of this QUALITY.md")
     a = ap.parse_args()
     if not os.path.exists(a.scan):
         sys.exit(f"{a.scan}: not found (HULLMAP_REAL_DATA_DIR names the real data's folder)")
-    dense = np.loadtxt(a.scan)
-    tree = cKDTree(dense)
-    segments = draw_segments(np.random.default_rng(20261208), a.segments, LocalGround(dense))
-    os.makedirs(a.work, exist_ok=True)
-    segments_path = f"{a.work}/segments.txt"
-    np.savetxt(segments_path, segments, fmt="%.6f")
-    mins, halves = segment_distances(tree, segments)
-    deep = mins < RADIUS - DEPTH
-    clear = mins - halves >= RADIUS + CLEAR
-    print(f"scan: {len(dense)} points; {a.segments} segments, {deep.sum()} deep, "
-          f"{clear.sum()} clear", flush=True)
-    rows = []
-    for seed in [int(s) for s in a.seeds.split(",")]:
-        for fraction in [float(f) for f in a.fractions.split(",")]:
-            for outliers in [float(o) for o in a.outliers.split(",")]:
-                name = f"s{seed}-f{fraction:g}-o{outliers:g}"
-                points = f"{a.work}/{name}.xyz"
-                rng = np.random.default_rng([seed, int(fraction * 1000), int(outliers * 1000)])
-                sample = thin(dense, rng, fraction, outliers)
-                np.savetxt(points, sample, fmt="%.5f")
-                out = f"{a.work}/{name}"
-                run([a.hullmap, "build", points, *shlex.split(a.extra), "-o", out])
-                report = json.load(open(f"{out}/report.json"))
-                m = judge(a.hullmap, out, segments, segments_path, deep, clear, np.loadtxt(points))
-                ground = report.get("ground") or {}
-                m.update(name=name, seed=seed, fraction=fraction, outliers=outliers,
-                         floor="plane" if (report.get("floor") or {}).get("found") else
-                         ("ground" if ground else "none"),
-                         keyframes_inside=report.get("keyframes_inside_hulls"))
-                rows.append(m)
-                print(f"{name:18s} missed {m['missed']}/{m['deep']} (+{m['unseen']} unseen)  false alarms {m['false_alarms']}/{m['clear']} "
-                      f"({m['fa_share']:.1f}%, {m['surface_alarms']} on a surface)  floor: {m['floor']}", flush=True)
-    worst_missed = max(rows, key=lambda m: m["missed"])
-    worst_fa = max(rows, key=lambda m: m["fa_share"])
-    print(f"maps: {len(rows)}; missed worst {worst_missed['missed']} ({worst_missed['name']}); false alarms worst "
-          f"{worst_fa['fa_share']:.1f}% ({worst_fa['name']}), median {np.median([m['fa_share'] for m in rows]):.1f}%")
-    if a.markdown:
-        with open(a.markdown, "w") as w:
-            w.write("| map | points kept | outliers | deep missed | false alarms | of them on a surface | floor |\n")
-            w.write("|---|---|---|---|---|---|---|\n")
-            for m in rows:
-                w.write(f"| {m['name']} | {100 * m['fraction']:g}% | {100 * m['outliers']:g}% | {m['missed']} of {m['deep']} "
-                        f"| {m['false_alarms']} of {m['clear']} ({m['fa_share']:.1f}%) | {m['surface_alarms']} | {m['floor']} |\n")
-            w.write(f"| **worst** | | | {worst_missed['missed']} ({worst_missed['name']}) | {worst_fa['fa_share']:.1f}% "
-                    f"({worst_fa['name']}) | | |\n")
+    scan = sweep(a.hullmap, a.scan, a.work, lambda line: print(line, flush=True),
+                 tuple(int(x) for x in a.seeds.split(",")), tuple(float(x) for x in a.fractions.split(",")),
+                 tuple(float(x) for x in a.outliers.split(",")), a.segments, a.extra)
+    print(scan["summary"].replace("**", ""))
+    if a.doc:
+        sys.path.insert(0, os.path.join(repo, "bench"))
+        import quality as q
+        lines = []
+        q.real_scan_doc(lines.append, scan)
+        replace_section(a.doc, "## A real laser scan", "## Real maps", lines)
+
+
+def replace_section(doc, heading, before, lines):
+    """Puts `lines` in place of the section `heading` of `doc` (up to the next '## '), or before the
+    section `before` when it has none."""
+    text = open(doc).read()
+    start = text.find(heading)
+    if start >= 0:
+        end = text.find("\n## ", start + len(heading))
+        end = len(text) if end < 0 else end + 1
+    else:
+        start = end = text.find(before)
+        if start < 0:
+            sys.exit(f"{doc}: no '{before}' section to put '{heading}' before")
+    with open(doc + ".tmp", "w") as f:
+        f.write(text[:start] + "\n".join(lines) + "\n" + text[end:])
+    os.replace(doc + ".tmp", doc)
+    print(f"rewrote '{heading}' in {doc}")
 
 
 if __name__ == "__main__":
