@@ -44,11 +44,12 @@ std::vector<ParameterSpec> makeParameters() {
   const auto& octree = d.build.octree;
   const std::string probability = "a probability in (0, 1)";
   std::vector<ParameterSpec> specs;
-  specs.push_back(number("resolution", octree.resolution, "octree leaf size, map units", "> 0", 0.0, kInf, true));
+  specs.push_back(number("resolution", octree.resolution, "octree leaf size, map units", "from 0.0001 to 1000", 1e-4, 1e3));
   auto eps = words("eps", ParameterKind::kWordOrNumber, "auto", {"auto"},
-                   "DBSCAN radius, map units; auto: chosen from the map", "a number > 0, or auto");
+                   "DBSCAN radius, map units; auto: chosen from the map", "a number > 0 and <= 1000, or auto");
   eps.min = 0.0;
   eps.min_open = true;
+  eps.max = 1e3;
   specs.push_back(eps);
   auto min_pts =
       words("min_pts", ParameterKind::kWordOrNumber, "auto", {"auto"},
@@ -69,14 +70,16 @@ std::vector<ParameterSpec> makeParameters() {
   auto concavity = words("concavity", ParameterKind::kWordOrNumber, "default", {"default", "none"},
                          "convex parts no farther than this from their voxels, map units; default: 3 voxels; none: "
                          "one hull per cluster",
-                         "a number > 0, default, or none");
+                         "a number > 0 and <= 1000, default, or none");
   concavity.min = 0.0;
   concavity.min_open = true;
+  concavity.max = 1e3;
   specs.push_back(concavity);
   auto flat_gap = words("flat_gap", ParameterKind::kWordOrNumber, "auto", {"auto"},
                         "gap a flat convex part may span, map units; auto: the eps used; 0: off",
-                        "a number >= 0, or auto; not with concavity none");
+                        "a number from 0 to 1000, or auto; not with concavity none");
   flat_gap.min = 0.0;
+  flat_gap.max = 1e3;
   specs.push_back(flat_gap);
   specs.push_back(words("extension", ParameterKind::kWord, "auto", {"auto", "on", "off"},
                         "the cluster extension after DBSCAN; auto: on when min_pts is auto", "auto, on or off"));
@@ -94,10 +97,11 @@ std::vector<ParameterSpec> makeParameters() {
   specs.push_back(words("up", ParameterKind::kText, pipeline::upAxisText(d.build.frame.up),
                         {"x", "-x", "y", "-y", "z", "-z"},
                         "the input axis that points up (ORB-SLAM's camera frame: -y)", "x, -x, y, -y, z or -z"));
-  specs.push_back(number("scale", d.build.frame.scale, "input units to map units", "> 0", 0.0, kInf, true));
+  specs.push_back(
+      number("scale", d.build.frame.scale, "input units to map units", "from 0.000001 to 1000000", 1e-6, 1e6));
   for (const auto& [bound, side] : {std::pair{"z_min", "below"}, std::pair{"z_max", "above"}}) {
     ParameterSpec s = number(bound, 0.0, std::string("drop points ") + side + " this height, map frame; none: keep all",
-                             "a finite number, or none", -kInf, kInf, true, true);
+                             "a finite number, or none; z_min below z_max", -kInf, kInf, true, true);
     s.kind = ParameterKind::kOptionalNumber;
     s.default_value = std::string("none");
     s.words = {"none"};
@@ -118,13 +122,13 @@ std::vector<ParameterSpec> makeParameters() {
                         "frame of everything published (hullmap's z-up map frame)", "a frame name");
   frame_id.live = false;  // markers already shown in the old frame would stay there
   specs.push_back(frame_id);
-  specs.push_back(number("min_interval", d.node.min_interval, "seconds between the starts of two rebuilds", ">= 0", 0.0,
-                         kInf, false, true));
+  specs.push_back(number("min_interval", d.node.min_interval, "seconds between the starts of two rebuilds",
+                         "from 0 to 3600", 0.0, 3600.0));
   specs.push_back(words("output_dir", ParameterKind::kText, d.node.output_dir, {},
                         "where save writes the map (as hullmap build -o); relative to the node's working directory",
                         "a directory"));
   specs.push_back(
-      number("radius", d.node.radius, "drone radius for path checks, map units", "> 0", 0.0, kInf, true, true));
+      number("radius", d.node.radius, "drone radius for path checks, map units", "> 0 and <= 1000", 0.0, 1e3, true));
   specs.push_back(number("occupancy_min_z", d.node.occupancy_min_z,
                          "lower end of the projected map's height band, map frame", "a number (-inf: none)", -kInf,
                          kInf));
@@ -342,6 +346,11 @@ NodeSettings readSettings(const ParameterValues& values, Checking checking, cons
     } else {
       *bound = r.number(name, 0.0);
     }
+  }
+
+  if (checking == Checking::kStrict && p.filters.z_min && p.filters.z_max && !(*p.filters.z_min < *p.filters.z_max)) {
+    throw r.bad("z_min", "must be below z_max (" + valueText(*p.filters.z_max) + "), got " +
+                             valueText(*p.filters.z_min));
   }
 
   NodeParams& n = settings.node;

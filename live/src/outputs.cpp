@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <set>
 
@@ -184,8 +185,17 @@ ProjectedGrid projectedGrid(const std::vector<hulls::Obstacle>& obstacles, doubl
   hi += Eigen::Vector2d::Constant(margin);
   // The origin on the grid of cell corners k * resolution, so cells line up between rebuilds.
   lo = (lo / resolution).array().floor().matrix() * resolution;
-  const auto width = static_cast<std::uint32_t>(std::max(1.0, std::ceil((hi.x() - lo.x()) / resolution)));
-  const auto height = static_cast<std::uint32_t>(std::max(1.0, std::ceil((hi.y() - lo.y()) / resolution)));
+  const double columns = std::max(1.0, std::ceil((hi.x() - lo.x()) / resolution));
+  const double rows = std::max(1.0, std::ceil((hi.y() - lo.y()) / resolution));
+  if (!(columns * rows <= double(kMaxGridCells))) {
+    char size[64];
+    std::snprintf(size, sizeof size, "%.0f x %.0f", columns, rows);
+    throw Error::inParameter("resolution", std::string("the projected map would be ") + size +
+                                               " cells, more than " + std::to_string(kMaxGridCells) +
+                                               "; a coarser resolution draws it");
+  }
+  const auto width = static_cast<std::uint32_t>(columns);
+  const auto height = static_cast<std::uint32_t>(rows);
   grid.width = width;
   grid.height = height;
   grid.origin = lo;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <limits>
 
 #include <nlohmann/json.hpp>
 
@@ -13,6 +14,28 @@ namespace {
 
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
+/// The least max(|x|, |y|, |z|) of `points`: what the octree must reach for any of them, in any up axis.
+std::optional<double> nearestReach(const io::Points& points) {
+  if (points.empty()) return std::nullopt;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto& p : points) nearest = std::min(nearest, p.cwiseAbs().maxCoeff());
+  return nearest;
+}
+
+/// The occupied cells and projected map of `snapshot` (null: the empty map).
+MapLayers layersOf(const Snapshot* snapshot, const NodeSettings& settings) {
+  static const std::vector<hulls::Obstacle> kNone;
+  static const std::vector<mapper::OccupiedVoxel> kNoVoxels;
+  // The resolution the map was built at (the current setting for the empty map).
+  const double resolution = snapshot ? snapshot->result.params.octree.resolution : settings.build.octree.resolution;
+  MapLayers layers;
+  layers.occupied_cells =
+      occupiedCellMarkers(snapshot ? snapshot->result.voxels : kNoVoxels, resolution, settings.node.frame_id);
+  layers.projected_map = projectedGrid(snapshot ? snapshot->result.obstacles : kNone, resolution,
+                                       settings.node.occupancy_min_z, settings.node.occupancy_max_z, 2 * resolution);
+  return layers;
+}
+
 }  // namespace
 
 std::string statsJson(const NodeStats& s) {
@@ -22,7 +45,9 @@ std::string statsJson(const NodeStats& s) {
                             {"pending", s.pending ? 1 : 0}, {"busy", s.busy},
                             {"points", s.points},           {"keyframes", s.keyframes},
                             {"voxels", s.voxels},           {"obstacles", s.obstacles},
-                            {"rebuild_ms", s.rebuild_ms},   {"latency_ms", s.latency_ms}};
+                            {"rebuild_ms", s.rebuild_ms},   {"latency_ms", s.latency_ms},
+                            {"lost", s.lost},               {"last_drop", s.last_drop},
+                            {"refused_settings", s.refused_settings}};
   return j.dump();
 }
 
@@ -42,8 +67,10 @@ RebuildWorker::~RebuildWorker() {
 }
 
 void RebuildWorker::submit(MapUpdate map) {
+  const std::optional<double> reach = nearestReach(map.points);
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    map_reach_ = reach;
     ++stats_.messages;
     if (pending_) ++stats_.folded;
     pending_ = std::move(map);
@@ -52,10 +79,20 @@ void RebuildWorker::submit(MapUpdate map) {
   wake_.notify_one();
 }
 
-void RebuildWorker::skip() {
+void RebuildWorker::skip(const std::string& why) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     ++stats_.skipped;
+    stats_.last_drop = "skipped: " + why;
+  }
+  publishStats();
+}
+
+void RebuildWorker::lost(std::uint64_t count, const std::string& why) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.lost += count;
+    stats_.last_drop = "lost: " + why;
   }
   publishStats();
 }
@@ -64,8 +101,26 @@ void RebuildWorker::setSettings(NodeSettings settings) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     settings_ = std::move(settings);
+    ++settings_version_;
+    stats_.refused_settings.clear();
   }
   wake_.notify_all();  // a worker waiting out min_interval waits the new one
+}
+
+std::string RebuildWorker::unbuildable(const NodeSettings& settings) const {
+  std::optional<double> reach;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    reach = map_reach_;
+  }
+  // Keys are 16 bits a coordinate: 2^15 leaves either side of the origin.
+  const double limit = settings.build.octree.resolution * 32768;
+  if (!reach || *reach * settings.build.frame.scale < limit) return {};
+  return "the octree could address no point of the current map: at resolution " +
+         valueText(settings.build.octree.resolution) + " it reaches +-" + valueText(limit) +
+         " map units around the origin, and the map's nearest point is " +
+         valueText(*reach * settings.build.frame.scale) + " away along an axis (scale " +
+         valueText(settings.build.frame.scale) + "); a coarser resolution or a smaller scale reaches it";
 }
 
 NodeSettings RebuildWorker::settings() const {
@@ -118,23 +173,54 @@ void RebuildWorker::run() {
   }
 }
 
+std::shared_ptr<const Snapshot> RebuildWorker::build(MapUpdate map, const NodeSettings& settings,
+                                                     MapLayers& layers) const {
+  if (map.points.empty()) {
+    layers = layersOf(nullptr, settings);
+    return nullptr;
+  }
+  pipeline::BuildParams params = settings.build;
+  if (!params.camera_frame) params.camera_frame = map.camera_frame;
+  pipeline::BuildResult result =
+      map.keyframes ? pipeline::buildFromPoints(std::move(map.points), *map.keyframes, params, "map", keyframes_name_)
+                    : pipeline::buildFromPoints(std::move(map.points), params, "map");
+  // The floor and ceiling found are obstacles for path checks, as for `hullmap check`.
+  collision::HullChecker checker(result.obstacles, result.surfaces);
+  auto snapshot = std::make_shared<const Snapshot>(Snapshot{std::move(result), std::move(checker)});
+  layers = layersOf(snapshot.get(), settings);
+  return snapshot;
+}
+
 void RebuildWorker::rebuild(MapUpdate map, std::uint64_t generation) {
   const auto start = Clock::now();
-  pipeline::BuildParams params = settings().build;
-  if (!params.camera_frame) params.camera_frame = map.camera_frame;
-  std::shared_ptr<const Snapshot> snapshot;
-  std::string failure;
+  NodeSettings settings;
+  std::optional<NodeSettings> fallback;  // the last settings that built, while the current are untried
+  std::uint64_t version = 0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    settings = settings_;
+    version = settings_version_;
+    if (good_settings_ && good_version_ != version) fallback = good_settings_;
+  }
   const std::size_t points = map.points.size();
-  if (!map.points.empty()) {
+  const std::int64_t stamp_ns = map.stamp_ns;
+  const Clock::time_point received = map.received;
+  std::optional<MapUpdate> retry;
+  if (fallback) retry = map;  // a copy only while the settings are untried
+  std::shared_ptr<const Snapshot> snapshot;
+  MapLayers layers;
+  std::string failure, refused;
+  try {
+    snapshot = build(std::move(map), settings, layers);
+  } catch (const std::exception& e) {
+    failure = e.what();
+  }
+  if (!failure.empty() && fallback) {
     try {
-      pipeline::BuildResult result = map.keyframes ? pipeline::buildFromPoints(std::move(map.points), *map.keyframes,
-                                                                               params, "map", keyframes_name_)
-                                                   : pipeline::buildFromPoints(std::move(map.points), params, "map");
-      // The floor and ceiling found are obstacles for path checks, as for `hullmap check`.
-      collision::HullChecker checker(result.obstacles, result.surfaces);
-      snapshot = std::make_shared<const Snapshot>(Snapshot{std::move(result), std::move(checker)});
-    } catch (const std::exception& e) {
-      failure = e.what();
+      snapshot = build(std::move(*retry), *fallback, layers);
+      refused.swap(failure);
+    } catch (const std::exception&) {
+      // The map fails with either: the map's fault, reported with the settings as set.
     }
   }
   const double rebuild_ms = msSince(start);
@@ -144,6 +230,7 @@ void RebuildWorker::rebuild(MapUpdate map, std::uint64_t generation) {
     if (generation != generation_) return;  // reset while it ran
     if (!failure.empty()) {
       ++stats_.failed;
+      stats_.last_drop = "rebuild of " + std::to_string(points) + " points failed: " + failure;
     } else {
       ++stats_.rebuilds;
       latest_ = snapshot;
@@ -152,6 +239,16 @@ void RebuildWorker::rebuild(MapUpdate map, std::uint64_t generation) {
       stats_.voxels = snapshot ? snapshot->result.voxels.size() : 0;
       stats_.obstacles = snapshot ? snapshot->result.obstacles.size() : 0;
       stats_.rebuild_ms = rebuild_ms;
+      if (refused.empty()) {
+        good_settings_ = settings;
+        good_version_ = version;
+      } else if (settings_version_ == version) {  // no newer settings meanwhile: the last good ones stay
+        settings_ = *fallback;
+        good_version_ = ++settings_version_;
+        stats_.refused_settings = "the parameters as set failed to build a map of " + std::to_string(points) +
+                                  " points that the last values that built could build (" + refused +
+                                  "); the node builds with those until a parameter is set again";
+      }
     }
   }
   if (!failure.empty()) {
@@ -160,39 +257,38 @@ void RebuildWorker::rebuild(MapUpdate map, std::uint64_t generation) {
     publishStats();
     return;
   }
-  publishMap(snapshot, map.stamp_ns, generation);
+  if (!refused.empty() && hooks_.rebuild_failed) {
+    hooks_.rebuild_failed("rebuild of " + std::to_string(points) + " points failed with the parameters as set (" +
+                          refused + "); built with the last values that built, which stay in use");
+  }
+  publishMap(snapshot, std::move(layers), stamp_ns, generation);
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    stats_.latency_ms = msSince(map.received);
+    stats_.latency_ms = msSince(received);
   }
   publishStats();
 }
 
-void RebuildWorker::publishMap(const std::shared_ptr<const Snapshot>& snapshot, std::int64_t stamp_ns,
-                               std::uint64_t generation) {
+void RebuildWorker::publishMap(const std::shared_ptr<const Snapshot>& snapshot, MapLayers layers,
+                               std::int64_t stamp_ns, std::uint64_t generation) {
   std::lock_guard<std::mutex> lock(publish_mutex_);
-  NodeSettings settings;
+  std::string frame_id;
   {
     std::lock_guard<std::mutex> state(mutex_);
     if (generation != generation_) return;
-    settings = settings_;
+    frame_id = settings_.node.frame_id;
   }
   static const std::vector<hulls::Obstacle> kNone;
-  static const std::vector<mapper::OccupiedVoxel> kNoVoxels;
   const auto& obstacles = snapshot ? snapshot->result.obstacles : kNone;
-  // The resolution the map was built at (the current setting for the empty map).
-  const double resolution = snapshot ? snapshot->result.params.octree.resolution : settings.build.octree.resolution;
   MapPublication publication;
   publication.snapshot = snapshot;
   publication.stamp_ns = stamp_ns;
-  publication.frame_id = settings.node.frame_id;
+  publication.frame_id = frame_id;
   publication.obstacles = obstacleMarkers(obstacles, published_ids_);
   published_ids_.clear();
   for (const auto& o : obstacles) published_ids_.push_back(o.id);
-  publication.occupied_cells =
-      occupiedCellMarkers(snapshot ? snapshot->result.voxels : kNoVoxels, resolution, settings.node.frame_id);
-  publication.projected_map = projectedGrid(obstacles, resolution, settings.node.occupancy_min_z,
-                                            settings.node.occupancy_max_z, 2 * resolution);
+  publication.occupied_cells = std::move(layers.occupied_cells);
+  publication.projected_map = std::move(layers.projected_map);
   if (hooks_.publish_map) hooks_.publish_map(publication);
 }
 
@@ -205,11 +301,12 @@ void RebuildWorker::reset() {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     pending_.reset();
+    map_reach_.reset();
     generation = ++generation_;
     latest_.reset();
     stats_.points = stats_.keyframes = stats_.voxels = stats_.obstacles = 0;
   }
-  publishMap(nullptr, 0, generation);
+  publishMap(nullptr, layersOf(nullptr, settings()), 0, generation);
   publishStats();
 }
 

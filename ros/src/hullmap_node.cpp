@@ -99,7 +99,7 @@ class HullmapNode {
 
   void skip(const std::string& why) {
     ROS_WARN("hullmap: message skipped: %s", why.c_str());
-    worker_->skip();
+    worker_->skip(why);
   }
 
   std_msgs::Header header(std::int64_t stamp_ns) const {

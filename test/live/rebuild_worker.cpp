@@ -163,15 +163,61 @@ TEST(LiveRebuildWorker, AFailedRebuildIsReportedAndTheOutputsStay) {
   worker.submit(update(boxes({{0, 0, 1}})));
   ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 1; }));
   const auto before = worker.latest();
-  NodeSettings bad = settings();
-  bad.build.eps = 0.0;
-  worker.setSettings(bad);
-  worker.submit(update(boxes({{3, 0, 1}})));
+  // A map the octree cannot address at resolution 0.05 (it reaches +-1638.4): no settings build it.
+  worker.submit(update(boxes({{1e5, 0, 1}})));
   ASSERT_TRUE(r.waitFor([](const Recorder& r) { return !r.failures_.empty(); }));
-  EXPECT_NE(r.failures_.back().find("eps"), std::string::npos) << r.failures_.back();
+  EXPECT_NE(r.failures_.back().find("resolution"), std::string::npos) << r.failures_.back();
   ASSERT_TRUE(r.waitFor([](const Recorder& r) { return r.stats_.back()["failed"] == 1; }));
+  const std::string drop = r.stats_.back()["last_drop"];
+  EXPECT_EQ(drop.rfind("rebuild of 216 points failed: ", 0), 0u) << drop;
   EXPECT_EQ(worker.latest(), before);
   EXPECT_EQ(r.publications_.size(), 1u);
+}
+
+TEST(LiveRebuildWorker, SettingsThatFailToBuildGiveWayToTheLastThatBuilt) {
+  const io::Points first = boxes({{0, 0, 1}}), second = boxes({{3, 0, 1}}), third = boxes({{0, 3, 1}});
+  Recorder r;
+  RebuildWorker worker(settings(), r.hooks());
+  worker.submit(update(first));
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 1; }));
+  NodeSettings bad = settings();
+  bad.build.eps = 0.0;  // the build refuses it
+  worker.setSettings(bad);
+  worker.submit(update(second));
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 2; }));
+  // The second map was built with the settings that built the first, and published.
+  EXPECT_EQ(hulls(worker.latest()->result.obstacles),
+            hulls(pipeline::buildFromPoints(second, settings().build, "map").obstacles));
+  EXPECT_EQ(r.stats_.back()["failed"], 0);
+  const std::string refused = r.stats_.back()["refused_settings"];
+  EXPECT_NE(refused.find("eps"), std::string::npos) << refused;
+  ASSERT_FALSE(r.failures_.empty());
+  EXPECT_NE(r.failures_.back().find("eps"), std::string::npos) << r.failures_.back();
+  EXPECT_EQ(worker.settings().build.eps, settings().build.eps);  // those stay in use
+  worker.submit(update(third));
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 3; }));
+  EXPECT_EQ(r.failures_.size(), 1u);
+  // Settings set again are tried again: good ones clear the refusal.
+  worker.setSettings(settings());
+  worker.submit(update(first));
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 4; }));
+  EXPECT_EQ(r.stats_.back()["refused_settings"], "");
+}
+
+TEST(LiveRebuildWorker, AResolutionThatReachesNoPointOfTheMapIsNamed) {
+  Recorder r;
+  RebuildWorker worker(settings(), r.hooks());
+  NodeSettings fine = settings();
+  fine.build.octree.resolution = 1e-5;  // reaches +-0.33
+  EXPECT_EQ(worker.unbuildable(fine), "");  // no map yet
+  worker.submit(update(boxes({{0, 0, 1}})));  // nearest point: max(|x|, |y|, |z|) = 0.9
+  ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 1; }));
+  const std::string why = worker.unbuildable(fine);
+  EXPECT_NE(why.find("no point of the current map"), std::string::npos) << why;
+  fine.build.octree.resolution = 1e-4;  // reaches +-3.3
+  EXPECT_EQ(worker.unbuildable(fine), "");
+  fine.build.frame.scale = 10.0;  // the nearest point at 9 map units
+  EXPECT_NE(worker.unbuildable(fine), "");
 }
 
 TEST(LiveRebuildWorker, ResetForgetsTheMapAndDeletesItsMarkers) {
@@ -299,13 +345,16 @@ TEST(LiveRebuildWorker, SavedWarningsNameTheNodesParameters) {
   for (const auto& w : warnings) EXPECT_EQ(w.get<std::string>().find("--"), std::string::npos) << w;
 }
 
-TEST(LiveRebuildWorker, SkippedMessagesAreCountedAndPublished) {
+TEST(LiveRebuildWorker, SkippedAndLostMessagesAreCountedAndPublished) {
   Recorder r;
   RebuildWorker worker(settings(), r.hooks());
-  worker.skip();
-  worker.skip();
+  worker.skip("a cloud without z");
+  worker.lost(3, "3 messages on ~/cloud_in lost in transport");
+  worker.skip("a short cloud");
   ASSERT_TRUE(r.waitFor([](const Recorder& r) { return r.stats_.back()["skipped"] == 2; }));
   EXPECT_EQ(worker.stats().messages, 0u);
+  EXPECT_EQ(r.stats_.back()["lost"], 3);
+  EXPECT_EQ(r.stats_.back()["last_drop"], "skipped: a short cloud");
 }
 
 }  // namespace

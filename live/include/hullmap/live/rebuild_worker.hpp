@@ -43,6 +43,11 @@ struct Snapshot {
 /// The counters ~stats publishes (docs/ROS.md lists their meaning).
 struct NodeStats {
   std::uint64_t messages = 0, skipped = 0, folded = 0, rebuilds = 0, failed = 0;
+  std::uint64_t lost = 0;  ///< messages the transport reported lost before they reached the node
+  std::string last_drop;   ///< why the last message not rebuilt was not (lost, skipped, failed); empty: none
+  /// Why the parameters as set failed to build a map that the last values that built could build
+  /// (the node then builds with those); empty: the parameters as set are in use.
+  std::string refused_settings;
   std::uint64_t max_waiting = 0;  ///< the most maps ever waiting for the worker at once
   bool pending = false;           ///< a map is waiting
   bool busy = false;              ///< a rebuild is running
@@ -53,6 +58,13 @@ struct NodeStats {
 
 /// The stats as the one-line JSON object ~stats holds (keys sorted).
 std::string statsJson(const NodeStats& stats);
+
+/// The layers drawn from a rebuild besides its obstacles (made with it, so that a map too big to
+/// draw fails as its build would).
+struct MapLayers {
+  std::vector<MarkerSpec> occupied_cells;  ///< ~occupied_cells_vis_array
+  ProjectedGrid projected_map;             ///< ~projected_map
+};
 
 /// One publication of the map's outputs (the empty map after a reset).
 struct MapPublication {
@@ -101,13 +113,20 @@ class RebuildWorker {
 
   /// Hands a map to the worker (replacing any map still waiting).
   void submit(MapUpdate map);
-  /// Counts a malformed message skipped and publishes the stats.
-  void skip();
+  /// Counts a malformed message skipped (`why`: what was wrong) and publishes the stats.
+  void skip(const std::string& why);
+  /// Counts `count` messages the transport lost (`why`: where and how) and publishes the stats.
+  void lost(std::uint64_t count, const std::string& why);
   /// Forgets the map: a waiting map is dropped, a rebuild running is discarded, the empty outputs
   /// and the stats are published.
   void reset();
-  /// New settings, used from the next rebuild on (a rebuild running finishes with the old ones).
+  /// New settings, used from the next rebuild on (a rebuild running finishes with the old ones). A
+  /// rebuild that fails with them is tried again on the same map with the last settings that built;
+  /// when that builds, those stay in use (NodeStats::refused_settings says why) until the next call.
   void setSettings(NodeSettings settings);
+  /// Why `settings` could not build the last map taken (no point of it the octree could address at
+  /// their resolution and scale), or empty: the check a front end makes before it accepts settings.
+  std::string unbuildable(const NodeSettings& settings) const;
   NodeSettings settings() const;
 
   std::shared_ptr<const Snapshot> latest() const;
@@ -126,7 +145,9 @@ class RebuildWorker {
  private:
   void run();
   void rebuild(MapUpdate map, std::uint64_t generation);
-  void publishMap(const std::shared_ptr<const Snapshot>& snapshot, std::int64_t stamp_ns, std::uint64_t generation);
+  std::shared_ptr<const Snapshot> build(MapUpdate map, const NodeSettings& settings, MapLayers& layers) const;
+  void publishMap(const std::shared_ptr<const Snapshot>& snapshot, MapLayers layers, std::int64_t stamp_ns,
+                  std::uint64_t generation);
   void publishStats();
 
   Hooks hooks_;
@@ -135,6 +156,10 @@ class RebuildWorker {
   mutable std::mutex mutex_;  // guards what follows
   std::condition_variable wake_;
   NodeSettings settings_;
+  std::uint64_t settings_version_ = 0;          // counts setSettings()
+  std::optional<NodeSettings> good_settings_;   // the last that built a map
+  std::uint64_t good_version_ = 0;              // settings_version_ of the settings that last built
+  std::optional<double> map_reach_;             // the last map's least max(|x|, |y|, |z|), input units
   std::optional<MapUpdate> pending_;
   bool stop_ = false;
   std::uint64_t generation_ = 0;
