@@ -2,6 +2,7 @@
 // the worker gives it. See docs/ROS.md for topics, QoS, parameters and services.
 #include "hullmap/ros2/hullmap_node.hpp"
 
+#include <chrono>
 #include <limits>
 
 #include <rclcpp_components/register_node_macro.hpp>
@@ -14,15 +15,11 @@ namespace {
 /// Outputs: reliable, transient_local, depth 1 (ROS 2's latching): a late subscriber gets the last.
 rclcpp::QoS latched() { return rclcpp::QoS(1).reliable().transient_local(); }
 
-/// Inputs: best effort, which takes both reliable and best-effort publishers (and both
-/// durabilities); `qos_overrides.<topic>.subscription.reliability: reliable` makes a link lossless.
+/// ~/check_path: best effort, which takes both reliable and best-effort publishers.
 rclcpp::QoS input(std::size_t depth) { return rclcpp::QoS(depth).best_effort(); }
 
-rclcpp::SubscriptionOptions overridable() {
-  rclcpp::SubscriptionOptions options;
-  options.qos_overriding_options = rclcpp::QosOverridingOptions::with_default_policies();
-  return options;
-}
+/// How often the map inputs compare their QoS with their publishers' (rosbag2 polls at 100 ms).
+constexpr std::chrono::milliseconds kFollowPeriod{100};
 
 rcl_interfaces::msg::ParameterDescriptor descriptor(const live::ParameterSpec& spec) {
   rcl_interfaces::msg::ParameterDescriptor d;
@@ -78,14 +75,7 @@ HullmapNode::HullmapNode(const rclcpp::NodeOptions& options) : rclcpp::Node("hul
   hooks.rebuild_failed = [this](const std::string& why) { RCLCPP_ERROR(get_logger(), "hullmap: %s", why.c_str()); };
   worker_ = std::make_unique<live::RebuildWorker>(settings, std::move(hooks), "~/keyframes");
 
-  // Depth 2 for the maps: each re-sends the whole map, so an older message is never needed; 20 for
-  // ORB-SLAM's markers, which interleave keyframe and graph markers with the map's.
-  marker_sub_ = create_subscription<visualization_msgs::msg::Marker>(
-      "/ORB_SLAM/Map", input(20), [this](const visualization_msgs::msg::Marker& m) { onMarker(m); }, overridable());
-  cloud_sub_ = create_subscription<sensor_msgs::msg::PointCloud2>(
-      "~/cloud_in", input(2), [this](const sensor_msgs::msg::PointCloud2& m) { onCloud(m); }, overridable());
-  keyframes_sub_ = create_subscription<nav_msgs::msg::Path>(
-      "~/keyframes", input(2), [this](const nav_msgs::msg::Path& m) { onKeyframes(m); }, overridable());
+  subscribeMapInputs();
   path_sub_ = create_subscription<nav_msgs::msg::Path>("~/check_path", input(10),
                                                        [this](const nav_msgs::msg::Path& m) { onPath(m); });
   save_srv_ = create_service<std_srvs::srv::Trigger>(
@@ -114,14 +104,54 @@ HullmapNode::HullmapNode(const rclcpp::NodeOptions& options) : rclcpp::Node("hul
 HullmapNode::~HullmapNode() {
   // No callback may reach the worker while it stops: subscriptions and services go first.
   parameters_callback_.reset();
-  marker_sub_.reset();
-  cloud_sub_.reset();
-  keyframes_sub_.reset();
+  follow_timer_.reset();
+  marker_input_.reset();
+  cloud_input_.reset();
+  keyframes_input_.reset();
   path_sub_.reset();
   save_srv_.reset();
   reset_srv_.reset();
   check_path_srv_.reset();
   worker_.reset();
+}
+
+void HullmapNode::subscribeMapInputs() {
+  const auto lost = [this](const std::string& topic, std::size_t count, const InputQos& qos) {
+    onLost(topic, count, qos);
+  };
+  const auto changed = [this](const std::string& topic, std::size_t publishers, const InputQos& qos) {
+    RCLCPP_INFO(get_logger(), "hullmap: %s: %s, as its %zu publisher%s", topic.c_str(), describe(qos).c_str(),
+                publishers, publishers == 1 ? "" : "s");
+  };
+  // Depth 2 for the maps: each re-sends the whole map, so an older message is never needed; 20 for
+  // ORB-SLAM's markers, which interleave keyframe and graph markers with the map's.
+  marker_input_ = std::make_unique<MapInput<visualization_msgs::msg::Marker>>(
+      *this, "/ORB_SLAM/Map", 20, [this](const visualization_msgs::msg::Marker& m) { onMarker(m); }, lost, changed);
+  cloud_input_ = std::make_unique<MapInput<sensor_msgs::msg::PointCloud2>>(
+      *this, "~/cloud_in", 2, [this](const sensor_msgs::msg::PointCloud2& m) { onCloud(m); }, lost, changed);
+  keyframes_input_ = std::make_unique<MapInput<nav_msgs::msg::Path>>(
+      *this, "~/keyframes", 2, [this](const nav_msgs::msg::Path& m) { onKeyframes(m); }, lost, changed);
+  follow_timer_ = create_wall_timer(kFollowPeriod, [this] {
+    marker_input_->follow();
+    cloud_input_->follow();
+    keyframes_input_->follow();
+  });
+}
+
+void HullmapNode::onLost(const std::string& topic, std::size_t count, const InputQos& qos) {
+  const std::string why = std::to_string(count) + " message" + (count == 1 ? "" : "s") + " on " + topic +
+                          " lost in transport (" + describe(qos) + ")";
+  worker_->lost(count, why);
+  if (lost_told_.insert(topic).second) {
+    RCLCPP_WARN(get_logger(),
+                "hullmap: %s; a best-effort link loses a message of many fragments whole when one fragment is "
+                "lost: publish big maps reliably (the node follows its publishers), or give the node "
+                "qos_overrides.%s.subscription.reliability:=reliable, and a socket receive buffer that holds the "
+                "map (docs/ROS.md, Big maps)",
+                why.c_str(), topic.c_str());
+  } else {
+    RCLCPP_DEBUG(get_logger(), "hullmap: %s", why.c_str());
+  }
 }
 
 void HullmapNode::declareParameters() {
@@ -165,6 +195,13 @@ rcl_interfaces::msg::SetParametersResult HullmapNode::onSetParameters(
   if (!ours) return result;
   try {
     live::NodeSettings settings = live::readSettings(values, live::Checking::kStrict);
+    // Where the octree reaches: a resolution or scale that would leave no point of the map inside it.
+    std::string reach;
+    for (const auto& p : parameters) {
+      if (p.get_name() == "resolution" || p.get_name() == "scale") reach += (reach.empty() ? "" : "/") + p.get_name();
+    }
+    const std::string unbuildable = reach.empty() ? std::string() : worker_->unbuildable(settings);
+    if (!unbuildable.empty()) throw Error::inParameter(reach, unbuildable);
     values_ = std::move(values);
     worker_->setSettings(std::move(settings));
   } catch (const Error& e) {
@@ -176,7 +213,7 @@ rcl_interfaces::msg::SetParametersResult HullmapNode::onSetParameters(
 
 void HullmapNode::skip(const std::string& why) {
   RCLCPP_WARN(get_logger(), "hullmap: message skipped: %s", why.c_str());
-  worker_->skip();
+  worker_->skip(why);
 }
 
 void HullmapNode::onMarker(const visualization_msgs::msg::Marker& msg) {

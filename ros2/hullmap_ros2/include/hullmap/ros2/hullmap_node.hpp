@@ -1,6 +1,7 @@
 #pragma once
 
 #include <memory>
+#include <set>
 #include <string>
 
 #include <hullmap_interfaces/srv/check_path.hpp>
@@ -16,6 +17,7 @@
 
 #include "hullmap/live/node_params.hpp"
 #include "hullmap/live/rebuild_worker.hpp"
+#include "hullmap/ros2/map_input.hpp"
 #include "hullmap/ros2/messages.hpp"
 
 namespace hullmap::ros2 {
@@ -40,6 +42,8 @@ class HullmapNode : public rclcpp::Node {
   void onCheckPath(const hullmap_interfaces::srv::CheckPath::Request& request,
                    hullmap_interfaces::srv::CheckPath::Response& response);
   void skip(const std::string& why);
+  void subscribeMapInputs();
+  void onLost(const std::string& topic, std::size_t count, const InputQos& qos);
   std_msgs::msg::Header header(std::int64_t stamp_ns);
   void publishMap(const live::MapPublication& publication);
   std::vector<Eigen::Vector3d> waypoints(const nav_msgs::msg::Path& path);
@@ -53,9 +57,12 @@ class HullmapNode : public rclcpp::Node {
   rclcpp::Publisher<nav_msgs::msg::OccupancyGrid>::SharedPtr grid_pub_;
   rclcpp::Publisher<std_msgs::msg::String>::SharedPtr stats_pub_, path_check_pub_;
   std::unique_ptr<live::RebuildWorker> worker_;  // after the publishers its hooks use
-  rclcpp::Subscription<visualization_msgs::msg::Marker>::SharedPtr marker_sub_;
-  rclcpp::Subscription<sensor_msgs::msg::PointCloud2>::SharedPtr cloud_sub_;
-  rclcpp::Subscription<nav_msgs::msg::Path>::SharedPtr keyframes_sub_, path_sub_;
+  std::unique_ptr<MapInput<visualization_msgs::msg::Marker>> marker_input_;
+  std::unique_ptr<MapInput<sensor_msgs::msg::PointCloud2>> cloud_input_;
+  std::unique_ptr<MapInput<nav_msgs::msg::Path>> keyframes_input_;
+  rclcpp::TimerBase::SharedPtr follow_timer_;  // the map inputs follow their publishers' QoS
+  std::set<std::string> lost_told_;            // inputs whose first lost message was logged
+  rclcpp::Subscription<nav_msgs::msg::Path>::SharedPtr path_sub_;
   rclcpp::Service<std_srvs::srv::Trigger>::SharedPtr save_srv_;
   rclcpp::Service<std_srvs::srv::Empty>::SharedPtr reset_srv_;
   rclcpp::Service<hullmap_interfaces::srv::CheckPath>::SharedPtr check_path_srv_;
