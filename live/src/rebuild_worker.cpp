@@ -47,7 +47,8 @@ std::string statsJson(const NodeStats& s) {
                             {"voxels", s.voxels},           {"obstacles", s.obstacles},
                             {"rebuild_ms", s.rebuild_ms},   {"latency_ms", s.latency_ms},
                             {"lost", s.lost},               {"last_drop", s.last_drop},
-                            {"refused_settings", s.refused_settings}};
+                            {"refused_settings", s.refused_settings},
+                            {"inputs", s.inputs}};
   return j.dump();
 }
 
@@ -84,6 +85,14 @@ void RebuildWorker::skip(const std::string& why) {
     std::lock_guard<std::mutex> lock(mutex_);
     ++stats_.skipped;
     stats_.last_drop = "skipped: " + why;
+  }
+  publishStats();
+}
+
+void RebuildWorker::setInput(const std::string& topic, const std::string& description) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.inputs[topic] = description;
   }
   publishStats();
 }

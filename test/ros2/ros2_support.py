@@ -147,6 +147,37 @@ class Client:
         time.sleep(0.5)
         return pub
 
+    def wait_reader(self, topic, reliable, transient_local=False):
+        """Until the subscriptions on `topic` are all of that reliability and durability (the node's
+        map inputs follow their publishers' QoS: a publisher waits for the reader it will keep)."""
+        from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
+        want = (ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
+                DurabilityPolicy.TRANSIENT_LOCAL if transient_local else DurabilityPolicy.VOLATILE)
+
+        def settled():
+            infos = self.node.get_subscriptions_info_by_topic(topic)
+            return infos and all((i.qos_profile.reliability, i.qos_profile.durability) == want for i in infos)
+        wait_for("the readers on %s to be %s" % (topic, want), settled)
+        time.sleep(0.5)  # the writer matches the new reader back
+
+    def set_parameters(self, node_name, **values):
+        """Sets parameters through /NODE/set_parameters_atomically: its SetParametersResult."""
+        from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
+        from rcl_interfaces.srv import SetParametersAtomically
+        request = SetParametersAtomically.Request()
+        for name, value in values.items():
+            v = ParameterValue()
+            if isinstance(value, bool):
+                v.type, v.bool_value = ParameterType.PARAMETER_BOOL, value
+            elif isinstance(value, int):
+                v.type, v.integer_value = ParameterType.PARAMETER_INTEGER, value
+            elif isinstance(value, float):
+                v.type, v.double_value = ParameterType.PARAMETER_DOUBLE, value
+            else:
+                v.type, v.string_value = ParameterType.PARAMETER_STRING, str(value)
+            request.parameters.append(Parameter(name=name, value=v))
+        return self.call("/%s/set_parameters_atomically" % node_name, SetParametersAtomically, request).result
+
     def call(self, service, cls, request):
         client = self.node.create_client(cls, service)
         if not client.wait_for_service(timeout_sec=TIMEOUT):

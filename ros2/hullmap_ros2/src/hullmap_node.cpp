@@ -122,6 +122,14 @@ void HullmapNode::subscribeMapInputs() {
   const auto changed = [this](const std::string& topic, std::size_t publishers, const InputQos& qos) {
     RCLCPP_INFO(get_logger(), "hullmap: %s: %s, as its %zu publisher%s", topic.c_str(), describe(qos).c_str(),
                 publishers, publishers == 1 ? "" : "s");
+    worker_->setInput(topic, describe(qos));
+    if (!qos.reliable && publishers > 0 && best_effort_told_.insert(topic).second) {
+      RCLCPP_WARN(get_logger(),
+                  "hullmap: %s has a best-effort publisher: a map of more than about 1 MB (100,000 points) may be "
+                  "lost whole in transport, and the middleware may not say so; publish big maps reliably (the "
+                  "node follows), or give the node a socket receive buffer that holds them (docs/ROS.md, Big maps)",
+                  topic.c_str());
+    }
   };
   // Depth 2 for the maps: each re-sends the whole map, so an older message is never needed; 20 for
   // ORB-SLAM's markers, which interleave keyframe and graph markers with the map's.
@@ -131,6 +139,9 @@ void HullmapNode::subscribeMapInputs() {
       *this, "~/cloud_in", 2, [this](const sensor_msgs::msg::PointCloud2& m) { onCloud(m); }, lost, changed);
   keyframes_input_ = std::make_unique<MapInput<nav_msgs::msg::Path>>(
       *this, "~/keyframes", 2, [this](const nav_msgs::msg::Path& m) { onKeyframes(m); }, lost, changed);
+  worker_->setInput(marker_input_->topic(), describe(marker_input_->qos()));
+  worker_->setInput(cloud_input_->topic(), describe(cloud_input_->qos()));
+  worker_->setInput(keyframes_input_->topic(), describe(keyframes_input_->qos()));
   follow_timer_ = create_wall_timer(kFollowPeriod, [this] {
     marker_input_->follow();
     cloud_input_->follow();

@@ -4,6 +4,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -48,6 +49,7 @@ struct NodeStats {
   /// Why the parameters as set failed to build a map that the last values that built could build
   /// (the node then builds with those); empty: the parameters as set are in use.
   std::string refused_settings;
+  std::map<std::string, std::string> inputs;  ///< map input topic -> its QoS in words (ROS 2: "reliable, volatile")
   std::uint64_t max_waiting = 0;  ///< the most maps ever waiting for the worker at once
   bool pending = false;           ///< a map is waiting
   bool busy = false;              ///< a rebuild is running
@@ -115,6 +117,8 @@ class RebuildWorker {
   void submit(MapUpdate map);
   /// Counts a malformed message skipped (`why`: what was wrong) and publishes the stats.
   void skip(const std::string& why);
+  /// Sets what ~stats says of a map input (its QoS, say) and publishes the stats.
+  void setInput(const std::string& topic, const std::string& description);
   /// Counts `count` messages the transport lost (`why`: where and how) and publishes the stats.
   void lost(std::uint64_t count, const std::string& why);
   /// Forgets the map: a waiting map is dropped, a rebuild running is discarded, the empty outputs

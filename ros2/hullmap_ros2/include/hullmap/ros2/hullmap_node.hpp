@@ -62,6 +62,7 @@ class HullmapNode : public rclcpp::Node {
   std::unique_ptr<MapInput<nav_msgs::msg::Path>> keyframes_input_;
   rclcpp::TimerBase::SharedPtr follow_timer_;  // the map inputs follow their publishers' QoS
   std::set<std::string> lost_told_;            // inputs whose first lost message was logged
+  std::set<std::string> best_effort_told_;     // inputs whose first best-effort publisher was logged
   rclcpp::Subscription<nav_msgs::msg::Path>::SharedPtr path_sub_;
   rclcpp::Service<std_srvs::srv::Trigger>::SharedPtr save_srv_;
   rclcpp::Service<std_srvs::srv::Empty>::SharedPtr reset_srv_;
