@@ -123,13 +123,6 @@ void HullmapNode::subscribeMapInputs() {
     RCLCPP_INFO(get_logger(), "hullmap: %s: %s, as its %zu publisher%s", topic.c_str(), describe(qos).c_str(),
                 publishers, publishers == 1 ? "" : "s");
     worker_->setInput(topic, describe(qos));
-    if (!qos.reliable && publishers > 0 && best_effort_told_.insert(topic).second) {
-      RCLCPP_WARN(get_logger(),
-                  "hullmap: %s has a best-effort publisher: a map of more than about 1 MB (100,000 points) may be "
-                  "lost whole in transport, and the middleware may not say so; publish big maps reliably (the "
-                  "node follows), or give the node a socket receive buffer that holds them (docs/ROS.md, Big maps)",
-                  topic.c_str());
-    }
   };
   // Depth 2 for the maps: each re-sends the whole map, so an older message is never needed; 20 for
   // ORB-SLAM's markers, which interleave keyframe and graph markers with the map's.
@@ -143,10 +136,19 @@ void HullmapNode::subscribeMapInputs() {
   worker_->setInput(cloud_input_->topic(), describe(cloud_input_->qos()));
   worker_->setInput(keyframes_input_->topic(), describe(keyframes_input_->qos()));
   follow_timer_ = create_wall_timer(kFollowPeriod, [this] {
-    marker_input_->follow();
-    cloud_input_->follow();
-    keyframes_input_->follow();
+    tellBestEffort(marker_input_->topic(), marker_input_->follow());
+    tellBestEffort(cloud_input_->topic(), cloud_input_->follow());
+    tellBestEffort(keyframes_input_->topic(), keyframes_input_->follow());
   });
+}
+
+void HullmapNode::tellBestEffort(const std::string& topic, std::size_t publishers) {
+  if (publishers == 0 || !best_effort_told_.insert(topic).second) return;
+  RCLCPP_WARN(get_logger(),
+              "hullmap: %s has a best-effort publisher: a map of more than about 1 MB (100,000 points) may be lost "
+              "whole in transport, and the middleware may not say so; publish big maps reliably (the node "
+              "follows), or give the node a socket receive buffer that holds them (docs/ROS.md, Big maps)",
+              topic.c_str());
 }
 
 void HullmapNode::onLost(const std::string& topic, std::size_t count, const InputQos& qos) {

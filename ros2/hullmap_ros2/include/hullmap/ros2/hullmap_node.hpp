@@ -43,6 +43,7 @@ class HullmapNode : public rclcpp::Node {
                    hullmap_interfaces::srv::CheckPath::Response& response);
   void skip(const std::string& why);
   void subscribeMapInputs();
+  void tellBestEffort(const std::string& topic, std::size_t publishers);  // once per input
   void onLost(const std::string& topic, std::size_t count, const InputQos& qos);
   std_msgs::msg::Header header(std::int64_t stamp_ns);
   void publishMap(const live::MapPublication& publication);

@@ -76,14 +76,16 @@ class MapInput {
   MapInput(const MapInput&) = delete;
   MapInput& operator=(const MapInput&) = delete;
 
-  /// Re-creates the subscription when the publishers on the topic ask for another QoS.
-  void follow() {
-    if (fixed_reliability_ && fixed_durability_) return;
+  /// Re-creates the subscription when the publishers on the topic ask for another QoS. Returns how
+  /// many of them are best effort.
+  std::size_t follow() {
     const auto publishers = node_.get_publishers_info_by_topic(topic_);
+    std::size_t best_effort = 0;
+    for (const auto& p : publishers) best_effort += p.qos_profile().reliability() == rclcpp::ReliabilityPolicy::BestEffort;
     InputQos wanted = matchPublishers(publishers);
     if (fixed_reliability_) wanted.reliable = qos_.reliable;
     if (fixed_durability_) wanted.transient_local = qos_.transient_local;
-    if (wanted == qos_) return;
+    if (wanted == qos_) return best_effort;
     rclcpp::QoS qos = subscription_->get_actual_qos();
     qos.reliability(wanted.reliable ? rclcpp::ReliabilityPolicy::Reliable : rclcpp::ReliabilityPolicy::BestEffort);
     qos.durability(wanted.transient_local ? rclcpp::DurabilityPolicy::TransientLocal
@@ -92,6 +94,7 @@ class MapInput {
     subscribe(qos, optionsWithEvents());
     qos_ = actual();
     if (on_change_) on_change_(topic_, publishers.size(), qos_);
+    return best_effort;
   }
 
   const std::string& topic() const { return topic_; }
