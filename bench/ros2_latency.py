@@ -4,13 +4,15 @@ obstacles, at 10k, 20k, 100k and 1M map points, against octomap's insertPointClo
 from one keyframe, in the same run: the method of bench/ros_latency.py (the ROS 1 row), over ROS 2.
 Prints the markdown rows of docs/BENCHMARKS.md.
 
-usage: bench/ros2_latency.py BENCH_OCTOMAP_CLOUD [repeats]
+usage: bench/ros2_latency.py BENCH_OCTOMAP_CLOUD [repeats] [--defaults [SIZE...]]
   with ROS 2 and the hullmap_ros2 package sourced (bench/section_ros.sh does it);
   BENCH_OCTOMAP_CLOUD: a bench build's hullmap_bench_octomap_cloud.
 
 The map (ros_latency.room): a 10 x 8 x 3 m room holding 8 boxes whose surfaces carry 90% of the
-points, 10% scattered, sent as a FLOAT32 PointCloud2 on ~/cloud_in. The node's cloud input is made
-reliable (its QoS override), as ROS 1's TCP is: a lost message would stall the measurement. end-to-end:
+points, 10% scattered, sent as a FLOAT32 PointCloud2 on ~/cloud_in by a reliable publisher. The
+node's cloud input is made reliable (its QoS override), as ROS 1's TCP is: a lost message would
+stall the measurement. With --defaults the node runs at its defaults, no override: its input
+follows the reliable publisher (docs/ROS.md, QoS), measured at SIZE points (default 1000000). end-to-end:
 publish() to the ~/obstacles message with the same stamp received here (serialisation and DDS
 transport both ways included); node: the node's own latency_ms; rebuild_ms: the build alone.
 Parameters are hullmap build's defaults. Medians of `repeats` messages per size. The node and this
@@ -38,8 +40,14 @@ from ros_latency import ORIGIN, SIZES, median, room  # noqa: E402  (the ROS 1 ro
 
 
 def main():
-    octomap_binary = sys.argv[1]
-    repeats = int(sys.argv[2]) if len(sys.argv) > 2 else 3
+    args = sys.argv[1:]
+    defaults = "--defaults" in args
+    sizes = SIZES
+    if defaults:
+        sizes = [int(a) for a in args[args.index("--defaults") + 1:]] or [1_000_000]
+        args = args[:args.index("--defaults")]
+    octomap_binary = args[0]
+    repeats = int(args[1]) if len(args) > 1 else 3
     claim_domain()
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
@@ -51,8 +59,8 @@ def main():
 
     tmp = tempfile.mkdtemp(prefix="hullmap_ros2_latency_")
     prefix = "qos_overrides./hullmap/cloud_in.subscription."
-    node = subprocess.Popen(["ros2", "run", "hullmap_ros2", "hullmap_node", "--ros-args", "-p",
-                             prefix + "reliability:=reliable", "-p", prefix + "depth:=2"],
+    override = [] if defaults else ["-p", prefix + "reliability:=reliable", "-p", prefix + "depth:=2"]
+    node = subprocess.Popen(["ros2", "run", "hullmap_ros2", "hullmap_node", "--ros-args", *override],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     rclpy.init()
     client = rclpy.create_node("hullmap_bench_%d" % os.getpid())
@@ -78,12 +86,16 @@ def main():
                                       QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE))
         while pub.get_subscription_count() == 0 or state["stats"] is None:
             time.sleep(0.05)
+        # At the defaults the node re-creates its reader as reliable once it has seen this writer.
+        while any(i.qos_profile.reliability != ReliabilityPolicy.RELIABLE
+                  for i in client.get_subscriptions_info_by_topic("/hullmap/cloud_in")):
+            time.sleep(0.05)
         time.sleep(1.0)  # the node's reader matches this writer too
 
         print("| map points | voxels | obstacles | ROS 2 node end-to-end (ms) | node latency_ms | rebuild_ms | "
               "octomap insertPointCloud (ms) | octomap / hullmap end-to-end |")
         print("|---|---|---|---|---|---|---|---|")
-        for n in SIZES:
+        for n in sizes:
             points = room(n)
             xyz = os.path.join(tmp, "room_%d.xyz" % n)
             with open(xyz, "w") as f:

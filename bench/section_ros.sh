@@ -51,9 +51,19 @@ same maps and method, `bench/ros2_latency.py`; the node's cloud input made relia
 override, as ROS 1's TCP is):
 
 TEXT
-if [ -f "$build/ros2/status" ] && [ "$(cat "$build/ros2/status")" = built ]; then
-  bash -c 'source "$1/ros2/ros2_env.sh" && hullmap_ros2_env && set +u && source "$2/ros2/install/setup.bash" &&
-           exec /usr/bin/python3 "$1/bench/ros2_latency.py" "$3" "$4"' _ "$here/.." "$build" "$octomap" "$repeats"
-else
-  echo "(not measured: $(cat "$build/ros2/status" 2>/dev/null || echo "the ROS 2 package is not built in $build"))"
-fi
+ros2_latency() {
+  if [ -f "$build/ros2/status" ] && [ "$(cat "$build/ros2/status")" = built ]; then
+    bash -c 'source "$1/ros2/ros2_env.sh" && hullmap_ros2_env && set +u && source "$2/ros2/install/setup.bash" &&
+             shift 2 && exec /usr/bin/python3 "$@"' _ "$here/.." "$build" "$here/ros2_latency.py" "$octomap" "$repeats" "$@"
+  else
+    echo "(not measured: $(cat "$build/ros2/status" 2>/dev/null || echo "the ROS 2 package is not built in $build"))"
+  fi
+}
+ros2_latency
+cat <<'TEXT'
+
+The same node at its defaults, no QoS override (the 1M map from the same reliable publisher; the node's
+cloud input follows it and turns reliable, [ROS.md](ROS.md#qos-ros-2)):
+
+TEXT
+ros2_latency --defaults 1000000

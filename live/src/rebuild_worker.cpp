@@ -1,6 +1,7 @@
 #include "hullmap/live/rebuild_worker.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 
@@ -13,6 +14,13 @@ namespace hullmap::live {
 namespace {
 
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+/// A number as a person reads it (6 significant digits).
+std::string shortText(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
 
 /// The least max(|x|, |y|, |z|) of `points`: what the octree must reach for any of them, in any up axis.
 std::optional<double> nearestReach(const io::Points& points) {
@@ -126,10 +134,10 @@ std::string RebuildWorker::unbuildable(const NodeSettings& settings) const {
   const double limit = settings.build.octree.resolution * 32768;
   if (!reach || *reach * settings.build.frame.scale < limit) return {};
   return "the octree could address no point of the current map: at resolution " +
-         valueText(settings.build.octree.resolution) + " it reaches +-" + valueText(limit) +
+         shortText(settings.build.octree.resolution) + " it reaches +-" + shortText(limit) +
          " map units around the origin, and the map's nearest point is " +
-         valueText(*reach * settings.build.frame.scale) + " away along an axis (scale " +
-         valueText(settings.build.frame.scale) + "); a coarser resolution or a smaller scale reaches it";
+         shortText(*reach * settings.build.frame.scale) + " away along an axis (scale " +
+         shortText(settings.build.frame.scale) + "); a coarser resolution or a smaller scale reaches it";
 }
 
 NodeSettings RebuildWorker::settings() const {
