@@ -44,7 +44,8 @@ std::vector<ParameterSpec> makeParameters() {
   const auto& octree = d.build.octree;
   const std::string probability = "a probability in (0, 1)";
   std::vector<ParameterSpec> specs;
-  specs.push_back(number("resolution", octree.resolution, "octree leaf size, map units", "from 0.0001 to 1000", 1e-4, 1e3));
+  specs.push_back(
+      number("resolution", octree.resolution, "octree leaf size, map units", "from 0.0001 to 1000", 1e-4, 1e3));
   auto eps = words("eps", ParameterKind::kWordOrNumber, "auto", {"auto"},
                    "DBSCAN radius, map units; auto: chosen from the map", "a number > 0 and <= 1000, or auto");
   eps.min = 0.0;
@@ -349,8 +350,8 @@ NodeSettings readSettings(const ParameterValues& values, Checking checking, cons
   }
 
   if (checking == Checking::kStrict && p.filters.z_min && p.filters.z_max && !(*p.filters.z_min < *p.filters.z_max)) {
-    throw r.bad("z_min", "must be below z_max (" + valueText(*p.filters.z_max) + "), got " +
-                             valueText(*p.filters.z_min));
+    throw r.bad("z_min",
+                "must be below z_max (" + valueText(*p.filters.z_max) + "), got " + valueText(*p.filters.z_min));
   }
 
   NodeParams& n = settings.node;

@@ -190,9 +190,8 @@ ProjectedGrid projectedGrid(const std::vector<hulls::Obstacle>& obstacles, doubl
   if (!(columns * rows <= double(kMaxGridCells))) {
     char size[64];
     std::snprintf(size, sizeof size, "%.0f x %.0f", columns, rows);
-    throw Error::inParameter("resolution", std::string("the projected map would be ") + size +
-                                               " cells, more than " + std::to_string(kMaxGridCells) +
-                                               "; a coarser resolution draws it");
+    throw Error::inParameter("resolution", std::string("the projected map would be ") + size + " cells, more than " +
+                                               std::to_string(kMaxGridCells) + "; a coarser resolution draws it");
   }
   const auto width = static_cast<std::uint32_t>(columns);
   const auto height = static_cast<std::uint32_t>(rows);

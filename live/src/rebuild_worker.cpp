@@ -47,14 +47,22 @@ MapLayers layersOf(const Snapshot* snapshot, const NodeSettings& settings) {
 }  // namespace
 
 std::string statsJson(const NodeStats& s) {
-  const nlohmann::json j = {{"messages", s.messages},       {"skipped", s.skipped},
-                            {"folded", s.folded},           {"rebuilds", s.rebuilds},
-                            {"failed", s.failed},           {"max_waiting", s.max_waiting},
-                            {"pending", s.pending ? 1 : 0}, {"busy", s.busy},
-                            {"points", s.points},           {"keyframes", s.keyframes},
-                            {"voxels", s.voxels},           {"obstacles", s.obstacles},
-                            {"rebuild_ms", s.rebuild_ms},   {"latency_ms", s.latency_ms},
-                            {"lost", s.lost},               {"last_drop", s.last_drop},
+  const nlohmann::json j = {{"messages", s.messages},
+                            {"skipped", s.skipped},
+                            {"folded", s.folded},
+                            {"rebuilds", s.rebuilds},
+                            {"failed", s.failed},
+                            {"max_waiting", s.max_waiting},
+                            {"pending", s.pending ? 1 : 0},
+                            {"busy", s.busy},
+                            {"points", s.points},
+                            {"keyframes", s.keyframes},
+                            {"voxels", s.voxels},
+                            {"obstacles", s.obstacles},
+                            {"rebuild_ms", s.rebuild_ms},
+                            {"latency_ms", s.latency_ms},
+                            {"lost", s.lost},
+                            {"last_drop", s.last_drop},
                             {"refused_settings", s.refused_settings},
                             {"inputs", s.inputs}};
   return j.dump();
@@ -286,8 +294,8 @@ void RebuildWorker::rebuild(MapUpdate map, std::uint64_t generation) {
   publishStats();
 }
 
-void RebuildWorker::publishMap(const std::shared_ptr<const Snapshot>& snapshot, MapLayers layers,
-                               std::int64_t stamp_ns, std::uint64_t generation) {
+void RebuildWorker::publishMap(const std::shared_ptr<const Snapshot>& snapshot, MapLayers layers, std::int64_t stamp_ns,
+                               std::uint64_t generation) {
   std::lock_guard<std::mutex> lock(publish_mutex_);
   std::string frame_id;
   {

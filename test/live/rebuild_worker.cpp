@@ -208,8 +208,8 @@ TEST(LiveRebuildWorker, AResolutionThatReachesNoPointOfTheMapIsNamed) {
   Recorder r;
   RebuildWorker worker(settings(), r.hooks());
   NodeSettings fine = settings();
-  fine.build.octree.resolution = 1e-5;  // reaches +-0.33
-  EXPECT_EQ(worker.unbuildable(fine), "");  // no map yet
+  fine.build.octree.resolution = 1e-5;        // reaches +-0.33
+  EXPECT_EQ(worker.unbuildable(fine), "");    // no map yet
   worker.submit(update(boxes({{0, 0, 1}})));  // nearest point: max(|x|, |y|, |z|) = 0.9
   ASSERT_TRUE(r.waitFor([](const Recorder& r) { return rebuilds(r) == 1; }));
   const std::string why = worker.unbuildable(fine);

@@ -44,18 +44,18 @@ struct Snapshot {
 /// The counters ~stats publishes (docs/ROS.md lists their meaning).
 struct NodeStats {
   std::uint64_t messages = 0, skipped = 0, folded = 0, rebuilds = 0, failed = 0;
-  std::uint64_t lost = 0;  ///< messages the transport reported lost before they reached the node
-  std::string last_drop;   ///< why the last message not rebuilt was not (lost, skipped, failed); empty: none
-  /// Why the parameters as set failed to build a map that the last values that built could build
-  /// (the node then builds with those); empty: the parameters as set are in use.
-  std::string refused_settings;
-  std::map<std::string, std::string> inputs;  ///< map input topic -> its QoS in words (ROS 2: "reliable, volatile")
   std::uint64_t max_waiting = 0;  ///< the most maps ever waiting for the worker at once
   bool pending = false;           ///< a map is waiting
   bool busy = false;              ///< a rebuild is running
   std::size_t points = 0, keyframes = 0, voxels = 0, obstacles = 0;  ///< of the last rebuild
   double rebuild_ms = 0.0;  ///< wall time of the last rebuild (build + path checker)
   double latency_ms = 0.0;  ///< map message's arrival to its outputs published
+  std::uint64_t lost = 0;   ///< messages the transport reported lost before they reached the node
+  std::string last_drop;    ///< why the last message not rebuilt was not (lost, skipped, failed); empty: none
+  /// Why the parameters as set failed to build a map that the last values that built could build
+  /// (the node then builds with those); empty: the parameters as set are in use.
+  std::string refused_settings;
+  std::map<std::string, std::string> inputs;  ///< map input topic -> its QoS in words (ROS 2: "reliable, volatile")
 };
 
 /// The stats as the one-line JSON object ~stats holds (keys sorted).
@@ -160,10 +160,10 @@ class RebuildWorker {
   mutable std::mutex mutex_;  // guards what follows
   std::condition_variable wake_;
   NodeSettings settings_;
-  std::uint64_t settings_version_ = 0;          // counts setSettings()
-  std::optional<NodeSettings> good_settings_;   // the last that built a map
-  std::uint64_t good_version_ = 0;              // settings_version_ of the settings that last built
-  std::optional<double> map_reach_;             // the last map's least max(|x|, |y|, |z|), input units
+  std::uint64_t settings_version_ = 0;         // counts setSettings()
+  std::optional<NodeSettings> good_settings_;  // the last that built a map
+  std::uint64_t good_version_ = 0;             // settings_version_ of the settings that last built
+  std::optional<double> map_reach_;            // the last map's least max(|x|, |y|, |z|), input units
   std::optional<MapUpdate> pending_;
   bool stop_ = false;
   std::uint64_t generation_ = 0;

@@ -81,7 +81,8 @@ class MapInput {
   std::size_t follow() {
     const auto publishers = node_.get_publishers_info_by_topic(topic_);
     std::size_t best_effort = 0;
-    for (const auto& p : publishers) best_effort += p.qos_profile().reliability() == rclcpp::ReliabilityPolicy::BestEffort;
+    for (const auto& p : publishers)
+      best_effort += p.qos_profile().reliability() == rclcpp::ReliabilityPolicy::BestEffort;
     InputQos wanted = matchPublishers(publishers);
     if (fixed_reliability_) wanted.reliable = qos_.reliable;
     if (fixed_durability_) wanted.transient_local = qos_.transient_local;
