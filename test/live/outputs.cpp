@@ -55,6 +55,21 @@ TEST(LiveProjectedGrid, MarksExactlyTheCellsThatTheFootprintsInTheBandTouch) {
   EXPECT_THROW(projectedGrid({}, 0.0, 0, 1, 0.2), Error);
 }
 
+TEST(LiveProjectedGrid, AGridOfMoreThanTheMostCellsIsRefusedNamingTheResolution) {
+  hulls::Obstacle o;
+  o.footprint.polygon = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
+  o.footprint.z_min = 0;
+  o.footprint.z_max = 1;
+  // A 10 m square: 1000^2 cells at 0.01 are drawn, 10^5^2 at 0.0001 would be 150 times the most.
+  EXPECT_NO_THROW(projectedGrid({o}, 0.01, 0, 1, 0.0));
+  try {
+    projectedGrid({o}, 1e-4, 0, 1, 0.0);  // 10^10 cells
+    FAIL() << "a grid of 10^10 cells was drawn";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.parameter(), "resolution") << e.what();
+  }
+}
+
 hulls::Obstacle cube(int id, const Eigen::Vector3d& lo, double size) {
   std::vector<Eigen::Vector3d> centers{lo + Eigen::Vector3d::Constant(size / 2)};
   auto obstacles = hulls::buildObstacles(centers, {1}, {0}, size);
