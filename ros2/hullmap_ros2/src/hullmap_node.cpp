@@ -152,8 +152,10 @@ void HullmapNode::tellBestEffort(const std::string& topic, std::size_t publisher
 }
 
 void HullmapNode::onLost(const std::string& topic, std::size_t count, const InputQos& qos) {
+  // A reliable link loses nothing in transport: what it misses was replaced in a full queue.
   const std::string why = std::to_string(count) + " message" + (count == 1 ? "" : "s") + " on " + topic +
-                          " lost in transport (" + describe(qos) + ")";
+                          (qos.reliable ? " replaced in the subscription's queue (" : " lost in transport (") +
+                          describe(qos) + ")";
   worker_->lost(count, why);
   if (lost_told_.insert(topic).second) {
     RCLCPP_WARN(get_logger(),
