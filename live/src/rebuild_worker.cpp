@@ -216,6 +216,27 @@ std::shared_ptr<const Snapshot> RebuildWorker::build(MapUpdate map, const NodeSe
   return snapshot;
 }
 
+RebuildWorker::Attempt RebuildWorker::buildOrFallBack(MapUpdate map, const NodeSettings& settings,
+                                                      const std::optional<NodeSettings>& fallback) const {
+  std::optional<MapUpdate> retry;
+  if (fallback) retry = map;  // a copy only while the settings are untried
+  Attempt a;
+  try {
+    a.snapshot = build(std::move(map), settings, a.layers);
+  } catch (const std::exception& e) {
+    a.failure = e.what();
+  }
+  if (!a.failure.empty() && fallback) {
+    try {
+      a.snapshot = build(std::move(*retry), *fallback, a.layers);
+      a.refused.swap(a.failure);
+    } catch (const std::exception&) {
+      // The map fails with either: the map's fault, reported with the settings as set.
+    }
+  }
+  return a;
+}
+
 void RebuildWorker::rebuild(MapUpdate map, std::uint64_t generation) {
   const auto start = Clock::now();
   NodeSettings settings;
@@ -230,24 +251,8 @@ void RebuildWorker::rebuild(MapUpdate map, std::uint64_t generation) {
   const std::size_t points = map.points.size();
   const std::int64_t stamp_ns = map.stamp_ns;
   const Clock::time_point received = map.received;
-  std::optional<MapUpdate> retry;
-  if (fallback) retry = map;  // a copy only while the settings are untried
-  std::shared_ptr<const Snapshot> snapshot;
-  MapLayers layers;
-  std::string failure, refused;
-  try {
-    snapshot = build(std::move(map), settings, layers);
-  } catch (const std::exception& e) {
-    failure = e.what();
-  }
-  if (!failure.empty() && fallback) {
-    try {
-      snapshot = build(std::move(*retry), *fallback, layers);
-      refused.swap(failure);
-    } catch (const std::exception&) {
-      // The map fails with either: the map's fault, reported with the settings as set.
-    }
-  }
+  Attempt attempt = buildOrFallBack(std::move(map), settings, fallback);
+  auto& [snapshot, layers, failure, refused] = attempt;
   const double rebuild_ms = msSince(start);
   {
     std::lock_guard<std::mutex> lock(mutex_);

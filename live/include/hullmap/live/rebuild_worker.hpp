@@ -148,7 +148,17 @@ class RebuildWorker {
 
  private:
   void run();
+  /// A rebuild's outcome: built with the settings as set, or with the fallback (`refused`: why not
+  /// the former), or not at all (`failure`).
+  struct Attempt {
+    std::shared_ptr<const Snapshot> snapshot;
+    MapLayers layers;
+    std::string failure, refused;
+  };
+
   void rebuild(MapUpdate map, std::uint64_t generation);
+  Attempt buildOrFallBack(MapUpdate map, const NodeSettings& settings,
+                          const std::optional<NodeSettings>& fallback) const;
   std::shared_ptr<const Snapshot> build(MapUpdate map, const NodeSettings& settings, MapLayers& layers) const;
   void publishMap(const std::shared_ptr<const Snapshot>& snapshot, MapLayers layers, std::int64_t stamp_ns,
                   std::uint64_t generation);
