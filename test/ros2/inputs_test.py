@@ -6,6 +6,7 @@ own: each follows the reliability and durability of the publishers on its topic,
 """
 import os
 import struct
+import subprocess
 import sys
 import unittest
 
@@ -78,6 +79,35 @@ class FollowingPublishers(unittest.TestCase):
         finally:
             node.stop()
             client.node.destroy_publisher(pub)
+
+
+class BigMapsConfig(unittest.TestCase):
+    def test_the_packages_cyclonedds_config_keeps_dds_on_loopback_and_a_node_runs_with_it(self):
+        import xml.etree.ElementTree as ET
+        from sensor_msgs.msg import PointCloud2
+        prefix = subprocess.run(["ros2", "pkg", "prefix", "hullmap_ros2"], capture_output=True, text=True,
+                                check=True).stdout.strip()
+        config = os.path.join(prefix, "share", "hullmap_ros2", "config", "cyclonedds_big_maps.xml")
+        domain = ET.parse(config).getroot().find("Domain")
+        self.assertEqual(domain.find("General/AllowMulticast").text, "false")
+        self.assertEqual([p.get("address") for p in domain.findall("Discovery/Peers/Peer")], ["127.0.0.1"])
+        # A min the kernel refuses would stop the node from starting: only a max.
+        self.assertIn(domain.find("Internal/SocketReceiveBufferSize").get("min"), (None, "default"))
+        points = boxes([(0, 0, 1), (2, 0, 1)])
+        expected = build_of(points, "big_maps_config")
+        given = os.environ["CYCLONEDDS_URI"]
+        os.environ["CYCLONEDDS_URI"] = "file://" + config  # the node's only: this client keeps the tests'
+        try:
+            node = HullmapNode(client, TMP, PARAMS, name="hullmap_big_maps_config")
+        finally:
+            os.environ["CYCLONEDDS_URI"] = given
+        try:
+            pub = client.publisher("/%s/cloud_in" % node.name, PointCloud2, best_effort=True)
+            node.send_until_taken(pub, cloud(points), "the cloud")
+            node.wait_idle(1)
+            wait_for("~/obstacles equal to hullmap build's", lambda: same_triangles(node.hull_triangles(), expected))
+        finally:
+            node.stop()
 
 
 class BigThenSmall(unittest.TestCase):
