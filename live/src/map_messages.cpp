@@ -136,4 +136,13 @@ bool normaliseKeyframes(std::vector<io::Keyframe>& keyframes) {
   return true;
 }
 
+std::uint64_t SequenceGaps::missed(const std::string& publisher, std::uint64_t sequence) {
+  auto [it, first] = last_.emplace(publisher, sequence);
+  if (first) return 0;
+  const std::uint64_t last = it->second;
+  if (sequence <= last) return 0;
+  it->second = sequence;
+  return sequence - last - 1;
+}
+
 }  // namespace hullmap::live

@@ -175,5 +175,18 @@ TEST(LiveKeyframes, NormalisedWhenFiniteRefusedWhole) {
   EXPECT_FALSE(normaliseKeyframes(nan));
 }
 
+TEST(LiveSequenceGaps, CountsTheNumbersSkippedPerPublisher) {
+  SequenceGaps gaps;
+  EXPECT_EQ(gaps.missed("a", 5), 0u);  // the first seen: nothing known before it
+  EXPECT_EQ(gaps.missed("a", 6), 0u);
+  EXPECT_EQ(gaps.missed("b", 1), 0u);
+  EXPECT_EQ(gaps.missed("a", 9), 2u);  // 7 and 8
+  EXPECT_EQ(gaps.missed("b", 2), 0u);  // b's numbers are its own
+  EXPECT_EQ(gaps.missed("a", 9), 0u);  // not newer: no gap, and the last stays 9
+  EXPECT_EQ(gaps.missed("a", 10), 0u);
+  gaps.clear();
+  EXPECT_EQ(gaps.missed("a", 20), 0u);
+}
+
 }  // namespace
 }  // namespace hullmap::live

@@ -1,7 +1,7 @@
 #include "hullmap/ros2/map_input.hpp"
 
-#include <algorithm>
-#include <iterator>
+#include <cstdint>
+#include <string>
 
 namespace hullmap::ros2 {
 
@@ -17,16 +17,11 @@ InputQos matchPublishers(const std::vector<rclcpp::TopicEndpointInfo>& publisher
   return qos;
 }
 
-std::size_t SequenceGaps::missed(const rmw_message_info_t& info) {
+std::size_t missedBefore(live::SequenceGaps& gaps, const rmw_message_info_t& info) {
   const std::uint64_t sequence = info.publication_sequence_number;
-  if (sequence == RMW_MESSAGE_INFO_SEQUENCE_NUMBER_UNSUPPORTED || sequence == 0) return 0;
-  std::array<std::uint8_t, RMW_GID_STORAGE_SIZE> gid{};
-  std::copy(std::begin(info.publisher_gid.data), std::end(info.publisher_gid.data), gid.begin());
-  auto [it, first] = last_.emplace(gid, sequence);
-  if (first) return 0;
-  const std::uint64_t last = it->second;
-  it->second = sequence;
-  return sequence > last + 1 ? std::size_t(sequence - last - 1) : 0;
+  if (sequence == RMW_MESSAGE_INFO_SEQUENCE_NUMBER_UNSUPPORTED) return 0;
+  const auto* gid = reinterpret_cast<const char*>(info.publisher_gid.data);
+  return static_cast<std::size_t>(gaps.missed(std::string(gid, RMW_GID_STORAGE_SIZE), sequence));
 }
 
 std::string describe(const InputQos& qos) {

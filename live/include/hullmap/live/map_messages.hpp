@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <iterator>
 #include <optional>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -147,6 +148,21 @@ class TopicMap {
   BagMap map_;
   OrbSlamMapMarkers markers_;
   bool clouds_ = false;
+};
+
+/// Messages a subscription never got, from the gaps in each publisher's sequence numbers (1, 2, ...
+/// per publisher, as DDS numbers a writer's samples): what the transport lost, or a full queue
+/// dropped, told when the next message of that publisher arrives. Not thread-safe.
+class SequenceGaps {
+ public:
+  /// Messages of `publisher` (any id that names it, a GID's bytes) missed between its last message
+  /// seen here and this one, numbered `sequence`; 0 for its first, and for one not newer.
+  std::uint64_t missed(const std::string& publisher, std::uint64_t sequence);
+  /// Forgets every publisher (a new subscription starts counting afresh).
+  void clear() { last_.clear(); }
+
+ private:
+  std::map<std::string, std::uint64_t> last_;
 };
 
 /// Keyframe poses as a topic gave them, checked: false (and `keyframes` left as given) when a

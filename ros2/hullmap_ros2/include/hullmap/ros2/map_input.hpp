@@ -1,15 +1,14 @@
 #pragma once
 
 #include <cstddef>
-#include <array>
-#include <cstdint>
 #include <functional>
-#include <map>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <rclcpp/rclcpp.hpp>
+
+#include "hullmap/live/map_messages.hpp"
 
 namespace hullmap::ros2 {
 
@@ -29,23 +28,16 @@ InputQos matchPublishers(const std::vector<rclcpp::TopicEndpointInfo>& publisher
 /// "reliable, volatile": a QoS in words, for the log.
 std::string describe(const InputQos& qos);
 
-/// Messages a subscription never got, from the gaps in each publisher's sequence numbers: what
-/// the middleware lost in transport (best effort) or dropped from a full queue, told when the next
-/// message of that publisher arrives. Middlewares that give no sequence numbers count nothing.
-class SequenceGaps {
- public:
-  /// Messages of `info`'s publisher missed since its last one seen here.
-  std::size_t missed(const rmw_message_info_t& info);
-
- private:
-  std::map<std::array<std::uint8_t, RMW_GID_STORAGE_SIZE>, std::uint64_t> last_;  // publisher GID -> sequence
-};
+/// Messages of `info`'s publisher that `gaps` says were missed before this one (0 where the
+/// middleware gives no sequence numbers, as CycloneDDS under Humble).
+std::size_t missedBefore(live::SequenceGaps& gaps, const rmw_message_info_t& info);
 
 /// A map input (`/ORB_SLAM/Map`, `~/cloud_in`, `~/keyframes`) whose subscription follows the QoS of
 /// the publishers on its topic: follow() re-creates it when they ask for another reliability or
 /// durability (a reliable publisher's big map then arrives whole, retransmitted). A reliability or
-/// durability the user gave through the QoS overrides is kept, never followed. Lost messages (rclcpp's
-/// message-lost event, best effort only) go to `on_lost`. Use from the node's executor only.
+/// durability the user gave through the QoS overrides is kept, never followed. Messages missed (rclcpp's
+/// message-lost event; the gaps in a publisher's sequence numbers) go to `on_lost`. Use from the
+/// node's executor only.
 template <typename Message>
 class MapInput {
  public:
@@ -113,11 +105,11 @@ class MapInput {
 
   void subscribe(const rclcpp::QoS& qos, rclcpp::SubscriptionOptions options) {
     auto callback = [this](const Message& m, const rclcpp::MessageInfo& info) {
-      const std::size_t missed = gaps_.missed(info.get_rmw_message_info());
+      const std::size_t missed = missedBefore(gaps_, info.get_rmw_message_info());
       if (missed > 0 && on_lost_) on_lost_(topic_, missed, qos_);
       on_message_(m);
     };
-    gaps_ = SequenceGaps();
+    gaps_.clear();
     try {
       subscription_ = node_.create_subscription<Message>(topic_.empty() ? name_ : topic_, qos, callback, options);
     } catch (const rclcpp::UnsupportedEventTypeException&) {
@@ -140,7 +132,7 @@ class MapInput {
   std::string name_;   // as given ("~/cloud_in")
   std::string topic_;  // resolved ("/hullmap/cloud_in")
   bool fixed_reliability_ = false, fixed_durability_ = false;
-  SequenceGaps gaps_;
+  live::SequenceGaps gaps_;
   InputQos qos_;
   typename rclcpp::Subscription<Message>::SharedPtr subscription_;
 };
