@@ -47,10 +47,10 @@ std::vector<ParameterSpec> makeParameters() {
   specs.push_back(
       number("resolution", octree.resolution, "octree leaf size, map units", "from 0.0001 to 1000", 1e-4, 1e3));
   auto eps = words("eps", ParameterKind::kWordOrNumber, "auto", {"auto"},
-                   "DBSCAN radius, map units; auto: chosen from the map", "a number > 0 and <= 1000, or auto");
+                   "DBSCAN radius, map units; auto: chosen from the map",
+                   "a number > 0 and at most " + std::to_string(kMaxEpsVoxels) + " times resolution, or auto");
   eps.min = 0.0;
   eps.min_open = true;
-  eps.max = 1e3;
   specs.push_back(eps);
   auto min_pts =
       words("min_pts", ParameterKind::kWordOrNumber, "auto", {"auto"},
@@ -269,6 +269,13 @@ NodeSettings readSettings(const ParameterValues& values, Checking checking, cons
   // eps and min_pts: a number, or "auto" (the default: chosen from the map, as hullmap build).
   const std::string eps = r.wordOrNumber("eps", "auto");
   if (eps != "auto") p.eps = r.numberText("eps", eps);
+  if (checking == Checking::kStrict && p.eps && *p.eps > kMaxEpsVoxels * p.octree.resolution) {
+    throw r.bad("eps", "must be at most " + std::to_string(kMaxEpsVoxels) + " times resolution (" +
+                           valueText(kMaxEpsVoxels * p.octree.resolution) + " at resolution " +
+                           valueText(p.octree.resolution) + "), got " + eps +
+                           ": a radius of more voxels joins the map into a few clusters at a cost that grows with "
+                           "its cube");
+  }
   const std::string min_pts = r.wordOrNumber("min_pts", "auto");
   if (min_pts != "auto") {
     std::size_t used = 0;
