@@ -68,19 +68,19 @@ std::vector<ParameterSpec> makeParameters() {
                         "auto, on or off"));
   specs.push_back(words("ceiling", ParameterKind::kWordOrNumber, "none", {"auto", "none"},
                         "the ceiling: none, auto, or its height in the map frame", "auto, none, or a height"));
-  auto concavity = words("concavity", ParameterKind::kWordOrNumber, "default", {"default", "none"},
-                         "convex parts no farther than this from their voxels, map units; default: 3 voxels; none: "
-                         "one hull per cluster",
-                         "a number > 0 and <= 1000, default, or none");
+  auto concavity =
+      words("concavity", ParameterKind::kWordOrNumber, "default", {"default", "none"},
+            "convex parts no farther than this from their voxels, map units; default: 3 voxels; none: "
+            "one hull per cluster",
+            "a number > 0 and at most " + std::to_string(kMaxEpsVoxels) + " times resolution, default, or none");
   concavity.min = 0.0;
   concavity.min_open = true;
-  concavity.max = 1e3;
   specs.push_back(concavity);
-  auto flat_gap = words("flat_gap", ParameterKind::kWordOrNumber, "auto", {"auto"},
-                        "gap a flat convex part may span, map units; auto: the eps used; 0: off",
-                        "a number from 0 to 1000, or auto; not with concavity none");
+  auto flat_gap = words(
+      "flat_gap", ParameterKind::kWordOrNumber, "auto", {"auto"},
+      "gap a flat convex part may span, map units; auto: the eps used; 0: off",
+      "a number from 0 to " + std::to_string(kMaxEpsVoxels) + " times resolution, or auto; not with concavity none");
   flat_gap.min = 0.0;
-  flat_gap.max = 1e3;
   specs.push_back(flat_gap);
   specs.push_back(words("extension", ParameterKind::kWord, "auto", {"auto", "on", "off"},
                         "the cluster extension after DBSCAN; auto: on when min_pts is auto", "auto, on or off"));
@@ -200,6 +200,15 @@ class Reader {
     return value;
   }
 
+  /// A length that the build's work grows with (in voxels: `value / resolution`): at most kMaxEpsVoxels.
+  void checkVoxels(const std::string& name, double value, double resolution) const {
+    const double most = kMaxEpsVoxels * resolution;
+    if (value <= most) return;
+    throw bad(name, "must be at most " + std::to_string(kMaxEpsVoxels) + " times resolution (" + valueText(most) +
+                        " at resolution " + valueText(resolution) + "), got " + valueText(value) +
+                        ": the rebuild's work grows with the cube of a length in voxels");
+  }
+
   /// Rethrows a parser's hullmap::Error as about prefix + name.
   template <typename Parse>
   auto parsed(const std::string& name, const std::string& text, Parse&& parse) const {
@@ -269,13 +278,7 @@ NodeSettings readSettings(const ParameterValues& values, Checking checking, cons
   // eps and min_pts: a number, or "auto" (the default: chosen from the map, as hullmap build).
   const std::string eps = r.wordOrNumber("eps", "auto");
   if (eps != "auto") p.eps = r.numberText("eps", eps);
-  if (checking == Checking::kStrict && p.eps && *p.eps > kMaxEpsVoxels * p.octree.resolution) {
-    throw r.bad("eps", "must be at most " + std::to_string(kMaxEpsVoxels) + " times resolution (" +
-                           valueText(kMaxEpsVoxels * p.octree.resolution) + " at resolution " +
-                           valueText(p.octree.resolution) + "), got " + eps +
-                           ": a radius of more voxels joins the map into a few clusters at a cost that grows with "
-                           "its cube");
-  }
+  if (checking == Checking::kStrict && p.eps) r.checkVoxels("eps", *p.eps, p.octree.resolution);
   const std::string min_pts = r.wordOrNumber("min_pts", "auto");
   if (min_pts != "auto") {
     std::size_t used = 0;
@@ -308,6 +311,7 @@ NodeSettings readSettings(const ParameterValues& values, Checking checking, cons
   } else if (concavity != "default") {
     const double t = r.numberText("concavity", concavity);
     if (!(t > 0.0)) throw r.bad("concavity", "must be > 0, default or none");
+    if (checking == Checking::kStrict) r.checkVoxels("concavity", t, p.octree.resolution);
     p.convex_parts->concavity = t;
   }
   // flat_gap: auto (the eps used), 0 (off) or a length; a number cannot apply without convex parts.
@@ -319,6 +323,7 @@ NodeSettings readSettings(const ParameterValues& values, Checking checking, cons
       throw r.bad("flat_gap", "applies only to convex parts, and " + prefix +
                                   "concavity none makes one hull per cluster; leave it auto");
     }
+    if (checking == Checking::kStrict) r.checkVoxels("flat_gap", g, p.octree.resolution);
     p.convex_parts->flat_gap = g;
   }
   // extension: auto (on when min_pts is auto), on or off, as `hullmap build --extension`. ROS 2's

@@ -138,11 +138,13 @@ TEST(LiveNodeParams, TheTablesRangesAreWhatStrictReadingChecks) {
   }
   EXPECT_EQ(errorOf({{"clamp_min", 0.9}, {"clamp_max", 0.8}}, Checking::kStrict).rfind("clamp_min: ", 0), 0u);
   EXPECT_EQ(errorOf({{"min_pts", 2.5}}, Checking::kStrict).rfind("min_pts: ", 0), 0u);
-  // eps: at most kMaxEpsVoxels resolutions, the resolution as given.
-  EXPECT_EQ(errorOf({{"eps", 0.05 * kMaxEpsVoxels}}, Checking::kStrict), "");
-  EXPECT_EQ(errorOf({{"eps", 0.05 * kMaxEpsVoxels * 1.001}}, Checking::kStrict).rfind("eps: ", 0), 0u);
-  EXPECT_EQ(errorOf({{"eps", 1.5}, {"resolution", 0.1}}, Checking::kStrict), "");
-  EXPECT_EQ(errorOf({{"eps", 1000.0}}, Checking::kParse), "");  // ROS 1: the build's numbers as given
+  // eps, concavity and flat_gap: at most kMaxEpsVoxels resolutions, the resolution as given.
+  for (const std::string name : {"eps", "concavity", "flat_gap"}) {
+    EXPECT_EQ(errorOf({{name, 0.05 * kMaxEpsVoxels}}, Checking::kStrict), "") << name;
+    EXPECT_EQ(errorOf({{name, 0.05 * kMaxEpsVoxels * 1.001}}, Checking::kStrict).rfind(name + ": ", 0), 0u) << name;
+    EXPECT_EQ(errorOf({{name, 1.5}, {"resolution", 0.1}}, Checking::kStrict), "") << name;
+    EXPECT_EQ(errorOf({{name, 1000.0}}, Checking::kParse), "") << name;  // ROS 1: the build's numbers as given
+  }
   EXPECT_EQ(
       errorOf({{"resolution", std::numeric_limits<double>::quiet_NaN()}}, Checking::kStrict).rfind("resolution: ", 0),
       0u);

@@ -21,7 +21,7 @@ BUILD_ARGS = ["--resolution", "0.05", "--eps", "0.1", "--min-pts", "5", "--floor
 
 # One value outside its documented range (docs/ROS.md, Parameters) for every parameter of the node.
 BAD = [("resolution", 1e-09), ("resolution", 2000.0), ("eps", 1.5), ("eps", "abc"), ("min_pts", 0),
-       ("floor", "sideways"), ("level", "maybe"), ("ceiling", "up"), ("concavity", -1.0), ("flat_gap", 0.2),
+       ("floor", "sideways"), ("level", "maybe"), ("ceiling", "up"), ("concavity", -1.0), ("concavity", 5.0), ("flat_gap", 0.2),
        ("extension", "maybe"), ("stray_parts", -1), ("sparse_edges", "sometimes"), ("metric", "manhattan"),
        ("up", "w"), ("scale", 0.0), ("scale", 1e7), ("z_min", float("inf")), ("z_max", float("nan")),
        ("hit", 1.0), ("miss", 0.0), ("clamp_min", 0.99), ("clamp_max", 0.1), ("occupancy_threshold", 1.5),

@@ -62,8 +62,8 @@ struct ParameterSpec {
   bool live = true;    ///< a change applies at the next rebuild; false: only at start
 };
 
-/// The largest eps the strict reading takes, in voxels (resolution): DBSCAN's work grows with the
-/// cube of eps / resolution (a 1M-point room: 1 s at 5 voxels, 10 s at 20, minutes beyond).
+/// The largest eps, concavity and flat_gap the strict reading takes, in voxels (resolution): the
+/// build's work grows steeply with each beyond (docs/ROS.md, Parameters).
 inline constexpr int kMaxEpsVoxels = 20;
 
 /// Every parameter of the node, in the order docs/ROS.md lists them.
