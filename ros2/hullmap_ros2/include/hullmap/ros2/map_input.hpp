@@ -17,7 +17,6 @@ struct InputQos {
   bool reliable = false;         ///< false: best effort
   bool transient_local = false;  ///< false: volatile
   bool operator==(const InputQos& o) const { return reliable == o.reliable && transient_local == o.transient_local; }
-  bool operator!=(const InputQos& o) const { return !(*this == o); }
 };
 
 /// What matches every one of `publishers` (rosbag2's rule): reliable when all offer reliable,
@@ -92,7 +91,6 @@ class MapInput {
 
   const std::string& topic() const { return topic_; }
   const InputQos& qos() const { return qos_; }
-  void reset() { subscription_.reset(); }
 
  private:
   rclcpp::SubscriptionOptions optionsWithEvents() {
