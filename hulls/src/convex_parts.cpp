@@ -214,11 +214,9 @@ class StrayRule {
     std::size_t kept = parts.size();
     for (std::size_t k = 0; k < parts.size(); ++k) {
       const auto& part = parts[k];
-      if (part.size() > std::max(rule_.max_voxels, rule_.max_coreless_voxels)) continue;
+      if (part.size() > rule_.max_voxels) continue;
       const auto core = std::count_if(part.begin(), part.end(), [&](std::size_t i) { return rule_.core[i] != 0; });
-      const bool small = part.size() <= rule_.max_voxels && std::size_t(core) <= rule_.max_core_voxels;
-      const bool coreless = core == 0 && part.size() <= rule_.max_coreless_voxels;
-      if (!small && !coreless) continue;
+      if (std::size_t(core) > rule_.max_core_voxels) continue;
       if (std::any_of(part.begin(), part.end(), [&](std::size_t i) { return supported(centers[i]); })) continue;
       out[k] = 1;
       --kept;

@@ -530,23 +530,21 @@ TEST(ConvexParts, FaceHoleRuleDoesNotLiftAWallToAClump) {
   expectWithinConcavity(c, 0.15, params);
 }
 
-/// The stray-part rule's oracle: from the parts made without it, those of at most max_voxels voxels
-/// and at most max_core_voxels core (or of at most max_coreless_voxels and no core), none within
-/// reach of a support point, of an obstacle with another part that stays.
+/// The stray-part rule's oracle: from the parts made without it, those of at most max_voxels voxels,
+/// at most max_core_voxels core, none within reach of a support point, of an obstacle with another
+/// part that stays.
 std::set<std::size_t> expectedStrays(const Split& plain, const StrayParts& rule, double reach) {
   std::set<std::size_t> out;
   const auto groups = splitConvexParts(plain.centers, kVoxel, {});
   std::vector<std::vector<std::size_t>> stray;
   for (const auto& g : groups) {
-    bool off_support = true;
+    bool drop = g.size() <= rule.max_voxels;
     std::size_t core = 0;
     for (const auto i : g) {
       core += rule.core[i] ? 1 : 0;
-      for (const auto& s : rule.support) off_support = off_support && (plain.centers[i] - s).norm() > reach;
+      for (const auto& s : rule.support) drop = drop && (plain.centers[i] - s).norm() > reach;
     }
-    const bool small = g.size() <= rule.max_voxels && core <= rule.max_core_voxels;
-    const bool coreless = core == 0 && g.size() <= rule.max_coreless_voxels;
-    const bool drop = off_support && (small || coreless);
+    drop = drop && core <= rule.max_core_voxels;
     if (drop) stray.push_back(g);
   }
   if (groups.size() < 2 || stray.size() == groups.size()) return out;
@@ -563,34 +561,29 @@ TEST(ConvexParts, StrayPartsDropsOnlySmallBorderPartsOffTheSupport) {
   c.push_back(center(5, 8, 10));   // a pair, both core: kept
   c.push_back(center(6, 8, 10));
   c.push_back(center(32, 8, 1));      // a lone border voxel a voxel above the floor: kept
-  addBox(c, 12, 14, 11, 13, 18, 19);  // a clump of 4 voxels, one core: kept (more than 3)
-  const std::size_t coreless = c.size();
-  addBox(c, 26, 31, 11, 12, 16, 17);  // a row of 5 border voxels, no core at all: dropped
+  addBox(c, 12, 14, 11, 13, 18, 19);  // a clump of 4 border voxels: kept (more than 3)
   StrayParts rule;
   rule.core.assign(c.size(), 0);
   std::fill(rule.core.begin(), rule.core.begin() + std::ptrdiff_t(wall), 1);
   rule.core[wall + 1] = 1;
   rule.core[wall + 2] = 1;
-  rule.core[wall + 4] = 1;
   for (int i = 25; i < 40; ++i) rule.support.push_back(center(i, 8, -1));  // the floor's voxels there
   const Split plain = splitOne(c);
-  ASSERT_EQ(plain.obstacles[0].parts.size(), 6u);
+  ASSERT_EQ(plain.obstacles[0].parts.size(), 5u);
 
-  std::vector<std::size_t> dropped{wall};
-  for (std::size_t i = coreless; i < c.size(); ++i) dropped.push_back(i);
   Split s = plain;
   s.obstacles = buildObstacles(c, {}, s.labels, kVoxel);
   s.summary = addConvexParts(s.obstacles, c, {}, s.labels, kVoxel, {}, {}, &rule);
-  EXPECT_EQ(s.summary.stray_parts, 2u);
-  EXPECT_EQ(s.summary.stray_voxels, dropped);
+  EXPECT_EQ(s.summary.stray_parts, 1u);
+  EXPECT_EQ(s.summary.stray_voxels, std::vector<std::size_t>{wall});
   const auto expected = expectedStrays(plain, rule, 2 * defaultConcavity(kVoxel));
   EXPECT_EQ(std::set<std::size_t>(s.summary.stray_voxels.begin(), s.summary.stray_voxels.end()), expected);
   const Obstacle& o = s.obstacles[0];
   EXPECT_EQ(o.parts.size(), 4u);
-  EXPECT_EQ(o.voxel_count, c.size() - dropped.size());
+  EXPECT_EQ(o.voxel_count, c.size() - 1);
   // The whole obstacle is made again from the voxels it keeps, as buildObstacles makes it.
   std::vector<std::int32_t> kept_labels = s.labels;
-  for (const std::size_t i : dropped) kept_labels[i] = kNoise;
+  kept_labels[wall] = kNoise;
   const Obstacle again = buildObstacles(c, {}, kept_labels, kVoxel)[0];
   EXPECT_NEAR(o.volume, again.volume, 1e-12);
   EXPECT_TRUE(o.aabb_min.isApprox(again.aabb_min) && o.aabb_max.isApprox(again.aabb_max));
@@ -614,15 +607,8 @@ TEST(ConvexParts, StrayPartsDropsOnlySmallBorderPartsOffTheSupport) {
   Split t = plain;
   t.obstacles = buildObstacles(c, {}, t.labels, kVoxel);
   t.summary = addConvexParts(t.obstacles, c, {}, t.labels, kVoxel, {}, {}, &one_core);
-  std::vector<std::size_t> with_pair{wall, wall + 1, wall + 2};
-  with_pair.insert(with_pair.end(), dropped.begin() + 1, dropped.end());
-  EXPECT_EQ(t.summary.stray_voxels, with_pair);
+  EXPECT_EQ(t.summary.stray_voxels, (std::vector<std::size_t>{wall, wall + 1, wall + 2}));
   one_core.max_core_voxels = 0;
-  t.obstacles = buildObstacles(c, {}, t.labels, kVoxel);
-  t.summary = addConvexParts(t.obstacles, c, {}, t.labels, kVoxel, {}, {}, &one_core);
-  EXPECT_EQ(t.summary.stray_voxels, dropped);
-  // Without the coreless rule the row of 5 stays.
-  one_core.max_coreless_voxels = 0;
   t.obstacles = buildObstacles(c, {}, t.labels, kVoxel);
   t.summary = addConvexParts(t.obstacles, c, {}, t.labels, kVoxel, {}, {}, &one_core);
   EXPECT_EQ(t.summary.stray_voxels, std::vector<std::size_t>{wall});

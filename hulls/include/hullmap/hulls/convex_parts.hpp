@@ -70,9 +70,9 @@ struct KnownFreeSpace {
 };
 
 /// The stray-part rule of addConvexParts (off unless given). A part of at most `max_voxels` voxels,
-/// at most `max_core_voxels` of them DBSCAN core voxels (or of at most `max_coreless_voxels` voxels,
-/// none of them core), of an obstacle that has other parts, and with no `support` voxel within
-/// `support_reach` of any of its voxels, is dropped, and its voxels leave the obstacle.
+/// at most `max_core_voxels` of them DBSCAN core voxels, of an obstacle that has other parts, and
+/// with no `support` voxel within `support_reach` of any of its voxels, is dropped, and its voxels
+/// leave the obstacle.
 /// Why: the eps that connects a sparse map's surfaces also makes a stray map point (or a small clump
 /// of them) up to 1.5 eps in front of a wall a border point of the wall's cluster; the outlier trim
 /// (clustering/outlier_trim.hpp) takes back the lone ones off a flat patch, but not those by a corner,
@@ -85,7 +85,6 @@ struct KnownFreeSpace {
 struct StrayParts {
   std::size_t max_voxels = 3;
   std::size_t max_core_voxels = 1;
-  std::size_t max_coreless_voxels = 8;   ///< a part with no core voxel at all is a stray up to this size
   std::vector<std::uint8_t> core;        ///< per voxel of addConvexParts' `centers`: 1 when DBSCAN core
   std::vector<Eigen::Vector3d> support;  ///< voxels that hold structure up: the floor's, ceiling's, ground's
   double support_reach = 0.0;            ///< map units; 0: 2 T
