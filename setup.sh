@@ -42,12 +42,12 @@ if [ "$mode" = test ]; then
   # The Python module (python/) and its pytest suite: pybind11 and the headers to build it, pytest,
   # venv and pip for the offline pip install test, Open3D for Map.to_open3d.
   packages+=(pybind11-dev python3-dev python3-pytest python3-venv python3-pip python3-open3d)
-  # hullmap view's test/view_browser_test.py: headless Chromium driven by selenium (python3-pil reads
+  # hullmap view's test/view/browser_test.py: headless Chromium driven by selenium (python3-pil reads
   # its screenshots).
   packages+=(chromium chromium-driver python3-selenium python3-pil)
   # ROS1 (Debian's): hullmap_node and bag input are built only when found, so the tests install them;
   # pluginlib-dev holds headers that rosbag/bag.h includes; the python3-* message modules, rospy,
-  # rosbag and ros-core (rosmaster) are what test/ros_*.py publish, record and run with.
+  # rosbag and ros-core (rosmaster) are what test/ros/*_test.py publish, record and run with.
   packages+=(ros-core libroscpp-dev librosbag-storage-dev pluginlib-dev libstd-msgs-dev libgeometry-msgs-dev
              libsensor-msgs-dev libnav-msgs-dev libvisualization-msgs-dev libstd-srvs-dev
              python3-rospy python3-rosbag python3-yaml python3-std-msgs python3-geometry-msgs

@@ -23,7 +23,7 @@ import tempfile
 import time
 
 here = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(here, "..", "test"))
+sys.path.insert(0, os.path.join(here, "..", "test", "view"))
 import headless_chromium  # noqa: E402
 
 if len(sys.argv) < 2:

@@ -15,7 +15,7 @@ import tempfile
 
 here = os.path.dirname(os.path.abspath(__file__))
 root = os.path.join(here, "..", "..")
-sys.path.insert(0, os.path.join(root, "test"))
+sys.path.insert(0, os.path.join(root, "test", "view"))
 import headless_chromium  # noqa: E402
 
 hullmap = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else os.path.join(root, "build", "cli", "hullmap"))

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (clang, ASan + UBSan, coverage instrumentation) in the sanitized tree
-# build-asan that test/sanitize.sh uses too (test/sanitized_build.sh), and runs each for SECONDS,
+# build-asan that test/scripts/sanitize.sh uses too (test/scripts/sanitized_build.sh), and runs each for SECONDS,
 # starting from the seed corpus test/fuzz/corpus/<target>/.
 #
 #   test/fuzz/run.sh SECONDS [target...]     e.g. test/fuzz/run.sh 20;  test/fuzz/run.sh 240 pcd ply
@@ -11,7 +11,7 @@
 # etc. and fails the script. The last line of each target's log (build-asan/fuzz/logs/<target>.log)
 # gives executions and coverage (cov:, ft:).
 # Environment: BUILD_DIR (default <repo>/build-asan), JOBS (build parallelism, and how many fuzzers
-# run at once; default 2), EXTRA_CMAKE_ARGS (as test/sanitized_build.sh).
+# run at once; default 2), EXTRA_CMAKE_ARGS (as test/scripts/sanitized_build.sh).
 set -euo pipefail
 
 seconds=${1:?usage: test/fuzz/run.sh SECONDS [target...]}
@@ -25,7 +25,7 @@ targets=("$@")
 
 declare -A max_len=([text]=4096 [orbslam_echo]=8192 [pcd]=4096 [ply]=4096 [points]=8192 [tum]=2048 [bt]=2048)
 
-BUILD_DIR=$build "$root/test/sanitized_build.sh" "${targets[@]/#/fuzz_}"
+BUILD_DIR=$build "$root/test/scripts/sanitized_build.sh" "${targets[@]/#/fuzz_}"
 
 out=$build/fuzz  # corpus/, logs/, artifacts/
 mkdir -p "$out/logs" "$out/artifacts"

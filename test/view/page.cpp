@@ -1,6 +1,6 @@
 // hullmap::view: the page's data decoded back (base64 typed arrays) and compared with what it was
 // made from; voxel merging against a brute-force oracle; three.js inlined; errors. The page in a real
-// browser is test/view_browser_test.py.
+// browser is test/view/browser_test.py.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

@@ -38,7 +38,7 @@ Points readXyz(const std::string& path) {
   return points;
 }
 
-/// Runs test/clustering_sklearn_dbscan.py; false (with `why`) when scikit-learn cannot be run.
+/// Runs test/clustering/sklearn_dbscan.py; false (with `why`) when scikit-learn cannot be run.
 bool sklearnDbscan(const Points& points, const DbscanParams& params, std::vector<std::int32_t>& labels,
                    std::vector<std::uint8_t>& core, std::string& why) {
   const auto dir = test::freshDir("sklearn_dbscan");
@@ -55,7 +55,7 @@ bool sklearnDbscan(const Points& points, const DbscanParams& params, std::vector
   }
   std::ostringstream command;
   command.precision(17);
-  command << "'" << python << "' '" << HULLMAP_SOURCE_DIR << "/test/clustering_sklearn_dbscan.py' '" << file << "' "
+  command << "'" << python << "' '" << HULLMAP_SOURCE_DIR << "/test/clustering/sklearn_dbscan.py' '" << file << "' "
           << params.eps << ' ' << params.min_pts << ' ' << toString(params.metric) << " 2>&1";
   FILE* pipe = popen(command.str().c_str(), "r");
   if (!pipe) {

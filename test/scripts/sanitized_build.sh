@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Configures and builds the sanitized tree that test/sanitize.sh and test/fuzz/run.sh share
+# Configures and builds the sanitized tree that test/scripts/sanitize.sh and test/fuzz/run.sh share
 # (build-asan):
 #   - clang, AddressSanitizer + UndefinedBehaviorSanitizer on every target (HULLMAP_SANITIZE=ON);
 #   - -O1 with line tables only (-gline-tables-only): a report names function, file and line, as with
@@ -15,13 +15,13 @@
 # sanitized code faster (one CLI file: 26 s with gcc -O1 -g, 9 s with clang -O1 -gline-tables-only;
 # clustering's obstacles.cpp: 58 s against 33 s). CI builds this tree once, from nothing.
 #
-#   test/sanitized_build.sh [target...]      no target: everything
+#   test/scripts/sanitized_build.sh [target...]      no target: everything
 #
 # Environment: BUILD_DIR (default <repo>/build-asan), JOBS (build parallelism, default 2),
 # EXTRA_CMAKE_ARGS (more configure arguments, split on spaces).
 set -euo pipefail
 
-root=$(cd "$(dirname "$0")/.." && pwd)
+root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${BUILD_DIR:-$root/build-asan}
 jobs=${JOBS:-2}
 targets=()

@@ -1,7 +1,7 @@
 """Debian's Chromium, headless, driven by Debian's python3-selenium and chromium-driver: loads a page of
 `hullmap view` from file:// and reads it back (its window.hullmapView summary, its errors, a screenshot).
 
-Used by test/view_browser_test.py, bench/view_scale.py and docs/img/view_picture.py. The flags are the
+Used by test/view/browser_test.py, bench/view_scale.py and docs/img/view_picture.py. The flags are the
 ones known to render WebGL in a container without a GPU or a display: software WebGL (SwiftShader
 through ANGLE), no sandbox, nothing fetched from the network, a fresh profile each time.
 """
