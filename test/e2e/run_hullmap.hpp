@@ -18,6 +18,9 @@ struct CommandResult {
   std::string err;
 };
 
+/// `p` in single quotes, for a shell command line.
+inline std::string quoted(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+
 /// Runs `command` (a shell command line without output redirections), capturing both streams.
 inline CommandResult runShell(const std::string& command) {
   static int counter = 0;

@@ -1,6 +1,6 @@
 // hullmap view: the subcommand on a build directory (what it prints and writes, its errors), and its
 // path checks against `hullmap check --json`. The page itself is tested in Chromium by
-// test/view_browser_test.py, its data by test/view/page.cpp.
+// test/view/browser_test.py, its data by test/view/page.cpp.
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -17,11 +17,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using hullmap::test::expectOneLineError;
+using hullmap::test::quoted;
 using hullmap::test::runHullmap;
 using hullmap::test::slurp;
 using nlohmann::json;
-
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 
 bool haveThree() { return fs::exists(fs::path(hullmap::view::kThreeDir) / "three.min.js"); }
 
@@ -39,8 +38,9 @@ fs::path builtScene(const std::string& name) {
   params.obstacles = 4;
   params.seed = 3;
   hullmap::sim::writeScene(hullmap::sim::generateScene(params), params, dir.string());
-  const auto r = runHullmap("build " + q(dir / "map_points.txt") + " --trajectory " +
-                            q(dir / "KeyFrameTrajectory.txt") + " --up -y --eps 0.12 --min-pts 5 -o " + q(dir / "out"));
+  const auto r =
+      runHullmap("build " + quoted(dir / "map_points.txt") + " --trajectory " + quoted(dir / "KeyFrameTrajectory.txt") +
+                 " --up -y --eps 0.12 --min-pts 5 -o " + quoted(dir / "out"));
   EXPECT_EQ(r.status, 0) << r.err;
   return dir;
 }
@@ -63,7 +63,7 @@ void writeCrossingPath(const fs::path& file) {
 TEST(ViewCommand, WritesDirHtmlBesideTheBuildAndSaysWhatItDrew) {
   HULLMAP_REQUIRE_THREE();
   const fs::path dir = builtScene("view_default");
-  const auto r = runHullmap("view " + q(dir / "out/"));
+  const auto r = runHullmap("view " + quoted(dir / "out/"));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir / "out.html")) << "beside the directory, not in it";
   EXPECT_FALSE(fs::exists(dir / "out" / "out.html"));
@@ -75,8 +75,8 @@ TEST(ViewCommand, WritesDirHtmlBesideTheBuildAndSaysWhatItDrew) {
   EXPECT_EQ(r.out.rfind(first.str(), 0), 0u) << r.out;
   EXPECT_NE(r.out.find("wrote " + (dir / "out").string() + ".html"), std::string::npos) << r.out;
   // The build directory may still be replaced by the next build: view wrote nothing into it.
-  const auto again =
-      runHullmap("build " + q(dir / "map_points.txt") + " --up -y --eps 0.12 --min-pts 5 -o " + q(dir / "out"));
+  const auto again = runHullmap("build " + quoted(dir / "map_points.txt") + " --up -y --eps 0.12 --min-pts 5 -o " +
+                                quoted(dir / "out"));
   EXPECT_EQ(again.status, 0) << again.err;
 }
 
@@ -87,8 +87,8 @@ TEST(ViewCommand, PathsAreCheckedAsHullmapCheckChecksThem) {
   // A timed path as `plan --robots` writes it: its positions are the path.
   hullmap::test::writeText(dir / "timed.txt", "# t x y z\n0 -4.5 -4.5 2.9\n3 4.5 -4.5 2.9\n6 4.5 4.5 2.9\n");
   hullmap::test::writeText(dir / "timed_xyz.txt", "-4.5 -4.5 2.9\n4.5 -4.5 2.9\n4.5 4.5 2.9\n");
-  const auto r = runHullmap("view " + q(dir / "out") + " -o " + q(dir / "page.html") + " --path " +
-                            q(dir / "cross.txt") + " --path " + q(dir / "timed.txt") + " -r 0.2");
+  const auto r = runHullmap("view " + quoted(dir / "out") + " -o " + quoted(dir / "page.html") + " --path " +
+                            quoted(dir / "cross.txt") + " --path " + quoted(dir / "timed.txt") + " -r 0.2");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("2 paths (1 colliding)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("cross.txt: path collides: first contact on segment "), std::string::npos) << r.out;
@@ -96,7 +96,7 @@ TEST(ViewCommand, PathsAreCheckedAsHullmapCheckChecksThem) {
   ASSERT_EQ(data["paths"].size(), 2u);
   const char* files[] = {"cross.txt", "timed_xyz.txt"};
   for (int p = 0; p < 2; ++p) {
-    const auto check = runHullmap("check " + q(dir / "out") + " -r 0.2 --json --path " + q(dir / files[p]));
+    const auto check = runHullmap("check " + quoted(dir / "out") + " -r 0.2 --json --path " + quoted(dir / files[p]));
     ASSERT_EQ(check.status, p == 0 ? 1 : 0) << check.err;
     std::istringstream lines(check.out);
     std::size_t s = 0;
@@ -120,7 +120,8 @@ TEST(ViewCommand, PathsAreCheckedAsHullmapCheckChecksThem) {
 TEST(ViewCommand, MoreVoxelsThanMaxInstancesAreMergedAndSaid) {
   HULLMAP_REQUIRE_THREE();
   const fs::path dir = builtScene("view_merge");
-  const auto r = runHullmap("view " + q(dir / "out") + " -o " + q(dir / "page.html") + " --max-instances 300");
+  const auto r =
+      runHullmap("view " + quoted(dir / "out") + " -o " + quoted(dir / "page.html") + " --max-instances 300");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("voxels a side: more than --max-instances 300) at the finest level"), std::string::npos)
       << r.out;
@@ -132,31 +133,33 @@ TEST(ViewCommand, MoreVoxelsThanMaxInstancesAreMergedAndSaid) {
 TEST(ViewCommand, ErrorsNameTheFileOrOptionAndWriteNothing) {
   const fs::path dir = builtScene("view_errors");
   const fs::path page = dir / "page.html";
-  const std::string out = q(dir / "out");
-  expectOneLineError(runHullmap("view " + q(dir / "missing") + " -o " + q(page)), "missing is not a directory");
-  expectOneLineError(runHullmap("view " + out + " -o " + q(dir / "page.txt")),
+  const std::string out = quoted(dir / "out");
+  expectOneLineError(runHullmap("view " + quoted(dir / "missing") + " -o " + quoted(page)),
+                     "missing is not a directory");
+  expectOneLineError(runHullmap("view " + out + " -o " + quoted(dir / "page.txt")),
                      "-o " + (dir / "page.txt").string() + ": the page is HTML");
-  expectOneLineError(runHullmap("view " + out + " -o " + q(dir / "no/such/page.html")), "does not exist");
-  expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " --three-dir " + q(dir / "nothing")),
+  expectOneLineError(runHullmap("view " + out + " -o " + quoted(dir / "no/such/page.html")), "does not exist");
+  expectOneLineError(runHullmap("view " + out + " -o " + quoted(page) + " --three-dir " + quoted(dir / "nothing")),
                      "--three-dir: " + (dir / "nothing").string() + "/three.min.js not found");
-  expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " --three-dir " + q(dir / "nothing")),
+  expectOneLineError(runHullmap("view " + out + " -o " + quoted(page) + " --three-dir " + quoted(dir / "nothing")),
                      "libjs-three");
-  expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " --max-instances 0"), "--max-instances");
+  expectOneLineError(runHullmap("view " + out + " -o " + quoted(page) + " --max-instances 0"), "--max-instances");
   writeCrossingPath(dir / "cross.txt");
-  expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " --path " + q(dir / "cross.txt")), "--radius");
+  expectOneLineError(runHullmap("view " + out + " -o " + quoted(page) + " --path " + quoted(dir / "cross.txt")),
+                     "--radius");
   hullmap::test::writeText(dir / "bad.txt", "0 0 1\n1 1\n");
-  expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " -r 0.2 --path " + q(dir / "bad.txt")),
+  expectOneLineError(runHullmap("view " + out + " -o " + quoted(page) + " -r 0.2 --path " + quoted(dir / "bad.txt")),
                      (dir / "bad.txt").string() + ":2:");
   hullmap::test::writeText(dir / "one.txt", "0 0 1\n");
-  expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " -r 0.2 --path " + q(dir / "one.txt")),
+  expectOneLineError(runHullmap("view " + out + " -o " + quoted(page) + " -r 0.2 --path " + quoted(dir / "one.txt")),
                      "a path needs at least two waypoints");
-  expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " -r -1 --path " + q(dir / "cross.txt")),
+  expectOneLineError(runHullmap("view " + out + " -o " + quoted(page) + " -r -1 --path " + quoted(dir / "cross.txt")),
                      "--radius");
   hullmap::test::writeText(dir / "roadmap.json", "{\"format\": \"hullmap-roadmap/1\"");
-  expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " --roadmap " + q(dir / "roadmap.json")),
+  expectOneLineError(runHullmap("view " + out + " -o " + quoted(page) + " --roadmap " + quoted(dir / "roadmap.json")),
                      (dir / "roadmap.json").string());
   hullmap::test::writeText(dir / "truth.json", "{\"obstacles\": [{\"shape\": \"cone\"}]}");
-  expectOneLineError(runHullmap("view " + out + " -o " + q(page) + " --truth " + q(dir / "truth.json")),
+  expectOneLineError(runHullmap("view " + out + " -o " + quoted(page) + " --truth " + quoted(dir / "truth.json")),
                      (dir / "truth.json").string());
   EXPECT_FALSE(fs::exists(page));
   EXPECT_FALSE(fs::exists(dir / "page.txt"));
