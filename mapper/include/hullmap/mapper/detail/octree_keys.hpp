@@ -3,6 +3,7 @@
 // order, the batched tree update. Installed with the other headers, but detail: no stable API.
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -16,6 +17,14 @@ namespace hullmap::mapper::detail {
 inline std::uint64_t pack(const int key[3]) {
   return static_cast<std::uint64_t>(key[0]) | static_cast<std::uint64_t>(key[1]) << 16 |
          static_cast<std::uint64_t>(key[2]) << 32;
+}
+
+/// Set bits (SWAR: x86-64's baseline has no popcnt instruction).
+inline std::size_t bitCount(std::uint64_t v) {
+  v = v - ((v >> 1) & 0x5555555555555555ull);
+  v = (v & 0x3333333333333333ull) + ((v >> 2) & 0x3333333333333333ull);
+  v = (v + (v >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+  return static_cast<std::size_t>((v * 0x0101010101010101ull) >> 56);
 }
 
 /// Interleaves a packed key so that bits 3l..3l+2 are octomap's child index at level l
