@@ -26,30 +26,6 @@ std::string shortNum(double v) {
   return buf;
 }
 
-std::string escapeXml(const std::string& text) {
-  std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 // A step of 1, 2 or 5 times a power of ten close to range / target.
 double niceStep(double range, double target) {
   const double raw = range / target;

@@ -16,7 +16,6 @@ namespace hullmap::plot::detail {
 std::string num(double v, int decimals = 1);
 /// Shortest text that round-trips well enough for a caption ("0.1", "12", "0.05").
 std::string shortNum(double v);
-std::string escapeXml(const std::string& text);
 /// A step of 1, 2 or 5 times a power of ten close to range / target.
 double niceStep(double range, double target);
 /// Decimals that show a multiple of `step` exactly.

@@ -1,6 +1,7 @@
 // renderMapSvg: one map drawn as SVG (voxel cells, obstacle outlines, floor, roadmap, paths, scale
 // bar, captions). Just over 600 lines as one job: every part writes to the same viewport.
 #include "hullmap/core/convex_hull_2d.hpp"
+#include "hullmap/core/markup.hpp"
 #include "hullmap/plot/svg_plot.hpp"
 
 #include <algorithm>
@@ -112,13 +113,13 @@ void writeAxes(std::ostream& svg, const Viewport& vp, const std::string& x_name,
   }
   if (!x_name.empty()) {
     svg << "<text x=\"" << num(vp.left + vp.width() / 2) << "\" y=\"" << num(bottom + 2 * font + 12)
-        << "\" text-anchor=\"middle\">" << escapeXml(x_name) << "</text>\n";
+        << "\" text-anchor=\"middle\">" << core::escapeMarkup(x_name) << "</text>\n";
   }
   if (!y_name.empty()) {
     const double x = vp.left - 3.2 * font - 14;
     const double y = vp.top + vp.height() / 2;
     svg << "<text x=\"" << num(x) << "\" y=\"" << num(y) << "\" text-anchor=\"middle\" transform=\"rotate(-90 "
-        << num(x) << ' ' << num(y) << ")\">" << escapeXml(y_name) << "</text>\n";
+        << num(x) << ' ' << num(y) << ")\">" << core::escapeMarkup(y_name) << "</text>\n";
   }
   svg << "</g>\n";
 }
@@ -507,7 +508,7 @@ SvgPicture renderMapSvg(const MapPlot& plot) {
   body << "<g class=\"caption\" font-family=\"sans-serif\" font-size=\"" << num(font) << "\" fill=\"#111\">\n";
   for (const auto& line : caption) {
     y += font + 5;
-    body << "<text x=\"" << num(vp.left) << "\" y=\"" << num(y) << "\">" << escapeXml(line) << "</text>\n";
+    body << "<text x=\"" << num(vp.left) << "\" y=\"" << num(y) << "\">" << core::escapeMarkup(line) << "</text>\n";
   }
   body << "</g>\n";
 
@@ -631,13 +632,13 @@ std::string renderSweepSvg(const std::vector<Eigen::Vector3d>& points, const std
   body << "<g class=\"caption\" font-family=\"sans-serif\" font-size=\"11\" fill=\"#111\">\n";
   for (const auto& line : caption) {
     y += 16;
-    body << "<text x=\"" << num(left0) << "\" y=\"" << num(y) << "\">" << escapeXml(line) << "</text>\n";
+    body << "<text x=\"" << num(left0) << "\" y=\"" << num(y) << "\">" << core::escapeMarkup(line) << "</text>\n";
   }
   body << "</g>\n";
 
   std::string svg = svgHeader(std::max({width, 520.0, left0 + 20 + captionWidth(caption, 11.0)}), y + 14);
   svg += "<text class=\"title\" x=\"" + num(left0) + "\" y=\"20\" font-family=\"sans-serif\" font-size=\"15\" " +
-         "font-weight=\"bold\">" + escapeXml(title) + "</text>\n";
+         "font-weight=\"bold\">" + core::escapeMarkup(title) + "</text>\n";
   svg += body.str();
   svg += "</svg>\n";
   return svg;

@@ -14,6 +14,7 @@
 
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/core/markup.hpp"
 #include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/path_checker.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
@@ -169,29 +170,6 @@ std::string scriptSafe(std::string text) {
   for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3))
     text.insert(at + 1, "\\");
   return text;
-}
-
-std::string htmlEscape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 // Line segments (pairs of points) of a truth shape's wireframe.
@@ -535,12 +513,12 @@ ViewPage renderPage(const ViewScene& scene, const ViewParams& params) {
   std::string& html = page.html;
   html += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   html += "<meta name=\"generator\" content=\"hullmap view\">\n";
-  html += "<title>hullmap view: " + htmlEscape(scene.title) + "</title>\n";
+  html += "<title>hullmap view: " + core::escapeMarkup(scene.title) + "</title>\n";
   html += "<style>\n" + std::string(detail::kViewerCss) + "</style>\n";
   // Errors are collected before anything else runs, so that the page can say it failed.
   html += "<script>\n" + std::string(detail::kErrorHook) + "</script>\n</head>\n<body>\n";
   html += "<script>/* three.js r111 (MIT License), read from " +
-          htmlEscape((params.three_dir / "three.min.js").string()) + " (Debian's " + kThreePackage +
+          core::escapeMarkup((params.three_dir / "three.min.js").string()) + " (Debian's " + kThreePackage +
           ") when this page was written */\n" + scriptSafe(three) + "\n</script>\n";
   html += "<script>/* OrbitControls from three.js r111's examples (MIT License), Debian's " +
           std::string(kThreePackage) + " */\n" + scriptSafe(orbit) + "\n</script>\n";
