@@ -226,13 +226,28 @@ ConvexPolytope ConvexPolytope::fromHull(const hulls::ConvexHull& hull, const std
   return p;
 }
 
+V3 closestPointOnTriangle(const V3& p, const V3& a, const V3& b, const V3& c) {
+  const V3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const V3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
+  const V3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
 double pointTriangleDistance(const V3& p, const V3& a, const V3& b, const V3& c) {
-  Simplex s;
-  s.p[0] = a - p;
-  s.p[1] = b - p;
-  s.p[2] = c - p;
-  s.n = 3;
-  return closestOnTriangle(s).norm();
+  return (p - closestPointOnTriangle(p, a, b, c)).norm();
 }
 
 double segmentSegmentDistance(const V3& p0, const V3& p1, const V3& q0, const V3& q1) {

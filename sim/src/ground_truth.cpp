@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include "hullmap/collision/convex_distance.hpp"
 #include "hullmap/core/constants.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/sim/ground_truth.hpp"
@@ -19,27 +20,6 @@ namespace hullmap::sim {
 namespace {
 
 using V3 = Eigen::Vector3d;
-
-/// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
-V3 closestOnTriangle(const V3& p, const V3& a, const V3& b, const V3& c) {
-  const V3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const V3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
-  const V3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
 
 /// Signed distance of a 2D or 3D axis-aligned box of half extents h centred at the origin.
 template <class V>
@@ -338,8 +318,8 @@ double HeightGrid::distance(const V3& p) const {
       const double dz = outside(p.z(), lo, hi - lo);
       if (dx * dx + dy * dy + dz * dz >= best2) continue;
       const V3 a(x, y, h00), b(x + step, y, h10), c(x + step, y + step, h11), d(x, y + step, h01);
-      best2 = std::min(best2, (p - closestOnTriangle(p, a, b, c)).squaredNorm());
-      best2 = std::min(best2, (p - closestOnTriangle(p, a, c, d)).squaredNorm());
+      best2 = std::min(best2, (p - collision::closestPointOnTriangle(p, a, b, c)).squaredNorm());
+      best2 = std::min(best2, (p - collision::closestPointOnTriangle(p, a, c, d)).squaredNorm());
     }
   }
   return std::sqrt(best2);
@@ -371,7 +351,7 @@ double TruthShape::signedDistance(const V3& p) const {
       double best = kInf;
       double winding = 0.0;
       for (const auto& t : triangles) {
-        best = std::min(best, (p - closestOnTriangle(p, t[0], t[1], t[2])).norm());
+        best = std::min(best, (p - collision::closestPointOnTriangle(p, t[0], t[1], t[2])).norm());
         // Solid angle of the triangle seen from p (Van Oosterom and Strackee 1983).
         const V3 a = t[0] - p, b = t[1] - p, c = t[2] - p;
         const double la = a.norm(), lb = b.norm(), lc = c.norm();

@@ -42,7 +42,11 @@ double segmentPolytopeDistanceBruteForce(const Eigen::Vector3d& a, const Eigen::
 double segmentSegmentDistance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& q0,
                               const Eigen::Vector3d& q1);
 
-/// Distance between a point and the triangle (a, b, c) (Ericson, Real-Time Collision Detection 5.1.5).
+/// The point of the triangle (a, b, c) closest to p (Ericson, Real-Time Collision Detection 5.1.5).
+Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                       const Eigen::Vector3d& c);
+
+/// Distance between a point and the triangle (a, b, c): |p - closestPointOnTriangle(p, a, b, c)|.
 double pointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                              const Eigen::Vector3d& c);
 
