@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <random>
 #include <unordered_map>
 #include <unordered_set>
 
 #include "hullmap/core/error.hpp"
 #include "hullmap/core/lattice.hpp"
+#include "hullmap/core/random.hpp"
 
 namespace hullmap::clustering {
 namespace {
@@ -42,11 +42,9 @@ std::vector<std::size_t> sampleVoxels(std::size_t voxels, const AutoParamsRule& 
     for (std::size_t i = 0; i < sample.size(); ++i) sample[i] = i;
     return sample;
   }
-  std::mt19937_64 engine(rule.seed);
+  core::RandomDraws draws(rule.seed);
   sample.reserve(rule.sample);
-  for (std::size_t i = 0; i < rule.sample; ++i) {
-    sample.push_back(static_cast<std::size_t>((static_cast<unsigned __int128>(engine()) * voxels) >> 64));
-  }
+  for (std::size_t i = 0; i < rule.sample; ++i) sample.push_back(draws.index(voxels));
   return sample;
 }
 

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <unordered_set>
 
 #include <Eigen/Eigenvalues>
@@ -13,6 +12,7 @@
 
 #include "hullmap/core/error.hpp"
 #include "hullmap/core/number_text.hpp"
+#include "hullmap/core/random.hpp"
 
 namespace hullmap::mapper {
 namespace {
@@ -20,18 +20,6 @@ namespace {
 constexpr std::size_t kEvaluationPoints = 200000;
 constexpr std::size_t kScreenPoints = 2000;  ///< RANSAC candidates are screened on this many sample points
 constexpr std::size_t kFinalists = 100;      ///< and the best this many counted on the whole sample
-
-// Portable draws: the same bits on every standard library.
-class Draw {
- public:
-  explicit Draw(std::uint64_t seed) : engine_(seed) {}
-  std::size_t index(std::size_t n) {
-    return static_cast<std::size_t>((static_cast<unsigned __int128>(engine_()) * n) >> 64);
-  }
-
- private:
-  std::mt19937_64 engine_;
-};
 
 struct Counts {
   std::size_t inliers = 0;
@@ -165,7 +153,7 @@ PlaneFit findBoundingPlane(const io::Points& points, PlaneSide side, const Plane
   const Eigen::Vector3d inward = (side == PlaneSide::kFloor ? 1.0 : -1.0) * params.up.normalized();
   const double min_cos = std::cos(params.max_tilt_deg * kPi / 180.0);
 
-  Draw draw(params.seed);
+  core::RandomDraws draw(params.seed);
   io::Points sample;
   if (points.size() <= params.sample_points) {
     sample = points;

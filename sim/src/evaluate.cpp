@@ -11,7 +11,6 @@
 #include <limits>
 #include <map>
 #include <optional>
-#include <random>
 #include <sstream>
 
 #include <Eigen/Geometry>
@@ -24,16 +23,13 @@ namespace {
 
 using V3 = Eigen::Vector3d;
 
-/// Uniform in [0, 1) from 53 random bits (the same on every standard library).
-double uniform(std::mt19937_64& rng) { return core::unitInterval(rng()); }
-
 // A point uniform in [0, 1)^3. Its coordinates are drawn one statement at a time, z first (the order
 // the documented numbers were made in): the arguments of one call are not sequenced, and gcc and
 // clang draw them in opposite orders.
-V3 unitCubePoint(std::mt19937_64& rng) {
-  const double z = uniform(rng);
-  const double y = uniform(rng);
-  const double x = uniform(rng);
+V3 unitCubePoint(core::RandomDraws& rng) {
+  const double z = rng.uniform();
+  const double y = rng.uniform();
+  const double x = rng.uniform();
   return {x, y, z};
 }
 
@@ -261,7 +257,7 @@ void scoreObservedPoints(const std::vector<HullPlanes>& hulls, const GroundTruth
 // Volumes and touching, by Monte Carlo in each hull (params.seed); the false parts.
 void scoreVolumes(const std::vector<HullPlanes>& hulls, const GroundTruth& truth, const EvaluateParams& params,
                   Evaluation& e) {
-  std::mt19937_64 rng(params.seed);
+  core::RandomDraws rng(params.seed);
   double union_var = 0, outside_var = 0, far_var = 0;
   for (std::size_t h = 0; h < hulls.size(); ++h) {
     const HullPlanes& hull = hulls[h];
@@ -331,7 +327,7 @@ std::optional<SampledSegments> sampleSegments(const GroundTruth& truth, const Ev
     hi = hi.cwiseMax(s.aabb_max);
   }
   if (!lo.allFinite() || params.segments == 0) return std::nullopt;
-  std::mt19937_64 rng(params.seed + 1);
+  core::RandomDraws rng(params.seed + 1);
   const bool free_ends = params.ends != SegmentEnds::kInTruthBox;
   const bool in_corridor = params.ends == SegmentEnds::kCorridor;
   const Corridor corridor(params);
@@ -363,8 +359,8 @@ std::optional<SampledSegments> sampleSegments(const GroundTruth& truth, const Ev
   for (std::size_t tries = 0; segments.size() < params.segments && tries < 1000 * params.segments; ++tries) {
     const V3 a = lo + (hi - lo).cwiseProduct(unitCubePoint(rng));
     // A direction uniform on the sphere, and a length in [0.2, segment_length].
-    const double z = 2 * uniform(rng) - 1, phi = 2 * kPi * uniform(rng), r = std::sqrt(1 - z * z);
-    const double length = 0.2 + (params.segment_length - 0.2) * uniform(rng);
+    const double z = 2 * rng.uniform() - 1, phi = 2 * kPi * rng.uniform(), r = std::sqrt(1 - z * z);
+    const double length = 0.2 + (params.segment_length - 0.2) * rng.uniform();
     const V3 b = a + length * V3(r * std::cos(phi), r * std::sin(phi), z);
     if (in_corridor && (!corridor.holds(a) || !corridor.holds(b))) continue;
     if (free_ends && (truth.signedDistance(a) < free_distance || truth.signedDistance(b) < free_distance)) continue;

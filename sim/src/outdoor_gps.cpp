@@ -45,7 +45,7 @@ V3 enuToGeodetic(const V3& enu, const V3& origin) {
 
 }  // namespace
 
-std::vector<GpsFix> gpsLog(const SceneParams& p, const std::vector<io::Keyframe>& reference, SceneRandom& rng) {
+std::vector<GpsFix> gpsLog(const SceneParams& p, const std::vector<io::Keyframe>& reference, core::RandomDraws& rng) {
   const std::size_t n = reference.size();
   const auto dropped = static_cast<std::size_t>(std::llround(p.gps_dropout * static_cast<double>(n)));
   std::vector<std::size_t> order(n);

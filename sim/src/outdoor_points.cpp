@@ -117,7 +117,7 @@ bool sees(const Camera& camera, const V3& q, const V3& n, const std::vector<Trut
 // One try: a point on the surfaces (an object's on a face edge with chance edge_fraction), kept when
 // no object's point lies under the terrain, no other object's part holds it and a camera sees it.
 std::optional<V3> tryPoint(const SceneParams& p, const Surfaces& s, const std::vector<TruthShape>& parts,
-                           const std::vector<Camera>& cameras, SceneRandom& rng) {
+                           const std::vector<Camera>& cameras, core::RandomDraws& rng) {
   const double x = rng.uniform() * s.cumulative.back();
   const auto k = static_cast<std::size_t>(std::upper_bound(s.cumulative.begin(), s.cumulative.end() - 1, x) -
                                           s.cumulative.begin());
@@ -143,14 +143,14 @@ std::optional<V3> tryPoint(const SceneParams& p, const Surfaces& s, const std::v
 
 }  // namespace
 
-void sampleOutdoorPoints(const SceneParams& p, SceneRandom& rng, Scene& scene) {
+void sampleOutdoorPoints(const SceneParams& p, core::RandomDraws& rng, Scene& scene) {
   const std::vector<TruthShape> parts = scene.truth.primitives();
   const Surfaces surfaces = outdoorSurfaces(parts);
   std::vector<Camera> cameras;
   for (const io::Keyframe& k : scene.reference) cameras.push_back({k.position, k.orientation.toRotationMatrix()});
   const auto tries = static_cast<std::size_t>(std::llround(p.density * surfaces.cumulative.back()));
   std::vector<std::vector<V3>> kept((tries + kTryChunk - 1) / kTryChunk);
-  forEachSeeded(tries, p.seed, kTryChunk, [&](SceneRandom& local, std::size_t, std::size_t chunk) {
+  forEachSeeded(tries, p.seed, kTryChunk, [&](core::RandomDraws& local, std::size_t, std::size_t chunk) {
     if (const std::optional<V3> q = tryPoint(p, surfaces, parts, cameras, local))
       kept[chunk].push_back(*q + p.noise_sigma * local.normal3());
   });

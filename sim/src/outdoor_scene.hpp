@@ -16,10 +16,11 @@ namespace hullmap::sim::detail {
 /// reference keyframes are made: tries on the visible surfaces kept where a keyframe sees them,
 /// with noise, then outliers and gross outliers, shuffled with `rng`; into scene.map_points (z-up
 /// map frame, metres). Parameters already checked.
-void sampleOutdoorPoints(const SceneParams& params, SceneRandom& rng, Scene& scene);
+void sampleOutdoorPoints(const SceneParams& params, core::RandomDraws& rng, Scene& scene);
 
 /// gps.txt's lines for the reference keyframes (see generateScene's kOutdoor notes), drawn from `rng`.
-std::vector<GpsFix> gpsLog(const SceneParams& params, const std::vector<io::Keyframe>& reference, SceneRandom& rng);
+std::vector<GpsFix> gpsLog(const SceneParams& params, const std::vector<io::Keyframe>& reference,
+                           core::RandomDraws& rng);
 
 /// Writes `log` to `path` atomically, `t lat lon alt` a line (stamp 6 decimals, degrees 9, metres
 /// 3), `t 0 0 0` without a fix.

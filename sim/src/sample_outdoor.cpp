@@ -35,7 +35,7 @@ struct Street {
 
 // The terrain: the slopes plus the bumps, on the grid covering the area (sides rounded up to whole
 // metres, centred on the origin), heights rounded to 0.1 mm. Draws the bumps from `rng`.
-HeightGrid terrain(const SceneParams& p, SceneRandom& rng) {
+HeightGrid terrain(const SceneParams& p, core::RandomDraws& rng) {
   HeightGrid g;
   g.step = kTerrainStep;
   const double width = std::ceil(p.track_width), length = std::ceil(p.track_length);
@@ -181,7 +181,7 @@ TruthShape column(double x, double y, double width, double z0, double z1) {
 
 // Drafts: an object's parts at their place in (x, y), standing on z = 0 (the ground under them),
 // for the street point at `y` on `side` (+1: east, -1: west). Sizes as sample_scene.hpp states.
-std::vector<TruthShape> buildingDraft(const Street& s, double y, double side, SceneRandom& rng) {
+std::vector<TruthShape> buildingDraft(const Street& s, double y, double side, core::RandomDraws& rng) {
   const double along = rng.uniform(8.0, 20.0);
   const double deep = rng.uniform(6.0, 12.0);
   const double high = rng.uniform(5.0, 15.0);
@@ -190,7 +190,7 @@ std::vector<TruthShape> buildingDraft(const Street& s, double y, double side, Sc
   return {boxBetween(V3(std::min(near, far), y - 0.5 * along, 0.0), V3(std::max(near, far), y + 0.5 * along, high))};
 }
 
-std::vector<TruthShape> treeDraft(const Street& s, double y, double side, SceneRandom& rng) {
+std::vector<TruthShape> treeDraft(const Street& s, double y, double side, core::RandomDraws& rng) {
   const double x = s.centre(y) + side * (kStreetHalfWidth + rng.uniform(1.0, 5.0));
   const double trunk = rng.uniform(0.25, 0.45);
   const double trunk_height = rng.uniform(1.8, 3.0);
@@ -205,7 +205,7 @@ std::vector<TruthShape> treeDraft(const Street& s, double y, double side, SceneR
   return parts;
 }
 
-std::vector<TruthShape> carDraft(const Street& s, double y, double side, SceneRandom& rng) {
+std::vector<TruthShape> carDraft(const Street& s, double y, double side, core::RandomDraws& rng) {
   const double length = rng.uniform(3.8, 4.8);
   const double width = rng.uniform(1.7, 1.9);
   const double height = rng.uniform(1.4, 1.7);
@@ -213,7 +213,7 @@ std::vector<TruthShape> carDraft(const Street& s, double y, double side, SceneRa
   return {boxBetween(V3(x - 0.5 * width, y - 0.5 * length, 0.0), V3(x + 0.5 * width, y + 0.5 * length, height))};
 }
 
-std::vector<TruthShape> postDraft(const Street& s, double y, double side, SceneRandom& rng) {
+std::vector<TruthShape> postDraft(const Street& s, double y, double side, core::RandomDraws& rng) {
   const double width = rng.uniform(0.1, 0.2);
   const double height = rng.uniform(2.5, 5.0);
   return {column(s.centre(y) + side * (kStreetHalfWidth + rng.uniform(0.3, 0.8)), y, width, 0.0, height)};
@@ -240,7 +240,7 @@ TruthShape settled(const std::string& kind, const std::vector<TruthShape>& draft
   return object(kind, std::move(parts));
 }
 
-using Draft = std::function<std::vector<TruthShape>(const Street&, double, double, SceneRandom&)>;
+using Draft = std::function<std::vector<TruthShape>(const Street&, double, double, core::RandomDraws&)>;
 
 // One kind of object: its name in the truth, its count's field, how it is drafted, how deep it reaches.
 struct ObjectKind {
@@ -255,7 +255,7 @@ struct ObjectKind {
 // its footprint is kAreaBorder inside the area, kSceneObstacleGap from the others' and
 // kOutdoorPathMargin from the path, then settled. Throws naming the count when 10000 drafts fail.
 void placeObjects(const SceneParams& p, const Street& street, const HeightGrid& ground, const std::vector<V2>& path,
-                  SceneRandom& rng, Scene& scene) {
+                  core::RandomDraws& rng, Scene& scene) {
   const V2 lo = ground.origin + V2::Constant(kAreaBorder), hi = ground.corner() - V2::Constant(kAreaBorder);
   const ObjectKind kinds[] = {{"building", "buildings", p.buildings, buildingDraft, 0.5},
                               {"tree", "trees", p.trees, treeDraft, 0.3},
@@ -343,7 +343,7 @@ void toDriftingFrame(const SceneParams& p, Scene& scene) {
 }  // namespace
 
 Scene generateOutdoorScene(const SceneParams& p) {
-  SceneRandom rng(p.seed);
+  core::RandomDraws rng(p.seed);
   Scene scene;
   const HeightGrid ground = terrain(p, rng);
   scene.truth.add(TruthShape::heightField(ground, "ground"));

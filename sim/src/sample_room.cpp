@@ -32,7 +32,7 @@ TruthShape shifted(const TruthShape& o, const Eigen::Vector2d& shift) {
 }
 
 // A piece of furniture with its footprint's lower corner at the origin, standing on z = 0.
-TruthShape furniture(const SceneParams& p, SceneRandom& rng) {
+TruthShape furniture(const SceneParams& p, core::RandomDraws& rng) {
   std::string kind;
   std::vector<TruthShape> parts;
   const double max_height = std::min(2.2, p.room_height - 0.3);
@@ -97,7 +97,7 @@ double loopGap(const Footprint& f, const std::vector<Eigen::Vector2d>& loop) {
 // back 3 to 10 cm from the wall's face, anywhere along it), else kSceneObstacleGap from every wall.
 // Returns the shift, or nothing when the piece does not fit.
 std::optional<Eigen::Vector2d> anywhereShift(const Eigen::Vector2d& extent, double hx, double hy, double wall_fraction,
-                                             SceneRandom& rng) {
+                                             core::RandomDraws& rng) {
   const double g = kSceneObstacleGap;
   if (rng.uniform() < wall_fraction) {
     const std::size_t wall = rng.index(4);  // -x, +x, -y, +y
@@ -139,7 +139,8 @@ void addShell(const Room& room, Scene& scene) {
 
 // Where a piece of furniture of `extent` goes inside the camera loop (its lower corner's shift), or
 // nothing when this draw does not fit.
-std::optional<Eigen::Vector2d> insideLoopShift(const Eigen::Vector2d& extent, const Room& room, SceneRandom& rng) {
+std::optional<Eigen::Vector2d> insideLoopShift(const Eigen::Vector2d& extent, const Room& room,
+                                               core::RandomDraws& rng) {
   if (room.circle) {
     const double reach = room.loop_x - kSceneObstacleGap - 0.5 * extent.norm();
     if (reach <= 0.0) return std::nullopt;
@@ -164,7 +165,7 @@ std::optional<Eigen::Vector2d> insideLoopShift(const Eigen::Vector2d& extent, co
 
 // Furniture kSceneObstacleGap apart from each other and from the camera loop: inside the loop, or
 // (kAnywhere) anywhere in the room. Throws when a piece finds no place in 10000 draws.
-void addFurniture(const SceneParams& p, const Room& room, SceneRandom& rng, Scene& scene) {
+void addFurniture(const SceneParams& p, const Room& room, core::RandomDraws& rng, Scene& scene) {
   const std::vector<Eigen::Vector2d> loop = room.circle && p.placement == FurniturePlacement::kInsideLoop
                                                 ? std::vector<Eigen::Vector2d>{}
                                                 : loopSamples(room.loop_x, room.loop_y);
@@ -246,7 +247,7 @@ std::vector<Patch> visiblePatches(const Scene& scene, const Room& room) {
 // The points, in chunks of kChunk drawn in parallel from seeds of their own: on the visible patches
 // (redrawn where furniture hides them), with noise; outliers in the room; gross outliers far away.
 // Then shuffled with `rng`.
-void samplePoints(const SceneParams& p, const Room& room, SceneRandom& rng, Scene& scene) {
+void samplePoints(const SceneParams& p, const Room& room, core::RandomDraws& rng, Scene& scene) {
   // Only furniture hides surfaces (a wall's foot on the floor is a visible edge, as is a box's).
   const std::vector<TruthShape> parts = scene.truth.primitives();
   std::vector<bool> hides;
@@ -264,7 +265,7 @@ void samplePoints(const SceneParams& p, const Room& room, SceneRandom& rng, Scen
   const std::size_t gross = p.gross_outliers;
   const std::size_t n = surface + outliers + gross;
   scene.points.resize(n);
-  forEachSeeded(n, p.seed, kChunk, [&](SceneRandom& local, std::size_t i, std::size_t) {
+  forEachSeeded(n, p.seed, kChunk, [&](core::RandomDraws& local, std::size_t i, std::size_t) {
     Eigen::Vector3d& q = scene.points[i];
     if (i < surface) {
       while (true) {
@@ -293,22 +294,14 @@ void samplePoints(const SceneParams& p, const Room& room, SceneRandom& rng, Scen
 }
 
 // Keyframes: a loop at about kCameraHeight, each camera looking at the room's axis, pitched down.
-std::vector<io::Keyframe> cameraLoop(const SceneParams& p, const Room& room) {
+std::vector<io::Keyframe> roomCameraLoop(const SceneParams& p, const Room& room) {
   const double pitch = p.camera_pitch_deg * kPi / 180.0;
-  std::vector<io::Keyframe> keyframes(p.keyframes);
-  for (std::size_t i = 0; i < p.keyframes; ++i) {
-    const double a = 2.0 * kPi * static_cast<double>(i) / static_cast<double>(p.keyframes);
-    io::Keyframe& k = keyframes[i];
-    k.stamp = 1.0 + 0.5 * static_cast<double>(i);
-    k.position =
-        Eigen::Vector3d(room.loop_x * std::cos(a), room.loop_y * std::sin(a), kCameraHeight + 0.05 * std::sin(3.0 * a));
+  return cameraLoop(p.keyframes, room.loop_x, room.loop_y, [&](double a, const Eigen::Vector3d& position) {
     // Toward the room's vertical axis.
     const Eigen::Vector3d inward = room.circle ? Eigen::Vector3d(-std::cos(a), -std::sin(a), 0.0)
-                                               : Eigen::Vector3d(-k.position.x(), -k.position.y(), 0.0).normalized();
-    const Eigen::Vector3d forward = std::cos(pitch) * inward - std::sin(pitch) * Eigen::Vector3d::UnitZ();
-    k.orientation = cameraLookingAlong(forward);
-  }
-  return keyframes;
+                                               : Eigen::Vector3d(-position.x(), -position.y(), 0.0).normalized();
+    return Eigen::Vector3d(std::cos(pitch) * inward - std::sin(pitch) * Eigen::Vector3d::UnitZ());
+  });
 }
 
 // The output frame: the first camera's, scaled (p_out = s R0^T (p - t0)), when p.orbslam_frame; the
@@ -335,7 +328,7 @@ void toOutputFrame(const SceneParams& p, Scene& scene) {
 }  // namespace
 
 Scene generateRoomScene(const SceneParams& p) {
-  SceneRandom rng(p.seed);
+  core::RandomDraws rng(p.seed);
   Room room;
   room.half = 0.5 * p.room_size;
   room.half_y = 0.5 * (p.room_width > 0.0 ? p.room_width : p.room_size);
@@ -347,7 +340,7 @@ Scene generateRoomScene(const SceneParams& p) {
   addShell(room, scene);
   addFurniture(p, room, rng, scene);
   samplePoints(p, room, rng, scene);
-  scene.reference = cameraLoop(p, room);
+  scene.reference = roomCameraLoop(p, room);
   toOutputFrame(p, scene);
   return scene;
 }

@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <limits>
 #include <ostream>
-#include <random>
 
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
@@ -21,10 +20,10 @@
 namespace hullmap::sim {
 namespace {
 
+using core::RandomDraws;
 using detail::forEachSeeded;
 using detail::kCameraHeight;
 using detail::kChunk;
-using detail::SceneRandom;
 using detail::transformPoints;
 
 // Samples the surface of one obstacle: half the points near edges, half on visible faces.
@@ -46,7 +45,7 @@ class SurfaceSampler {
 
   double area() const { return area_; }
 
-  Eigen::Vector3d sample(SceneRandom& rng) const {
+  Eigen::Vector3d sample(core::RandomDraws& rng) const {
     const Eigen::Vector3d h = 0.5 * o_.size;
     const Eigen::Vector3d& c = o_.center;
     const bool on_edge = rng.uniform() < 0.5;
@@ -83,7 +82,7 @@ class SurfaceSampler {
   }
 
  private:
-  static std::size_t pick(const std::vector<double>& weights, SceneRandom& rng) {
+  static std::size_t pick(const std::vector<double>& weights, core::RandomDraws& rng) {
     double total = 0.0;
     for (double w : weights) total += w;
     double x = rng.uniform() * total;
@@ -177,7 +176,7 @@ void checkParams(const SceneParams& p) {
   }
 }
 
-GroundTruth placeObstacles(const SceneParams& p, double loop_radius, SceneRandom& rng) {
+GroundTruth placeObstacles(const SceneParams& p, double loop_radius, core::RandomDraws& rng) {
   GroundTruth obstacles;
   const double max_height = std::min(2.5, p.room_height - 0.2);
   for (std::size_t n = 0; n < p.obstacles; ++n) {
@@ -214,21 +213,6 @@ GroundTruth placeObstacles(const SceneParams& p, double loop_radius, SceneRandom
     }
   }
   return obstacles;
-}
-
-std::vector<io::Keyframe> cameraLoop(const SceneParams& p, double loop_radius) {
-  std::vector<io::Keyframe> keyframes(p.keyframes);
-  for (std::size_t i = 0; i < p.keyframes; ++i) {
-    const double a = 2.0 * kPi * static_cast<double>(i) / static_cast<double>(p.keyframes);
-    io::Keyframe& k = keyframes[i];
-    k.stamp = 1.0 + 0.5 * static_cast<double>(i);
-    k.position =
-        Eigen::Vector3d(loop_radius * std::cos(a), loop_radius * std::sin(a), kCameraHeight + 0.05 * std::sin(3.0 * a));
-    // Camera axes in the map: z forward (toward the room's axis, slightly down), x right, y down.
-    const Eigen::Vector3d forward = Eigen::Vector3d(-std::cos(a), -std::sin(a), -0.15).normalized();
-    k.orientation = detail::cameraLookingAlong(forward);
-  }
-  return keyframes;
 }
 
 // Appends `x y z\n` (fixed, 6 decimals) to `out`.
@@ -384,12 +368,15 @@ Scene generateScene(const SceneParams& p) {
   checkParams(p);
   if (p.layout == SceneLayout::kRoom) return detail::generateRoomScene(p);
   if (p.layout == SceneLayout::kOutdoor) return detail::generateOutdoorScene(p);
-  SceneRandom rng(p.seed);
+  core::RandomDraws rng(p.seed);
   const double loop_radius = 0.4 * p.room_size;
 
   Scene scene;
   scene.truth = placeObstacles(p, loop_radius, rng);
-  scene.keyframes = cameraLoop(p, loop_radius);
+  // Each camera looks toward the room's axis, slightly down.
+  scene.keyframes = detail::cameraLoop(p.keyframes, loop_radius, loop_radius, [](double a, const Eigen::Vector3d&) {
+    return Eigen::Vector3d(Eigen::Vector3d(-std::cos(a), -std::sin(a), -0.15).normalized());
+  });
 
   std::vector<SurfaceSampler> samplers;
   std::vector<double> cumulative_area;
@@ -409,7 +396,7 @@ Scene generateScene(const SceneParams& p) {
 
   // Fixed chunks with their own seeds: the same points whatever the thread count.
   scene.points.resize(n);
-  forEachSeeded(n, p.seed, kChunk, [&](SceneRandom& local, std::size_t i, std::size_t) {
+  forEachSeeded(n, p.seed, kChunk, [&](core::RandomDraws& local, std::size_t i, std::size_t) {
     Eigen::Vector3d& q = scene.points[i];
     if (i < surface) {
       const double x = local.uniform() * total_area;

@@ -82,7 +82,7 @@ inline void addCylinder(const TruthShape& o, std::size_t part, std::vector<Patch
 
 // A point on the patch, uniform by area; `on_edge`: on its rim instead (rectangles: an edge chosen by
 // length; a side: its top rim; a disc: its circle; a triangle: ignored).
-inline Eigen::Vector3d samplePatch(const Patch& p, bool on_edge, SceneRandom& rng) {
+inline Eigen::Vector3d samplePatch(const Patch& p, bool on_edge, core::RandomDraws& rng) {
   switch (p.type) {
     case Patch::Type::kRect: {
       double u = rng.uniform(-1.0, 1.0), v = rng.uniform(-1.0, 1.0);
