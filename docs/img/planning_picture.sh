@@ -1,6 +1,6 @@
 #!/bin/sh
-# Regenerates the README's planning picture, docs/img/planning_room.svg: the sample map maps/simple
-# built as in the README, its roadmap at radius 0.2 m in the band 0.8-1.2 m, and two drones crossing
+# Regenerates the guide's planning picture (docs/GUIDE.md), docs/img/planning_room.svg: the sample map maps/simple
+# built as in the README's tour, its roadmap at radius 0.2 m in the band 0.8-1.2 m, and two drones crossing
 # the room (plan --robots), drawn by hullmap plot --roadmap --path --path.
 # Usage: docs/img/planning_picture.sh [HULLMAP_BINARY]     (default: build/cli/hullmap)
 set -eu

@@ -4,7 +4,9 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <sstream>
 #include <string>
+#include <vector>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -17,6 +19,26 @@ struct CommandResult {
   std::string out;
   std::string err;
 };
+
+/// The lines of the first fenced block after the line holding `marker`.
+inline std::vector<std::string> fencedBlockAfter(const std::string& text, const std::string& marker) {
+  std::istringstream in(text);
+  std::string line;
+  bool seen = false;
+  bool inside = false;
+  std::vector<std::string> lines;
+  while (std::getline(in, line)) {
+    if (!seen) {
+      seen = line.find(marker) != std::string::npos;
+    } else if (!inside) {
+      inside = line.rfind("```", 0) == 0;
+    } else {
+      if (line.rfind("```", 0) == 0) return lines;
+      lines.push_back(line);
+    }
+  }
+  return {};
+}
 
 /// `p` in single quotes, for a shell command line.
 inline std::string quoted(const std::filesystem::path& p) { return "'" + p.string() + "'"; }

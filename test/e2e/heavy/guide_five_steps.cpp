@@ -1,6 +1,6 @@
-// The README's "Your own ORB-SLAM map in five steps" runs as written: its command block (after the
+// docs/GUIDE.md's "Your own ORB-SLAM map" runs as written: its command block (after the
 // `<!-- five-steps` marker) is extracted and run on the real ORB-SLAM2 EuRoC V1_01 map, given the
-// name the README uses (MapPoints.txt, a symbolic link to shared/data/real). The numbers the README
+// name the guide uses (MapPoints.txt, a symbolic link to shared/data/real). The numbers the guide
 // quotes from that run are checked too.
 #include <filesystem>
 #include <fstream>
@@ -15,35 +15,11 @@
 
 namespace fs = std::filesystem;
 
-namespace {
-
-/// The lines of the first fenced block after the line holding `marker`.
-std::vector<std::string> fencedBlockAfter(const std::string& text, const std::string& marker) {
-  std::istringstream in(text);
-  std::string line;
-  bool seen = false;
-  bool inside = false;
-  std::vector<std::string> lines;
-  while (std::getline(in, line)) {
-    if (!seen) {
-      seen = line.find(marker) != std::string::npos;
-    } else if (!inside) {
-      inside = line.rfind("```", 0) == 0;
-    } else {
-      if (line.rfind("```", 0) == 0) return lines;
-      lines.push_back(line);
-    }
-  }
-  return {};
-}
-
-}  // namespace
-
-TEST(ReadmeFiveSteps, RunAsWrittenOnTheRealV1_01Map) {
+TEST(GuideFiveSteps, RunAsWrittenOnTheRealV1_01Map) {
   HULLMAP_REQUIRE_REAL_DATA(map, "orbslam2_euroc_V1_01_MapPoints.txt");
-  const std::string readme = hullmap::test::slurp(fs::path(HULLMAP_SOURCE_DIR) / "README.md");
-  const auto commands = fencedBlockAfter(readme, "<!-- five-steps");
-  ASSERT_GE(commands.size(), 5u) << "no five-steps block in README.md";
+  const std::string guide = hullmap::test::slurp(fs::path(HULLMAP_SOURCE_DIR) / "docs" / "GUIDE.md");
+  const auto commands = hullmap::test::fencedBlockAfter(guide, "<!-- five-steps");
+  ASSERT_GE(commands.size(), 5u) << "no five-steps block in docs/GUIDE.md";
   const auto dir = hullmap::test::freshDir("five_steps");
   fs::create_symlink(map, dir / "MapPoints.txt");
   std::string cluster_out;
@@ -63,7 +39,7 @@ TEST(ReadmeFiveSteps, RunAsWrittenOnTheRealV1_01Map) {
     if (command.rfind("hullmap cluster ", 0) == 0) cluster_out = r.out;
     if (command.rfind("hullmap build ", 0) == 0) build_err = r.err;
   }
-  // What the README says of this run.
+  // What the guide says of this run.
   EXPECT_NE(cluster_out.find("eps suggestion: 0.146"), std::string::npos) << cluster_out;
   const auto report = nlohmann::json::parse(hullmap::test::slurp(dir / "v101" / "report.json"));
   EXPECT_EQ(report["obstacles"], 81);
