@@ -52,12 +52,12 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
-#include <nlohmann/json.hpp>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
-#include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/sim/sample_scene.hpp"
 
 namespace {

@@ -21,10 +21,10 @@
 
 #include <tbb/info.h>
 
-#include "hullmap/hulls/convex_parts.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/frame.hpp"
+#include "hullmap/hulls/convex_parts.hpp"
 #include "hullmap/io/readers.hpp"
+#include "hullmap/mapper/frame.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 
 int main(int argc, char** argv) try {

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "check_warnings.hpp"
 #include "commands.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
@@ -18,7 +19,6 @@
 #include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/path_checker.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
-#include "check_warnings.hpp"
 #include "option_checks.hpp"
 #include "path_file.hpp"
 #include "planning_args.hpp"

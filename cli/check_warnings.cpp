@@ -5,9 +5,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_main.hpp"
 #include "hullmap/clustering/build_warnings.hpp"
 #include "hullmap/core/error.hpp"
-#include "cli_main.hpp"
 
 namespace hullmap::cli {
 

@@ -3,25 +3,25 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
-#include <ostream>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
 #include <tbb/parallel_for.h>
 
 #include "commands.hpp"
-#include "hullmap/pipeline/output_dir.hpp"
-#include "hullmap/pipeline/pipeline.hpp"
-#include "option_checks.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/core/huge_pages.hpp"
 #include "hullmap/core/number_text.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "hullmap/io/readers.hpp"
+#include "hullmap/pipeline/output_dir.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
+#include "option_checks.hpp"
 
 namespace hullmap::cli {
 namespace {

@@ -1,9 +1,9 @@
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <array>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -13,9 +13,9 @@
 #include "commands.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/io/readers.hpp"
-#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "hullmap/pipeline/trajectory_file.hpp"
+#include "hullmap/sim/evaluate.hpp"
 
 namespace hullmap::cli {
 namespace {

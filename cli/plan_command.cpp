@@ -11,10 +11,10 @@
 #include "commands.hpp"
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/planning/fleet.hpp"
 #include "hullmap/planning/ompl_planner.hpp"
 #include "hullmap/planning/path_planner.hpp"
-#include "hullmap/pipeline/map_obstacles.hpp"
 #include "planning_args.hpp"
 
 namespace hullmap::cli {

@@ -1,9 +1,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <memory>
-#include <iomanip>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -14,9 +14,9 @@
 #include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/path_checker.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
-#include "hullmap/pipeline/voxels_csv.hpp"
 #include "hullmap/pipeline/report.hpp"
 #include "hullmap/pipeline/trajectory_file.hpp"
+#include "hullmap/pipeline/voxels_csv.hpp"
 #include "hullmap/planning/roadmap_json.hpp"
 #include "hullmap/plot/svg_plot.hpp"
 #include "option_checks.hpp"

@@ -5,8 +5,8 @@
 
 #include "commands.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/planning/roadmap.hpp"
 #include "hullmap/pipeline/map_obstacles.hpp"
+#include "hullmap/planning/roadmap.hpp"
 #include "planning_args.hpp"
 
 namespace hullmap::cli {

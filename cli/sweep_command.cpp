@@ -9,15 +9,15 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "hullmap/pipeline/output_dir.hpp"
-#include "hullmap/pipeline/pipeline.hpp"
-#include "option_checks.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/frame.hpp"
 #include "hullmap/io/readers.hpp"
+#include "hullmap/mapper/frame.hpp"
+#include "hullmap/pipeline/output_dir.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/plot/svg_plot.hpp"
+#include "option_checks.hpp"
 
 namespace hullmap::cli {
 namespace {

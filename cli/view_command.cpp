@@ -1,6 +1,6 @@
 #include <cctype>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -9,8 +9,8 @@
 
 #include "commands.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/sim/ground_truth.hpp"
 #include "hullmap/planning/roadmap_json.hpp"
+#include "hullmap/sim/ground_truth.hpp"
 #include "hullmap/view/html_view.hpp"
 #include "option_checks.hpp"
 #include "path_file.hpp"

@@ -10,8 +10,8 @@
 #include <tbb/parallel_for.h>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/core/number_text.hpp"
 #include "hullmap/core/lattice.hpp"
+#include "hullmap/core/number_text.hpp"
 
 namespace hullmap::clustering {
 namespace {

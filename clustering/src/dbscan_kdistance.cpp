@@ -11,10 +11,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
+#include "grid_dbscan.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/core/kd_tree.hpp"
-#include "grid_dbscan.hpp"
 
 // The k-distance curve needs k nearest neighbours without knowing a radius, so a grid does not fit
 // (its cell size would have to be guessed, and gross outliers would need unbounded ring searches):

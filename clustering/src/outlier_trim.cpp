@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <limits>
+#include <string>
 #include <unordered_map>
 
 #include <Eigen/Eigenvalues>

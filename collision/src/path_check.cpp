@@ -18,10 +18,10 @@
 #include <octomap/OcTree.h>
 #include <tbb/parallel_for.h>
 
-#include "hullmap/collision/convex_distance.hpp"
-#include "hullmap/collision/fcl_obstacles.hpp"
 #include "convex_distance_detail.hpp"
 #include "height_field_sweep.hpp"
+#include "hullmap/collision/convex_distance.hpp"
+#include "hullmap/collision/fcl_obstacles.hpp"
 #include "hullmap/core/error.hpp"
 
 namespace hullmap::collision {

@@ -17,9 +17,9 @@
 
 #include <tbb/parallel_for.h>
 
+#include "cluster_splitter.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/core/kd_tree.hpp"
-#include "cluster_splitter.hpp"
 #include "hullmap/hulls/detail/lattice_hull.hpp"
 
 namespace hullmap::hulls {

@@ -3,8 +3,8 @@
 #include "hullmap/hulls/detail/distance_transform.hpp"
 
 #include <algorithm>
-#include <cstdint>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <utility>
 #include <vector>

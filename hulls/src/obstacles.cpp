@@ -9,11 +9,11 @@
 #include <tuple>
 #include <utility>
 
-#include <Eigen/Geometry>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_3.h>
 #include <tbb/parallel_for.h>
+#include <Eigen/Geometry>
 
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/core/convex_hull_2d.hpp"

@@ -7,8 +7,8 @@
 #include <limits>
 #include <map>
 #include <numeric>
-#include <tuple>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>

@@ -14,9 +14,9 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_for_each.h>
+#include <Eigen/Eigenvalues>
 
 #include "hullmap/hulls/detail/distance_transform.hpp"
 

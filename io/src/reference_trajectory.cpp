@@ -1,5 +1,5 @@
-#include "hullmap/core/constants.hpp"
 #include "hullmap/io/reference_trajectory.hpp"
+#include "hullmap/core/constants.hpp"
 
 #include <algorithm>
 #include <cctype>

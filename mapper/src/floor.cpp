@@ -1,14 +1,14 @@
+#include "hullmap/mapper/floor.hpp"
 #include "hullmap/core/constants.hpp"
 #include "hullmap/core/detail/cpu_clones.hpp"
-#include "hullmap/mapper/floor.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <unordered_set>
 
-#include <Eigen/Eigenvalues>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <Eigen/Eigenvalues>
 
 #include "hullmap/core/error.hpp"
 #include "hullmap/core/number_text.hpp"

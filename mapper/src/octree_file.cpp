@@ -2,8 +2,8 @@
 
 #include <cmath>
 #include <cstdint>
-#include <functional>
 #include <cstring>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>

@@ -19,8 +19,8 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/mapper/detail/octree_keys.hpp"
+#include "hullmap/mapper/occupancy_map.hpp"
 
 namespace hullmap::mapper {
 namespace detail {

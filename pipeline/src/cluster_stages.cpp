@@ -8,19 +8,19 @@
 
 #include <Eigen/Core>
 
+#include "ground.hpp"
 #include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/clustering/build_warnings.hpp"
 #include "hullmap/clustering/cluster_extension.hpp"
-#include "hullmap/hulls/convex_parts.hpp"
 #include "hullmap/clustering/coplanar_merge.hpp"
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/clustering/outlier_trim.hpp"
+#include "hullmap/hulls/convex_parts.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/level_check.hpp"
 #include "hullmap/pipeline/report.hpp"
 #include "stages.hpp"
-#include "ground.hpp"
 #include "surfaces.hpp"
 
 namespace hullmap::pipeline {

@@ -1,6 +1,10 @@
 // write(): a build's output directory, whole or not at all, through a locked staging directory.
 #include "hullmap/pipeline/pipeline.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -15,17 +19,13 @@
 #include <sstream>
 #include <string>
 #include <vector>
-#include <fcntl.h>
-#include <sys/file.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <tbb/parallel_invoke.h>
 
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/pipeline/output_dir.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
+#include "hullmap/pipeline/output_dir.hpp"
 #include "hullmap/pipeline/report.hpp"
 #include "hullmap/pipeline/trajectory_file.hpp"
 #include "hullmap/pipeline/voxels_csv.hpp"

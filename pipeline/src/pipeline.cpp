@@ -2,10 +2,11 @@
 // and the filters; then cluster_stages.cpp's stage list from the voxels to the obstacles.
 #include "hullmap/pipeline/pipeline.hpp"
 
+#include <sys/resource.h>
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <exception>
 #include <filesystem>
 #include <limits>
@@ -13,22 +14,21 @@
 #include <sstream>
 #include <tuple>
 #include <unordered_map>
-#include <sys/resource.h>
 
+#include "cluster_stages.hpp"
+#include "ground.hpp"
+#include "hullmap/clustering/build_warnings.hpp"
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/clustering/build_warnings.hpp"
 #include "hullmap/mapper/level_check.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
-#include "input_points.hpp"
-#include "cluster_stages.hpp"
-#include "stage_timer.hpp"
-#include "stages.hpp"
-#include "ground.hpp"
-#include "resolution.hpp"
-#include "surfaces.hpp"
 #include "hullmap/pipeline/report.hpp"
 #include "hullmap/pipeline/voxels_csv.hpp"
+#include "input_points.hpp"
+#include "resolution.hpp"
+#include "stage_timer.hpp"
+#include "stages.hpp"
+#include "surfaces.hpp"
 
 namespace hullmap::pipeline {
 namespace {

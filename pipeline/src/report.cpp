@@ -2,8 +2,8 @@
 #include "hullmap/pipeline/report.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>

@@ -2,9 +2,9 @@
 // Private to hullmap_pipeline: the wall time and peak memory of each build stage (report.json's
 // timings_ms and peak_rss_mb).
 
+#include <sys/resource.h>
 #include <chrono>
 #include <string>
-#include <sys/resource.h>
 
 #include "hullmap/pipeline/pipeline.hpp"
 

@@ -3,8 +3,8 @@
 // (voronoiVertices), the traced bisectors and their guard (guardedClearance), the canonical order.
 // Over 600 lines as one job that shares the CGAL types above; its plane geometry is in polygon_2d,
 // roadmap.json in roadmap_json.cpp.
-#include "hullmap/core/convex_hull_2d.hpp"
 #include "hullmap/planning/roadmap.hpp"
+#include "hullmap/core/convex_hull_2d.hpp"
 
 #include <algorithm>
 #include <array>
@@ -20,11 +20,11 @@
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Gmpzf.h>
 #include <CGAL/Polygon_set_2.h>
-#include <CGAL/Segment_Delaunay_graph_hierarchy_2.h>
-#include <Eigen/Geometry>
 #include <CGAL/Segment_Delaunay_graph_filtered_traits_2.h>
+#include <CGAL/Segment_Delaunay_graph_hierarchy_2.h>
 #include <CGAL/Segment_Delaunay_graph_traits_2.h>
 #include <CGAL/Simple_cartesian.h>
+#include <Eigen/Geometry>
 
 #include "hullmap/core/error.hpp"
 #include "polygon_2d.hpp"

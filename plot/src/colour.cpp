@@ -1,5 +1,5 @@
-#include "hullmap/core/constants.hpp"
 #include "hullmap/plot/colour.hpp"
+#include "hullmap/core/constants.hpp"
 
 #include <algorithm>
 #include <array>

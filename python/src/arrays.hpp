@@ -5,9 +5,9 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Core>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <Eigen/Core>
 
 /// numpy in and out for the bindings: what an array argument must be, and arrays that own or view
 /// the library's vectors without copying them.

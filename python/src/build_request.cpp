@@ -7,11 +7,11 @@
 
 #include "arrays.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/mapper/align.hpp"
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "hullmap/io/readers.hpp"
 
 namespace hullmap::python {
 namespace {

@@ -4,9 +4,9 @@
 
 #include "hullmap/core/error.hpp"
 #include "hullmap/core/number_text.hpp"
-#include "hullmap/pipeline/voxels_csv.hpp"
-#include "hullmap/pipeline/report.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
+#include "hullmap/pipeline/report.hpp"
+#include "hullmap/pipeline/voxels_csv.hpp"
 
 namespace hullmap::python {
 

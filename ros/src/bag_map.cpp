@@ -5,10 +5,10 @@
 #include <system_error>
 
 #include <console_bridge/console.h>
-#include <rosbag/bag.h>
-#include <rosbag/view.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Path.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <visualization_msgs/Marker.h>
 

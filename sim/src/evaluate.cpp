@@ -1,9 +1,9 @@
 // Scoring a build against a ground truth (evaluate): the observed points' owners, the hulls' volumes
 // and false parts, random segments checked as `hullmap check` does. The truth's readers and its
 // signed distance are ground_truth.cpp.
+#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/core/constants.hpp"
 #include "hullmap/core/random.hpp"
-#include "hullmap/sim/evaluate.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -8,8 +8,8 @@
 #include <limits>
 #include <ostream>
 
-#include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
+#include <nlohmann/json.hpp>
 
 #include "hullmap/core/atomic_file.hpp"
 #include "hullmap/core/error.hpp"

@@ -8,9 +8,9 @@
 #include <cstdint>
 #include <vector>
 
+#include <tbb/parallel_for.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <tbb/parallel_for.h>
 
 #include "hullmap/core/constants.hpp"
 #include "hullmap/core/random.hpp"

@@ -13,10 +13,10 @@
 
 #include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/clustering/dbscan.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/mapper/align.hpp"
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/frame.hpp"
-#include "hullmap/io/readers.hpp"
 #include "hullmap/sim/sample_scene.hpp"
 #include "test_support.hpp"
 

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <vector>
 
-#include <Eigen/Core>
 #include <gtest/gtest.h>
+#include <Eigen/Core>
 
 #include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/clustering/build_warnings.hpp"

@@ -10,9 +10,9 @@
 #include <random>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <gtest/gtest.h>
 
 #include "hullmap/clustering/coplanar_merge.hpp"
 #include "hullmap/clustering/dbscan.hpp"

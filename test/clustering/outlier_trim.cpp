@@ -3,8 +3,8 @@
 #include <random>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/clustering/outlier_trim.hpp"

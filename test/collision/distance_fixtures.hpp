@@ -1,8 +1,8 @@
 #pragma once
 // Helpers shared by collision/distance.cpp, collision/heavy/distance.cpp.
 
-#include <array>
 #include <gtest/gtest.h>
+#include <array>
 
 #include "collision_oracle.hpp"
 #include "hullmap/collision/convex_distance.hpp"

@@ -1,16 +1,16 @@
 #pragma once
 // Helpers shared by collision/ground_truth.cpp, collision/heavy/ground_truth.cpp.
 
+#include <gtest/gtest.h>
 #include <cmath>
 #include <filesystem>
-#include <gtest/gtest.h>
 #include <random>
 #include <sstream>
 #include <string>
 
 #include "hullmap/collision/path_check.hpp"
-#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::collision {

@@ -2,10 +2,10 @@
 // the free notch of an L is free with parts and blocked by the whole hull.
 #include <gtest/gtest.h>
 
-#include "hullmap/hulls/convex_parts.hpp"
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/fcl_obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/hulls/convex_parts.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 
 namespace hullmap::collision {
 namespace {

@@ -1,12 +1,12 @@
 // End-to-end tests of `hullmap build` and `hullmap info`, and of every bad input in the brief's list:
 // one line on stderr naming the file and line (or the option), exit status 2, no partial output.
+#include <sys/stat.h>
 #include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
-#include <sys/stat.h>
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -15,11 +15,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "hullmap/mapper/frame.hpp"
-#include "hullmap/sim/sample_scene.hpp"
-#include "hullmap/pipeline/pipeline.hpp"
-#include "run_hullmap.hpp"
 #include "build_fixtures.hpp"
+#include "hullmap/mapper/frame.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/sim/sample_scene.hpp"
+#include "run_hullmap.hpp"
 
 using hullmap::test::expectOneLineError;
 

@@ -1,22 +1,22 @@
 #pragma once
 // Helpers shared by e2e/build.cpp, e2e/heavy/build.cpp.
 
-#include <algorithm>
-#include <csignal>
 #include <fcntl.h>
-#include <filesystem>
-#include <fstream>
 #include <gtest/gtest.h>
-#include <map>
-#include <nlohmann/json.hpp>
-#include <sstream>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <algorithm>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "hullmap/mapper/frame.hpp"
-#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "run_hullmap.hpp"
 
 namespace fs = std::filesystem;

@@ -12,14 +12,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "build_stages_fixtures.hpp"
 #include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/sim/sample_scene.hpp"
-#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/pipeline/report.hpp"
+#include "hullmap/sim/evaluate.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "run_hullmap.hpp"
-#include "build_stages_fixtures.hpp"
 
 namespace {
 

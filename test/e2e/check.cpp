@@ -4,15 +4,15 @@
 #include <cmath>
 #include <fstream>
 
-#include <nlohmann/json.hpp>
 #include <octomap/OcTree.h>
+#include <nlohmann/json.hpp>
 
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
-#include "run_hullmap.hpp"
 #include "obstacle_io_fixtures.hpp"
+#include "run_hullmap.hpp"
 
 namespace hullmap::pipeline {
 

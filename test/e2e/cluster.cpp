@@ -13,11 +13,11 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include "dbscan_fixtures.hpp"
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/core/error.hpp"
-#include "run_hullmap.hpp"
 #include "metric_distance.hpp"
-#include "dbscan_fixtures.hpp"
+#include "run_hullmap.hpp"
 
 namespace hullmap::clustering {
 namespace {

@@ -11,12 +11,12 @@
 
 #include <gtest/gtest.h>
 
+#include "hullmap/core/error.hpp"
 #include "hullmap/hulls/convex_parts.hpp"
 #include "hullmap/hulls/obstacles.hpp"
-#include "hullmap/core/error.hpp"
-#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/sim/evaluate.hpp"
 #include "run_hullmap.hpp"
 
 namespace hullmap::pipeline {

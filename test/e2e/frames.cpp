@@ -10,10 +10,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "frames_fixtures.hpp"
 #include "hullmap/mapper/align.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "run_hullmap.hpp"
-#include "frames_fixtures.hpp"
 
 namespace {
 

@@ -1,8 +1,8 @@
 #pragma once
 // Helpers shared by e2e/frames.cpp, e2e/heavy/frames.cpp.
 
-#include <cmath>
 #include <gtest/gtest.h>
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>

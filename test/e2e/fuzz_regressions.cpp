@@ -14,11 +14,11 @@
 
 #include <gtest/gtest.h>
 
-#include "hullmap/core/error.hpp"
-#include "hullmap/mapper/occupancy_map.hpp"
-#include "hullmap/io/readers.hpp"
-#include "run_hullmap.hpp"
 #include "fuzz_regressions_fixtures.hpp"
+#include "hullmap/core/error.hpp"
+#include "hullmap/io/readers.hpp"
+#include "hullmap/mapper/occupancy_map.hpp"
+#include "run_hullmap.hpp"
 
 namespace {
 

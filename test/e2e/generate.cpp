@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "hullmap/mapper/align.hpp"
 #include "hullmap/io/readers.hpp"
+#include "hullmap/mapper/align.hpp"
 #include "run_hullmap.hpp"
 
 namespace {

@@ -5,12 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include "hullmap/core/error.hpp"
 #include "hullmap/hulls/convex_parts.hpp"
 #include "hullmap/hulls/obstacles.hpp"
-#include "hullmap/core/error.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
-#include "run_hullmap.hpp"
 #include "obstacles_json_fixtures.hpp"
+#include "run_hullmap.hpp"
 
 namespace hullmap::pipeline {
 namespace {}  // namespace

@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/collision/path_check.hpp"
-#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "planning_support.hpp"
 #include "run_hullmap.hpp"
 

@@ -2,13 +2,13 @@
 
 // The end-to-end tests' way to run the hullmap command (HULLMAP_BINARY): only test/e2e/ includes it.
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include "test_support.hpp"
 

@@ -11,14 +11,14 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include "convex_parts_fixtures.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/hulls/convex_parts.hpp"
 #include "hullmap/hulls/obstacles.hpp"
-#include "hullmap/core/error.hpp"
-#include "hullmap/sim/sample_scene.hpp"
-#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/sim/evaluate.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "test_support.hpp"
-#include "convex_parts_fixtures.hpp"
 
 namespace hullmap::hulls {
 namespace {

@@ -1,21 +1,21 @@
 #pragma once
 // Helpers shared by hulls/convex_parts.cpp, hulls/heavy/convex_parts.cpp.
 
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <gtest/gtest.h>
 #include <iostream>
 #include <random>
 #include <set>
-#include <tbb/global_control.h>
 
+#include "hullmap/core/error.hpp"
 #include "hullmap/hulls/convex_parts.hpp"
 #include "hullmap/hulls/obstacles.hpp"
-#include "hullmap/core/error.hpp"
-#include "hullmap/sim/sample_scene.hpp"
-#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/sim/evaluate.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::hulls {

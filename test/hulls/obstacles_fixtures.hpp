@@ -1,21 +1,21 @@
 #pragma once
 // Helpers shared by hulls/obstacles.cpp, hulls/heavy/obstacles.cpp.
 
+#include <gtest/gtest.h>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <gtest/gtest.h>
 #include <numeric>
 #include <random>
 #include <set>
 #include <tuple>
 
-#include "hullmap/core/convex_hull_2d.hpp"
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/hulls/obstacles.hpp"
+#include "hullmap/core/convex_hull_2d.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/sim/sample_scene.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::hulls {

@@ -1,5 +1,6 @@
 // Point readers: every format against points written by an independent writer in this file,
 // the real ORB-SLAM and PCL files against their twins, and every kind of bad input.
+#include <malloc.h>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -10,7 +11,6 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <malloc.h>
 #include <memory>
 #include <random>
 #include <sstream>
@@ -23,8 +23,8 @@
 #include "hullmap/core/error.hpp"
 #include "hullmap/io/readers.hpp"
 #include "read_outcome.hpp"
-#include "test_support.hpp"
 #include "readers_fixtures.hpp"
+#include "test_support.hpp"
 
 namespace {
 

@@ -1,6 +1,9 @@
 #pragma once
 // Helpers shared by io/readers.cpp, io/heavy/readers.cpp.
 
+#include <gtest/gtest.h>
+#include <liblzf/lzf.h>
+#include <malloc.h>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -10,10 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <gtest/gtest.h>
-#include <liblzf/lzf.h>
 #include <limits>
-#include <malloc.h>
 #include <memory>
 #include <random>
 #include <sstream>

@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/pipeline/report.hpp"
 #include "hullmap/live/node_params.hpp"
+#include "hullmap/pipeline/report.hpp"
 
 namespace hullmap::live {
 namespace {

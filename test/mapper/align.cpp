@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/constants.hpp"
-#include "hullmap/mapper/align.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/mapper/align.hpp"
 #include "test_support.hpp"
 
 namespace {

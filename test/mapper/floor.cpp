@@ -8,9 +8,9 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/constants.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/frame.hpp"
-#include "hullmap/io/readers.hpp"
 #include "hullmap/sim/sample_scene.hpp"
 #include "test_support.hpp"
 

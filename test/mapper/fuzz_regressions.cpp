@@ -14,12 +14,12 @@
 
 #include <gtest/gtest.h>
 
+#include "fuzz_regressions_fixtures.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/io/readers.hpp"
+#include "hullmap/mapper/occupancy_map.hpp"
 #include "read_outcome.hpp"
 #include "test_support.hpp"
-#include "fuzz_regressions_fixtures.hpp"
 
 namespace {
 

@@ -1,10 +1,10 @@
 #pragma once
 // Helpers shared by mapper/insertion.cpp, mapper/heavy/insertion.cpp.
 
+#include <gtest/gtest.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <gtest/gtest.h>
 #include <random>
 #include <tuple>
 

@@ -10,9 +10,9 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/error.hpp"
+#include "hullmap/io/readers.hpp"
 #include "hullmap/mapper/frame.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "hullmap/io/readers.hpp"
 #include "hullmap/sim/sample_scene.hpp"
 #include "octree_oracle.hpp"
 #include "test_support.hpp"

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <octomap/OcTree.h>
 
+#include "frames_fixtures.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/io/readers.hpp"
 #include "hullmap/pipeline/map_obstacles.hpp"
@@ -20,7 +21,6 @@
 #include "hullmap/pipeline/report.hpp"
 #include "octree_oracle.hpp"
 #include "test_support.hpp"
-#include "frames_fixtures.hpp"
 
 namespace hullmap::pipeline {
 namespace {

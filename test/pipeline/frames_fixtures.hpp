@@ -1,11 +1,11 @@
 #pragma once
 // Helpers shared by pipeline/frames.cpp, pipeline/heavy/frames.cpp.
 
+#include <gtest/gtest.h>
+#include <octomap/OcTree.h>
 #include <cmath>
 #include <fstream>
-#include <gtest/gtest.h>
 #include <iomanip>
-#include <octomap/OcTree.h>
 #include <sstream>
 #include <string>
 #include <vector>

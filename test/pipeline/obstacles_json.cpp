@@ -7,12 +7,12 @@
 
 #include <gtest/gtest.h>
 
+#include "hullmap/core/error.hpp"
 #include "hullmap/hulls/convex_parts.hpp"
 #include "hullmap/hulls/obstacles.hpp"
-#include "hullmap/core/error.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
-#include "test_support.hpp"
 #include "obstacles_json_fixtures.hpp"
+#include "test_support.hpp"
 
 namespace hullmap::pipeline {
 namespace {

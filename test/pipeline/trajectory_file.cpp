@@ -8,9 +8,9 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/pipeline/trajectory_file.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "test_support.hpp"
 
 namespace {

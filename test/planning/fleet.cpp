@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/planning/fleet.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "planning_support.hpp"
 
 namespace hullmap {

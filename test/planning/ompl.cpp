@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/sim/ground_truth.hpp"
 #include "hullmap/planning/ompl_planner.hpp"
+#include "hullmap/sim/ground_truth.hpp"
 #include "planning_support.hpp"
 
 namespace hp = hullmap::planning;

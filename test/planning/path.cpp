@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/planning/path_planner.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "planning_support.hpp"
 
 namespace hullmap {

@@ -1,16 +1,16 @@
 #include <cmath>
-#include <limits>
 #include <functional>
+#include <limits>
 #include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "hullmap/core/convex_hull_2d.hpp"
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/core/convex_hull_2d.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/planning/path_planner.hpp"
 #include "hullmap/planning/roadmap.hpp"
 #include "planning_support.hpp"

@@ -11,8 +11,8 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/convex_hull_2d.hpp"
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/ros1/messages.hpp"
 #include "polygon_oracle.hpp"
 

@@ -11,13 +11,13 @@
 
 #include <gtest/gtest.h>
 
+#include "evaluate_fixtures.hpp"
+#include "hullmap/core/error.hpp"
 #include "hullmap/hulls/convex_parts.hpp"
 #include "hullmap/hulls/obstacles.hpp"
-#include "hullmap/core/error.hpp"
-#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
-#include "evaluate_fixtures.hpp"
+#include "hullmap/sim/evaluate.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::sim {

@@ -9,12 +9,12 @@
 
 #include <gtest/gtest.h>
 
+#include "evaluate_fixtures.hpp"
 #include "hullmap/collision/convex_distance.hpp"
 #include "hullmap/core/error.hpp"
 #include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/sim/evaluate.hpp"
 #include "hullmap/sim/ground_truth.hpp"
-#include "evaluate_fixtures.hpp"
 #include "test_support.hpp"
 
 namespace hullmap::sim {

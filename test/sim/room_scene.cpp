@@ -11,10 +11,10 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/core/constants.hpp"
-#include "hullmap/mapper/align.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/floor.hpp"
 #include "hullmap/io/readers.hpp"
+#include "hullmap/mapper/align.hpp"
+#include "hullmap/mapper/floor.hpp"
 #include "hullmap/sim/sample_scene.hpp"
 #include "test_support.hpp"
 

@@ -2,10 +2,10 @@
 // Helpers shared by pipeline/build_stages.cpp, pipeline/heavy/build_stages.cpp, e2e/build_stages.cpp,
 // e2e/heavy/build_stages.cpp.
 
+#include <gtest/gtest.h>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <gtest/gtest.h>
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -15,10 +15,10 @@
 
 #include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/sim/sample_scene.hpp"
-#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/pipeline/report.hpp"
+#include "hullmap/sim/evaluate.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "test_support.hpp"
 
 namespace {

@@ -1,24 +1,24 @@
 #pragma once
 // Helpers shared by clustering/dbscan.cpp, clustering/heavy/dbscan.cpp, e2e/cluster.cpp.
 
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <gtest/gtest.h>
 #include <map>
 #include <random>
 #include <set>
 #include <sstream>
 #include <string>
-#include <tbb/global_control.h>
 #include <vector>
 
 #include "hullmap/clustering/dbscan.hpp"
 #include "hullmap/core/error.hpp"
-#include "test_support.hpp"
 #include "metric_distance.hpp"
+#include "test_support.hpp"
 
 namespace hullmap::clustering {
 

@@ -1,18 +1,18 @@
 #pragma once
 // Helpers shared by mapper/fuzz_regressions.cpp, mapper/heavy/fuzz_regressions.cpp, e2e/fuzz_regressions.cpp.
 
+#include <gtest/gtest.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <gtest/gtest.h>
 #include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/io/readers.hpp"
+#include "hullmap/mapper/occupancy_map.hpp"
 #include "read_outcome.hpp"
 #include "test_support.hpp"
 

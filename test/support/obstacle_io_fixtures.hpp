@@ -1,15 +1,15 @@
 #pragma once
 // Helpers shared by collision/obstacle_io.cpp, e2e/check.cpp.
 
+#include <gtest/gtest.h>
+#include <octomap/OcTree.h>
 #include <cmath>
 #include <fstream>
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <octomap/OcTree.h>
 
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "test_support.hpp"
 

@@ -1,13 +1,13 @@
 #pragma once
 // Helpers shared by pipeline/obstacles_json.cpp, e2e/obstacles_json.cpp.
 
-#include <fstream>
 #include <gtest/gtest.h>
+#include <fstream>
 #include <sstream>
 
+#include "hullmap/core/error.hpp"
 #include "hullmap/hulls/convex_parts.hpp"
 #include "hullmap/hulls/obstacles.hpp"
-#include "hullmap/core/error.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "test_support.hpp"
 

@@ -5,11 +5,11 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
 #include <gtest/gtest.h>
+#include <Eigen/Core>
 
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/sim/sample_scene.hpp"
 
 namespace hullmap::test {

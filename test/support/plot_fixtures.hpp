@@ -1,12 +1,12 @@
 #pragma once
 // Helpers shared by plot/plot.cpp, plot/heavy/plot.cpp, e2e/plot.cpp.
 
+#include <gtest/gtest.h>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <gtest/gtest.h>
 #include <map>
 #include <random>
 #include <set>
@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "hullmap/plot/svg_plot.hpp"
 #include "test_support.hpp"

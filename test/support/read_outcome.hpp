@@ -2,12 +2,12 @@
 
 // Streaming readers against the whole-input reader: a pipe fed by a thread, and what one read gave.
 
-#include <csignal>
 #include <fcntl.h>
+#include <unistd.h>
+#include <csignal>
 #include <stdexcept>
 #include <string>
 #include <thread>
-#include <unistd.h>
 
 #include "hullmap/io/readers.hpp"
 #include "test_support.hpp"

@@ -7,8 +7,8 @@
 #include <sstream>
 #include <string>
 
-#include <Eigen/Core>
 #include <gtest/gtest.h>
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include "hullmap/core/error.hpp"

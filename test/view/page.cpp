@@ -17,11 +17,11 @@
 #include <nlohmann/json.hpp>
 
 #include "hullmap/core/error.hpp"
-#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/pipeline/map_obstacles.hpp"
 #include "hullmap/pipeline/path_checker.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/pipeline/voxels_csv.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "hullmap/view/html_view.hpp"
 #include "test_support.hpp"
 

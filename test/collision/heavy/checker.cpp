@@ -6,11 +6,11 @@
 
 #include <fcl/geometry/shape/sphere.h>
 
+#include "checker_fixtures.hpp"
 #include "collision_oracle.hpp"
 #include "hullmap/collision/fcl_obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
 #include "hullmap/core/error.hpp"
-#include "checker_fixtures.hpp"
 
 namespace hullmap::collision {
 namespace {

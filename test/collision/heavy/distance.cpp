@@ -6,9 +6,9 @@
 #include <array>
 
 #include "collision_oracle.hpp"
+#include "distance_fixtures.hpp"
 #include "hullmap/collision/convex_distance.hpp"
 #include "hullmap/core/error.hpp"
-#include "distance_fixtures.hpp"
 
 namespace hullmap::collision {
 namespace {

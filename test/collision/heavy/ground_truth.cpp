@@ -9,11 +9,11 @@
 
 #include <gtest/gtest.h>
 
-#include "hullmap/collision/path_check.hpp"
-#include "hullmap/sim/sample_scene.hpp"
-#include "hullmap/pipeline/pipeline.hpp"
-#include "test_support.hpp"
 #include "ground_truth_fixtures.hpp"
+#include "hullmap/collision/path_check.hpp"
+#include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/sim/sample_scene.hpp"
+#include "test_support.hpp"
 
 namespace hullmap::collision {
 namespace {

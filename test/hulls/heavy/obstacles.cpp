@@ -7,16 +7,16 @@
 #include <set>
 #include <tuple>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/sim/sample_scene.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
-#include "test_support.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "obstacles_fixtures.hpp"
+#include "test_support.hpp"
 
 namespace hullmap::hulls {
 namespace {

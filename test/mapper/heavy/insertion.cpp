@@ -9,9 +9,9 @@
 #include "hullmap/mapper/detail/octree_keys.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 #include "hullmap/sim/sample_scene.hpp"
+#include "insertion_fixtures.hpp"
 #include "octree_oracle.hpp"
 #include "test_support.hpp"
-#include "insertion_fixtures.hpp"
 
 namespace hullmap::mapper {
 namespace {

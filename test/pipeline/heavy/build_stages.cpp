@@ -1,11 +1,11 @@
 // The stages issue 13 adds to the build (align, floor, auto eps/minPts, convex parts with known free
 // space) on a generated room in ORB-SLAM's frame at a monocular scale, and their bad inputs.
-#include <set>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -13,14 +13,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "build_stages_fixtures.hpp"
 #include "hullmap/clustering/auto_params.hpp"
 #include "hullmap/core/error.hpp"
-#include "hullmap/sim/sample_scene.hpp"
-#include "hullmap/sim/evaluate.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 #include "hullmap/pipeline/report.hpp"
+#include "hullmap/sim/evaluate.hpp"
+#include "hullmap/sim/sample_scene.hpp"
 #include "test_support.hpp"
-#include "build_stages_fixtures.hpp"
 
 namespace {
 

@@ -15,12 +15,12 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/core/error.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/pipeline/obstacle_io.hpp"
 #include "hullmap/plot/svg_plot.hpp"
-#include "test_support.hpp"
 #include "plot_fixtures.hpp"
+#include "test_support.hpp"
 
 namespace {
 

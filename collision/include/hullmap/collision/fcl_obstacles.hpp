@@ -8,8 +8,8 @@
 #include <fcl/geometry/shape/convex.h>
 #include <fcl/narrowphase/collision_object.h>
 
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/convex_distance.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 
 namespace hullmap::collision {
 

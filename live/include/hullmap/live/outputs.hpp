@@ -7,8 +7,8 @@
 
 #include <Eigen/Core>
 
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/live/map_messages.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
 

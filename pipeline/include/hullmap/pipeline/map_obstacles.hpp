@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/mapper/align.hpp"
 
 /// A finished build as path checks and planners take it: the obstacles, the surfaces (floor,

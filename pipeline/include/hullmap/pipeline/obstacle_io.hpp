@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/mapper/align.hpp"
 
 namespace hullmap::pipeline {

@@ -7,8 +7,8 @@
 
 #include <Eigen/Core>
 
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/planning/roadmap.hpp"
 
 namespace hullmap::planning {

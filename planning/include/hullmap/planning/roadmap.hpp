@@ -6,8 +6,8 @@
 
 #include <Eigen/Core>
 
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 
 namespace hullmap::planning {
 

@@ -8,8 +8,8 @@
 #include <Eigen/Core>
 
 #include "hullmap/clustering/dbscan.hpp"
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/plot/colour.hpp"
 #include "hullmap/plot/picture_output.hpp"
 

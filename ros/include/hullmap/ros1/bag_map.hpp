@@ -5,9 +5,9 @@
 
 #include <vector>
 
-#include "hullmap/live/map_messages.hpp"
 #include "hullmap/io/point_cloud.hpp"
 #include "hullmap/io/readers.hpp"
+#include "hullmap/live/map_messages.hpp"
 
 namespace hullmap::ros1 {
 

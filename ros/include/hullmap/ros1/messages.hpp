@@ -11,12 +11,12 @@
 #include <visualization_msgs/Marker.h>
 #include <visualization_msgs/MarkerArray.h>
 
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/hulls/obstacles.hpp"
+#include "hullmap/io/point_cloud.hpp"
 #include "hullmap/live/map_messages.hpp"
 #include "hullmap/live/outputs.hpp"
 #include "hullmap/mapper/occupancy_map.hpp"
-#include "hullmap/io/point_cloud.hpp"
 
 /// Conversions between ROS1 messages and hullmap's types, for hullmap_node and the bag reader: each
 /// copies a message's fields into hullmap::live's neutral types (or back) and calls live, which holds

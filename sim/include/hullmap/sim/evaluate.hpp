@@ -8,8 +8,8 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/sim/ground_truth.hpp"
 
 namespace hullmap::sim {

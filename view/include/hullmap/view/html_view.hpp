@@ -10,8 +10,8 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
-#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/collision/path_check.hpp"
+#include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/io/readers.hpp"
 #include "hullmap/sim/ground_truth.hpp"
 

@@ -13,10 +13,10 @@
 #include <visualization_msgs/msg/marker.hpp>
 #include <visualization_msgs/msg/marker_array.hpp>
 
+#include "hullmap/io/readers.hpp"
 #include "hullmap/live/map_messages.hpp"
 #include "hullmap/live/node_params.hpp"
 #include "hullmap/live/outputs.hpp"
-#include "hullmap/io/readers.hpp"
 
 /// ROS 2 messages to and from hullmap::live's neutral types, for the ROS 2 node and its bag reader:
 /// copies of fields, nothing more (the rules are live's, shared with the ROS 1 node). Reentrant.
