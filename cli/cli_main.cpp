@@ -22,6 +22,7 @@
 #endif
 
 #include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/detail/test_hooks.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 
 namespace hullmap::cli {

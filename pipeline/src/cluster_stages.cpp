@@ -19,6 +19,7 @@
 #include "hullmap/hulls/obstacles.hpp"
 #include "hullmap/mapper/floor.hpp"
 #include "hullmap/mapper/level_check.hpp"
+#include "hullmap/pipeline/detail/test_hooks.hpp"
 #include "hullmap/pipeline/report.hpp"
 #include "stages.hpp"
 #include "surfaces.hpp"

@@ -1,6 +1,7 @@
 // The build up to the octree: the inputs read whole or streamed in two passes, the frame, the floor
 // and the filters; then cluster_stages.cpp's stage list from the voxels to the obstacles.
 #include "hullmap/pipeline/pipeline.hpp"
+#include "hullmap/pipeline/detail/test_hooks.hpp"
 
 #include <sys/resource.h>
 #include <algorithm>

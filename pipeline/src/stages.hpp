@@ -1,7 +1,8 @@
 #pragma once
-// Private to hullmap_pipeline: the test hook called at the start of each stage (pipeline.hpp's
+// Private to hullmap_pipeline: the test hook called at the start of each stage (test_hooks.hpp's
 // detail::stage_hook).
 
+#include "hullmap/pipeline/detail/test_hooks.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 
 namespace hullmap::pipeline {

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/detail/test_hooks.hpp"
 
 namespace hullmap::pipeline {
 

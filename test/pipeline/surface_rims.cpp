@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "hullmap/core/error.hpp"
+#include "hullmap/pipeline/detail/test_hooks.hpp"
 #include "hullmap/pipeline/pipeline.hpp"
 
 namespace hullmap::pipeline {
