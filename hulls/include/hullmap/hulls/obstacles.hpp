@@ -34,9 +34,8 @@ struct ObstaclePart {
   double volume = 0.0;                                 ///< of the hull
   ConvexHull hull;                                     ///< contains every voxel of the part completely
   Footprint footprint;
-  /// Certified upper bound on the distance from any point of the hull to the part's own voxel
-  /// cubes (map units); at most the concavity T asked for, unless the part is a single voxel or
-  /// `flat` or `faces` (then at most the flat gap G).
+  /// Certified bound (map units) on the distance from the hull to the part's own voxel cubes: at
+  /// most T (G when `flat` or `faces`); a single voxel is exempt (its hull is its cube).
   double concavity_bound = 0.0;
   /// The part passed as flat: its hull is at most T thick (a wall, a table top), so the gaps in its
   /// surface, up to G, swallow no more than that slab (see ConvexPartsParams::flat_gap).
@@ -47,9 +46,8 @@ struct ObstaclePart {
   /// than T from its voxels lie within T of a face of the hull, within G of a voxel on that face.
   bool faces = false;
   std::size_t free_voxels_inside = 0;  ///< observed-free voxel centres given that lie in the hull
-  /// Of those, the ones with none of the part's own occupied voxels among their 26 neighbours: free
-  /// space the hull swallowed beyond the band one voxel deep along its surface (a ray that ends on a
-  /// surface marks the voxel in front of it free, and noise spreads a surface over two voxel layers).
+  /// Of those, the ones with none of the part's voxels among their 26 neighbours: free space
+  /// swallowed beyond the one-voxel band along the surface (docs/CONVEX_PARTS.md, "Free voxels").
   std::size_t free_voxels_off_surface = 0;
 };
 

@@ -1,13 +1,6 @@
 #pragma once
-// Sparse edges: a convex part of a sparse surface stops short of the surface's edges.
-//
-// The hull of map points sampled every s metres on a table top, a box's face or a wall ends where
-// the last points are: up to s inside the true edge, and a corner is cut off along the diagonal
-// between the last points of its two sides. At half of EuRoC V1_01's density (22 points/m², s about
-// 0.2 m) these cuts were the only deep collisions the hulls missed on generated rooms (0.10 to 0.15
-// m into a table's corner, a box's edge, a cylinder's rim; issue 27). Growing the part in its own
-// plane by a share of its spacing takes the edges back out, and growing only in the plane keeps the
-// part off the room: a wall does not get thicker, a table top does not get taller.
+// Sparse edges: growing a convex part of a sparse surface in its own plane, so that its hull
+// reaches the surface's edges (why: docs/CONVEX_PARTS.md, "Sparse edges").
 
 #include "hullmap/hulls/obstacles.hpp"
 
