@@ -46,22 +46,15 @@ struct ClusterExtension {
 /// Throws hullmap::Error naming the parameter on eps <= 0, min_pts < 1, reach < eps (or not finite),
 /// a size mismatch between points, weights and labels, a label < kNoise or >= cluster_sizes.size(),
 /// a zero weight or a non-finite point. Deterministic whatever the thread count; thread-safe (no
-/// shared state); uses the TBB arena of the caller. Cost: a hash grid of cells of side reach; one
-/// neighbourhood pass over the noise points (in parallel, each stopping at min_pts), then one over
-/// the dense noise points near each round's joins; a clustered point's density is computed only
-/// when a dense noise point has it within reach. Measured in `hullmap build` (2 cores, loaded):
-/// 1.3 to 2 ms on the 10,700 voxels of a generated 20k-point scene (DBSCAN 27 to 33 ms); 130 ms on
-/// the 122,000 voxels of a 1M-point one with 10 % outliers, 94,000 of them noise (DBSCAN 430 to 880 ms).
+/// shared state); uses the TBB arena of the caller.
+/// Cost: docs/DESIGN_NOTES.md, "cluster_extension.hpp: cost".
 ClusterExtension extendClusters(const std::vector<Eigen::Vector3d>& points, const std::vector<std::uint32_t>& weights,
                                 DbscanResult& result, const ClusterExtensionParams& params);
 
 /// How the pipeline sets ClusterExtensionParams from the DBSCAN parameters it used (docs/CLI.md,
 /// build stage 5): eps the same, min_pts = max(min_min_pts, floor(min_pts_factor * minPts)), reach =
-/// reach_factor * eps. The defaults were chosen on generated rooms with tables and shelves at 30 and
-/// 120 map points per m^2 (bench/quality.py's scenes): at 30, auto minPts is 6 or 7 and a table leg
-/// holds 2 to 5 map points, 0.1 to 0.3 m apart, its top ones up to 0.6 m (1.5 eps) below the table
-/// top: extension minPts 2 and reach 1.5 eps attach them. min_min_pts 2 keeps a lone point (an
-/// outlier 0.4 to 0.6 m in front of a wall) out; with 1 such points made walls' hulls bulge.
+/// reach_factor * eps. Why these defaults:
+/// docs/DESIGN_NOTES.md, "cluster_extension.hpp: the defaults".
 struct ClusterExtensionRule {
   double min_pts_factor = 0.3;  ///< in (0, 1]
   double reach_factor = 1.5;    ///< >= 1

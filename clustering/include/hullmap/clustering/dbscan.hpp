@@ -96,10 +96,7 @@ std::vector<double> kDistanceCurve(const std::vector<Eigen::Vector3d>& points, i
 std::vector<std::uint32_t> kDistanceSample(std::size_t n, std::size_t max_samples);
 
 /// Sample size of `hullmap cluster`'s eps suggestion (answered on DBSCAN's grid, see dbscan() with a
-/// KDistanceRequest). Against the full curve its knee moved by +0.33% on a generated 300k-point scene,
-/// -1.70% on PCL's table scene, -1.14% on ORB-SLAM2's EuRoC V1_01 map and -0.04% on PCL's five people
-/// (8192 samples: +0.50%, +0.57%, 0%, 0%; 512: up to -16%), for a quarter of 8192's time: on the
-/// 300k scene at eps 0.1 the sample costs about a tenth of the clustering.
+/// KDistanceRequest). Why 2048: docs/DESIGN_NOTES.md, "dbscan.hpp: kEpsSuggestionSamples".
 inline constexpr std::size_t kEpsSuggestionSamples = 2048;
 
 /// Suggested eps: the knee of the k-distance curve, found by this rule:

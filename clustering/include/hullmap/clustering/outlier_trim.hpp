@@ -23,15 +23,8 @@ struct OutlierTrim {
   std::size_t dropped = 0;  ///< clustered points made noise
 };
 
-/// Drops from the clusters the outliers that a wide eps took in off a surface. On a sparse map the
-/// eps that connects a surface's own points (0.3 to 0.4 m at EuRoC V1_01's density) also reaches a
-/// stray map point that far in front of it, and DBSCAN makes that point a border point of the
-/// surface's cluster: an obstacle voxel in free space, on the room's side of a wall. Such a point is
-/// alone (nothing within `radius`), and the points around it sample a flat patch (a wall, a table
-/// top) that it stands off, above the patch's inside. A real sample of a thin thing stands on a
-/// structure that is not flat around it (a table leg's between the top and the floor), or beyond the
-/// patch's edge (a corner); a sample of a curved object (a cylinder's unseen side) has the rest of
-/// the object around it, which is not flat either. Exactly:
+/// Drops from the clusters the outliers that a wide eps took in off a surface. A point alone that
+/// stands off a flat patch it would sit on is dropped (why: docs/DESIGN_NOTES.md, "outlier_trim.hpp"). Exactly:
 /// - A *loner* is a point of `points` with label >= 0 that is not core (DBSCAN's core flag) and has
 ///   no other point of `points` (any label) nor of `support` within radius (squared distance <=
 ///   radius^2).
@@ -50,7 +43,7 @@ struct OutlierTrim {
 /// `noise` are updated in place; `core` is unchanged. Deterministic, thread-safe (no shared state).
 /// Throws hullmap::Error naming the parameter on radius <= 0, reach < radius (or not finite), a size
 /// mismatch between points, labels and core flags, or a non-finite point. Cost: a hash grid of cells
-/// of side reach; only the loners (a few hundred on a room's 8,000 voxels) look at their patch.
+/// of side reach; only the loners look at their patch.
 OutlierTrim trimOutliers(const std::vector<Eigen::Vector3d>& points, DbscanResult& result,
                          const std::vector<Eigen::Vector3d>& support, const OutlierTrimParams& params);
 
