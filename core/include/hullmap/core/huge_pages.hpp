@@ -1,11 +1,7 @@
 #pragma once
 
-// Transparent huge pages for big buffers. A short run that fills fresh memory (reading a point file,
-// DBSCAN's arrays, writing labels.csv) spends much of its time in first-touch page faults, one per
-// 4 KiB page, and on a virtual machine each costs more (measured on `hullmap cluster` of 257,000
-// points: 7,300 faults, a third of the process in the kernel; with glibc's THP tunable, 2,850
-// faults and 0.09 s instead of 0.14 s). Asking for huge pages where a buffer holds whole ones
-// takes 512 pages per fault.
+// Transparent huge pages for big buffers: where a buffer holds whole huge pages, one page fault
+// maps 512 pages instead of one (why and how much: docs/DESIGN_NOTES.md, "huge_pages.hpp").
 
 #include <cstddef>
 #include <vector>

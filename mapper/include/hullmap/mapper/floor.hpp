@@ -45,9 +45,7 @@ enum class PlaneSide { kFloor, kCeiling };
 /// - coverage >= `min_coverage`: project the points onto the plane, on a grid of cells of
 ///   `coverage_cell` map units (0: 10 * band), over the box holding the central 98% of the points
 ///   along each plane axis; coverage = cells holding an inlier / cells holding any point. A floor
-///   spreads under the whole map; a table top or a wall's foot alone covers little. (Boxes
-///   standing on a floor that has no map points of its own still show it by their bottom edges
-///   when enough of them stand around the map: that plane is then taken, and it is the floor.)
+///   spreads under the whole map (docs/DESIGN_NOTES.md, "floor.hpp: coverage").
 /// - tilt <= `max_tilt_deg`.
 struct PlaneSearchParams {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  ///< up hint (the map frame's z after --up)
@@ -56,9 +54,7 @@ struct PlaneSearchParams {
   double max_tilt_deg = 30.0;  ///< largest angle between the plane normal and up
   double min_inlier_share = 0.03;
   double max_beyond_share = 0.05;
-  /// 0.3: measured floors cover 0.39 (a generated 1M-point scene of boxes) to 0.6 (EuRoC V1_01) and
-  /// 0.99 (generated rooms); 0.2 let through a plane tilted 11 degrees across the bottoms of a row of
-  /// boxes in a scene without floor points (coverage 0.26), which then levelled the map wrongly.
+  /// coverage a floor needs, in [0, 1] (why 0.3: docs/DESIGN_NOTES.md, "floor.hpp: coverage")
   double min_coverage = 0.3;
   double coverage_cell = 0.0;  ///< map units; 0: 10 * band
   int iterations = 1000;       ///< RANSAC draws
