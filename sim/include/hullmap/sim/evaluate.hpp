@@ -67,10 +67,8 @@ struct TruthScore {
   /// surface_margin (each point counts for one shape only).
   double points_near = 0;
   double points_inside = 0;  ///< of those, inside some hull
-  /// The hulls that represent it: (obstacle id, part index; -1 whole hull) of each hull whose held
-  /// observed points weigh most for this shape (ties to the lower shape index; a hull holding no
-  /// observed point represents nothing). Every hull represents at most one shape, so a perfect
-  /// output has one per convex true obstacle.
+  /// The hulls that represent it, (obstacle id, part index; -1 whole hull): each hull represents at
+  /// most one shape (docs/DESIGN_NOTES.md, "evaluate.hpp: represented parts").
   std::vector<std::pair<int, int>> parts;
   /// The hulls coming within touch_margin of it, whatever they represent: at a corner of two walls
   /// the end parts of both touch both walls, so this counts neighbours too.
@@ -85,8 +83,7 @@ struct FalsePart {
   std::size_t voxels = 0;  ///< its voxels
   double volume = 0.0;     ///< its hull's volume, map units^3: the free space it brings
   /// Its hull's distance from the nearest true obstacle, map units: exact for boxes, cylinders and
-  /// their unions (Frank-Wolfe over the hull, to a duality gap of 1e-12), for a mesh or a height
-  /// field the least over the hull's vertices and its Monte Carlo points.
+  /// unions, sampled for meshes and height fields (docs/DESIGN_NOTES.md, "evaluate.hpp: FalsePart").
   double distance = 0.0;
 };
 
@@ -119,10 +116,8 @@ struct Evaluation {
   std::size_t segments = 0;
   std::size_t deep = 0;    ///< segments whose capsule penetrates the truth by > depth_margin
   std::size_t missed = 0;  ///< of those, reported clear by the hull checker
-  /// Deep segments whose capsule holds fewer than seen_points map points (the points evaluate() was
-  /// given: the build's voxel centres, weighted, by default): the map never saw the place they collide
-  /// with (a tree's far side, a post between map points metres apart) or saw it as one or two stray
-  /// points, which no clustering tells from outliers.
+  /// Deep segments whose capsule holds fewer than seen_points map points: places the map never saw
+  /// (or saw as stray points; docs/DESIGN_NOTES.md, "evaluate.hpp: deep_unseen").
   std::size_t deep_unseen = 0;
   std::size_t missed_unseen = 0;  ///< of the missed, those unseen
   std::size_t clear = 0;          ///< segments keeping radius + clear_margin from the truth

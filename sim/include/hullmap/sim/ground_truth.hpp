@@ -53,15 +53,12 @@ class TruthShapeRange {
 /// generator makes, ground_truth.json holds and evaluate scores against.
 struct TruthShape {
   enum class Shape { kBox, kCylinder, kMesh, kUnion, kHeightField } shape = Shape::kBox;
-  /// What it is: the JSON's "kind" ("box", "cylinder", "l_shelf", "table", "wall", "floor",
-  /// "ceiling", "ground", "building", ...); without one, the shape's name ("box", "cylinder",
-  /// "union", "mesh", "heightfield").
+  /// What it is: the JSON's "kind" ("box", "table", "wall", "floor", "ground", ...); without one,
+  /// the shape's name ("box", "cylinder", "union", "mesh", "heightfield").
   std::string kind = "box";
   std::string label;  ///< "box 3", "table 6" (kind and index), or the OBJ object's name
-  /// A floor or ceiling (kind "floor" / "ceiling"), or a height field (any kind, "ground" from the
-  /// generator): the bound of the map, which the build leaves out of its obstacles. Random segments
-  /// stay above every floor and height field and below every ceiling; its observed points are
-  /// reported but are not expected inside hulls.
+  /// A floor, ceiling or height field: a bound of the map, left out of the obstacles; random segments
+  /// stay between them (docs/DESIGN_NOTES.md, "ground_truth.hpp: TruthShape::surface").
   bool surface = false;
   std::vector<TruthShape> parts;                          ///< kUnion: the primitives (boxes, cylinders)
   Eigen::Vector3d center = Eigen::Vector3d::Zero();       ///< box centre; cylinder axis centre

@@ -56,14 +56,8 @@ struct SceneParams {
   std::size_t keyframes = 60;
   bool orbslam_frame = true;  ///< write in ORB-SLAM's frame (y down): read back with --up -y
 
-  /// kRoom only (see SceneLayout). The room is room_size x room_width x room_height, floor at z = 0,
-  /// walls' inner faces at x = +-room_size / 2, y = +-room_width / 2; `obstacles` pieces of furniture
-  /// (0 allowed), placed as `placement` says. `points` is ignored:
-  /// visible surfaces get `density` points per m^2 (ORB-SLAM maps of EuRoC hold about 50 to 500,
-  /// see maps/README.md), `edge_fraction` of them on face edges; outlier_fraction is of all points.
-  /// With orbslam_frame the output frame is the first keyframe's camera frame (x right, y down,
-  /// z forward; that camera looks toward the room's axis, pitched down by camera_pitch_deg),
-  /// scaled by monocular_scale (map units per metre); otherwise the z-up map frame in metres.
+  /// The scene kind; the fields below are kRoom's (`points` is then ignored; the room's geometry and
+  /// frames: docs/DESIGN_NOTES.md, "sample_scene.hpp: the kRoom scene").
   SceneLayout layout = SceneLayout::kObstacles;
   double density = 80.0;           ///< map points per m^2 of visible surface (> 0)
   double edge_fraction = 0.3;      ///< share of surface points on face edges, [0, 1]
@@ -127,12 +121,8 @@ struct GpsFix {
 struct Scene {
   io::Points points;                    ///< in the output frame (ORB-SLAM's if orbslam_frame)
   std::vector<io::Keyframe> keyframes;  ///< camera-to-frame poses, in the output frame
-  /// The true obstacles, z-up map frame, metres, labelled as readGroundTruth labels the written
-  /// ground_truth.json: kObstacles: the boxes and cylinders (kind "box" or "cylinder"); kRoom: the
-  /// floor, 4 walls and the furniture ("box", "cylinder", "l_shelf", "table"; unions when of several
-  /// parts). All axis-aligned; obstacles and furniture stand on the floor (z = 0).
-  /// kOutdoor: the ground (a height field of kind "ground", a surface) first, then "building"
-  /// boxes, "tree" unions (trunk, crown), "car" boxes and "post" cylinders.
+  /// The true obstacles, z-up map frame, metres, as readGroundTruth reads ground_truth.json; kinds
+  /// per layout: docs/DESIGN_NOTES.md, "sample_scene.hpp: Scene::truth".
   GroundTruth truth;
   /// kRoom, kOutdoor: the same keyframes in the z-up map frame, metres.
   std::vector<io::Keyframe> reference;
