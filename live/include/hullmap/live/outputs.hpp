@@ -67,15 +67,15 @@ struct ProjectedGrid {
   std::vector<std::int8_t> data;
 };
 
+/// The most cells projectedGrid() draws (64 MB of int8, what one ROS message can still carry).
+inline constexpr std::size_t kMaxGridCells = std::size_t{1} << 26;
+
 /// The footprints (of the convex parts, for an obstacle in parts) whose z range meets [min_z, max_z]
 /// rasterised into a grid of `resolution` cells: 100 in every cell that the footprint polygon
 /// touches, 0 elsewhere (free as far as the hulls know), over the footprints' bounding box plus
 /// `margin` (map units) on each side, the origin on multiples of the resolution. An empty map gives
 /// a 1x1 grid at the origin. Throws hullmap::Error naming `resolution` unless it is finite and > 0, or
 /// when the grid would exceed kMaxGridCells.
-/// The most cells projectedGrid() draws (64 MB of int8, what one ROS message can still carry).
-inline constexpr std::size_t kMaxGridCells = std::size_t{1} << 26;
-
 ProjectedGrid projectedGrid(const std::vector<hulls::Obstacle>& obstacles, double resolution, double min_z,
                             double max_z, double margin);
 

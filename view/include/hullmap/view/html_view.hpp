@@ -27,16 +27,13 @@ inline constexpr const char* kThreeDir = "/usr/share/javascript/three";
 inline constexpr const char* kThreePackage = "libjs-three";
 
 /// The most voxel cubes a page holds at its finest detail by default: a build with more occupied voxels
-/// is merged into coarser cells (mergeVoxelCells) even there. The page of a build of 948,196 voxels
-/// holds every one: 14 MB, loaded in 3.8 s in headless Chromium on 2 cores (docs/BENCHMARKS.md).
+/// is merged into coarser cells (mergeVoxelCells) even there (a page that size, measured:
+/// docs/DESIGN_NOTES.md, "html_view.hpp: kDefaultMaxInstances").
 inline constexpr std::size_t kDefaultMaxInstances = 1000000;
 
 /// A page also holds coarser levels of its voxels, each cell twice the size of the last, down to
-/// the first of at most this many cubes (voxelLevels). It draws the finest level that its first frames
-/// say it can draw in about 0.1 s a frame (the user can pick another): with WebGL in software (no
-/// GPU, as headless Chromium in the tests) a cube costs about 25 to 70 microseconds a frame on 2 busy
-/// cores (docs/BENCHMARKS.md), so there only the coarsest level stays near interactive; a graphics
-/// card draws a million cubes many times a second.
+/// the first of at most this many cubes (voxelLevels). It draws the finest level it can draw in about 0.1 s a frame
+/// (the user can pick another; figures: docs/DESIGN_NOTES.md, "html_view.hpp: kCoarsestCubes").
 inline constexpr std::size_t kCoarsestCubes = 10000;
 
 /// A path to check and draw, map frame, map units.
