@@ -70,9 +70,8 @@ inline constexpr double kContactTolerance = 1e-3;
 /// How a check is asked, in the manner of FCL's request structs.
 struct CheckRequest {
   double radius = 0.0;  ///< radius of the sphere swept along the segment (the drone), map units, >= 0
-  /// How far after the true first contact the reported one may lie, map units along the segment:
-  /// the reported t is at or after the true first contact, by at most
-  /// max(contact_tolerance, 1e-3 * segment length). Must be > 0.
+  /// Map units along the segment, > 0: the reported contact lies at or after the true first one, by
+  /// at most max(contact_tolerance, 1e-3 * segment length).
   double contact_tolerance = kContactTolerance;
 };
 

@@ -33,10 +33,8 @@ struct ReferencePose {
 
 /// What parseReferenceTrajectory left out of a GPS log: lines without a fix, by reason.
 struct ReferenceStats {
-  /// "no_fix": latitude = longitude = 0 (what receivers write before their first fix);
-  /// "non_finite": a NaN or infinite stamp, latitude, longitude or altitude;
-  /// "out_of_range": a latitude outside [-90, 90] or a longitude outside [-180, 360] degrees.
-  /// A reason appears only when it dropped a line.
+  /// Lines dropped per reason ("no_fix": latitude = longitude = 0, "non_finite", "out_of_range":
+  /// outside [-90, 90] / [-180, 360] degrees); a reason appears only when it dropped a line.
   std::map<std::string, std::size_t> dropped;
 };
 

@@ -23,18 +23,16 @@ enum class OmplMotionCheck {
   /// hullmap's exact capsule sweep (collision::HullChecker::check of the segment at the radius):
   /// no obstacle, however thin, is skipped.
   kExact,
-  /// OMPL's own DiscreteMotionValidator at its default resolution (states every 1% of the box's
-  /// diagonal, OMPL's maximum extent), each state checked exactly (sphere of the radius). It can step over thin
-  /// obstacles; kept to measure that in bench/, not for use.
+  /// OMPL's DiscreteMotionValidator (states every 1% of the box's diagonal, each checked exactly): it
+  /// can step over thin obstacles; for bench/ only (docs/DESIGN_NOTES.md, "ompl_planner.hpp").
   kDiscrete,
 };
 
 /// Settings of planPathOmpl. Units: metres and seconds, z-up map frame.
 struct OmplParams {
   double time_limit = 1.0;  ///< RRT* runs this long (it is anytime: it keeps improving), s, > 0
-  /// Clearance term of the objective: each metre of path costs 1 + weight * scale / (scale + c),
-  /// c the state's clearance (distance to the nearest hull less the radius), integrated with the
-  /// trapezoid rule per motion. 0: path length only. >= 0.
+  /// Clearance weight, >= 0 (0: length only): a metre costs 1 + weight * scale / (scale + c), c the
+  /// clearance (docs/DESIGN_NOTES.md, "ompl_planner.hpp: the objective").
   double clearance_weight = 0.5;
   double clearance_scale = 0.5;  ///< metres, > 0
   std::optional<Box3d> box;      ///< sampling box; default omplBoxFor
@@ -47,9 +45,8 @@ struct OmplPlanResult {
   std::optional<std::vector<Eigen::Vector3d>> path;
   double length = 0.0;  ///< of `path`, metres
   std::string blocked;  ///< one line saying why there is no path
-  /// OMPL's exact solution as it returned it (empty when it found none in the time limit), and the
-  /// exact hull check of it. With OmplMotionCheck::kDiscrete it may collide; with kExact it never
-  /// should (the check is repeated anyway).
+  /// OMPL's exact solution as returned (empty: none in the time limit), checked below; it may collide
+  /// only with OmplMotionCheck::kDiscrete (the check is repeated for kExact too).
   std::vector<Eigen::Vector3d> planner_path;
   collision::PathCheck check;
   double cost = 0.0;  ///< objective value of planner_path

@@ -60,9 +60,8 @@ struct Roadmap {
   double z0 = 0.0, z1 = 0.0;  ///< the band used: as given, less what the surfaces take
   double min_clearance = 0.0;
   double tolerance = 0.0;
-  /// The sites' polygons: the footprints of the obstacles' convex parts (an obstacle without
-  /// parts: its footprint) in the band, clipped to the bounds, those that meet merged into the
-  /// exact union of their members (rounded to double): the outer boundary, counter-clockwise.
+  /// The sites' polygons, counter-clockwise outer boundaries: the parts' footprints in the band,
+  /// clipped to the bounds, those that meet merged into their exact union (rounded to double).
   std::vector<std::vector<Eigen::Vector2d>> footprints;
   /// The holes of each footprint (free space enclosed by it, e.g. a room inside a ring of walls);
   /// empty for most; parallel to footprints.

@@ -51,9 +51,8 @@ struct MapPlot {
   std::vector<PlotPath> paths;         ///< one colour each (pathColour), drawn over the roadmap
   /// Keyframe positions (map frame; a build's trajectory.txt), drawn as the camera's path; may be empty.
   std::vector<Eigen::Vector3d> keyframes;
-  /// Voxels with this label are the floor's (pipeline::kFloorLabel): drawn light brown under noise
-  /// and clusters (data-label -2), and the outline of their cells in the view plane is drawn.
-  /// nullopt: they are drawn as noise.
+  /// The floor's label (pipeline::kFloorLabel): its voxels drawn light brown under the rest (data-label
+  /// -2), their cells outlined. nullopt: drawn as noise.
   std::optional<std::int32_t> floor_label;
   std::vector<std::string> caption;  ///< lines printed under the picture (parameters)
   PlotView view = PlotView::kTop;

@@ -26,14 +26,12 @@ namespace hullmap::view {
 inline constexpr const char* kThreeDir = "/usr/share/javascript/three";
 inline constexpr const char* kThreePackage = "libjs-three";
 
-/// The most voxel cubes a page holds at its finest detail by default: a build with more occupied voxels
-/// is merged into coarser cells (mergeVoxelCells) even there (a page that size, measured:
-/// docs/DESIGN_NOTES.md, "html_view.hpp: kDefaultMaxInstances").
+/// Most voxel cubes a page holds at its finest level by default; more are merged into coarser
+/// cells (mergeVoxelCells). Measured: docs/DESIGN_NOTES.md, "html_view.hpp: kDefaultMaxInstances".
 inline constexpr std::size_t kDefaultMaxInstances = 1000000;
 
-/// A page also holds coarser levels of its voxels, each cell twice the size of the last, down to
-/// the first of at most this many cubes (voxelLevels). It draws the finest level it can draw in about 0.1 s a frame
-/// (the user can pick another; figures: docs/DESIGN_NOTES.md, "html_view.hpp: kCoarsestCubes").
+/// Most cubes of a page's coarsest level (voxelLevels: each level's cells twice the last's); it draws the
+/// finest level it can at about 0.1 s a frame (docs/DESIGN_NOTES.md, "html_view.hpp: kCoarsestCubes").
 inline constexpr std::size_t kCoarsestCubes = 10000;
 
 /// A path to check and draw, map frame, map units.
