@@ -1,8 +1,7 @@
 // buildRoadmap: the Voronoi roadmap of the footprints, in its steps: the band's footprints and the
 // bounds, their exact union (mergedFootprints), CGAL's segment Delaunay graph and its vertices
 // (voronoiVertices), the traced bisectors and their guard (guardedClearance), the canonical order.
-// Over 600 lines as one job that shares the CGAL types above; its plane geometry is in polygon_2d,
-// roadmap.json in roadmap_json.cpp.
+// Its plane geometry is in polygon_2d, roadmap.json in roadmap_json.cpp.
 #include "hullmap/planning/roadmap.hpp"
 #include "hullmap/core/convex_hull_2d.hpp"
 

@@ -1,5 +1,5 @@
 // renderMapSvg: one map drawn as SVG (voxel cells, obstacle outlines, floor, roadmap, paths, scale
-// bar, captions). Just over 600 lines as one job: every part writes to the same viewport.
+// bar, captions).
 #include "hullmap/plot/svg_plot.hpp"
 #include "hullmap/core/convex_hull_2d.hpp"
 #include "hullmap/core/markup.hpp"
