@@ -10,8 +10,8 @@ inline constexpr int kShortestTextMax = 32;
 /// Writes the text `std::to_chars(first, last, value)` writes (the shortest text that reads back to
 /// `value`; fixed notation unless scientific is shorter) at `first`, which must have room for
 /// kShortestTextMax chars, and returns one past its end. Byte for byte the same as std::to_chars;
-/// faster for values with few decimals in [1e-3, 1e15) (about a tenth of the instructions for
-/// numbers read from text with six decimals), which is what point files hold.
+/// faster for values with few decimals in [1e-3, 1e15), which is what point files hold (how much:
+/// docs/DESIGN_NOTES.md, "number_text.hpp").
 char* writeShortest(char* first, double value);
 
 /// writeShortest(first, value), with a guess of the value's decimals to start from: numbers of one

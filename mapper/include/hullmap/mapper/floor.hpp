@@ -27,17 +27,10 @@ enum class PlaneSide { kFloor, kCeiling };
 
 /// How findBoundingPlane searches and when it accepts a plane.
 ///
-/// The search is RANSAC (a fixed seed: same points, same plane, on every machine), scored on at
-/// most `sample_points` points drawn from the input (the refinement and the coverage use at most
-/// 200,000 drawn points, the inlier and beyond counts every point), over planes whose normal is within
-/// `max_tilt_deg` of the up hint and which have at most `max_beyond_share` of the points on their
-/// far side (more than `band` below a floor, above a ceiling): of those, the one with the most
-/// points within `band` wins (every candidate is screened on 2,000 of the sample points, and the 100
-/// best of them are counted on the whole sample). On a noisy floor several candidates refine to
-/// planes a few tenths of a degree apart (EuRoC V1_01: 20.8 to 21.1 degrees of tilt by candidate). So a table top
-/// (walls go on below it) or a wall loses to the floor, and the lowest large plane is preferred. The winner is refined
-/// by least squares on its inliers (the normal of the inliers' smallest principal axis, twice, re-selecting inliers
-/// each time).
+/// The search is RANSAC (a fixed seed: same points, same plane, on every machine) over planes within
+/// `max_tilt_deg` of the up hint with at most `max_beyond_share` of the points beyond them; the one
+/// with the most points within `band` wins and is refined by least squares on its inliers (sample
+/// sizes and why the floor beats a table top: docs/DESIGN_NOTES.md, "floor.hpp: the search").
 ///
 /// Acceptance (a map without floor is normal; the result then says why none was taken):
 /// - inlier share >= `min_inlier_share` of the points;

@@ -2,12 +2,7 @@
 // The voxel lattice of a cluster (cell (i, j, k) is the cube [i, i+1] x [j, j+1] x [k, k+1] in voxel
 // units) and the hulls on it: a white-box header for hullmap_hulls and its tests, not installed.
 //
-// Why two hull algorithms: an obstacle's hull (wrapCluster, obstacles.cpp) is CGAL's convex_hull_3
-// of the candidate corners, because its output is a polyhedron with double vertices for FCL and
-// obstacles.json. The convex split (convex_parts.cpp) instead asks thousands of yes/no questions of
-// hulls of candidate parts (is this cell inside, is the volume within T); facetHull answers them
-// with exact 64/128-bit integer planes, so a decision never depends on rounding or on how the hull
-// happens to be triangulated, and it is faster on the few corners of a part.
+// Why two hull algorithms: docs/CONVEX_PARTS.md, "Two hull algorithms".
 
 #include <array>
 #include <cmath>
