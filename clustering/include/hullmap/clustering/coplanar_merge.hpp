@@ -23,9 +23,7 @@ struct CoplanarMerge {
 
 /// Joins each flat cluster to the larger cluster whose points around it lie in the same plane: a
 /// stretch at a wall's foot, denser than the sparse wall above it (the foot is an edge, sampled more),
-/// that DBSCAN made a cluster of its own because no core point of the wall is within eps of its core
-/// points, or a poster on a wall. Such a split leaves the wall two obstacles, whose parts can never
-/// merge over the hole the stretch leaves. Exactly:
+/// or a poster on a wall (why they split off: docs/DESIGN_NOTES.md, "coplanar_merge.hpp"). Exactly:
 /// - The *thickness* of a set of at least 3 points is the extent (largest minus smallest value of
 ///   n . p) of its points along the unit eigenvector n of the smallest eigenvalue of their
 ///   covariance (Eigen::SelfAdjointEigenSolver); the set is *flat* when that is <= params.thickness.

@@ -91,18 +91,9 @@ inline constexpr double kDriftWindowShare = 0.05;
 /// Each keyframe is matched to the reference pose nearest in time, when within
 /// params.stamp_tolerance; the others are counted as unmatched. Several keyframes may match one
 /// reference pose.
-/// Roll: a nearly straight reference (a street, a GPS log's metres of noise) leaves the rotation
-/// about its line undetermined; the keyframes' cameras then set it (a camera's x axis is level:
-/// see fitRoll in mapper/src/align_roll.hpp), turning the fit about the line through the
-/// reference's centroid; roll_sigma, roll_from_cameras and roll_turn say what happened.
-/// Scale drift: a monocular map's scale changes along its path, so no one similarity fits it. With
-/// at least kDriftMinAnchors matches, the drift model is fitted too: the matches in time order, each
-/// with the least-squares scale and translation (rotation fixed to the whole fit's) of the matches
-/// within max(3, round(kDriftWindowShare * matched)) of it. kAuto takes it when the similarity's RMSE
-/// is above 1e-3 of the reference positions' RMS spread (a residual worth undoing) and the drift
-/// model predicts each match, fitted without it, to below half the similarity's RMSE (holdout_rmse:
-/// noise alone, as GPS's, is not predicted better than one similarity fits it); kDrift takes it
-/// whenever there are enough matches.
+/// Roll: when a nearly straight reference leaves it undetermined, the cameras set it. Scale drift: with
+/// at least kDriftMinAnchors matches a drift model is fitted too, taken by kAuto when it predicts
+/// better (both rules: docs/DESIGN_NOTES.md, "align.hpp: roll and scale drift").
 /// Throws hullmap::Error naming `align` when the tolerance is not finite and >= 0, fewer than 3
 /// keyframes match, or the fit is degenerate: the matched keyframe positions, or their reference
 /// positions, are coincident or collinear (their spread across the best line is below 1e-6 of their

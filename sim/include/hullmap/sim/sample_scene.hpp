@@ -73,9 +73,8 @@ struct SceneParams {
   /// kRoom with kAnywhere: the chance that a piece is placed against a wall, [0, 1].
   double wall_fraction = 0.5;
 
-  /// kOutdoor only (see SceneLayout and generateScene's kOutdoor notes; outdoorSceneParams() gives
-  /// its defaults for the fields it shares with kRoom). The area is track_width x track_length
-  /// metres (x across, y along the street, centred on the origin; each rounded up to whole metres).
+  /// kOutdoor only (see generateScene; outdoorSceneParams() gives its defaults): the area is track_width x
+  /// track_length metres, x across, y along the street, centred on the origin, rounded up to whole metres.
   double track_length = 200.0;  ///< the area along the street (y), metres, >= 40
   double track_width = 60.0;    ///< the area across the street (x), metres, >= 30
   double slope_along = 0.03;    ///< the terrain's grade along y (rise over run), [-0.2, 0.2]
@@ -146,40 +145,9 @@ Eigen::Matrix3d mapToOrbSlamRotation();
 /// Generates the scene. Throws hullmap::Error naming the parameter when the parameters are out of
 /// range or the obstacles cannot be placed with the required gaps.
 ///
-/// kOutdoor, exactly (z-up map frame, metres; x east, y north):
-/// - Terrain: z = slope_across x + slope_along y + the sum of `bumps` Gaussians (amplitude uniform
-///   in [-bump_height, bump_height], sigma in [5, 15] m, centres anywhere in the area), sampled every
-///   1 m (heights rounded to 0.1 mm) and triangulated: the truth's height field IS the terrain.
-/// - Street: 10 m wide, its centreline x = 3 sin(2 pi y / track_length) (with 1.5 m in an area under
-///   40 m wide). Keyframes are evenly spaced along it (by arc length) from 10 m after the area's
-///   start to 10 m before its end, kOutdoorCameraHeight above the terrain, each looking along the
-///   street, pitched down by camera_pitch_deg; stamps 1, 1.5, 2, ... s.
-/// - Objects, axis-aligned, kSceneObstacleGap apart (footprints), kOutdoorPathMargin from the path,
-///   inside the area: buildings (8-20 m along the street, 6-12 m deep, 5-15 m high, 4-8 m back from
-///   the street's edge), trees (a trunk 0.25-0.45 m wide, 1.8-3 m high, under a crown cylinder or
-///   box 2.5-4.5 m wide and 2-4 m high, 1 to 5 m beyond the street's edge), cars (3.8-4.8 x
-///   1.7-1.9 x 1.4-1.7 m, 0.3 m in from the street's edge), posts (0.1-0.2 m wide, 2.5-5 m high,
-///   0.3-0.8 m beyond the edge). Each stands on the lowest terrain under its foot (a tree's trunk,
-///   else its footprint) and reaches below it there: by 0.5 m a building, 0.3 m the others. Throws
-///   naming the count that does not fit.
-/// - Points: the visible surfaces (the terrain, objects' sides and tops; no bottoms) drawn with
-///   `density` tries per m^2; a try is kept when some keyframe sees it: within 40 m, in its 90 x 70
-///   degree view, on the front of the surface, the line of sight clear of every object (the terrain
-///   hides nothing) and the point not under the terrain or inside another object. `edge_fraction` of
-///   the tries on objects lie on face edges. Then Gaussian noise (noise_sigma per axis), outliers
-///   (outlier_fraction of all points, 0 to 12 m above the terrain anywhere in the area) and
-///   gross_outliers far away.
-/// - Scale drift: keyframe k, at arc length a_k of the A-long keyframe polyline, has the scale s_k =
-///   monocular_scale (1 + scale_drift a_k / A). With R0, c0 the first camera's rotation and
-///   position, keyframe positions are written as w_0 = 0, w_k+1 = w_k + (s_k + s_k+1) / 2 R0^T
-///   (c_k+1 - c_k), orientations as R0^T R_k. A point p is written from its nearest polyline segment
-///   in (x, y) [c_k, c_k+1], at the fraction f of the segment's point q nearest p (clamped to [0, 1]):
-///   w = (1 - f) w_k + f w_k+1 + ((1 - f) s_k + f s_k+1) R0^T (p - q). So near keyframe k the map is
-///   the similarity of scale s_k; near the first, the room layout's first camera frame.
-///   Without orbslam_frame points and keyframes stay in the map frame, unscaled.
-/// - GPS: for each keyframe, its true position plus Gaussian noise of gps_sigma per axis (east,
-///   north, up), converted to WGS84 around kOutdoorGeodeticOrigin; round(gps_dropout x keyframes)
-///   lines, chosen at random, hold no fix.
+/// kOutdoor: a terrain with a slope and bumps, a winding 10 m street with keyframes along it, buildings,
+/// trees, cars and posts beside it, points seen from the keyframes, a drifting monocular scale and a GPS
+/// log; the exact recipe: docs/DESIGN_NOTES.md, "sample_scene.hpp: the kOutdoor scene".
 Scene generateScene(const SceneParams& params);
 
 /// Writes points as ORB-SLAM2 map-point text, the trajectory as TUM, the ground truth as JSON,
