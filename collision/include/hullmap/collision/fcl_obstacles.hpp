@@ -30,10 +30,9 @@ struct HullSource {
 /// its id) and part an object stands for with source(indexOf(object)), as HullChecker's results do.
 /// Each hull is kept as a ConvexPolytope too.
 ///
-/// HullChecker uses this manager as its broadphase. It does not take its answers from FCL's
-/// narrowphase on `Convex` (GJK/EPA distances that are not exact, and a continuous collision that
-/// samples poses; test/collision/distance.cpp measures how far they are off): it computes them with
-/// hullmap's certified segment-hull distance (convex_distance.hpp).
+/// HullChecker uses this manager as its broadphase. Its answers come from hullmap's
+/// certified segment-hull distance (convex_distance.hpp), not FCL's narrowphase (why: docs/LIBRARY.md, "FCL's own
+/// narrowphase, measured").
 ///
 /// Immutable after construction: the const queries of FCL's manager (collide, distance against one
 /// object) may run from several threads at once. Movable, not copyable (the manager holds the
