@@ -30,9 +30,9 @@ struct HullSource {
 /// its id) and part an object stands for with source(indexOf(object)), as HullChecker's results do.
 /// Each hull is kept as a ConvexPolytope too.
 ///
-/// HullChecker uses this manager as its broadphase. Its answers come from hullmap's
-/// certified segment-hull distance (convex_distance.hpp), not FCL's narrowphase (why: docs/LIBRARY.md, "FCL's own
-/// narrowphase, measured").
+/// HullChecker uses this manager as its broadphase; its answers come from hullmap's certified
+/// segment-hull distance (convex_distance.hpp), not FCL's narrowphase (why: docs/LIBRARY.md,
+/// "FCL's own narrowphase, measured").
 ///
 /// Immutable after construction: the const queries of FCL's manager (collide, distance against one
 /// object) may run from several threads at once. Movable, not copyable (the manager holds the
