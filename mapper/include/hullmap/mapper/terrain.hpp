@@ -36,25 +36,9 @@ struct Terrain {
   std::size_t lowered = 0;            ///< nodes lowered under a keyframe
 };
 
-/// Fits the ground under `points` (map frame, z up), on a grid over the points' 1 % to 99 %
-/// quantiles of x and y grown by a tenth of their span on each side, never beyond the 0.1 % and
-/// 99.9 % quantiles (points beyond, gross outliers, are left out):
-/// 1. each cell's height is its points' k-th lowest z (low_share: a lone point below the ground,
-///    SLAM noise, does not pull a cell of several points down), when at least min_support of its
-///    points lie within initial_threshold over it (fewer: an outlier or a few, no height);
-///    A cell lower than the second lowest of its measured 8-neighbours (2 at least) by more than
-///    initial_threshold + slope * cell keeps only its points above that depth (none: no
-///    height): the filter below removes what stands above the ground, not what lies under it;
-/// 2. the progressive morphological filter: openings (minimum, then maximum, over square windows of
-///    3, 5, 9, 17, ... cells, the last at least max_object wide) of that surface, where a cell standing more than
-///    dh_k above the opened one is not ground; dh_k = initial_threshold at the first window, then
-///    min(max_threshold, initial_threshold + slope * (w_k - w_{k-1}) * cell);
-/// 3. cells without points, or not ground, are filled by harmonic interpolation from the ground
-///    cells (Jacobi iterations of the 4-neighbour mean to a change below 1e-6 * cell), held under
-///    the ground's slope cone (boundBySlope);
-/// 4. every node within 1.5 cells of a keyframe's (x, y) (the four around it among them, so the
-///    interpolated height under the keyframe is bounded too) is lowered to keyframe z -
-///    keyframe_clearance when it is above that (a camera flies over its ground, never under it).
+/// Fits the ground under `points` (map frame, z up) on a grid over the bulk of the points: a low height
+/// per cell, the progressive morphological filter, harmonic fill under the slope cone (boundBySlope),
+/// nodes under keyframes lowered (keepUnderKeyframes). The steps: docs/DESIGN_NOTES.md, "terrain.hpp".
 /// Deterministic. Throws hullmap::Error naming the TerrainParams field on a bad setting
 /// (Error::parameter() is the field), and, with no parameter, on non-finite points or keyframes, an
 /// input with no point, a grid of more than 100000 cells a side, or no cell of ground.
